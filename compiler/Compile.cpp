@@ -1,0 +1,76 @@
+#include "compiler/Compile.h"
+
+#include "compiler/lower/LowerScene.h"
+#include "compiler/parse/Parser.h"
+#include "compiler/passes/AutoDiff.h"
+#include "compiler/passes/Simplify.h"
+#include "compiler/passes/SplitFrame.h"
+#include "compiler/stdlib/Embedded.h"
+
+namespace moire {
+
+namespace {
+bool isLibraryModule(std::string_view path) {
+    return path.starts_with("stdlib/") && !path.starts_with("stdlib/scenes/") && path.ends_with(".moire");
+}
+} // namespace
+
+EmbeddedScene defaultScene() {
+    for (const embedded::File& f : embedded::files())
+        if (std::string_view(f.path) == "stdlib/scenes/default.moire")
+            return {"<default scene>", std::string(f.text)};
+    MOIRE_ICE("the default scene is not embedded");
+}
+
+CompileResult compileScene(const std::string& path, std::string text, const CompileOptions& options) {
+    auto program = std::make_unique<SceneProgram>();
+    program->sources = std::make_unique<SourceManager>();
+    SourceManager& sm = *program->sources;
+    DiagEngine diags(sm);
+    CompileResult result;
+
+    // 1. Parse the standard library, then the scene.
+    for (const embedded::File& f : embedded::files()) {
+        if (!isLibraryModule(f.path)) continue;
+        std::string shown = "<stdlib>/" + std::string(std::string_view(f.path).substr(7));
+        uint32_t id = sm.add(shown, std::string(f.text), /*isStdlib=*/true);
+        program->modules.push_back(std::make_unique<ast::Module>(Parser(sm, id, diags).parseModule()));
+    }
+    uint32_t userId = sm.add(path, std::move(text));
+    program->modules.push_back(std::make_unique<ast::Module>(Parser(sm, userId, diags).parseModule()));
+    program->literals = program->modules.back()->literals;
+
+    // 2. Semantic checks: names, arity, types, units, constness.
+    if (!diags.hasErrors()) {
+        std::vector<ast::Module*> modules;
+        for (auto& m : program->modules) modules.push_back(m.get());
+        program->checked = sema::check(modules, diags);
+    }
+    if (diags.hasErrors()) {
+        result.diagnostics = diags.render();
+        return result;
+    }
+
+    // 3. Lower to the scene function, then the ordered IR passes.
+    lower::LowerOptions lowerOptions;
+    lowerOptions.layerFields = options.layerFields;
+    if (options.probe) {
+        program->probeSlot = lowerOptions.probeSlot = static_cast<int>(program->literals.size());
+        program->literals.push_back(0.0);
+        program->literals.push_back(0.0);
+    }
+    ir::Function scene = lower::lowerScene(program->checked, lowerOptions, program->layout);
+    program->lowered = passes::simplify(scene);                    // fold, CSE, DCE
+    program->derived = passes::simplify(passes::autoDiff(program->lowered)); // forward-mode AD
+    passes::FrameSplit split = passes::splitFrame(program->derived, program->layout.numKernelOutputs);
+    program->frame = std::move(split.frame);                       // per-frame uniforms
+    program->kernel = passes::simplify(split.kernel);              // per-pixel kernel
+    program->numUniforms = split.numUniforms;
+    program->kernelHash = ir::structuralHash(program->kernel);
+
+    result.diagnostics = diags.render(); // notes, if any
+    result.program = std::move(program);
+    return result;
+}
+
+} // namespace moire

@@ -1,0 +1,57 @@
+// The compiler's entry point: source text in, frame program and pixel kernel out.
+// Compile.cpp reads as the ordered list of stages.
+#pragma once
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "compiler/diag/Diagnostics.h"
+#include "compiler/ir/IR.h"
+#include "compiler/lower/LowerScene.h"
+#include "compiler/parse/Ast.h"
+#include "compiler/sema/Sema.h"
+
+namespace moire {
+
+struct CompileOptions {
+    bool layerFields = false; // the kernel also outputs each layer's index, distance and gradient
+    bool probe = false;       // camera centre from literal slots probeSlot, probeSlot + 1
+};
+
+// A compiled scene, with every intermediate stage kept for `moire compile --dump`.
+struct SceneProgram {
+    std::unique_ptr<SourceManager> sources;
+    std::vector<std::unique_ptr<ast::Module>> modules; // standard library first, the scene last
+    sema::CheckedScene checked;
+    std::vector<double> literals; // the scene's literal table (values of its numbers)
+
+    ir::Function lowered;    // the scene function, simplified, before differentiation
+    ir::Function derived;    // after forward-mode AD and simplification
+    ir::Function frame;      // per-frame program: literals and clock -> uniforms, settings
+    ir::Function kernel;     // per-pixel program: uniforms, pixel -> outputs
+    lower::OutputLayout layout;
+    int numUniforms = 0;
+    uint64_t kernelHash = 0; // structure only: unchanged when only numbers change
+    int probeSlot = -1;      // with CompileOptions::probe: the literal slots of the probe point
+
+    const ast::Module& userModule() const { return *modules.back(); }
+};
+
+struct CompileResult {
+    std::unique_ptr<SceneProgram> program; // null when the scene has errors
+    std::string diagnostics;               // rendered file:line:col diagnostics
+};
+
+// Compiles `text` (read from `path`, used in diagnostics). User errors come back as
+// diagnostics; a bug in moire throws InternalError.
+CompileResult compileScene(const std::string& path, std::string text, const CompileOptions& options = {});
+
+// The embedded default scene (path and text).
+struct EmbeddedScene {
+    std::string path;
+    std::string text;
+};
+EmbeddedScene defaultScene();
+
+} // namespace moire

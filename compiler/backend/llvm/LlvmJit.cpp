@@ -1,0 +1,141 @@
+#include "compiler/backend/llvm/LlvmJit.h"
+
+#include <llvm/ExecutionEngine/Orc/ExecutionUtils.h>
+#include <llvm/ExecutionEngine/Orc/JITTargetMachineBuilder.h>
+#include <llvm/ExecutionEngine/Orc/LLJIT.h>
+#include <llvm/ExecutionEngine/Orc/ThreadSafeModule.h>
+#include <llvm/IR/LegacyPassManager.h>
+#include <llvm/Passes/PassBuilder.h>
+#include <llvm/Support/TargetSelect.h>
+#include <llvm/Support/raw_ostream.h>
+#include <llvm/Target/TargetMachine.h>
+#include <llvm/TargetParser/Host.h>
+
+#include <fmt/format.h>
+
+#include <mutex>
+#include <unordered_map>
+
+#include "compiler/backend/llvm/LlvmTranslate.h"
+#include "compiler/diag/Diagnostics.h"
+
+namespace moire {
+
+namespace {
+
+void initialiseLlvmOnce() {
+    static std::once_flag once;
+    std::call_once(once, [] {
+        llvm::InitializeNativeTarget();
+        llvm::InitializeNativeTargetAsmPrinter();
+        llvm::InitializeNativeTargetAsmParser();
+    });
+}
+
+std::string errorText(llvm::Error e) {
+    std::string s;
+    llvm::raw_string_ostream os(s);
+    os << e;
+    return os.str();
+}
+
+// The standard -O2 pipeline, for the host CPU.
+void optimise(llvm::Module& m, llvm::TargetMachine& tm) {
+    llvm::LoopAnalysisManager lam;
+    llvm::FunctionAnalysisManager fam;
+    llvm::CGSCCAnalysisManager cgam;
+    llvm::ModuleAnalysisManager mam;
+    llvm::PassBuilder pb(&tm);
+    pb.registerModuleAnalyses(mam);
+    pb.registerCGSCCAnalyses(cgam);
+    pb.registerFunctionAnalyses(fam);
+    pb.registerLoopAnalyses(lam);
+    pb.crossRegisterProxies(lam, fam, cgam, mam);
+    llvm::ModulePassManager mpm = pb.buildPerModuleDefaultPipeline(llvm::OptimizationLevel::O2);
+    mpm.run(m, mam);
+}
+
+class JitKernel : public CompiledKernel {
+public:
+    JitKernel(llvmbackend::TileFn fn, int numOutputs) : fn_(fn), numOutputs_(numOutputs) {}
+    int numOutputs() const override { return numOutputs_; }
+    void runTile(const KernelFrame& frame, TileRect t, float* out, size_t rowStride) const override {
+        fn_(frame.uniforms, frame.imageW, frame.imageH, t.x0, t.y0, t.x1, t.y1, out,
+            static_cast<int64_t>(rowStride));
+    }
+
+private:
+    llvmbackend::TileFn fn_;
+    int numOutputs_;
+};
+
+} // namespace
+
+struct LlvmJitBackend::Impl {
+    std::unique_ptr<llvm::orc::LLJIT> jit;
+    std::unique_ptr<llvm::TargetMachine> tm;
+    std::mutex mutex;
+    std::unordered_map<uint64_t, llvmbackend::TileFn> cache;
+    int compiled = 0;
+
+    Impl() {
+        initialiseLlvmOnce();
+        auto jtmb = llvm::orc::JITTargetMachineBuilder::detectHost();
+        if (!jtmb) MOIRE_ICE("LLVM cannot target this host: {}", errorText(jtmb.takeError()));
+        jtmb->setCodeGenOptLevel(llvm::CodeGenOpt::Default);
+        auto tmOr = jtmb->createTargetMachine();
+        if (!tmOr) MOIRE_ICE("LLVM target machine: {}", errorText(tmOr.takeError()));
+        tm = std::move(*tmOr);
+        auto built = llvm::orc::LLJITBuilder().setJITTargetMachineBuilder(std::move(*jtmb)).create();
+        if (!built) MOIRE_ICE("cannot start the LLVM JIT: {}", errorText(built.takeError()));
+        jit = std::move(*built);
+        // Kernels call libm (sinf, atan2f, ...) from this process.
+        auto gen = llvm::orc::DynamicLibrarySearchGenerator::GetForCurrentProcess(
+            jit->getDataLayout().getGlobalPrefix());
+        if (!gen) MOIRE_ICE("LLVM symbol generator: {}", errorText(gen.takeError()));
+        jit->getMainJITDylib().addGenerator(std::move(*gen));
+    }
+
+    std::unique_ptr<llvm::Module> build(const ir::Function& kernel, const std::string& name, llvm::LLVMContext& ctx) {
+        auto m = llvmbackend::translate(kernel, name, ctx);
+        m->setDataLayout(jit->getDataLayout());
+        m->setTargetTriple(tm->getTargetTriple().str());
+        optimise(*m, *tm);
+        return m;
+    }
+};
+
+LlvmJitBackend::LlvmJitBackend() : impl_(std::make_unique<Impl>()) {}
+LlvmJitBackend::~LlvmJitBackend() = default;
+
+int LlvmJitBackend::compileCount() const { return impl_->compiled; }
+
+std::unique_ptr<CompiledKernel> LlvmJitBackend::compile(const ir::Function& kernel) {
+    uint64_t hash = ir::structuralHash(kernel);
+    std::lock_guard<std::mutex> lock(impl_->mutex);
+    auto it = impl_->cache.find(hash);
+    if (it == impl_->cache.end()) {
+        std::string name = fmt::format("moire_kernel_{:016x}", hash);
+        auto ctx = std::make_unique<llvm::LLVMContext>();
+        auto m = impl_->build(kernel, name, *ctx);
+        if (auto err = impl_->jit->addIRModule(llvm::orc::ThreadSafeModule(std::move(m), std::move(ctx))))
+            MOIRE_ICE("LLVM JIT rejected the module: {}", errorText(std::move(err)));
+        auto sym = impl_->jit->lookup(name);
+        if (!sym) MOIRE_ICE("LLVM JIT lookup: {}", errorText(sym.takeError()));
+        it = impl_->cache.emplace(hash, sym->toPtr<llvmbackend::TileFn>()).first;
+        ++impl_->compiled;
+    }
+    return std::make_unique<JitKernel>(it->second, kernel.numOutputs);
+}
+
+std::string LlvmJitBackend::dumpLlvm(const ir::Function& kernel) {
+    std::lock_guard<std::mutex> lock(impl_->mutex);
+    llvm::LLVMContext ctx;
+    auto m = impl_->build(kernel, "moire_kernel", ctx);
+    std::string s;
+    llvm::raw_string_ostream os(s);
+    m->print(os, nullptr);
+    return os.str();
+}
+
+} // namespace moire

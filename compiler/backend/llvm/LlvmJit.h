@@ -1,0 +1,32 @@
+// The LLVM backend: translates the IR op by op to LLVM IR in single precision, optimises it,
+// and compiles it with the ORC LLJIT into a tile function for the host CPU. Kernels are
+// cached by their structural hash, so a scene whose numbers change is not recompiled.
+#pragma once
+
+#include <memory>
+#include <string>
+
+#include "compiler/backend/Backend.h"
+
+namespace moire {
+
+class LlvmJitBackend : public Backend {
+public:
+    LlvmJitBackend();
+    ~LlvmJitBackend() override;
+
+    std::string name() const override { return "jit"; }
+    std::unique_ptr<CompiledKernel> compile(const ir::Function& kernel) override;
+
+    // The optimised LLVM IR of a kernel, as text (`moire compile --dump=llvm`).
+    std::string dumpLlvm(const ir::Function& kernel);
+
+    // How many kernels were actually compiled (cache misses), for tests and benchmarks.
+    int compileCount() const;
+
+private:
+    struct Impl;
+    std::unique_ptr<Impl> impl_;
+};
+
+} // namespace moire

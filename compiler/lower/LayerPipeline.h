@@ -1,0 +1,42 @@
+// The per-pixel maths of a layer, written once as IR-building code (every backend runs it):
+//  - the index and distance fields of a phase family (Eq. 5 of the spec, with the
+//    gradient from forward-mode AD),
+//  - the stroke floor and coverage (Eqs. 4 and 35),
+//  - ink-over-paper compositing (§3.4).
+#pragma once
+
+#include <optional>
+
+#include "compiler/ir/Builder.h"
+
+namespace moire::lower {
+
+struct LayerFields {
+    ir::ValueId index;    // fractional member index: member n is {index = n}
+    ir::ValueId distance; // world distance to the nearest member
+    ir::ValueId gradX, gradY; // the index gradient, per world unit
+};
+
+// Members are the level sets {phi = n s + phase}. The index is (phi - phase) / s; the nearest
+// member is the rounded index (clamped to `first` when the family starts there), and the
+// distance is the index residual over the index gradient's length (Eq. 5).
+LayerFields phaseFamilyFields(ir::Builder& b, ir::ValueId phi, ir::ValueId phase, ir::ValueId spacing,
+                              std::optional<int> first);
+
+// Coverage of a stroke of thickness `stroke` at distance `d`, with the floor
+// h = max(t/2, 1.15 px) and band a = 0.7 px, where px is the world size of a pixel:
+// (1 - smoothstep(h - a, h + a, d)) * opacity * alpha, clamped to [0, 1], NaN read as 0.
+ir::ValueId strokeCoverage(ir::Builder& b, ir::ValueId d, ir::ValueId stroke, ir::ValueId pixel,
+                           ir::ValueId opacity, ir::ValueId alpha);
+
+// Premultiplied RGBA accumulated from the background up.
+struct Ink {
+    ir::ValueId r, g, b, a;
+};
+Ink paper(ir::Builder& b, ir::ValueId r, ir::ValueId g, ir::ValueId bl, ir::ValueId a);
+// Lays ink of colour (r, g, bl) with coverage `cov` over `acc` (the running mix of §3.4).
+Ink inkOver(ir::Builder& b, const Ink& acc, ir::ValueId r, ir::ValueId g, ir::ValueId bl, ir::ValueId cov);
+// Straight (unpremultiplied) colour and alpha of the result.
+Ink unpremultiply(ir::Builder& b, const Ink& acc);
+
+} // namespace moire::lower

@@ -1,0 +1,144 @@
+#include "compiler/lower/LowerScene.h"
+
+#include "compiler/diag/Diagnostics.h"
+#include "compiler/ir/Builder.h"
+#include "compiler/lower/LayerPipeline.h"
+#include "compiler/lower/LowerExpr.h"
+
+namespace moire::lower {
+
+using namespace ast;
+using ir::Op;
+using ir::ValueId;
+
+namespace {
+
+class SceneLowering {
+public:
+    SceneLowering(const sema::CheckedScene& scene, ir::Function& f, const LowerOptions& options)
+        : scene_(scene), options_(options), b_(f), exprs_(b_) {}
+
+    void run(const OutputLayout& layout) {
+        // Frame settings.
+        Vals size = settingOr(scene_.scene, "size", {b_.constF(kDefaultWidth), b_.constF(kDefaultHeight)});
+        b_.output(layout.numKernelOutputs + OutputLayout::kSettingWidth, size[0]);
+        b_.output(layout.numKernelOutputs + OutputLayout::kSettingHeight, size[1]);
+
+        // Camera: world = center + Rot(rotation) (pixel - image centre) / zoom, with y up.
+        Vals center = settingOr(scene_.camera, "center", {b_.constF(0.0), b_.constF(0.0)});
+        if (options_.probeSlot >= 0) center = {b_.param(options_.probeSlot), b_.param(options_.probeSlot + 1)};
+        ValueId zoom = settingOr(scene_.camera, "zoom", {b_.constF(1.0)})[0];
+        const Expr* turn = scene_.camera && scene_.camera->prop("rotation")
+                               ? scene_.camera->prop("rotation")->value.get() : nullptr;
+        b_.output(layout.numKernelOutputs + OutputLayout::kSettingZoom, zoom);
+        b_.setLoc({});
+        ValueId sx = b_.sub(b_.leaf(Op::PixelX), b_.mul(b_.leaf(Op::ImageW), b_.constF(0.5)));
+        ValueId sy = b_.sub(b_.mul(b_.leaf(Op::ImageH), b_.constF(0.5)), b_.leaf(Op::PixelY));
+        ValueId pixel = b_.div(b_.constF(1.0), zoom); // world size of one pixel
+        auto [rx, ry] = turn ? rotate(sx, sy, exprs_.scalar(*turn, constantFrame_)) : std::pair{sx, sy};
+        // Everything downstream is differentiated with respect to these two values.
+        world_.x = b_.emit(Op::Indep, {b_.add(center[0], b_.mul(rx, pixel))}, 0.0, 0);
+        world_.y = b_.emit(Op::Indep, {b_.add(center[1], b_.mul(ry, pixel))}, 0.0, 1);
+
+        Vals bg = settingOr(scene_.scene, "background", {b_.constF(1), b_.constF(1), b_.constF(1), b_.constF(1)});
+        Ink acc = paper(b_, bg[0], bg[1], bg[2], bg[3]);
+
+        for (size_t i = 0; i < scene_.layers.size(); ++i) {
+            const sema::CheckedLayer& layer = scene_.layers[i];
+            LayerFields fields = layerFields(layer);
+            Vals color = prop(layer, "color", {b_.constF(0), b_.constF(0), b_.constF(0), b_.constF(1)});
+            ValueId stroke = prop(layer, "stroke", {b_.constF(1.0)})[0];
+            ValueId opacity = prop(layer, "opacity", {b_.constF(1.0)})[0];
+            b_.setLoc(layer.decl->range.begin);
+            ValueId cov = strokeCoverage(b_, fields.distance, stroke, pixel, opacity, color[3]);
+            acc = inkOver(b_, acc, color[0], color[1], color[2], cov);
+            if (layout.layerFields) {
+                b_.output(layout.indexSlot(static_cast<int>(i)), fields.index);
+                b_.output(layout.distanceSlot(static_cast<int>(i)), fields.distance);
+                b_.output(layout.gradXSlot(static_cast<int>(i)), fields.gradX);
+                b_.output(layout.gradYSlot(static_cast<int>(i)), fields.gradY);
+            }
+        }
+        Ink out = unpremultiply(b_, acc);
+        b_.output(0, out.r);
+        b_.output(1, out.g);
+        b_.output(2, out.b);
+        b_.output(3, out.a);
+    }
+
+private:
+    std::pair<ValueId, ValueId> rotate(ValueId x, ValueId y, ValueId angle) {
+        ValueId c = b_.cos(angle), s = b_.sin(angle);
+        return {b_.sub(b_.mul(c, x), b_.mul(s, y)), b_.add(b_.mul(s, x), b_.mul(c, y))};
+    }
+
+    Vals settingOr(const Decl* block, const char* name, Vals fallback) {
+        if (!block) return fallback;
+        const Property* p = block->prop(name);
+        if (!p) return fallback;
+        return exprs_.lower(*p->value, constantFrame_);
+    }
+
+    Vals prop(const sema::CheckedLayer& layer, const char* name, Vals fallback) {
+        const Expr* e = layer.prop(name);
+        return e ? exprs_.lower(*e, world_) : fallback;
+    }
+
+    LayerFields layerFields(const sema::CheckedLayer& layer) {
+        b_.setLoc(layer.decl->range.begin);
+        ValueId spacing = prop(layer, "spacing", {b_.constF(10.0)})[0];
+        ValueId phase = prop(layer, "phase", {b_.constF(0.0)})[0];
+        Vals origin = prop(layer, "origin", {b_.constF(0.0), b_.constF(0.0)});
+        const Expr* turn = layer.prop("rotation");
+
+        // The layer's own frame: q = Rot(-rotation) (p - origin).
+        Frame local;
+        ValueId dx = b_.sub(world_.x, origin[0]), dy = b_.sub(world_.y, origin[1]);
+        auto [qx, qy] = turn ? rotate(dx, dy, b_.neg(exprs_.scalar(*turn, world_))) : std::pair{dx, dy};
+        local.x = qx;
+        local.y = qy;
+        local.spacing = spacing;
+
+        const Expr* phaseExpr = layer.anonymousPhase;
+        std::optional<int> first;
+        if (layer.family) {
+            const Decl& fam = *layer.family->decl;
+            local.family = &fam;
+            for (size_t i = 0; i < fam.params.size(); ++i) {
+                const Expr* value = layer.args[i] ? layer.args[i] : fam.params[i].defaultValue.get();
+                MOIRE_CHECK(value, "missing family argument survived checking");
+                local.params.push_back(exprs_.lower(*value, world_));
+            }
+            for (const Let& l : fam.lets) local.lets.push_back(exprs_.lower(*l.value, local));
+            phaseExpr = layer.family->phase;
+            first = layer.family->first;
+        }
+        MOIRE_CHECK(phaseExpr, "layer without a phase survived checking");
+        ValueId phi = exprs_.scalar(*phaseExpr, local);
+        b_.setLoc(layer.decl->range.begin);
+        return phaseFamilyFields(b_, phi, phase, spacing, first);
+    }
+
+    const sema::CheckedScene& scene_;
+    const LowerOptions& options_;
+    ir::Builder b_;
+    ExprLowering exprs_;
+    Frame world_;
+    Frame constantFrame_; // scene settings cannot use x or y (checked)
+};
+
+} // namespace
+
+ir::Function lowerScene(const sema::CheckedScene& scene, const LowerOptions& options, OutputLayout& layout) {
+    layout.numLayers = static_cast<int>(scene.layers.size());
+    layout.layerFields = options.layerFields;
+    layout.numKernelOutputs = 4 + (options.layerFields ? OutputLayout::kFieldsPerLayer * layout.numLayers : 0);
+    ir::Function f;
+    f.name = "scene";
+    f.numOutputs = layout.numKernelOutputs + OutputLayout::kNumSettings;
+    SceneLowering(scene, f, options).run(layout);
+    ir::verify(f);
+    return f;
+}
+
+} // namespace moire::lower

@@ -1,0 +1,39 @@
+// Lowers a checked scene to one IR function evaluated per pixel: the camera, every layer's
+// fields and coverage, and the composite. Outputs: RGBA (slots 0-3), optionally each layer's
+// index, distance and index gradient, then the frame settings (image width and height, camera zoom).
+#pragma once
+
+#include "compiler/ir/IR.h"
+#include "compiler/sema/Sema.h"
+
+namespace moire::lower {
+
+struct LowerOptions {
+    bool layerFields = false; // also output each layer's index, distance and index gradient
+    // Probe mode: the camera centre is read from two literal slots appended to the table
+    // (`probeSlot`), so that the pixel of a 1x1 image sits on any chosen world point.
+    int probeSlot = -1;
+};
+
+// Where things are in the scene function's outputs.
+struct OutputLayout {
+    int numKernelOutputs = 4; // RGBA, then kFieldsPerLayer per layer when layerFields is set
+    int numLayers = 0;
+    bool layerFields = false;
+    static constexpr int kSettingWidth = 0;  // settings are numbered from numKernelOutputs
+    static constexpr int kSettingHeight = 1;
+    static constexpr int kSettingZoom = 2;
+    static constexpr int kNumSettings = 3;
+    static constexpr int kFieldsPerLayer = 4;
+    int indexSlot(int layer) const { return 4 + kFieldsPerLayer * layer; }
+    int distanceSlot(int layer) const { return indexSlot(layer) + 1; }
+    int gradXSlot(int layer) const { return indexSlot(layer) + 2; }
+    int gradYSlot(int layer) const { return indexSlot(layer) + 3; }
+};
+
+constexpr int kDefaultWidth = 1200;
+constexpr int kDefaultHeight = 800;
+
+ir::Function lowerScene(const sema::CheckedScene& scene, const LowerOptions& options, OutputLayout& layout);
+
+} // namespace moire::lower

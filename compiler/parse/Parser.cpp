@@ -1,0 +1,384 @@
+#include "compiler/parse/Parser.h"
+
+#include <fmt/format.h>
+
+namespace moire {
+
+using namespace ast;
+
+namespace {
+struct DepthGuard {
+    int& depth;
+    explicit DepthGuard(int& d) : depth(d) { ++depth; }
+    ~DepthGuard() { --depth; }
+};
+} // namespace
+
+Parser::Parser(const SourceManager& sm, uint32_t fileId, DiagEngine& diags)
+    : file_(fileId), isStdlib_(sm.file(fileId).isStdlib()), diags_(diags),
+      lexer_(fileId, sm.file(fileId).text(), diags) {
+    advance();
+}
+
+void Parser::advance() {
+    prevTok_ = tok_;
+    tok_ = lexer_.next();
+}
+
+bool Parser::accept(Tok k) {
+    if (!at(k)) return false;
+    advance();
+    return true;
+}
+
+std::string Parser::describeCurrent() const {
+    switch (tok_.kind) {
+    case Tok::End: return "end of file";
+    case Tok::Ident: return fmt::format("'{}'", lexer_.spelling(tok_));
+    case Tok::Number:
+    case Tok::Color: return fmt::format("{} '{}'", tokDescription(tok_.kind), lexer_.spelling(tok_));
+    default: return tokDescription(tok_.kind);
+    }
+}
+
+bool Parser::expect(Tok k, const char* what) {
+    if (accept(k)) return true;
+    diags_.error(range(), Msg::Expected, what, describeCurrent());
+    return false;
+}
+
+SourceRange Parser::spanFrom(SourceRange start) const {
+    uint32_t end = prevTok_.offset + prevTok_.length;
+    SourceRange r = start;
+    if (end > start.begin.offset) r.length = end - start.begin.offset;
+    return r;
+}
+
+void Parser::recoverTo(bool inBlock) {
+    // Skip tokens until a plausible restart point: a closing brace (in a block), or a
+    // declaration keyword at the top level.
+    int braces = 0;
+    while (!at(Tok::End)) {
+        if (at(Tok::LBrace)) ++braces;
+        if (at(Tok::RBrace)) {
+            if (braces == 0) {
+                if (!inBlock) advance();
+                return;
+            }
+            --braces;
+        }
+        if (braces == 0 && !inBlock &&
+            (atWord("scene") || atWord("camera") || atWord("layer") || atWord("field") ||
+             atWord("family")))
+            return;
+        advance();
+    }
+}
+
+int Parser::assignLiteral(double v) {
+    if (isStdlib_) return -1;
+    literals_.push_back(v);
+    return static_cast<int>(literals_.size() - 1);
+}
+
+Module Parser::parseModule() {
+    Module m;
+    m.file = file_;
+    while (!at(Tok::End)) {
+        if (diags_.errorCount() >= DiagEngine::kMaxErrors) break;
+        DeclPtr d = parseDecl();
+        if (d) m.decls.push_back(std::move(d));
+    }
+    m.literals = std::move(literals_);
+    return m;
+}
+
+ExprPtr Parser::parseStandaloneExpr() {
+    ExprPtr e = parseExpr();
+    if (!at(Tok::End)) diags_.error(range(), Msg::Expected, "end of expression", describeCurrent());
+    return e;
+}
+
+DeclPtr Parser::parseDecl() {
+    SourceRange kw = range();
+    std::string word = at(Tok::Ident) ? std::string(lexer_.spelling(tok_)) : std::string();
+    DeclKind kind;
+    if (word == "scene") kind = DeclKind::Scene;
+    else if (word == "camera") kind = DeclKind::Camera;
+    else if (word == "layer") kind = DeclKind::Layer;
+    else if (word == "field") kind = DeclKind::Field;
+    else if (word == "family") kind = DeclKind::Family;
+    else {
+        diags_.error(range(), Msg::Expected,
+                     "a declaration (scene, camera, layer, field or family)", describeCurrent());
+        advance();
+        recoverTo(false);
+        return nullptr;
+    }
+    advance();
+    auto d = std::make_unique<Decl>(kind, kw);
+    bool named = kind == DeclKind::Field || kind == DeclKind::Family;
+    if (named || (kind == DeclKind::Layer && at(Tok::Ident))) {
+        d->nameRange = range();
+        if (!at(Tok::Ident)) {
+            diags_.error(range(), Msg::Expected, fmt::format("a name for the {}", word),
+                         describeCurrent());
+            recoverTo(false);
+            return nullptr;
+        }
+        d->name = std::string(lexer_.spelling(tok_));
+        advance();
+    }
+    switch (kind) {
+    case DeclKind::Field:
+        if (!expect(Tok::Assign, "'=' after the field's name")) {
+            recoverTo(false);
+            return nullptr;
+        }
+        d->value = parseExpr();
+        accept(Tok::Semi);
+        break;
+    case DeclKind::Family: parseFamily(*d); break;
+    default: parseBlock(*d); break;
+    }
+    return d;
+}
+
+bool Parser::parseProperty(std::vector<Property>& props) {
+    Property p;
+    p.nameRange = range();
+    if (!at(Tok::Ident)) {
+        diags_.error(range(), Msg::Expected, "a property name or '}'", describeCurrent());
+        return false;
+    }
+    p.name = std::string(lexer_.spelling(tok_));
+    advance();
+    if (!expect(Tok::Assign, fmt::format("'=' after '{}'", p.name).c_str())) return false;
+    p.value = parseExpr();
+    props.push_back(std::move(p));
+    if (!accept(Tok::Semi)) accept(Tok::Comma);
+    return true;
+}
+
+void Parser::parseBlock(Decl& d) {
+    if (!expect(Tok::LBrace, fmt::format("'{{' to open the {}", declKindName(d.kind)).c_str())) {
+        recoverTo(false);
+        return;
+    }
+    while (!at(Tok::RBrace) && !at(Tok::End)) {
+        if (diags_.errorCount() >= DiagEngine::kMaxErrors) return;
+        if (!parseProperty(d.props)) recoverTo(true);
+    }
+    expect(Tok::RBrace, fmt::format("'}}' to close the {}", declKindName(d.kind)).c_str());
+}
+
+void Parser::parseFamily(Decl& d) {
+    if (accept(Tok::LParen)) {
+        if (!at(Tok::RParen)) {
+            do {
+                FamilyParam p;
+                p.nameRange = range();
+                if (!at(Tok::Ident)) {
+                    diags_.error(range(), Msg::Expected, "a parameter name", describeCurrent());
+                    recoverTo(false);
+                    return;
+                }
+                p.name = std::string(lexer_.spelling(tok_));
+                advance();
+                if (accept(Tok::Assign)) p.defaultValue = parseExpr();
+                d.params.push_back(std::move(p));
+            } while (accept(Tok::Comma));
+        }
+        if (!expect(Tok::RParen, "',' or ')' in the parameter list")) {
+            recoverTo(false);
+            return;
+        }
+    }
+    if (accept(Tok::Assign)) {
+        // Shorthand: family name(params) = phase-expression
+        Property p;
+        p.name = "phase";
+        p.nameRange = d.nameRange;
+        p.value = parseExpr();
+        d.props.push_back(std::move(p));
+        accept(Tok::Semi);
+        return;
+    }
+    if (!expect(Tok::LBrace, "'=' or '{' after the family's name")) {
+        recoverTo(false);
+        return;
+    }
+    while (!at(Tok::RBrace) && !at(Tok::End)) {
+        if (diags_.errorCount() >= DiagEngine::kMaxErrors) return;
+        if (atWord("let")) {
+            advance();
+            Let l;
+            l.nameRange = range();
+            if (!at(Tok::Ident)) {
+                diags_.error(range(), Msg::Expected, "a name after 'let'", describeCurrent());
+                recoverTo(true);
+                continue;
+            }
+            l.name = std::string(lexer_.spelling(tok_));
+            advance();
+            if (!expect(Tok::Assign, fmt::format("'=' after '{}'", l.name).c_str())) {
+                recoverTo(true);
+                continue;
+            }
+            l.value = parseExpr();
+            d.lets.push_back(std::move(l));
+            if (!accept(Tok::Semi)) accept(Tok::Comma);
+            continue;
+        }
+        if (!parseProperty(d.props)) recoverTo(true);
+    }
+    expect(Tok::RBrace, "'}' to close the family");
+}
+
+ExprPtr Parser::errorExpr() {
+    return std::make_unique<Expr>(ExprKind::Error, range());
+}
+
+ExprPtr Parser::parseExpr() {
+    DepthGuard g(depth_);
+    if (depth_ > kMaxDepth) {
+        diags_.error(range(), Msg::TooDeep, kMaxDepth);
+        // Skip the rest of the input: whatever follows is inside the runaway nesting.
+        while (!at(Tok::End)) advance();
+        return errorExpr();
+    }
+    return parseSum();
+}
+
+ExprPtr Parser::parseSum() {
+    ExprPtr lhs = parseProduct();
+    while (at(Tok::Plus) || at(Tok::Minus)) {
+        SourceRange opRange = range();
+        BinOp op = at(Tok::Plus) ? BinOp::Add : BinOp::Sub;
+        advance();
+        ExprPtr rhs = parseProduct();
+        auto e = std::make_unique<Expr>(ExprKind::Binary, opRange);
+        e->bin = op;
+        e->args.push_back(std::move(lhs));
+        e->args.push_back(std::move(rhs));
+        lhs = std::move(e);
+    }
+    return lhs;
+}
+
+ExprPtr Parser::parseProduct() {
+    ExprPtr lhs = parseUnary();
+    while (at(Tok::Star) || at(Tok::Slash)) {
+        SourceRange opRange = range();
+        BinOp op = at(Tok::Star) ? BinOp::Mul : BinOp::Div;
+        advance();
+        ExprPtr rhs = parseUnary();
+        auto e = std::make_unique<Expr>(ExprKind::Binary, opRange);
+        e->bin = op;
+        e->args.push_back(std::move(lhs));
+        e->args.push_back(std::move(rhs));
+        lhs = std::move(e);
+    }
+    return lhs;
+}
+
+ExprPtr Parser::parseUnary() {
+    if (at(Tok::Minus) || at(Tok::Plus)) {
+        DepthGuard g(depth_);
+        if (depth_ > kMaxDepth) {
+            diags_.error(range(), Msg::TooDeep, kMaxDepth);
+            while (!at(Tok::End)) advance();
+            return errorExpr();
+        }
+        auto e = std::make_unique<Expr>(ExprKind::Unary, range());
+        e->un = at(Tok::Minus) ? UnOp::Neg : UnOp::Plus;
+        advance();
+        e->args.push_back(parseUnary());
+        return e;
+    }
+    return parsePower();
+}
+
+ExprPtr Parser::parsePower() {
+    ExprPtr base = parsePrimary();
+    if (!at(Tok::Caret)) return base;
+    SourceRange opRange = range();
+    advance();
+    DepthGuard g(depth_);
+    if (depth_ > kMaxDepth) {
+        diags_.error(range(), Msg::TooDeep, kMaxDepth);
+        while (!at(Tok::End)) advance();
+        return errorExpr();
+    }
+    // Right-associative: a ^ b ^ c = a ^ (b ^ c); the exponent may carry a sign: 2 ^ -1.
+    ExprPtr exponent = parseUnary();
+    auto e = std::make_unique<Expr>(ExprKind::Binary, opRange);
+    e->bin = BinOp::Pow;
+    e->args.push_back(std::move(base));
+    e->args.push_back(std::move(exponent));
+    return e;
+}
+
+ExprPtr Parser::parsePrimary() {
+    SourceRange start = range();
+    switch (tok_.kind) {
+    case Tok::Number: {
+        auto e = std::make_unique<Expr>(ExprKind::Number, start);
+        e->number = tok_.number;
+        e->unit = tok_.unit;
+        e->literalSlot = assignLiteral(tok_.number);
+        advance();
+        return e;
+    }
+    case Tok::Color: {
+        auto e = std::make_unique<Expr>(ExprKind::Color, start);
+        e->rgba = tok_.rgba;
+        if (!isStdlib_) {
+            e->literalSlot = assignLiteral(tok_.rgba[0]);
+            for (int i = 1; i < 4; ++i) assignLiteral(tok_.rgba[i]);
+        }
+        advance();
+        return e;
+    }
+    case Tok::Ident: {
+        std::string name(lexer_.spelling(tok_));
+        advance();
+        if (!at(Tok::LParen)) {
+            auto e = std::make_unique<Expr>(ExprKind::Name, start);
+            e->name = std::move(name);
+            return e;
+        }
+        auto e = std::make_unique<Expr>(ExprKind::Call, start);
+        e->name = std::move(name);
+        advance();
+        if (!at(Tok::RParen)) {
+            do {
+                e->args.push_back(parseExpr());
+            } while (accept(Tok::Comma));
+        }
+        expect(Tok::RParen, fmt::format("',' or ')' in the call to '{}'", e->name).c_str());
+        return e;
+    }
+    case Tok::LParen: {
+        advance();
+        ExprPtr first = parseExpr();
+        if (accept(Tok::Comma)) {
+            auto v = std::make_unique<Expr>(ExprKind::Vector, start);
+            v->args.push_back(std::move(first));
+            v->args.push_back(parseExpr());
+            while (accept(Tok::Comma)) v->args.push_back(parseExpr());
+            expect(Tok::RParen, "')' to close the vector");
+            v->range = spanFrom(start);
+            return v;
+        }
+        expect(Tok::RParen, "')'");
+        return first;
+    }
+    default:
+        diags_.error(range(), Msg::Expected, "an expression", describeCurrent());
+        if (!at(Tok::End) && !at(Tok::RBrace)) advance();
+        return errorExpr();
+    }
+}
+
+} // namespace moire

@@ -1,0 +1,72 @@
+// Hand-written recursive-descent parser for .moire modules.
+//
+//   module   := decl*
+//   decl     := 'scene' block | 'camera' block | 'layer' [name] block
+//             | 'field' name '=' expr
+//             | 'family' name ['(' param (',' param)* ')'] ('=' expr | body)
+//   block    := '{' (name '=' expr [';' | ','])* '}'
+//   body     := '{' ('let' name '=' expr | name '=' expr)* '}'   (separators optional)
+//   param    := name ['=' expr]
+//   expr     := sum;  sum := product (('+'|'-') product)*
+//   product  := unary (('*'|'/') unary)*
+//   unary    := ('-'|'+') unary | power
+//   power    := primary ['^' unary]          -- right-associative, binds tighter than unary minus
+//   primary  := number [unit] | colour | name ['(' args ')'] | '(' expr [',' expr] ')'
+#pragma once
+
+#include "compiler/diag/Diagnostics.h"
+#include "compiler/lex/Lexer.h"
+#include "compiler/parse/Ast.h"
+
+namespace moire {
+
+class Parser {
+public:
+    // Literals of a user file get slots in the module's literal table; stdlib literals are
+    // structural constants.
+    Parser(const SourceManager& sm, uint32_t fileId, DiagEngine& diags);
+
+    ast::Module parseModule();
+    // Parses one expression filling the whole text (used by tests and tools).
+    ast::ExprPtr parseStandaloneExpr();
+
+    static constexpr int kMaxDepth = 256;
+
+private:
+    void advance();
+    bool at(Tok k) const { return tok_.kind == k; }
+    bool atWord(std::string_view w) const { return at(Tok::Ident) && lexer_.spelling(tok_) == w; }
+    bool accept(Tok k);
+    // Reports "expected <what>, found <current token>" and returns false when not at `k`.
+    bool expect(Tok k, const char* what);
+    std::string describeCurrent() const;
+    SourceRange range() const { return {{file_, tok_.offset}, tok_.length ? tok_.length : 1}; }
+    SourceRange spanFrom(SourceRange start) const;
+    // Skip to something that can begin the next declaration or property after an error.
+    void recoverTo(bool inBlock);
+
+    ast::DeclPtr parseDecl();
+    void parseBlock(ast::Decl& d);
+    void parseFamily(ast::Decl& d);
+    bool parseProperty(std::vector<ast::Property>& props);
+
+    ast::ExprPtr parseExpr();
+    ast::ExprPtr parseSum();
+    ast::ExprPtr parseProduct();
+    ast::ExprPtr parseUnary();
+    ast::ExprPtr parsePower();
+    ast::ExprPtr parsePrimary();
+    ast::ExprPtr errorExpr();
+    int assignLiteral(double v);
+
+    uint32_t file_;
+    bool isStdlib_;
+    DiagEngine& diags_;
+    Lexer lexer_;
+    Token tok_;
+    Token prevTok_;
+    int depth_ = 0;
+    std::vector<double> literals_;
+};
+
+} // namespace moire

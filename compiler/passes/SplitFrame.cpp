@@ -1,0 +1,175 @@
+#include "compiler/passes/SplitFrame.h"
+
+#include <unordered_map>
+
+#include "compiler/diag/Diagnostics.h"
+#include "compiler/passes/Rewriter.h"
+#include "compiler/passes/Simplify.h"
+
+namespace moire::passes {
+
+using namespace ir;
+
+namespace {
+
+bool isPixelInput(Op op) {
+    return op == Op::PixelX || op == Op::PixelY || op == Op::ImageW || op == Op::ImageH;
+}
+
+// varying[v]: v depends on the pixel. An If or Loop is varying when anything inside it is.
+std::vector<bool> varyingValues(const Function& f) {
+    std::vector<bool> varying(f.numValues(), false);
+    std::function<bool(BlockId)> regionVarying = [&](BlockId b) {
+        for (const Inst& inst : f.blocks[b].insts) {
+            if (isPixelInput(inst.op)) return true;
+            for (ValueId a : inst.args)
+                if (varying[a]) return true;
+            for (BlockId r : inst.regions)
+                if (regionVarying(r)) return true;
+        }
+        return false;
+    };
+    for (bool changed = true; changed;) {
+        changed = false;
+        for (const Block& blk : f.blocks) {
+            for (const Inst& inst : blk.insts) {
+                bool v = isPixelInput(inst.op);
+                for (ValueId a : inst.args) v = v || varying[a];
+                for (BlockId r : inst.regions) v = v || regionVarying(r);
+                if (!v) continue;
+                for (ValueId r : inst.results)
+                    if (!varying[r]) varying[r] = changed = true;
+                for (BlockId r : inst.regions)
+                    for (ValueId p : f.blocks[r].params)
+                        if (!varying[p]) varying[p] = changed = true;
+            }
+        }
+    }
+    return varying;
+}
+
+bool instVarying(const Inst& inst, const std::vector<bool>& varying) {
+    if (isPixelInput(inst.op)) return true;
+    for (ValueId r : inst.results)
+        if (varying[r]) return true;
+    for (ValueId a : inst.args)
+        if (varying[a]) return true;
+    return false;
+}
+
+// Builds the kernel: the varying instructions of the entry block (with everything inside
+// their regions). A non-varying value the kernel uses becomes a uniform, or a constant.
+class KernelBuilder : public Rewriter {
+public:
+    KernelBuilder(const Function& scene, const std::vector<bool>& varying, int numOutputs)
+        : Rewriter(scene), varying_(varying) {
+        dst_.name = "kernel";
+        dst_.numOutputs = numOutputs;
+        for (const Block& blk : scene.blocks)
+            for (const Inst& inst : blk.insts)
+                for (ValueId r : inst.results) def_[r] = &inst;
+    }
+    std::vector<ValueId> uniformSources; // scene value behind each uniform slot
+
+private:
+    bool visit(const Inst& inst) override {
+        if (depth_ > 0) return false; // inside a kernel region: copy everything
+        if (inst.op == Op::Output) return inst.iimm >= dst_.numOutputs; // settings go to the frame
+        return !instVarying(inst, varying_);
+    }
+    void enterRegion() override { ++depth_; }
+    void leaveRegion() override { --depth_; }
+
+    ValueId mapMissing(ValueId v) override {
+        // What the kernel takes from the frame is emitted at the top of its entry block, so
+        // it dominates every use, including uses inside regions.
+        BlockId saved = b_.block();
+        b_.setBlock(0);
+        auto& entry = dst_.blocks[0].insts;
+        size_t at = entry.size();
+        ValueId r = importValue(v);
+        std::vector<Inst> moved(entry.begin() + at, entry.end());
+        entry.erase(entry.begin() + at, entry.end());
+        entry.insert(entry.begin() + hoisted_, moved.begin(), moved.end());
+        hoisted_ += moved.size();
+        b_.setBlock(saved);
+        return r;
+    }
+    ValueId importValue(ValueId v) {
+        const Inst* def = def_.at(v);
+        if (def->op == Op::ConstF) return b_.constF(def->imm);
+        if (def->op == Op::ConstI) return b_.constI(def->iimm);
+        if (def->op == Op::ConstB) return b_.constB(def->iimm != 0);
+        int slot = static_cast<int>(uniformSources.size());
+        uniformSources.push_back(v);
+        ValueId u = b_.uniform(slot);
+        Type t = src_.type(v);
+        if (t == Type::B) return b_.emit(Op::Ne, {u, b_.constF(0.0)});
+        if (t == Type::I) return b_.emit(Op::FToI, {u});
+        return u;
+    }
+
+    const std::vector<bool>& varying_;
+    std::unordered_map<ValueId, const Inst*> def_;
+    int depth_ = 0;
+    size_t hoisted_ = 0;
+};
+
+// Builds the frame program: the non-varying instructions, then one output per uniform and
+// per setting.
+class FrameBuilder : public Rewriter {
+public:
+    FrameBuilder(const Function& scene, const std::vector<bool>& varying, int numKernelOutputs,
+                 const std::vector<ValueId>& uniforms)
+        : Rewriter(scene), varying_(varying), numKernelOutputs_(numKernelOutputs), uniforms_(uniforms) {
+        dst_.name = "frame";
+    }
+    int numSettings = 0;
+
+private:
+    bool visit(const Inst& inst) override {
+        if (inst.op == Op::Output) {
+            if (inst.iimm >= numKernelOutputs_) settings_.push_back(&inst);
+            return true;
+        }
+        return instVarying(inst, varying_);
+    }
+    ValueId asFloat(ValueId v) {
+        Type t = dst_.type(v);
+        if (t == Type::B) return b_.select(v, b_.constF(1.0), b_.constF(0.0));
+        if (t == Type::I) return b_.emit(Op::IToF, {v});
+        return v;
+    }
+    void finish() override {
+        int slot = 0;
+        numSettings = 0;
+        for (const Inst* s : settings_) numSettings = std::max<int>(numSettings, s->iimm - numKernelOutputs_ + 1);
+        dst_.numOutputs = static_cast<int>(uniforms_.size()) + numSettings;
+        for (ValueId u : uniforms_) b_.output(slot++, asFloat(map(u)));
+        for (const Inst* s : settings_) {
+            MOIRE_CHECK(!varying_[s->args[0]], "a scene setting depends on the pixel");
+            b_.output(static_cast<int>(uniforms_.size() + (s->iimm - numKernelOutputs_)), map(s->args[0]));
+        }
+    }
+
+    const std::vector<bool>& varying_;
+    int numKernelOutputs_;
+    const std::vector<ValueId>& uniforms_;
+    std::vector<const Inst*> settings_;
+};
+
+} // namespace
+
+FrameSplit splitFrame(const Function& scene, int numKernelOutputs) {
+    std::vector<bool> varying = varyingValues(scene);
+    KernelBuilder kb(scene, varying, numKernelOutputs);
+    FrameSplit out;
+    out.kernel = eliminateDeadCode(kb.run());
+    FrameBuilder fb(scene, varying, numKernelOutputs, kb.uniformSources);
+    out.frame = simplify(fb.run());
+    out.numUniforms = static_cast<int>(kb.uniformSources.size());
+    out.numSettings = fb.numSettings;
+    return out;
+}
+
+} // namespace moire::passes

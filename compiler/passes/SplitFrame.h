@@ -1,0 +1,25 @@
+// Splits a scene function into the per-frame program and the per-pixel kernel.
+//
+// Everything that does not depend on the pixel (literals, the clock, camera maths, layer
+// parameters, background colour) moves to the frame program, which the runtime evaluates
+// once per frame; what the kernel needs of it arrives as uniform slots. So a scene whose
+// numbers change gets new uniforms and keeps its compiled kernel.
+//
+// Output slots [0, numKernelOutputs) of the scene are per-pixel outputs; higher slots are
+// frame settings (image size, ...) and become frame outputs after the uniforms.
+#pragma once
+
+#include "compiler/ir/IR.h"
+
+namespace moire::passes {
+
+struct FrameSplit {
+    ir::Function frame;  // outputs: uniforms [0, numUniforms), then settings
+    ir::Function kernel; // outputs: the per-pixel slots
+    int numUniforms = 0;
+    int numSettings = 0;
+};
+
+FrameSplit splitFrame(const ir::Function& scene, int numKernelOutputs);
+
+} // namespace moire::passes

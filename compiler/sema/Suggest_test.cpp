@@ -1,0 +1,23 @@
+#include "compiler/sema/Suggest.h"
+
+#include <doctest/doctest.h>
+
+using namespace moire;
+
+TEST_CASE("edit distance counts insertions, deletions, substitutions and transpositions") {
+    CHECK(editDistance("", "") == 0);
+    CHECK(editDistance("sin", "sin") == 0);
+    CHECK(editDistance("sinn", "sin") == 1);
+    CHECK(editDistance("cso", "cos") == 1);
+    CHECK(editDistance("kitten", "sitting") == 3);
+    CHECK(editDistance("Theta", "theta") == 0); // case-insensitive
+}
+
+TEST_CASE("the nearest name is suggested only when it is close") {
+    std::vector<std::string> names = {"spacing", "stroke", "phase", "opacity"};
+    CHECK(nearestName("spacng", names) == "spacing");
+    CHECK(nearestName("strok", names) == "stroke");
+    CHECK(nearestName("zzzzzz", names).empty());
+    CHECK(didYouMean("opacty", names) == "; did you mean 'opacity'?");
+    CHECK(didYouMean("q", names).empty());
+}

@@ -1,0 +1,53 @@
+#include "runtime/FrameEval.h"
+
+#include <cmath>
+
+#include "compiler/backend/interp/Interpreter.h"
+
+namespace moire {
+
+namespace {
+SourceRange propRange(const ast::Decl* block, const char* name) {
+    if (!block) return {};
+    const ast::Property* p = block->prop(name);
+    return p ? p->value->range : SourceRange{};
+}
+} // namespace
+
+bool evaluateFrame(const SceneProgram& program, const FrameRequest& request, FrameValues& out,
+                   std::string& diagnostics) {
+    Interpreter interp(program.frame);
+    std::vector<double> outputs(program.frame.numOutputs);
+    std::vector<double> regs;
+    InterpEnv env;
+    env.time = request.time;
+    env.params = program.literals.data();
+    env.numParams = program.literals.size();
+    env.outputs = outputs.data();
+    interp.run(env, regs);
+
+    const int u = program.numUniforms;
+    out.uniforms.assign(outputs.begin(), outputs.begin() + u);
+    double w = outputs[u + lower::OutputLayout::kSettingWidth];
+    double h = outputs[u + lower::OutputLayout::kSettingHeight];
+    out.zoom = outputs[u + lower::OutputLayout::kSettingZoom];
+
+    DiagEngine diags(*program.sources);
+    auto whole = [](double v) { return std::isfinite(v) && v == std::floor(v) && v >= 1 && v <= kMaxImageSide; };
+    if (request.width > 0 && request.height > 0) {
+        w = request.width;
+        h = request.height;
+    }
+    if (!whole(w) || !whole(h)) {
+        diags.error(propRange(program.checked.scene, "size"), Msg::BadSize, kMaxImageSide, w, h);
+    } else {
+        out.width = static_cast<int>(w);
+        out.height = static_cast<int>(h);
+    }
+    if (!(std::isfinite(out.zoom) && out.zoom > 0))
+        diags.error(propRange(program.checked.camera, "zoom"), Msg::BadZoom, out.zoom);
+    diagnostics = diags.render();
+    return !diags.hasErrors();
+}
+
+} // namespace moire

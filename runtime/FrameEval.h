@@ -1,0 +1,32 @@
+// Per-frame evaluation: runs a scene's frame program (in double precision, on the reference
+// interpreter) for one instant of the clock, giving the kernel's uniforms and the frame
+// settings. Nothing carries over from one frame to the next.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "compiler/Compile.h"
+
+namespace moire {
+
+struct FrameValues {
+    std::vector<double> uniforms;
+    int width = 0, height = 0;
+    double zoom = 1.0;
+};
+
+constexpr int kMaxImageSide = 32768;
+
+struct FrameRequest {
+    double time = 0.0;
+    int width = 0, height = 0; // when non-zero, replaces the scene's size
+};
+
+// Evaluates the frame at `request.time`. A value that cannot be rendered (an image size out
+// of range, a zero zoom) is a user error: the rendered diagnostic goes to `diagnostics` and
+// the function returns false.
+bool evaluateFrame(const SceneProgram& program, const FrameRequest& request, FrameValues& out,
+                   std::string& diagnostics);
+
+} // namespace moire

@@ -1,0 +1,43 @@
+// Writing images through OpenImageIO, the format chosen by the file extension:
+//   .png  8-bit (default) or 16-bit sRGB
+//   .tif  16-bit (default) or 8-bit sRGB
+//   .exr  32-bit float (default) or half, linear colour
+//   .jpg  8-bit sRGB, no alpha
+// A file is written to a temporary name in the same directory and renamed into place, so a
+// reader never sees half an image and a failed write leaves any existing file untouched.
+#pragma once
+
+#include <stdexcept>
+#include <string>
+
+#include "runtime/Image.h"
+
+namespace moire {
+
+enum class PixelDepth { Default, U8, U16, Half, Float };
+
+struct WriteOptions {
+    PixelDepth depth = PixelDepth::Default;
+    double dpi = 0.0; // resolution metadata for print; 0 leaves it unset
+};
+
+class IoError : public std::runtime_error {
+public:
+    using std::runtime_error::runtime_error;
+};
+
+// `image` holds straight sRGB-encoded RGBA (channels >= 4); throws IoError.
+void writeImage(const std::string& path, const Image& image, const WriteOptions& options = {});
+
+// Reads any image OpenImageIO understands into float RGBA (values as stored; sRGB files stay
+// sRGB-encoded, EXR stays linear). Throws IoError.
+Image readImage(const std::string& path);
+
+// The sRGB transfer function and its inverse.
+float srgbToLinear(float v);
+float linearToSrgb(float v);
+
+// "png", "exr", ... for the formats writeImage accepts; "" otherwise.
+std::string imageFormatOf(const std::string& path);
+
+} // namespace moire

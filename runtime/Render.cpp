@@ -1,0 +1,29 @@
+#include "runtime/Render.h"
+
+#include "compiler/backend/interp/Interpreter.h"
+#include "compiler/backend/llvm/LlvmJit.h"
+
+namespace moire {
+
+const std::vector<std::string>& backendNames() {
+    static const std::vector<std::string> names = {"jit", "interp"};
+    return names;
+}
+
+std::unique_ptr<Backend> makeBackend(const std::string& name) {
+    if (name == "interp") return std::make_unique<InterpBackend>();
+    if (name == "jit") return std::make_unique<LlvmJitBackend>();
+    return nullptr;
+}
+
+Image renderFrame(const SceneProgram& program, Backend& backend, const FrameValues& frame,
+                  const ExecOptions& options) {
+    std::unique_ptr<CompiledKernel> kernel = backend.compile(program.kernel);
+    KernelFrame kf;
+    kf.uniforms = frame.uniforms.data();
+    kf.imageW = frame.width;
+    kf.imageH = frame.height;
+    return runKernel(*kernel, kf, options);
+}
+
+} // namespace moire

@@ -1,0 +1,26 @@
+// Rendering a compiled scene: choose a backend, evaluate the frame, run the kernel.
+#pragma once
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "compiler/Compile.h"
+#include "compiler/backend/Backend.h"
+#include "runtime/FrameEval.h"
+#include "runtime/Image.h"
+#include "runtime/TileExecutor.h"
+
+namespace moire {
+
+// Names accepted by --backend, in order of preference.
+const std::vector<std::string>& backendNames();
+// Creates a backend by name; returns null for an unknown name.
+std::unique_ptr<Backend> makeBackend(const std::string& name);
+
+// Renders one frame of `program` whose frame values are `frame`; the image has the kernel's
+// outputs as channels (RGBA first).
+Image renderFrame(const SceneProgram& program, Backend& backend, const FrameValues& frame,
+                  const ExecOptions& options = {});
+
+} // namespace moire

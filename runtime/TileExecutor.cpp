@@ -1,0 +1,66 @@
+#include "runtime/TileExecutor.h"
+
+#include <atomic>
+#include <chrono>
+#include <exception>
+#include <mutex>
+#include <thread>
+
+namespace moire {
+
+Image runKernel(const CompiledKernel& kernel, const KernelFrame& frame, const ExecOptions& options) {
+    const int n = kernel.numOutputs();
+    Image img(frame.imageW, frame.imageH, n);
+    const int ts = std::max(8, options.tileSize);
+    const int tilesX = (frame.imageW + ts - 1) / ts;
+    const int tilesY = (frame.imageH + ts - 1) / ts;
+    const int total = tilesX * tilesY;
+    int threads = options.threads > 0 ? options.threads : static_cast<int>(std::thread::hardware_concurrency());
+    threads = std::max(1, std::min(threads, total));
+
+    std::atomic<int> next{0};
+    std::atomic<int> done{0};
+    std::exception_ptr failure;
+    std::mutex failureMutex;
+    std::atomic<bool> failed{false};
+    const size_t rowStride = static_cast<size_t>(frame.imageW) * n;
+
+    auto worker = [&] {
+        try {
+            for (int t; (t = next.fetch_add(1)) < total;) {
+                TileRect r;
+                r.x0 = (t % tilesX) * ts;
+                r.y0 = (t / tilesX) * ts;
+                r.x1 = std::min(r.x0 + ts, frame.imageW);
+                r.y1 = std::min(r.y0 + ts, frame.imageH);
+                float* out = img.row(r.y0) + static_cast<size_t>(r.x0) * n;
+                kernel.runTile(frame, r, out, rowStride);
+                done.fetch_add(1);
+            }
+        } catch (...) {
+            std::lock_guard<std::mutex> lock(failureMutex);
+            if (!failure) failure = std::current_exception();
+            failed.store(true);
+            next.store(total);
+        }
+    };
+
+    std::vector<std::thread> pool;
+    if (options.progress && threads > 1) {
+        // The calling thread only reports progress; `threads` workers take the tiles.
+        for (int i = 0; i < threads; ++i) pool.emplace_back(worker);
+        while (done.load() < total && !failed.load()) {
+            std::this_thread::sleep_for(std::chrono::milliseconds(100));
+            options.progress(static_cast<double>(done.load()) / total);
+        }
+    } else {
+        for (int i = 1; i < threads; ++i) pool.emplace_back(worker);
+        worker();
+    }
+    for (std::thread& t : pool) t.join();
+    if (failure) std::rethrow_exception(failure);
+    if (options.progress) options.progress(1.0);
+    return img;
+}
+
+} // namespace moire

@@ -1,0 +1,204 @@
+#include "runtime/cli/Commands.h"
+
+#include <fmt/format.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "compiler/Compile.h"
+#include "compiler/backend/llvm/LlvmJit.h"
+#include "runtime/ImageIO.h"
+#include "runtime/Render.h"
+
+namespace moire::cli {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+struct Source {
+    std::string path;
+    std::string text;
+};
+
+// Reads a scene, or the embedded default when `path` is empty. Prints the reason and returns
+// false when the file cannot be read.
+bool readScene(const std::string& path, Source& out) {
+    if (path.empty()) {
+        EmbeddedScene d = defaultScene();
+        out = {d.path, d.text};
+        return true;
+    }
+    std::error_code ec;
+    if (fs::is_directory(path, ec)) {
+        fmt::print(stderr, "moire: error: cannot read '{}': it is a directory\n", path);
+        return false;
+    }
+    std::ifstream in(path, std::ios::binary);
+    if (!in) {
+        fmt::print(stderr, "moire: error: cannot read '{}': {}\n", path, std::strerror(errno));
+        return false;
+    }
+    std::ostringstream ss;
+    ss << in.rdbuf();
+    out = {path, ss.str()};
+    return true;
+}
+
+std::unique_ptr<SceneProgram> compileOrReport(const Source& src, const CompileOptions& options = {}) {
+    CompileResult r = compileScene(src.path, src.text, options);
+    if (!r.diagnostics.empty()) fmt::print(stderr, "{}", r.diagnostics);
+    return std::move(r.program);
+}
+
+bool parseSize(const std::string& s, int& w, int& h) {
+    char x = 0;
+    char extra = 0;
+    return std::sscanf(s.c_str(), "%d%c%d%c", &w, &x, &h, &extra) == 3 && (x == 'x' || x == 'X') && w >= 1 &&
+           h >= 1 && w <= kMaxImageSide && h <= kMaxImageSide;
+}
+
+bool parseDepth(const std::string& s, PixelDepth& d) {
+    if (s.empty()) d = PixelDepth::Default;
+    else if (s == "8") d = PixelDepth::U8;
+    else if (s == "16") d = PixelDepth::U16;
+    else if (s == "half") d = PixelDepth::Half;
+    else if (s == "float" || s == "32") d = PixelDepth::Float;
+    else return false;
+    return true;
+}
+
+double secondsSince(std::chrono::steady_clock::time_point t0) {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+} // namespace
+
+int render(const RenderArgs& args) {
+    int w = 0, h = 0;
+    if (!args.size.empty() && !parseSize(args.size, w, h)) {
+        fmt::print(stderr, "moire: error: --size must be WIDTHxHEIGHT in pixels (1 to {}), not '{}'\n",
+                   kMaxImageSide, args.size);
+        return kExitUsage;
+    }
+    PixelDepth depth;
+    if (!parseDepth(args.depth, depth)) {
+        fmt::print(stderr, "moire: error: --depth must be 8, 16, half or float, not '{}'\n", args.depth);
+        return kExitUsage;
+    }
+    std::string output = args.output;
+    if (output.empty())
+        output = (args.scene.empty() ? std::string("default") : fs::path(args.scene).stem().string()) + ".png";
+    if (imageFormatOf(output).empty()) {
+        fmt::print(stderr, "moire: error: cannot write '{}': unknown image format; use .png, .tif, .exr or .jpg\n",
+                   output);
+        return kExitUsage;
+    }
+    std::unique_ptr<Backend> backend = makeBackend(args.backend);
+    if (!backend) {
+        fmt::print(stderr, "moire: error: unknown backend '{}'; the backends are jit and interp\n", args.backend);
+        return kExitUsage;
+    }
+
+    auto t0 = std::chrono::steady_clock::now();
+    Source src;
+    if (!readScene(args.scene, src)) return kExitUserError;
+    auto program = compileOrReport(src);
+    if (!program) return kExitUserError;
+
+    FrameRequest req;
+    req.time = args.time;
+    req.width = w;
+    req.height = h;
+    FrameValues frame;
+    std::string diags;
+    if (!evaluateFrame(*program, req, frame, diags)) {
+        fmt::print(stderr, "{}", diags);
+        return kExitUserError;
+    }
+
+    ExecOptions exec;
+    exec.threads = args.threads;
+    bool tty = isatty(fileno(stderr));
+    bool shown = false;
+    if (!args.quiet) {
+        exec.progress = [&](double fraction) {
+            // Only renders that take over a second get a progress line.
+            if (secondsSince(t0) < 1.0 || !tty) return;
+            fmt::print(stderr, "\rmoire: rendering {}x{} on {} {:3.0f}%", frame.width, frame.height,
+                       backend->name(), fraction * 100.0);
+            std::fflush(stderr);
+            shown = true;
+        };
+    }
+    Image img = renderFrame(*program, *backend, frame, exec);
+    if (shown) fmt::print(stderr, "\n");
+
+    WriteOptions wo;
+    wo.depth = depth;
+    wo.dpi = args.dpi;
+    try {
+        writeImage(output, img, wo);
+    } catch (const IoError& e) {
+        fmt::print(stderr, "moire: error: {}\n", e.what());
+        return kExitUserError;
+    }
+    double seconds = secondsSince(t0);
+    if (!args.quiet)
+        fmt::print(stderr, "moire: wrote {} ({}x{}, {}, {:.0f} ms)\n", output, frame.width, frame.height,
+                   backend->name(), seconds * 1000.0);
+    return kExitOk;
+}
+
+int check(const std::vector<std::string>& scenes, bool quiet) {
+    int status = kExitOk;
+    for (const std::string& path : scenes) {
+        Source src;
+        if (!readScene(path, src)) {
+            status = kExitUserError;
+            continue;
+        }
+        auto program = compileOrReport(src);
+        if (!program) {
+            status = kExitUserError;
+            continue;
+        }
+        FrameValues frame;
+        std::string diags;
+        if (!evaluateFrame(*program, FrameRequest{}, frame, diags)) {
+            fmt::print(stderr, "{}", diags);
+            status = kExitUserError;
+            continue;
+        }
+        if (!quiet) fmt::print("{}: ok\n", path);
+    }
+    return status;
+}
+
+int compile(const CompileArgs& args) {
+    static const char* kDumps[] = {"ast", "ir", "ir-ad", "frame", "kernel", "llvm"};
+    if (std::find(std::begin(kDumps), std::end(kDumps), args.dump) == std::end(kDumps)) {
+        fmt::print(stderr, "moire: error: --dump must be one of ast, ir, ir-ad, frame, kernel, llvm; not '{}'\n",
+                   args.dump);
+        return kExitUsage;
+    }
+    Source src;
+    if (!readScene(args.scene, src)) return kExitUserError;
+    CompileOptions options;
+    options.layerFields = args.layerFields;
+    auto program = compileOrReport(src, options);
+    if (!program) return kExitUserError;
+    if (args.dump == "ast") fmt::print("{}", ast::printModule(program->userModule()));
+    else if (args.dump == "ir") fmt::print("{}", ir::print(program->lowered));
+    else if (args.dump == "ir-ad") fmt::print("{}", ir::print(program->derived));
+    else if (args.dump == "frame") fmt::print("{}", ir::print(program->frame));
+    else if (args.dump == "kernel") fmt::print("{}", ir::print(program->kernel));
+    else if (args.dump == "llvm") fmt::print("{}", LlvmJitBackend().dumpLlvm(program->kernel));
+    return kExitOk;
+}
+
+} // namespace moire::cli

@@ -1,0 +1,38 @@
+// The `moire` subcommands. Each returns the process exit status:
+//   0 success, 1 the scene or a file is wrong (a diagnostic was printed),
+//   2 the command line is wrong, 70 an internal error in moire.
+#pragma once
+
+#include <string>
+#include <vector>
+
+namespace moire::cli {
+
+constexpr int kExitOk = 0;
+constexpr int kExitUserError = 1;
+constexpr int kExitUsage = 2;
+constexpr int kExitInternal = 70;
+
+struct RenderArgs {
+    std::string scene;   // empty: the embedded default scene
+    std::string output;  // empty: <scene stem>.png in the current directory
+    std::string size;    // "WxH", empty: the scene's
+    double time = 0.0;
+    std::string backend = "jit";
+    std::string depth;   // 8, 16, half, float
+    double dpi = 0.0;
+    int threads = 0;
+    bool quiet = false;
+};
+int render(const RenderArgs& args);
+
+int check(const std::vector<std::string>& scenes, bool quiet);
+
+struct CompileArgs {
+    std::string scene;
+    std::string dump = "ir"; // ast, ir, ir-ad, frame, kernel, llvm
+    bool layerFields = false;
+};
+int compile(const CompileArgs& args);
+
+} // namespace moire::cli

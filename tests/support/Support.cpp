@@ -1,0 +1,135 @@
+#include "tests/support/Support.h"
+
+#include <doctest/doctest.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "runtime/FrameEval.h"
+#include "runtime/Render.h"
+
+namespace moire::test {
+
+namespace fs = std::filesystem;
+
+std::string sourcePath(const std::string& relative) { return std::string(MOIRE_SOURCE_DIR) + "/" + relative; }
+
+std::string moireBinary() { return MOIRE_BINARY; }
+
+std::string readFile(const std::string& path) {
+    std::ifstream in(path, std::ios::binary);
+    REQUIRE_MESSAGE(in.good(), "cannot read ", path);
+    std::ostringstream ss;
+    ss << in.rdbuf();
+    return ss.str();
+}
+
+std::unique_ptr<SceneProgram> compileOk(const std::string& text, const CompileOptions& options,
+                                        const std::string& path) {
+    CompileResult r = compileScene(path, text, options);
+    INFO("diagnostics:\n", r.diagnostics);
+    REQUIRE(r.program != nullptr);
+    return std::move(r.program);
+}
+
+std::string compileErrors(const std::string& text, const std::string& path) {
+    CompileResult r = compileScene(path, text, {});
+    if (r.program) {
+        // Frame-time errors (image size, zoom) are diagnostics too.
+        FrameValues fv;
+        std::string diags;
+        bool ok = evaluateFrame(*r.program, FrameRequest{}, fv, diags);
+        INFO("scene unexpectedly valid:\n", text);
+        REQUIRE_FALSE(ok);
+        return diags;
+    }
+    return r.diagnostics;
+}
+
+std::vector<std::string> availableBackends() {
+    std::vector<std::string> out;
+    for (const std::string& name : backendNames()) {
+        try {
+            if (makeBackend(name)) out.push_back(name);
+        } catch (const std::exception& e) {
+            MESSAGE("skipping backend '", name, "': ", e.what());
+        }
+    }
+    return out;
+}
+
+std::unique_ptr<Backend> makeBackendOrSkip(const std::string& name) {
+    try {
+        return makeBackend(name);
+    } catch (const std::exception& e) {
+        MESSAGE("skipping backend '", name, "': ", e.what());
+        return nullptr;
+    }
+}
+
+Image renderScene(const SceneProgram& program, Backend& backend, int width, int height, double t) {
+    FrameRequest req;
+    req.time = t;
+    req.width = width;
+    req.height = height;
+    FrameValues fv;
+    std::string diags;
+    INFO(diags);
+    REQUIRE(evaluateFrame(program, req, fv, diags));
+    return renderFrame(program, backend, fv);
+}
+
+ImageDiff compareImages(const Image& a, const Image& b, double tolerance, int channels) {
+    REQUIRE(a.width == b.width);
+    REQUIRE(a.height == b.height);
+    ImageDiff d;
+    double sum = 0.0;
+    for (int y = 0; y < a.height; ++y)
+        for (int x = 0; x < a.width; ++x)
+            for (int c = 0; c < channels; ++c) {
+                double diff = std::fabs(static_cast<double>(a.at(x, y, c)) - b.at(x, y, c));
+                if (!(diff == diff)) diff = 1e9; // NaN counts as a full miss
+                d.maxAbs = std::max(d.maxAbs, diff);
+                sum += diff;
+                if (diff > tolerance) ++d.over;
+                ++d.samples;
+            }
+    d.meanAbs = d.samples ? sum / d.samples : 0.0;
+    return d;
+}
+
+std::vector<std::string> exampleScenes() {
+    std::vector<std::string> out;
+    for (const auto& entry : fs::directory_iterator(sourcePath("examples")))
+        if (entry.path().extension() == ".moire") out.push_back("examples/" + entry.path().filename().string());
+    std::sort(out.begin(), out.end());
+    return out;
+}
+
+CommandResult runCommand(const std::string& command) {
+    char outName[] = "/tmp/moire-test-out-XXXXXX";
+    char errName[] = "/tmp/moire-test-err-XXXXXX";
+    int outFd = mkstemp(outName);
+    int errFd = mkstemp(errName);
+    REQUIRE(outFd >= 0);
+    REQUIRE(errFd >= 0);
+    close(outFd);
+    close(errFd);
+    std::string full = command + " >" + outName + " 2>" + errName;
+    int raw = std::system(full.c_str());
+    CommandResult r;
+    r.status = WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
+    r.out = readFile(outName);
+    r.err = readFile(errName);
+    fs::remove(outName);
+    fs::remove(errName);
+    return r;
+}
+
+} // namespace moire::test

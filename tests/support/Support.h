@@ -1,0 +1,55 @@
+// Shared helpers for moire's tests: compiling scenes from text, running every backend that
+// is available (one test body, every backend), reading files, comparing images.
+#pragma once
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "compiler/Compile.h"
+#include "compiler/backend/Backend.h"
+#include "runtime/Image.h"
+
+namespace moire::test {
+
+// A path inside the source tree.
+std::string sourcePath(const std::string& relative);
+std::string readFile(const std::string& path);
+// The `moire` executable built beside the tests.
+std::string moireBinary();
+
+// Compiles a scene that must be valid; fails the current test with its diagnostics if not.
+std::unique_ptr<SceneProgram> compileOk(const std::string& text, const CompileOptions& options = {},
+                                        const std::string& path = "test.moire");
+// Compiles a scene that must be invalid; returns the rendered diagnostics.
+std::string compileErrors(const std::string& text, const std::string& path = "test.moire");
+
+// Backends that can run here. Each test body that checks a backend property loops over
+// these; a backend missing at run time is skipped with a message, never failed.
+std::vector<std::string> availableBackends();
+std::unique_ptr<Backend> makeBackendOrSkip(const std::string& name);
+
+// Renders frame `t` of a program at the given size (0: the scene's size) on a backend.
+Image renderScene(const SceneProgram& program, Backend& backend, int width = 0, int height = 0, double t = 0.0);
+
+// Per-channel comparison of two images of the same size.
+struct ImageDiff {
+    size_t samples = 0;        // pixels x channels compared
+    double maxAbs = 0.0;
+    double meanAbs = 0.0;
+    size_t over = 0;           // samples whose difference exceeds the tolerance given
+    double fractionWithin() const { return samples ? 1.0 - static_cast<double>(over) / samples : 1.0; }
+};
+ImageDiff compareImages(const Image& a, const Image& b, double tolerance, int channels = 4);
+
+// The example scenes (examples/*.moire), sorted, as paths relative to the source root.
+std::vector<std::string> exampleScenes();
+
+// Runs a command through the shell; returns its exit status and captures stdout/stderr.
+struct CommandResult {
+    int status = -1;
+    std::string out, err;
+};
+CommandResult runCommand(const std::string& command);
+
+} // namespace moire::test

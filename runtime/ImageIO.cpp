@@ -91,7 +91,12 @@ void writeImage(const std::string& path, const Image& image, const WriteOptions&
     }
 
     OIIO::ImageSpec spec(image.width, image.height, outChannels, type);
-    if (outChannels == 4) spec.alpha_channel = 3;
+    if (outChannels == 4) {
+        spec.alpha_channel = 3;
+        // Our colour is straight (unassociated); without this OpenImageIO would treat it as
+        // premultiplied and divide it by alpha on the way into PNG and TIFF.
+        spec.attribute("oiio:UnassociatedAlpha", 1);
+    }
     spec.attribute("oiio:ColorSpace", linear ? "Linear" : "sRGB");
     spec.attribute("Software", "moire " MOIRE_VERSION);
     if (options.dpi > 0) {
@@ -124,7 +129,10 @@ void writeImage(const std::string& path, const Image& image, const WriteOptions&
 }
 
 Image readImage(const std::string& path) {
-    auto in = OIIO::ImageInput::open(path);
+    // Keep straight alpha as stored rather than premultiplying on read.
+    OIIO::ImageSpec config;
+    config.attribute("oiio:UnassociatedAlpha", 1);
+    auto in = OIIO::ImageInput::open(path, &config);
     if (!in) throw IoError(fmt::format("cannot read '{}': {}", path, OIIO::geterror()));
     const OIIO::ImageSpec& spec = in->spec();
     std::vector<float> raw(static_cast<size_t>(spec.width) * spec.height * spec.nchannels);

@@ -34,7 +34,13 @@ public:
         b_.setLoc({});
         ValueId sx = b_.sub(b_.leaf(Op::PixelX), b_.mul(b_.leaf(Op::ImageW), b_.constF(0.5)));
         ValueId sy = b_.sub(b_.mul(b_.leaf(Op::ImageH), b_.constF(0.5)), b_.leaf(Op::PixelY));
-        ValueId pixel = b_.div(b_.constF(1.0), zoom); // world size of one pixel
+        // The world size of one pixel. The scene's `size` frames the picture; rendering at
+        // another size shows the same frame at that resolution (fitted if the aspect
+        // differs), so a print-size render is the same picture with more pixels.
+        ValueId fit = b_.constF(1.0);
+        if (options_.probeSlot < 0)
+            fit = b_.max(b_.div(size[0], b_.leaf(Op::ImageW)), b_.div(size[1], b_.leaf(Op::ImageH)));
+        ValueId pixel = b_.div(fit, zoom);
         auto [rx, ry] = turn ? rotate(sx, sy, exprs_.scalar(*turn, constantFrame_)) : std::pair{sx, sy};
         // Everything downstream is differentiated with respect to these two values.
         world_.x = b_.emit(Op::Indep, {b_.add(center[0], b_.mul(rx, pixel))}, 0.0, 0);

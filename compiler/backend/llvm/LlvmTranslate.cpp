@@ -115,6 +115,19 @@ private:
     llvm::Value* semMin(llvm::Value* a, llvm::Value* bv) { return b_.CreateSelect(b_.CreateFCmpOLT(bv, a), bv, a); }
     llvm::Value* semMax(llvm::Value* a, llvm::Value* bv) { return b_.CreateSelect(b_.CreateFCmpOGT(bv, a), bv, a); }
     llvm::Value* floorOf(llvm::Value* a) { return intrinsic(llvm::Intrinsic::floor, {a}); }
+    // hypot without libm's call: big * sqrt(1 + (small / big)^2), which neither overflows
+    // nor underflows; 0 at the origin and inf when either side is infinite, as hypotf.
+    llvm::Value* hypot(llvm::Value* a, llvm::Value* bv) {
+        llvm::Value* x = intrinsic(llvm::Intrinsic::fabs, {a});
+        llvm::Value* y = intrinsic(llvm::Intrinsic::fabs, {bv});
+        llvm::Value* big = intrinsic(llvm::Intrinsic::maxnum, {x, y});
+        llvm::Value* small = intrinsic(llvm::Intrinsic::minnum, {x, y});
+        llvm::Value* q = b_.CreateFDiv(small, big);
+        llvm::Value* h = b_.CreateFMul(big, intrinsic(llvm::Intrinsic::sqrt, {b_.CreateFAdd(cf(1), b_.CreateFMul(q, q))}));
+        llvm::Value* inf = llvm::ConstantFP::getInfinity(fTy_);
+        h = b_.CreateSelect(b_.CreateFCmpOEQ(big, cf(0)), cf(0), h);
+        return b_.CreateSelect(b_.CreateFCmpOEQ(big, inf), inf, h);
+    }
 
     void block(ir::BlockId id) {
         for (const ir::Inst& inst : f_.blocks[id].insts) {
@@ -209,7 +222,7 @@ private:
         case Op::Acos: r = libm("acosf", {semMin(semMax(A(0), cf(-1)), cf(1))}); break;
         case Op::Atan: r = libm("atanf", {A(0)}); break;
         case Op::Atan2: r = libm("atan2f", {A(0), A(1)}); break;
-        case Op::Hypot: r = libm("hypotf", {A(0), A(1)}); break;
+        case Op::Hypot: r = hypot(A(0), A(1)); break;
         case Op::Select: r = b_.CreateSelect(A(0), A(1), A(2)); break;
         case Op::Lt: r = b_.CreateFCmpOLT(A(0), A(1)); break;
         case Op::Le: r = b_.CreateFCmpOLE(A(0), A(1)); break;

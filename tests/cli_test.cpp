@@ -1,0 +1,164 @@
+// The `moire` command line, run as a user runs it: exit statuses, files written (and not
+// written), and what each dump shows.
+#include <doctest/doctest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <unistd.h>
+
+#include "runtime/ImageIO.h"
+#include "tests/support/Support.h"
+
+namespace fs = std::filesystem;
+using namespace moire;
+
+namespace {
+
+struct Workdir {
+    fs::path path;
+    Workdir() {
+        path = fs::temp_directory_path() / ("moire-cli-" + std::to_string(::getpid()) + "-" +
+                                            std::to_string(reinterpret_cast<uintptr_t>(this)));
+        fs::create_directories(path);
+    }
+    ~Workdir() { fs::remove_all(path); }
+    std::string file(const std::string& name) const { return (path / name).string(); }
+    void write(const std::string& name, const std::string& text) const { std::ofstream(file(name)) << text; }
+    // Runs moire with `args` inside this directory.
+    test::CommandResult moire(const std::string& args) const {
+        return test::runCommand("cd '" + path.string() + "' && '" + test::moireBinary() + "' " + args);
+    }
+};
+
+const char* kSmall = "scene { size = (64, 40) }\nlayer { family = circles; spacing = 4 }\n";
+
+} // namespace
+
+TEST_CASE("--version and --help") {
+    Workdir w;
+    auto v = w.moire("--version");
+    CHECK(v.status == 0);
+    CHECK(v.out.find("moire 0.") != std::string::npos);
+    auto h = w.moire("--help");
+    CHECK(h.status == 0);
+    for (const char* cmd : {"render", "check", "compile"}) CHECK(h.out.find(cmd) != std::string::npos);
+    auto none = w.moire("");
+    CHECK(none.status == 0);
+    CHECK(none.out.find("render") != std::string::npos);
+}
+
+TEST_CASE("render with no scene writes the default scene to default.png") {
+    Workdir w;
+    auto r = w.moire("render --size 120x80");
+    INFO(r.err);
+    REQUIRE(r.status == 0);
+    Image img = readImage(w.file("default.png"));
+    CHECK(img.width == 120);
+    CHECK(img.height == 80);
+    CHECK(r.err.find("wrote default.png") != std::string::npos);
+}
+
+TEST_CASE("render writes every format, at the scene's size unless told otherwise") {
+    Workdir w;
+    w.write("s.moire", kSmall);
+    for (const char* out : {"a.png", "b.tif", "c.exr", "d.jpg"}) {
+        CAPTURE(out);
+        auto r = w.moire(std::string("render s.moire -q -o ") + out);
+        INFO(r.err);
+        REQUIRE(r.status == 0);
+        CHECK(r.err.empty()); // --quiet
+        Image img = readImage(w.file(out));
+        CHECK(img.width == 64);
+        CHECK(img.height == 40);
+    }
+    auto r = w.moire("render s.moire -q -o big.png --size 128x80 --depth 16 --backend interp --time 2 --dpi 300");
+    INFO(r.err);
+    CHECK(r.status == 0);
+    CHECK(readImage(w.file("big.png")).width == 128);
+}
+
+TEST_CASE("the two backends render the same picture from the command line") {
+    Workdir w;
+    w.write("s.moire", kSmall);
+    REQUIRE(w.moire("render s.moire -q -o jit.png --backend jit").status == 0);
+    REQUIRE(w.moire("render s.moire -q -o interp.png --backend interp").status == 0);
+    test::ImageDiff d = test::compareImages(readImage(w.file("jit.png")), readImage(w.file("interp.png")), 2.0 / 255);
+    CHECK(d.fractionWithin() >= 0.999);
+}
+
+TEST_CASE("bad command lines exit with status 2 and write nothing") {
+    Workdir w;
+    w.write("s.moire", kSmall);
+    for (const char* args : {"render s.moire --size 0x10", "render s.moire --size 12", "render s.moire --backend gpu",
+                             "render s.moire -o out.bmpx", "render s.moire --depth 12", "compile s.moire --dump=asm",
+                             "render s.moire --nonsense", "frobnicate"}) {
+        CAPTURE(args);
+        auto r = w.moire(args);
+        CHECK(r.status == 2);
+        CHECK_FALSE(r.err.empty());
+    }
+    CHECK(w.moire("render s.moire --depth float -o f.png").status == 1); // PNG cannot hold float
+    std::vector<std::string> files;
+    for (auto& e : fs::directory_iterator(w.path)) files.push_back(e.path().filename().string());
+    CHECK(files == std::vector<std::string>{"s.moire"});
+}
+
+TEST_CASE("a scene with errors gives diagnostics, status 1 and no image") {
+    Workdir w;
+    w.write("bad.moire", "layer {\n  family = circels\n}\n");
+    auto r = w.moire("render bad.moire -o out.png");
+    CHECK(r.status == 1);
+    CHECK(r.err.find("bad.moire:2:12: error: unknown family 'circels'; did you mean 'circles'?") != std::string::npos);
+    CHECK_FALSE(fs::exists(w.file("out.png")));
+    auto missing = w.moire("render nowhere.moire");
+    CHECK(missing.status == 1);
+    CHECK(missing.err.find("cannot read 'nowhere.moire'") != std::string::npos);
+}
+
+TEST_CASE("an existing image survives a failed render") {
+    Workdir w;
+    w.write("bad.moire", "layer { family = circles; spacing = }\n");
+    w.write("out.png", "previous");
+    CHECK(w.moire("render bad.moire -o out.png").status == 1);
+    CHECK(test::readFile(w.file("out.png")) == "previous");
+}
+
+TEST_CASE("compile --dump shows each stage") {
+    Workdir w;
+    w.write("s.moire", kSmall);
+    auto ast = w.moire("compile s.moire --dump=ast");
+    CHECK(ast.status == 0);
+    CHECK(ast.out.find("layer") != std::string::npos);
+    CHECK(ast.out.find("family =") != std::string::npos);
+
+    // Before AD the derivative markers are there; after it they are gone.
+    auto ir = w.moire("compile s.moire --dump=ir");
+    CHECK(ir.status == 0);
+    CHECK(ir.out.find("deriv.x") != std::string::npos);
+    auto ad = w.moire("compile s.moire --dump=ir-ad");
+    CHECK(ad.status == 0);
+    CHECK(ad.out.find("deriv.x") == std::string::npos);
+    CHECK(ad.out.find("mulz") != std::string::npos);
+
+    auto kernel = w.moire("compile s.moire --dump=kernel");
+    CHECK(kernel.out.find("uniform") != std::string::npos);
+    CHECK(kernel.out.find("param") == std::string::npos); // literals live in the frame program
+    auto frame = w.moire("compile s.moire --dump=frame");
+    CHECK(frame.out.find("param") != std::string::npos);
+
+    auto llvm = w.moire("compile s.moire --dump=llvm");
+    CHECK(llvm.status == 0);
+    CHECK(llvm.out.find("define void @moire_kernel") != std::string::npos);
+}
+
+TEST_CASE("check reports ok scenes and fails on bad ones") {
+    Workdir w;
+    w.write("good.moire", kSmall);
+    w.write("bad.moire", "scene { size = (0, 10) }\n");
+    auto good = w.moire("check good.moire");
+    CHECK(good.status == 0);
+    CHECK(good.out.find("good.moire: ok") != std::string::npos);
+    auto bad = w.moire("check good.moire bad.moire");
+    CHECK(bad.status == 1);
+    CHECK(bad.err.find("bad.moire:1:16: error: image size") != std::string::npos);
+}

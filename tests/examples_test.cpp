@@ -1,0 +1,95 @@
+// Every example scene (and the embedded default) against the two independent expectations
+// an example can have: the reference interpreter (backend parity) and a reviewed golden
+// image (regressions).
+#include <doctest/doctest.h>
+
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+
+#include "runtime/ImageIO.h"
+#include "runtime/Render.h"
+#include "tests/support/Support.h"
+
+using namespace moire;
+
+namespace {
+
+struct Scene {
+    std::string name, path, text;
+};
+
+std::vector<Scene> allScenes() {
+    std::vector<Scene> out;
+    EmbeddedScene d = defaultScene();
+    out.push_back({"default", d.path, d.text});
+    for (const std::string& rel : test::exampleScenes())
+        out.push_back({std::filesystem::path(rel).stem().string(), rel, test::readFile(test::sourcePath(rel))});
+    return out;
+}
+
+// Parity size: large enough that every example shows its strokes at a few pixels a member.
+constexpr int kParityW = 480, kParityH = 320;
+// Golden size: small, to keep the reference images light in the repository.
+constexpr int kGoldenW = 240, kGoldenH = 160;
+
+} // namespace
+
+TEST_CASE("there are examples, and each says what it shows") {
+    std::vector<std::string> examples = test::exampleScenes();
+    CHECK(examples.size() >= 4);
+    for (const std::string& rel : examples) {
+        CAPTURE(rel);
+        std::string text = test::readFile(test::sourcePath(rel));
+        CHECK(text.rfind("//", 0) == 0); // opens with a comment
+    }
+}
+
+// Every backend against the interpreter: coverage within 1/255 on at least 99.9% of the
+// samples (RGBA), as the interpreter computes in double and the JIT in single precision.
+TEST_CASE("every backend agrees with the interpreter on every example") {
+    auto oracle = makeBackend("interp");
+    for (const Scene& s : allScenes()) {
+        CAPTURE(s.name);
+        auto program = test::compileOk(s.text, {}, s.path);
+        Image expected = test::renderScene(*program, *oracle, kParityW, kParityH);
+        for (const std::string& name : test::availableBackends()) {
+            if (name == "interp") continue;
+            CAPTURE(name);
+            auto backend = test::makeBackendOrSkip(name);
+            if (!backend) continue;
+            Image got = test::renderScene(*program, *backend, kParityW, kParityH);
+            test::ImageDiff d = test::compareImages(expected, got, 1.0 / 255.0);
+            INFO("max ", d.maxAbs * 255, "/255, mean ", d.meanAbs * 255, "/255, within ", d.fractionWithin());
+            CHECK(d.fractionWithin() >= 0.999);
+        }
+    }
+}
+
+// Golden images: the interpreter's render, quantised to 8 bits, against a reviewed PNG in
+// tests/golden/. Tolerance: at most 0.5% of samples off by more than 2/255 and a mean
+// difference under 0.5/255 (room for libm differences between machines, none for a change
+// in what is drawn). MOIRE_UPDATE_GOLDEN=1 rewrites the references.
+TEST_CASE("examples match their golden images") {
+    const bool update = std::getenv("MOIRE_UPDATE_GOLDEN") != nullptr;
+    auto interp = makeBackend("interp");
+    for (const Scene& s : allScenes()) {
+        CAPTURE(s.name);
+        auto program = test::compileOk(s.text, {}, s.path);
+        Image img = test::renderScene(*program, *interp, kGoldenW, kGoldenH);
+        std::string golden = test::sourcePath("tests/golden/" + s.name + ".png");
+        if (update) {
+            writeImage(golden, img);
+            MESSAGE("wrote ", golden);
+            continue;
+        }
+        REQUIRE_MESSAGE(std::filesystem::exists(golden), "no golden image; run with MOIRE_UPDATE_GOLDEN=1 and review it");
+        Image ref = readImage(golden);
+        // Quantise the render as the PNG writer does.
+        for (float& v : img.pixels) v = std::round(std::clamp(v, 0.0f, 1.0f) * 255.0f) / 255.0f;
+        test::ImageDiff d = test::compareImages(ref, img, 2.0 / 255.0);
+        INFO("max ", d.maxAbs * 255, "/255, mean ", d.meanAbs * 255, "/255, within ", d.fractionWithin());
+        CHECK(d.fractionWithin() >= 0.995);
+        CHECK(d.meanAbs <= 0.5 / 255.0);
+    }
+}

@@ -117,6 +117,12 @@ private:
             use(inst.args[0], Type::F);
             if (inst.iimm < 0 || inst.iimm >= f_.numOutputs) fail("output slot out of range");
             break;
+        case Op::Param:
+        case Op::Uniform:
+            // Fix: a negative slot was accepted, and the JIT reads uniforms[slot] unchecked.
+            if (inst.iimm < 0) fail(fmt::format("{} slot {} is negative", info.spelling, inst.iimm));
+            if (inst.results.size() != 1 || f_.type(inst.results[0]) != Type::F) fail(fmt::format("{} result type", info.spelling));
+            break;
         default: {
             Type operand = Type::F;
             switch (inst.op) {

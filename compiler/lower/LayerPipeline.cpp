@@ -21,7 +21,30 @@ LayerFields phaseFamilyFields(ir::Builder& b, ValueId phi, ValueId phase, ValueI
     ValueId gx = b.emit(Op::DerivX, {index});
     ValueId gy = b.emit(Op::DerivY, {index});
     ValueId grad = b.max(b.hypot(gx, gy), b.constF(ir::kTiny));
-    return {index, b.div(residual, grad), gx, gy};
+    ValueId distance = b.div(residual, grad);
+    if (first) {
+        // Short of the first member (index < first) the nearest member is `first`, but the
+        // gradient at the point says nothing about the way there: a family excludes its lower
+        // members exactly where the phase is singular. The hyperbola's phase sqrt|x^2 - y^2|
+        // has an infinite gradient on the asymptote pair (its excluded member 0), so Eq. 5
+        // shrinks to zero along the asymptotes and inks the member the family excludes (a
+        // hairline widening away from the centre; tests/families_identities_test.cpp).
+        // A phase with such a fold is the square root of a smooth function, so in this band
+        // Eq. 5 is applied to phi^2 instead, whose gradient 2 phi grad(phi) stays finite:
+        //   d = (c^2 - phi^2) / |grad phi^2| = (c - phi)(c + phi) / (2 phi |grad phi|),
+        // with c the first member's level. For 0 < phi < c this is never less than plain
+        // Eq. 5 (it is that times (c + phi) / 2 phi) and equals it on the first member; for
+        // the hyperbola it is the first-order distance to x^2 - y^2 = +-c^2, c^2 / 2|p| on
+        // the asymptotes, which is the true distance there away from the centre (nearer the
+        // centre it overstates it: measured within +12% below member 1, docs/families.md).
+        ValueId c = b.add(b.mul(b.constF(*first), s), phase);
+        ValueId twoPhiGrad = b.mul(b.mul(b.constF(2.0), phi), b.mul(s, grad)); // |grad phi^2|
+        ValueId fold = b.div(b.mul(b.sub(c, phi), b.add(c, phi)),
+                             b.max(twoPhiGrad, b.constF(ir::kTiny)));
+        ValueId inFold = b.select(b.gt(phi, b.constF(0.0)), b.max(distance, fold), distance);
+        distance = b.select(b.lt(index, b.constF(*first)), inFold, distance);
+    }
+    return {index, distance, gx, gy};
 }
 
 ValueId strokeCoverage(ir::Builder& b, ValueId d, ValueId stroke, ValueId pixel, ValueId opacity,

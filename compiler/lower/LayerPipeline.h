@@ -19,7 +19,9 @@ struct LayerFields {
 
 // Members are the level sets {phi = n s + phase}. The index is (phi - phase) / s; the nearest
 // member is the rounded index (clamped to `first` when the family starts there), and the
-// distance is the index residual over the index gradient's length (Eq. 5).
+// distance is the index residual over the index gradient's length (Eq. 5); short of the
+// first member, where the excluded members' phase may be singular, Eq. 5 is applied to
+// phi^2 instead (see the .cpp).
 LayerFields phaseFamilyFields(ir::Builder& b, ir::ValueId phi, ir::ValueId phase, ir::ValueId spacing,
                               std::optional<int> first);
 

@@ -43,8 +43,14 @@ public:
         ValueId pixel = b_.div(fit, zoom);
         auto [rx, ry] = turn ? rotate(sx, sy, exprs_.scalar(*turn, constantFrame_)) : std::pair{sx, sy};
         // Everything downstream is differentiated with respect to these two values.
-        world_.x = b_.emit(Op::Indep, {b_.add(center[0], b_.mul(rx, pixel))}, 0.0, 0);
-        world_.y = b_.emit(Op::Indep, {b_.add(center[1], b_.mul(ry, pixel))}, 0.0, 1);
+        ValueId wx = b_.mul(rx, pixel), wy = b_.mul(ry, pixel);
+        // The default centre is the origin; adding 0 would cost two ops per pixel.
+        if (options_.probeSlot >= 0 || (scene_.camera && scene_.camera->prop("center"))) {
+            wx = b_.add(center[0], wx);
+            wy = b_.add(center[1], wy);
+        }
+        world_.x = b_.emit(Op::Indep, {wx}, 0.0, 0);
+        world_.y = b_.emit(Op::Indep, {wy}, 0.0, 1);
 
         Vals bg = settingOr(scene_.scene, "background", {b_.constF(1), b_.constF(1), b_.constF(1), b_.constF(1)});
         Ink acc = paper(b_, bg[0], bg[1], bg[2], bg[3]);

@@ -124,6 +124,12 @@ private:
                 }
             });
         }
+        // Fix: the result of a derivative marker never gets a tangent, so a derivative of a
+        // derivative came out as a silent 0. The pass is first order: refuse instead.
+        forEachInst([&](const Inst& inst) {
+            if ((inst.op == Op::DerivX || inst.op == Op::DerivY) && needT_[inst.results[0]] && hasT_[inst.args[0]])
+                MOIRE_ICE("AD: a derivative of a derivative (%{}) is not supported", inst.results[0]);
+        });
     }
 
     bool wantT(ValueId v) const { return needT_[v] && hasT_[v]; }
@@ -209,13 +215,16 @@ private:
             return scale(b_.select(b_.gt(A(0), b_.constF(kTiny)), k, zero()), dA(0));
         }
         // d a^b = b a^(b-1) da + a^b log(a) db
+        // Fix: both factors are chain-rule products, so they take the zero rule too. With a
+        // plain multiply, d(x^y)/dx at x = 0, y = 0 was 0 * pow(0, -1) = 0 * inf = NaN
+        // (the slope of x^0 is 0), and a^b log(a) at a = inf, b < 0 was 0 * inf.
         case Op::Pow: {
             Tangent r{kNoValue, kNoValue};
             if (!isZero(dA(0))) {
-                ValueId k = b_.mul(A(1), b_.emit(Op::Pow, {A(0), b_.sub(A(1), b_.constF(1.0))}));
+                ValueId k = b_.emit(Op::MulZ, {A(1), b_.emit(Op::Pow, {A(0), b_.sub(A(1), b_.constF(1.0))})});
                 r = scale(k, dA(0));
             }
-            if (!isZero(dA(1))) r = plus(r, scale(b_.mul(res, b_.emit(Op::Log, {A(0)})), dA(1)));
+            if (!isZero(dA(1))) r = plus(r, scale(b_.emit(Op::MulZ, {res, b_.emit(Op::Log, {A(0)})}), dA(1)));
             return r;
         }
         // d a^n = n a^(n-1) da

@@ -1,3 +1,4 @@
+#include <cmath>
 #include <optional>
 #include <unordered_map>
 
@@ -27,6 +28,10 @@ private:
         return r;
     }
     bool is(std::optional<double> c, double v) const { return c && *c == v; }
+    // The exact constant, sign of zero included.
+    bool isExactly(std::optional<double> c, double v) const {
+        return is(c, v) && std::signbit(*c) == std::signbit(v);
+    }
 
     bool visit(const Inst& inst) override {
         b_.setLoc(inst.loc);
@@ -79,19 +84,21 @@ private:
             bind(res, makeConst(rt, out));
             return true;
         }
-        // Identities that hold for every input, inf and NaN included (up to the sign of a
-        // zero result, which no op here distinguishes downstream).
+        // Identities that hold for every input, inf and NaN included.
         auto forward = [&](ValueId to) {
             bind(res, to);
             return true;
         };
         switch (inst.op) {
+        // Fix: x + 0 and x - (-0) were folded to x, but they turn x = -0 into +0, which div,
+        // atan2 and pow tell apart (1 / (x + 0) is +inf at x = -0, 1 / x is -inf). Only the
+        // exact identities x + (-0) = x and x - (+0) = x are applied.
         case Op::Add:
-            if (is(c[1], 0.0)) return forward(args[0]);
-            if (is(c[0], 0.0)) return forward(args[1]);
+            if (isExactly(c[1], -0.0)) return forward(args[0]);
+            if (isExactly(c[0], -0.0)) return forward(args[1]);
             break;
         case Op::Sub:
-            if (is(c[1], 0.0)) return forward(args[0]);
+            if (isExactly(c[1], 0.0)) return forward(args[0]);
             break;
         case Op::Mul:
             if (is(c[1], 1.0)) return forward(args[0]);
@@ -103,6 +110,10 @@ private:
                 bind(res, makeConst(Type::F, 0.0));
                 return true;
             }
+            // mulz(x, 1) is +0 where x is -0: the one identity here that is exact only up to
+            // the sign of a zero. mulz is the chain-rule product, so this is the tangent of
+            // an independent variable times a slope, where a zero's sign means nothing;
+            // folding it saves one op per chain-rule step.
             if (is(c[1], 1.0)) return forward(args[0]);
             if (is(c[0], 1.0)) return forward(args[1]);
             break;

@@ -9,14 +9,32 @@ namespace {
 
 class Dce : public Rewriter {
 public:
-    explicit Dce(const Function& f) : Rewriter(f), live_(f.numValues(), false) { analyse(); }
+    explicit Dce(const Function& f) : Rewriter(f), live_(f.numValues(), false), sinks_(f.blocks.size(), -1) {
+        analyse();
+    }
 
 private:
     bool isLive(const Inst& inst) const {
         if (opInfo(inst.op).flags & flags::Sink) return true;
+        // Fix: an if or loop whose results are unused was dropped with everything in it,
+        // including an output written inside one of its regions.
+        for (BlockId r : inst.regions)
+            if (hasSink(r)) return true;
         for (ValueId r : inst.results)
             if (live_[r]) return true;
         return false;
+    }
+    // Whether block `b`, or a region nested in it, writes an output (memoised).
+    bool hasSink(BlockId b) const {
+        if (sinks_[b] < 0) {
+            sinks_[b] = 0;
+            for (const Inst& inst : src_.blocks[b].insts) {
+                if (opInfo(inst.op).flags & flags::Sink) sinks_[b] = 1;
+                for (BlockId r : inst.regions)
+                    if (hasSink(r)) sinks_[b] = 1;
+            }
+        }
+        return sinks_[b] == 1;
     }
     bool markArgs(const std::vector<ValueId>& args) {
         bool changed = false;
@@ -50,6 +68,7 @@ private:
     }
 
     std::vector<bool> live_;
+    mutable std::vector<int8_t> sinks_; // per block: -1 unknown, 0 no output inside, 1 has one
 };
 
 } // namespace

@@ -1,6 +1,6 @@
 // The cleanup passes run after lowering and after AD:
 //  - constantFold: evaluates ops on constants with the shared semantics (Semantics.h), applies
-//    exact identities (x + 0, x * 1, mulz(0, x) = 0, select on a constant), and inlines an
+//    exact identities (x + (-0), x * 1, mulz(0, x) = 0, select on a constant), and inlines an
 //    `if` whose condition is constant;
 //  - eliminateCommonSubexpressions: value numbering of pure ops, scoped by region;
 //  - eliminateDeadCode: drops pure instructions whose results nothing live uses.

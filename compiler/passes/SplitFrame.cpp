@@ -48,6 +48,9 @@ std::vector<bool> varyingValues(const Function& f) {
     return varying;
 }
 
+// Leaves only the frame program can evaluate.
+bool isFrameLeaf(Op op) { return op == Op::Time || op == Op::Param; }
+
 bool instVarying(const Inst& inst, const std::vector<bool>& varying) {
     if (isPixelInput(inst.op)) return true;
     for (ValueId r : inst.results)
@@ -73,6 +76,10 @@ public:
 
 private:
     bool visit(const Inst& inst) override {
+        // Fix: time and param belong to the frame program even when they are read inside a
+        // varying region, where everything else is copied; they used to be copied too, and
+        // no kernel can evaluate them. Skipped here, their uses import them as uniforms.
+        if (isFrameLeaf(inst.op)) return true;
         if (depth_ > 0) return false; // inside a kernel region: copy everything
         if (inst.op == Op::Output) return inst.iimm >= dst_.numOutputs; // settings go to the frame
         return !instVarying(inst, varying_);
@@ -123,10 +130,20 @@ public:
                  const std::vector<ValueId>& uniforms)
         : Rewriter(scene), varying_(varying), numKernelOutputs_(numKernelOutputs), uniforms_(uniforms) {
         dst_.name = "frame";
+        for (const Block& blk : scene.blocks)
+            for (const Inst& inst : blk.insts)
+                if (isFrameLeaf(inst.op)) frameLeaves_[inst.results[0]] = &inst;
     }
     int numSettings = 0;
 
 private:
+    // A uniform read from a time or param leaf inside a varying region (skipped here with
+    // its region): the leaf is read again in the frame program.
+    ValueId mapMissing(ValueId v) override {
+        auto it = frameLeaves_.find(v);
+        MOIRE_CHECK(it != frameLeaves_.end(), "frame program: %{} has no mapping", v);
+        return b_.emit(it->second->op, {}, it->second->imm, it->second->iimm);
+    }
     bool visit(const Inst& inst) override {
         if (inst.op == Op::Output) {
             if (inst.iimm >= numKernelOutputs_) settings_.push_back(&inst);
@@ -156,6 +173,7 @@ private:
     int numKernelOutputs_;
     const std::vector<ValueId>& uniforms_;
     std::vector<const Inst*> settings_;
+    std::unordered_map<ValueId, const Inst*> frameLeaves_;
 };
 
 } // namespace

@@ -1,5 +1,6 @@
 #include "compiler/backend/interp/Interpreter.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include "compiler/diag/Diagnostics.h"
@@ -158,6 +159,8 @@ public:
             for (int x = tile.x0; x < tile.x1; ++x) {
                 env.pixelX = x + 0.5;
                 env.pixelY = y + 0.5;
+                // Outputs a kernel does not write stay 0, as in the caller's buffer on the JIT.
+                std::fill(outputs.begin(), outputs.end(), 0.0);
                 interp_.run(env, regs);
                 for (int k = 0; k < n; ++k) row[(x - tile.x0) * n + k] = static_cast<float>(outputs[k]);
             }

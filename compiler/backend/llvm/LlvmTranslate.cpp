@@ -126,6 +126,9 @@ private:
         llvm::Value* h = b_.CreateFMul(big, intrinsic(llvm::Intrinsic::sqrt, {b_.CreateFAdd(cf(1), b_.CreateFMul(q, q))}));
         llvm::Value* inf = llvm::ConstantFP::getInfinity(fTy_);
         h = b_.CreateSelect(b_.CreateFCmpOEQ(big, cf(0)), cf(0), h);
+        // Fix: maxnum/minnum drop a NaN operand, so hypot(a, NaN) came out as |a| sqrt(2)
+        // instead of NaN (Semantics.h: std::hypot). NaN unless the other side is infinite.
+        h = b_.CreateSelect(b_.CreateFCmpUNO(x, y), llvm::ConstantFP::getNaN(fTy_), h);
         return b_.CreateSelect(b_.CreateFCmpOEQ(big, inf), inf, h);
     }
 

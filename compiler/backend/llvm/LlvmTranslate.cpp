@@ -106,8 +106,11 @@ private:
         std::vector<llvm::Type*> params(args.size(), fTy_);
         auto callee = m_.getOrInsertFunction(name, llvm::FunctionType::get(fTy_, params, false));
         if (auto* fn = llvm::dyn_cast<llvm::Function>(callee.getCallee())) {
+            // Kernels never read errno, so to them these are pure functions; saying so lets
+            // LLVM hoist and vectorise the calls.
             fn->setDoesNotThrow();
-            fn->setOnlyAccessesArgMemory();
+            fn->setDoesNotAccessMemory();
+            fn->setWillReturn();
         }
         return b_.CreateCall(callee, args);
     }

@@ -8,6 +8,7 @@
 
 #include "compiler/backend/Backend.h"
 #include "compiler/backend/interp/Interpreter.h"
+#include "compiler/ir/Builder.h"
 #include "compiler/ir/IR.h"
 #include "tests/support/Support.h"
 
@@ -91,6 +92,18 @@ inline std::vector<Op> opsOfKind(std::initializer_list<Kind> kinds) {
     for (const Entry& e : opTable())
         if (std::find(kinds.begin(), kinds.end(), e.kind) != kinds.end()) out.push_back(e.op);
     return out;
+}
+
+// A function with `numOutputs` outputs built by `body(Builder&)`, verified.
+template <class Body>
+ir::Function build(int numOutputs, Body&& body) {
+    ir::Function f;
+    f.name = "test";
+    f.numOutputs = numOutputs;
+    ir::Builder b(f);
+    body(b);
+    ir::verify(f);
+    return f;
 }
 
 // Runs `f` once on the reference interpreter, in double, and returns its outputs.

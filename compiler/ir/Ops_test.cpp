@@ -18,6 +18,7 @@
 
 using namespace moire;
 using namespace moire::ir;
+using optest::build;
 using optest::Kind;
 
 namespace {
@@ -39,17 +40,6 @@ bool sameFloat(float got, float want) {
     return std::fabs(got - want) <= std::numeric_limits<float>::epsilon() * std::fabs(want);
 }
 
-// A function with `numOutputs` outputs built by `body`.
-template <class Body>
-Function build(int numOutputs, Body&& body) {
-    Function f;
-    f.name = "test";
-    f.numOutputs = numOutputs;
-    Builder b(f);
-    body(b);
-    verify(f);
-    return f;
-}
 
 // Folding a function whose operands are all constants must leave one constant per output
 // (once the operands it no longer needs are dropped).

@@ -16,6 +16,7 @@
 
 using namespace moire;
 using namespace moire::ir;
+using optest::build;
 
 namespace {
 
@@ -38,16 +39,6 @@ size_t count(const Function& f, Op op) {
     return n;
 }
 
-template <class Body>
-Function build(int numOutputs, Body&& body) {
-    Function f;
-    f.name = "test";
-    f.numOutputs = numOutputs;
-    Builder b(f);
-    body(b);
-    verify(f);
-    return f;
-}
 
 // Random functions of three uniforms: float ops of every kind, constants (special values
 // included), repeated subexpressions, ifs and loops nested two deep.

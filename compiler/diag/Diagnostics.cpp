@@ -1,5 +1,7 @@
 #include "compiler/diag/Diagnostics.h"
 
+#include <algorithm>
+
 namespace moire {
 
 namespace {
@@ -20,8 +22,12 @@ int messageCount() { return static_cast<int>(sizeof(kMessages) / sizeof(kMessage
 
 void DiagEngine::report(Severity s, SourceRange at, Msg m, std::string text) {
     if (s == Severity::Error) {
-        if (errorCount_ >= kMaxErrors) return;
+        droppedLastError_ = errorCount_ >= kMaxErrors;
+        if (droppedLastError_) return;
         ++errorCount_;
+    } else if (droppedLastError_) {
+        // A note explains the error before it; without that error it would point at nothing.
+        return;
     }
     diags_.push_back(Diagnostic{s, m, at, std::move(text)});
 }
@@ -34,22 +40,32 @@ std::string DiagEngine::render(const Diagnostic& d) const {
     std::string out = fmt::format("{}:{}:{}: {}: {}\n", f.path(), lc.line, lc.column, kind, d.text);
 
     std::string_view line = f.lineText(d.range.begin.offset);
-    std::string gutter = fmt::format("{:>5}", lc.line);
-    out += fmt::format("{} | {}\n", gutter, line);
-    // The caret line copies tabs from the source so it stays aligned under any tab width.
-    std::string marks;
     uint32_t lineStart = f.lineStart(d.range.begin.offset);
-    for (uint32_t i = lineStart; i < d.range.begin.offset && i - lineStart < line.size(); ++i) {
-        unsigned char c = static_cast<unsigned char>(f.text()[i]);
-        if ((c & 0xC0) == 0x80) continue;
-        marks += c == '\t' ? '\t' : ' ';
+    uint32_t rangeBegin = d.range.begin.offset;
+    uint32_t rangeEnd = static_cast<uint32_t>(std::min<uint64_t>(uint64_t{rangeBegin} + d.range.length,
+                                                                 uint64_t{lineStart} + line.size()));
+    // Walk the line one character at a time (as SourceFile::lineCol counts columns). The
+    // shown line replaces control characters and bytes that are not UTF-8 with U+FFFD, so the
+    // output stays readable text; the caret line keeps tabs so that it stays aligned under
+    // any tab width, and marks the range with one '^' or '~' per character.
+    std::string shown, marks;
+    bool caret = false;
+    for (size_t i = 0; i < line.size();) {
+        uint32_t cp = 0;
+        size_t n = decodeUtf8(line, i, cp);
+        bool printable = n > 0 && (cp == '\t' || (cp >= 0x20 && cp != 0x7F));
+        shown += printable ? line.substr(i, n) : std::string_view("\xEF\xBF\xBD");
+        size_t step = n ? n : 1;
+        uint32_t at = lineStart + static_cast<uint32_t>(i);
+        if (at + step <= rangeBegin) marks += n == 1 && cp == '\t' ? '\t' : ' ';
+        else if (!caret) marks += '^', caret = true;
+        else if (at < rangeEnd) marks += '~';
+        i += step;
     }
-    marks += '^';
-    uint32_t avail = static_cast<uint32_t>(line.size()) -
-                     std::min<uint32_t>(static_cast<uint32_t>(line.size()),
-                                        d.range.begin.offset - lineStart + 1);
-    uint32_t tildes = std::min(d.range.length > 0 ? d.range.length - 1 : 0, avail);
-    marks.append(tildes, '~');
+    // The range may begin at the end of the line (a missing ')' or '}').
+    if (!caret) marks += '^';
+    std::string gutter = fmt::format("{:>5}", lc.line);
+    out += fmt::format("{} | {}\n", gutter, shown);
     out += fmt::format("{} | {}\n", std::string(gutter.size(), ' '), marks);
     return out;
 }

@@ -72,6 +72,7 @@ private:
     const SourceManager& sm_;
     std::vector<Diagnostic> diags_;
     int errorCount_ = 0;
+    bool droppedLastError_ = false; // the last error was over kMaxErrors: drop its notes too
 };
 
 // Thrown when a stage finished with errors; the DiagEngine holds them.

@@ -16,15 +16,41 @@ uint32_t SourceFile::lineStart(uint32_t offset) const {
     return *(it - 1);
 }
 
+size_t decodeUtf8(std::string_view s, size_t i, uint32_t& cp) {
+    auto b = [&](size_t k) { return static_cast<unsigned char>(s[i + k]); };
+    if (i >= s.size()) return 0;
+    unsigned char c = b(0);
+    if (c < 0x80) {
+        cp = c;
+        return 1;
+    }
+    size_t n = c >= 0xF0 && c <= 0xF4 ? 4 : c >= 0xE0 && c < 0xF0 ? 3 : c >= 0xC2 && c < 0xE0 ? 2 : 0;
+    if (n == 0 || i + n > s.size()) return 0;
+    uint32_t v = c & (0x7F >> n);
+    for (size_t k = 1; k < n; ++k) {
+        if ((b(k) & 0xC0) != 0x80) return 0;
+        v = (v << 6) | (b(k) & 0x3F);
+    }
+    // Overlong forms, surrogates and values past U+10FFFF are not UTF-8.
+    static constexpr uint32_t kMin[] = {0, 0, 0x80, 0x800, 0x10000};
+    if (v < kMin[n] || (v >= 0xD800 && v <= 0xDFFF) || v > 0x10FFFF) return 0;
+    cp = v;
+    return n;
+}
+
 LineCol SourceFile::lineCol(uint32_t offset) const {
     offset = std::min<uint32_t>(offset, static_cast<uint32_t>(text_.size()));
     auto it = std::upper_bound(lineStarts_.begin(), lineStarts_.end(), offset);
     uint32_t line = static_cast<uint32_t>(it - lineStarts_.begin());
     uint32_t start = *(it - 1);
-    // Columns count code points, not bytes: UTF-8 continuation bytes (10xxxxxx) are skipped.
+    // Columns count characters, not bytes; the diagnostic renderer walks lines the same way,
+    // so the caret sits under the column reported.
     uint32_t column = 1;
-    for (uint32_t i = start; i < offset; ++i)
-        if ((static_cast<unsigned char>(text_[i]) & 0xC0) != 0x80) ++column;
+    for (uint32_t i = start; i < offset; ++column) {
+        uint32_t cp = 0;
+        size_t n = decodeUtf8(text_, i, cp);
+        i += static_cast<uint32_t>(n ? n : 1);
+    }
     return {line, column};
 }
 

@@ -23,9 +23,13 @@ struct SourceRange {
     uint32_t length = 1;
 };
 
+// The length in bytes (1 to 4) of the well-formed UTF-8 character at text[i], with its code
+// point in `cp`; 0 when the bytes there are not UTF-8 (overlong, surrogate, cut short...).
+size_t decodeUtf8(std::string_view text, size_t i, uint32_t& cp);
+
 struct LineCol {
     uint32_t line = 0;   // 1-based
-    uint32_t column = 0; // 1-based, counted in code points
+    uint32_t column = 0; // 1-based, counted in characters (a byte that is not UTF-8 counts as one)
 };
 
 class SourceFile {

@@ -25,6 +25,8 @@ private:
     void skipBlockComment(size_t start);
     void lexNumber(Token& t, size_t start, size_t end);
     void lexColor(Token& t, size_t start, size_t end);
+    // Reports the byte, or the whole non-ASCII UTF-8 character, at `start`, and skips it.
+    void unexpectedBytes(size_t start);
 
     uint32_t file_;
     std::string_view text_;

@@ -1,11 +1,14 @@
 // re2c source for the lexer; CMake generates Lexer.cpp from it.
 #include "compiler/lex/Lexer.h"
 
+#include <cctype>
 #include <charconv>
+#include <cstdlib>
 #include <cmath>
 #include <numbers>
 #include <string>
 
+#include "compiler/sema/Builtins.h"
 #include "compiler/sema/Suggest.h"
 
 namespace moire {
@@ -48,25 +51,17 @@ void Lexer::skipBlockComment(size_t start) {
 }
 
 void Lexer::lexNumber(Token& t, size_t start, size_t end) {
-    // The digits run up to the first letter; what follows is a unit suffix.
-    size_t digitsEnd = start;
-    while (digitsEnd < end) {
-        char c = text_[digitsEnd];
-        bool exp = (c == 'e' || c == 'E') && digitsEnd + 1 < end &&
-                   (std::isdigit(static_cast<unsigned char>(text_[digitsEnd + 1])) ||
-                    ((text_[digitsEnd + 1] == '+' || text_[digitsEnd + 1] == '-') &&
-                     digitsEnd + 2 < end &&
-                     std::isdigit(static_cast<unsigned char>(text_[digitsEnd + 2]))));
-        if (std::isdigit(static_cast<unsigned char>(c)) || c == '.') {
-            ++digitsEnd;
-        } else if (exp) {
-            digitsEnd += 2;
-        } else {
-            break;
-        }
-    }
+    // The token is a decimal number followed by letters and digits; from_chars reads the
+    // longest number it can, and the rest is the unit suffix. (An earlier hand-written scan
+    // accepted a second exponent, so "1e3e4" was silently read as 1000.)
+    const char* first = text_.data() + start;
+    const char* last = text_.data() + end;
     double v = 0.0;
-    std::from_chars(text_.data() + start, text_.data() + digitsEnd, v);
+    auto [ptr, ec] = std::from_chars(first, last, v, std::chars_format::general);
+    // Out of range: from_chars leaves v unset; strtod gives +-HUGE_VAL or 0 as the value
+    // nearest to what was written (the pattern is already known to be plain decimal).
+    if (ec == std::errc::result_out_of_range) v = std::strtod(std::string(first, ptr).c_str(), nullptr);
+    size_t digitsEnd = static_cast<size_t>(ptr - text_.data());
     std::string_view suffix = text_.substr(digitsEnd, end - digitsEnd);
     t.kind = Tok::Number;
     t.unit = ast::Unit::None;
@@ -76,13 +71,20 @@ void Lexer::lexNumber(Token& t, size_t start, size_t end) {
     } else if (suffix == "rad") {
         t.unit = ast::Unit::Rad;
     } else if (!suffix.empty()) {
+        // `2x` and `2r` are multiplications written the way they are on paper; `30degrees`
+        // and `1dg` are misspelt units.
         std::string hint;
+        std::string number(text_.substr(start, digitsEnd - start));
         std::string near = nearestName(suffix, {"deg", "rad"}, 2);
+        // A suggestion must keep some of what was written: "e4" is not a misspelt "deg".
+        if (!near.empty() && editDistance(suffix, near) >= static_cast<int>(suffix.size())) near.clear();
+        if (suffix.size() == 1 || sema::lookupName(suffix)) near.clear();
+        else if (suffix.starts_with("deg")) near = "deg";
+        else if (suffix.starts_with("rad")) near = "rad";
         if (!near.empty())
-            hint = "; did you mean '" + near + "'?";
-        else
-            hint = "; to multiply, write " + std::string(text_.substr(start, digitsEnd - start)) +
-                   " * " + std::string(suffix);
+            hint = "; did you mean '" + number + near + "'?";
+        else if (suffix.size() == 1 || sema::lookupName(suffix))
+            hint = "; to multiply, write " + number + " * " + std::string(suffix);
         diags_.error(rangeAt(digitsEnd, suffix.size()), Msg::UnknownUnit, suffix, hint);
     }
     t.number = v;
@@ -103,6 +105,52 @@ void Lexer::lexColor(Token& t, size_t start, size_t end) {
         std::from_chars(digits.data() + 2 * i, digits.data() + 2 * i + 2, value, 16);
         t.rgba[i] = value / 255.0;
     }
+}
+
+namespace {
+// What to write instead of a character that some other notation uses.
+const char* asciiHint(char c) {
+    switch (c) {
+    case '%': return "; for a remainder, write mod(a, b)";
+    case ':': return "; set a property with '=', as in spacing = 4";
+    case '"':
+    case '\'': return "; names are written without quotes, as in family = circles";
+    case '[':
+    case ']': return "; write a vector with round brackets, as in (1, 2)";
+    default: return "";
+    }
+}
+
+const char* unicodeHint(uint32_t cp) {
+    switch (cp) {
+    case 0xB0: return "; for degrees, write 30deg";                    // °
+    case 0x3C0: return "; write pi";                                   // π
+    case 0x3C4: return "; write tau";                                  // τ
+    case 0x3B8: return "; write theta";                                // θ
+    case 0xD7: case 0xB7: case 0x22C5: return "; to multiply, write *"; // × · ⋅
+    case 0xF7: return "; to divide, write /";                          // ÷
+    case 0x2212: case 0x2013: case 0x2014: return "; for minus, write -"; // − – —
+    case 0x2018: case 0x2019: case 0x201C: case 0x201D:
+        return "; names are written without quotes, as in family = circles";
+    case 0xA0: return "; this is a non-breaking space: type an ordinary space";
+    default: return "";
+    }
+}
+
+} // namespace
+
+void Lexer::unexpectedBytes(size_t start) {
+    // A whole UTF-8 character is one error with one caret, not one error per byte.
+    uint32_t cp = 0;
+    size_t n = decodeUtf8(text_, start, cp);
+    if (n < 2) n = 0; // ASCII bytes that reach here are control characters
+    if (n > 0) {
+        diags_.error(rangeAt(start, n), Msg::NonAsciiChar, text_.substr(start, n), cp, unicodeHint(cp));
+        pos_ = start + n;
+        return;
+    }
+    diags_.error(rangeAt(start, 1), Msg::UnexpectedByte, static_cast<unsigned char>(text_[start]));
+    pos_ = start + 1;
 }
 
 Token Lexer::next() {
@@ -141,7 +189,13 @@ Token Lexer::next() {
             word = [a-zA-Z0-9_]*;
 
             [ \t\r\n\f\v]+ { pos_ = static_cast<size_t>(cur - base); continue; }
-            "//" [^\n\x00]* { pos_ = static_cast<size_t>(cur - base); continue; }
+            "//" {
+                // A comment may hold any byte, a NUL included (the scanner's own rules stop
+                // at NUL, so the rest of the line is skipped here).
+                size_t end = text_.find('\n', start);
+                pos_ = end == std::string_view::npos ? text_.size() : end;
+                continue;
+            }
             "/*" { skipBlockComment(start); continue; }
 
             mantissa exponent? word {
@@ -173,13 +227,12 @@ Token Lexer::next() {
 
             [\x21-\x7e] {
                 pos_ = static_cast<size_t>(cur - base);
-                diags_.error(rangeAt(start, 1), Msg::UnexpectedChar, std::string(1, text_[start]));
+                diags_.error(rangeAt(start, 1), Msg::UnexpectedChar, std::string(1, text_[start]),
+                             asciiHint(text_[start]));
                 continue;
             }
             * {
-                pos_ = static_cast<size_t>(cur - base);
-                diags_.error(rangeAt(start, 1), Msg::UnexpectedByte,
-                             static_cast<unsigned>(base[start]));
+                unexpectedBytes(start);
                 continue;
             }
         */

@@ -38,7 +38,8 @@ enum class RefKind : uint8_t {
 
 struct Expr {
     ExprKind kind;
-    SourceRange range;
+    SourceRange range;   // the whole expression, for diagnostics about its value
+    SourceRange opRange; // the operator of a Unary/Binary, the name of a Call; else = range
 
     // Number: value in the language's canonical unit (angles in radians).
     double number = 0.0;
@@ -65,7 +66,7 @@ struct Expr {
     bool dependsOnPosition = false; // uses x, y, r or theta (directly or through fields)
     bool dependsOnTime = false;     // uses t
 
-    Expr(ExprKind k, SourceRange r) : kind(k), range(r) {}
+    Expr(ExprKind k, SourceRange r) : kind(k), range(r), opRange(r) {}
 };
 using ExprPtr = std::unique_ptr<Expr>;
 

@@ -2,6 +2,8 @@
 
 #include <fmt/format.h>
 
+#include "compiler/sema/Suggest.h"
+
 namespace moire {
 
 using namespace ast;
@@ -12,6 +14,12 @@ struct DepthGuard {
     explicit DepthGuard(int& d) : depth(d) { ++depth; }
     ~DepthGuard() { --depth; }
 };
+
+const std::vector<std::string> kDeclWords = {"scene", "camera", "layer", "field", "family"};
+
+// Tokens that can begin a value but never a property or a declaration: met right after a
+// value, they mean a missing operator, as in `2 (x + 1)`.
+bool beginsValueOnly(Tok k) { return k == Tok::Number || k == Tok::Color || k == Tok::LParen; }
 } // namespace
 
 Parser::Parser(const SourceManager& sm, uint32_t fileId, DiagEngine& diags)
@@ -43,7 +51,37 @@ std::string Parser::describeCurrent() const {
 
 bool Parser::expect(Tok k, const char* what) {
     if (accept(k)) return true;
-    diags_.error(range(), Msg::Expected, what, describeCurrent());
+    // After a too-deep expression the rest of the input was skipped; every ')' and '}' still
+    // open would be "missing", and saying so would only bury the real error.
+    if (!abandoned_) diags_.error(range(), Msg::Expected, what, describeCurrent());
+    return false;
+}
+
+SourceRange Parser::range() const {
+    // "found end of file" points just after the last token, on the line where the missing
+    // text belongs, rather than at an empty line below it.
+    if (at(Tok::End) && prevTok_.length > 0) return {{file_, prevTok_.offset + prevTok_.length}, 1};
+    return {{file_, tok_.offset}, tok_.length ? tok_.length : 1};
+}
+
+bool Parser::tooDeep() {
+    if (depth_ <= kMaxDepth) return false;
+    if (!abandoned_) diags_.error(range(), Msg::TooDeep, kMaxDepth);
+    abandoned_ = true;
+    // Skip the rest of the input: whatever follows is inside the runaway nesting.
+    while (!at(Tok::End)) advance();
+    return true;
+}
+
+bool Parser::valueEnds() {
+    if (!beginsValueOnly(tok_.kind)) return true;
+    diags_.error(range(), Msg::Expected, "an operator such as '*' between two values", describeCurrent());
+    return false;
+}
+
+bool Parser::atDeclWord() const {
+    for (const std::string& w : kDeclWords)
+        if (atWord(w)) return true;
     return false;
 }
 
@@ -67,10 +105,12 @@ void Parser::recoverTo(bool inBlock) {
             }
             --braces;
         }
-        if (braces == 0 && !inBlock &&
-            (atWord("scene") || atWord("camera") || atWord("layer") || atWord("field") ||
-             atWord("family")))
+        if (braces == 0 && !inBlock && atDeclWord()) return;
+        if (braces == 0 && inBlock && at(Tok::Semi)) {
+            // The next property may well be fine: resume there rather than at the '}'.
+            advance();
             return;
+        }
         advance();
     }
 }
@@ -109,8 +149,9 @@ DeclPtr Parser::parseDecl() {
     else if (word == "field") kind = DeclKind::Field;
     else if (word == "family") kind = DeclKind::Family;
     else {
-        diags_.error(range(), Msg::Expected,
-                     "a declaration (scene, camera, layer, field or family)", describeCurrent());
+        std::string found = describeCurrent();
+        if (at(Tok::Ident)) found += didYouMean(word, kDeclWords);
+        diags_.error(range(), Msg::Expected, "a declaration (scene, camera, layer, field or family)", found);
         advance();
         recoverTo(false);
         return nullptr;
@@ -136,6 +177,10 @@ DeclPtr Parser::parseDecl() {
             return nullptr;
         }
         d->value = parseExpr();
+        if (!valueEnds()) {
+            recoverTo(false);
+            break;
+        }
         accept(Tok::Semi);
         break;
     case DeclKind::Family: parseFamily(*d); break;
@@ -156,6 +201,7 @@ bool Parser::parseProperty(std::vector<Property>& props) {
     if (!expect(Tok::Assign, fmt::format("'=' after '{}'", p.name).c_str())) return false;
     p.value = parseExpr();
     props.push_back(std::move(p));
+    if (!valueEnds()) return false;
     if (!accept(Tok::Semi)) accept(Tok::Comma);
     return true;
 }
@@ -167,6 +213,9 @@ void Parser::parseBlock(Decl& d) {
     }
     while (!at(Tok::RBrace) && !at(Tok::End)) {
         if (diags_.errorCount() >= DiagEngine::kMaxErrors) return;
+        // No block has a property named after a declaration (a layer's `family` aside): the
+        // block's '}' is missing, and the declaration is left for parseModule to read.
+        if (atDeclWord() && !atWord("family")) break;
         if (!parseProperty(d.props)) recoverTo(true);
     }
     expect(Tok::RBrace, fmt::format("'}}' to close the {}", declKindName(d.kind)).c_str());
@@ -201,6 +250,10 @@ void Parser::parseFamily(Decl& d) {
         p.nameRange = d.nameRange;
         p.value = parseExpr();
         d.props.push_back(std::move(p));
+        if (!valueEnds()) {
+            recoverTo(false);
+            return;
+        }
         accept(Tok::Semi);
         return;
     }
@@ -210,6 +263,7 @@ void Parser::parseFamily(Decl& d) {
     }
     while (!at(Tok::RBrace) && !at(Tok::End)) {
         if (diags_.errorCount() >= DiagEngine::kMaxErrors) return;
+        if (atDeclWord()) break; // the family's '}' is missing (see parseBlock)
         if (atWord("let")) {
             advance();
             Let l;
@@ -227,6 +281,10 @@ void Parser::parseFamily(Decl& d) {
             }
             l.value = parseExpr();
             d.lets.push_back(std::move(l));
+            if (!valueEnds()) {
+                recoverTo(true);
+                continue;
+            }
             if (!accept(Tok::Semi)) accept(Tok::Comma);
             continue;
         }
@@ -241,59 +299,64 @@ ExprPtr Parser::errorExpr() {
 
 ExprPtr Parser::parseExpr() {
     DepthGuard g(depth_);
-    if (depth_ > kMaxDepth) {
-        diags_.error(range(), Msg::TooDeep, kMaxDepth);
-        // Skip the rest of the input: whatever follows is inside the runaway nesting.
-        while (!at(Tok::End)) advance();
-        return errorExpr();
-    }
+    if (tooDeep()) return errorExpr();
     return parseSum();
 }
 
+ExprPtr Parser::binary(BinOp op, SourceRange opRange, ExprPtr lhs, ExprPtr rhs) {
+    auto e = std::make_unique<Expr>(ExprKind::Binary, spanFrom(lhs->range));
+    e->opRange = opRange;
+    e->bin = op;
+    e->args.push_back(std::move(lhs));
+    e->args.push_back(std::move(rhs));
+    return e;
+}
+
+// A chain `a + b + c + ...` builds a left-leaning tree as tall as the chain is long, and
+// later stages walk trees recursively: each link counts as a level of nesting, so that a
+// chain of 100,000 terms is an error rather than a stack overflow further on.
 ExprPtr Parser::parseSum() {
     ExprPtr lhs = parseProduct();
+    int links = 0;
     while (at(Tok::Plus) || at(Tok::Minus)) {
         SourceRange opRange = range();
         BinOp op = at(Tok::Plus) ? BinOp::Add : BinOp::Sub;
+        ++links, ++depth_;
+        if (tooDeep()) break;
         advance();
         ExprPtr rhs = parseProduct();
-        auto e = std::make_unique<Expr>(ExprKind::Binary, opRange);
-        e->bin = op;
-        e->args.push_back(std::move(lhs));
-        e->args.push_back(std::move(rhs));
-        lhs = std::move(e);
+        lhs = binary(op, opRange, std::move(lhs), std::move(rhs));
     }
+    depth_ -= links;
     return lhs;
 }
 
 ExprPtr Parser::parseProduct() {
     ExprPtr lhs = parseUnary();
+    int links = 0;
     while (at(Tok::Star) || at(Tok::Slash)) {
         SourceRange opRange = range();
         BinOp op = at(Tok::Star) ? BinOp::Mul : BinOp::Div;
+        ++links, ++depth_;
+        if (tooDeep()) break;
         advance();
         ExprPtr rhs = parseUnary();
-        auto e = std::make_unique<Expr>(ExprKind::Binary, opRange);
-        e->bin = op;
-        e->args.push_back(std::move(lhs));
-        e->args.push_back(std::move(rhs));
-        lhs = std::move(e);
+        lhs = binary(op, opRange, std::move(lhs), std::move(rhs));
     }
+    depth_ -= links;
     return lhs;
 }
 
 ExprPtr Parser::parseUnary() {
     if (at(Tok::Minus) || at(Tok::Plus)) {
         DepthGuard g(depth_);
-        if (depth_ > kMaxDepth) {
-            diags_.error(range(), Msg::TooDeep, kMaxDepth);
-            while (!at(Tok::End)) advance();
-            return errorExpr();
-        }
-        auto e = std::make_unique<Expr>(ExprKind::Unary, range());
+        if (tooDeep()) return errorExpr();
+        SourceRange start = range();
+        auto e = std::make_unique<Expr>(ExprKind::Unary, start);
         e->un = at(Tok::Minus) ? UnOp::Neg : UnOp::Plus;
         advance();
         e->args.push_back(parseUnary());
+        e->range = spanFrom(start);
         return e;
     }
     return parsePower();
@@ -305,18 +368,10 @@ ExprPtr Parser::parsePower() {
     SourceRange opRange = range();
     advance();
     DepthGuard g(depth_);
-    if (depth_ > kMaxDepth) {
-        diags_.error(range(), Msg::TooDeep, kMaxDepth);
-        while (!at(Tok::End)) advance();
-        return errorExpr();
-    }
+    if (tooDeep()) return errorExpr();
     // Right-associative: a ^ b ^ c = a ^ (b ^ c); the exponent may carry a sign: 2 ^ -1.
     ExprPtr exponent = parseUnary();
-    auto e = std::make_unique<Expr>(ExprKind::Binary, opRange);
-    e->bin = BinOp::Pow;
-    e->args.push_back(std::move(base));
-    e->args.push_back(std::move(exponent));
-    return e;
+    return binary(BinOp::Pow, opRange, std::move(base), std::move(exponent));
 }
 
 ExprPtr Parser::parsePrimary() {
@@ -357,6 +412,7 @@ ExprPtr Parser::parsePrimary() {
             } while (accept(Tok::Comma));
         }
         expect(Tok::RParen, fmt::format("',' or ')' in the call to '{}'", e->name).c_str());
+        e->range = spanFrom(start);
         return e;
     }
     case Tok::LParen: {
@@ -372,11 +428,17 @@ ExprPtr Parser::parsePrimary() {
             return v;
         }
         expect(Tok::RParen, "')'");
+        // The parentheses belong to the value a diagnostic points at; its operator or
+        // name (opRange) stays where it was.
+        first->range = spanFrom(start);
         return first;
     }
     default:
-        diags_.error(range(), Msg::Expected, "an expression", describeCurrent());
-        if (!at(Tok::End) && !at(Tok::RBrace)) advance();
+        if (!abandoned_) diags_.error(range(), Msg::Expected, "an expression", describeCurrent());
+        // Leave a closing token to whatever expects it (`sin()`, `(1, )`, `size = ;`), so one
+        // missing value is one error; skip anything else, so that parsing moves on.
+        if (!at(Tok::End) && !at(Tok::RBrace) && !at(Tok::RParen) && !at(Tok::Comma) && !at(Tok::Semi))
+            advance();
         return errorExpr();
     }
 }

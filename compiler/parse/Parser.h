@@ -40,10 +40,16 @@ private:
     // Reports "expected <what>, found <current token>" and returns false when not at `k`.
     bool expect(Tok k, const char* what);
     std::string describeCurrent() const;
-    SourceRange range() const { return {{file_, tok_.offset}, tok_.length ? tok_.length : 1}; }
+    // Where the current token is (for "found X" diagnostics).
+    SourceRange range() const;
     SourceRange spanFrom(SourceRange start) const;
     // Skip to something that can begin the next declaration or property after an error.
     void recoverTo(bool inBlock);
+    bool atDeclWord() const;
+    // Reports TooDeep once depth_ is past kMaxDepth, and skips the rest of the input.
+    bool tooDeep();
+    // After a value: false (reported) when a second value follows with no operator between.
+    bool valueEnds();
 
     ast::DeclPtr parseDecl();
     void parseBlock(ast::Decl& d);
@@ -57,6 +63,7 @@ private:
     ast::ExprPtr parsePower();
     ast::ExprPtr parsePrimary();
     ast::ExprPtr errorExpr();
+    ast::ExprPtr binary(ast::BinOp op, SourceRange opRange, ast::ExprPtr lhs, ast::ExprPtr rhs);
     int assignLiteral(double v);
 
     uint32_t file_;
@@ -65,7 +72,8 @@ private:
     Lexer lexer_;
     Token tok_;
     Token prevTok_;
-    int depth_ = 0;
+    int depth_ = 0;         // nesting of the expression being read (see parseSum)
+    bool abandoned_ = false; // an expression was too deep; the rest of the input is skipped
     std::vector<double> literals_;
 };
 

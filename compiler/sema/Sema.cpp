@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cmath>
 #include <functional>
 
@@ -49,11 +50,23 @@ const std::vector<std::string> kKeywords = {"scene", "camera", "layer", "field",
 
 std::string plural(int n, const char* word) { return fmt::format("{} {}{}", n, word, n == 1 ? "" : "s"); }
 
+// How tall an expression may grow once the fields and lets it names are filled in. Lowering
+// inlines them and walks the result recursively; the parser already bounds each expression
+// by itself (Parser::kMaxDepth), and this bounds chains of fields referring to fields. It is
+// well above one expression's limit, so that a long expression split into fields fits.
+constexpr int kMaxExpandedDepth = 1024;
+
 bool isLiteralZero(const Expr& e) {
     if (e.kind == ExprKind::Number) return e.number == 0.0;
     if (e.kind == ExprKind::Unary) return isLiteralZero(*e.args[0]);
     return false;
 }
+
+struct DepthGuard {
+    int& depth;
+    explicit DepthGuard(int& d) : depth(d) { ++depth; }
+    ~DepthGuard() { --depth; }
+};
 
 // Scope of names while checking one expression.
 struct Scope {
@@ -101,8 +114,8 @@ private:
                 case DeclKind::Camera: {
                     const Decl*& slot = d.kind == DeclKind::Scene ? out_.scene : out_.camera;
                     if (slot) {
-                        diags_.error(d.range, Msg::DuplicateDecl, declKindName(d.kind), "block");
-                        diags_.note(slot->range, Msg::FirstSeenHere);
+                        diags_.error(d.range, Msg::DuplicateBlock, declKindName(d.kind));
+                        diags_.note(slot->range, Msg::FirstDefinedHere);
                     } else {
                         slot = &d;
                     }
@@ -114,7 +127,7 @@ private:
                     auto known = globals_.find(d.name);
                     if (known != globals_.end()) {
                         diags_.error(d.nameRange, Msg::DuplicateDecl, declKindName(known->second->kind), d.name);
-                        diags_.note(known->second->nameRange, Msg::FirstSeenHere);
+                        diags_.note(known->second->nameRange, Msg::FirstDefinedHere);
                         break;
                     }
                     globals_[d.name] = &d;
@@ -126,7 +139,7 @@ private:
                         auto known = layerNames_.find(d.name);
                         if (known != layerNames_.end()) {
                             diags_.error(d.nameRange, Msg::DuplicateDecl, "layer", d.name);
-                            diags_.note(known->second->nameRange, Msg::FirstSeenHere);
+                            diags_.note(known->second->nameRange, Msg::FirstDefinedHere);
                         } else {
                             layerNames_[d.name] = &d;
                         }
@@ -152,6 +165,7 @@ private:
         st = State::InProgress;
         fieldStack_.push_back(&f);
         checkExpr(*f.value, Scope{});
+        fieldHeight_[&f] = lastHeight_;
         fieldStack_.pop_back();
         fieldState_[&f] = State::Done;
     }
@@ -160,14 +174,27 @@ private:
         CheckedFamily& cf = out_.families[&f];
         cf.decl = &f;
         out_.familyByName[f.name] = &f;
-        std::unordered_map<std::string, SourceRange> seen;
+        // Parameters and lets share one namespace: a let named like a parameter would hide it.
+        std::unordered_map<std::string, std::pair<const char*, SourceRange>> seen;
+        auto duplicate = [&](const std::string& name, SourceRange at) {
+            auto it = seen.find(name);
+            if (it == seen.end()) return false;
+            diags_.error(at, Msg::DuplicateDecl, it->second.first, name);
+            diags_.note(it->second.second, Msg::FirstDefinedHere);
+            return true;
+        };
         for (FamilyParam& p : f.params) {
             if (reserved(p.name, p.nameRange)) continue;
-            if (seen.count(p.name)) {
-                diags_.error(p.nameRange, Msg::DuplicateDecl, "parameter", p.name);
+            // A layer's `stroke = 2` sets the layer's stroke, so a parameter of that name
+            // could never be set.
+            bool layerProp = false;
+            for (const PropertySpec& spec : layerProperties()) layerProp |= p.name == spec.name;
+            if (layerProp) {
+                diags_.error(p.nameRange, Msg::ParamIsLayerProperty, p.name);
                 continue;
             }
-            seen[p.name] = p.nameRange;
+            if (duplicate(p.name, p.nameRange)) continue;
+            seen[p.name] = {"parameter", p.nameRange};
             if (p.defaultValue) {
                 checkExpr(*p.defaultValue, Scope{});
                 p.type = p.defaultValue->type == Type::Error ? Type::Num : p.defaultValue->type;
@@ -178,9 +205,11 @@ private:
         scope.allowSpacing = true;
         for (size_t i = 0; i < f.lets.size(); ++i) {
             Let& l = f.lets[i];
-            reserved(l.name, l.nameRange);
+            if (!reserved(l.name, l.nameRange) && !duplicate(l.name, l.nameRange))
+                seen[l.name] = {"let", l.nameRange};
             scope.visibleLets = i;
             checkExpr(*l.value, scope);
+            letHeight_[&l] = lastHeight_;
         }
         scope.visibleLets = f.lets.size();
         std::unordered_map<std::string, const Property*> props;
@@ -210,8 +239,11 @@ private:
                     cf.first = static_cast<int>(negative ? -e->number : e->number);
                 }
             } else {
-                diags_.error(p.nameRange, Msg::UnknownProperty, p.name, "a family (it has phase, first and let)",
-                             didYouMean(p.name, {"phase", "first"}));
+                // `w = 2` in a family body is most likely a value meant to be named.
+                std::string hint = didYouMean(p.name, {"phase", "first"});
+                if (hint.empty()) hint = fmt::format("; to name a value, write: let {} = ...", p.name);
+                diags_.error(p.nameRange, Msg::UnknownProperty, p.name, "a family (its properties are phase and first)",
+                             hint);
             }
         }
         if (!cf.phase) diags_.error(f.nameRange, Msg::FamilyNeedsPhase, f.name);
@@ -273,6 +305,7 @@ private:
         if (!fam) {
             diags_.error(d.range, Msg::MissingFamily);
         } else if (fam->value->kind == ExprKind::Name && !lookupName(fam->value->name) &&
+                   fam->value->name != "spacing" && // a (constant) phase, like any built-in name
                    !(globals_.count(fam->value->name) && globals_[fam->value->name]->kind == DeclKind::Field)) {
             auto it = globals_.find(fam->value->name);
             if (it != globals_.end() && it->second->kind == DeclKind::Family) {
@@ -286,7 +319,11 @@ private:
             Scope scope;
             scope.allowSpacing = true;
             checkExpr(*fam->value, scope);
-            expectType(*fam->value, Type::Num, "a family's phase expression");
+            // Said in the layer's terms: `family` takes a family's name or a phase.
+            Type t = fam->value->type;
+            if (t != Type::Num && t != Type::Error)
+                diags_.error(fam->value->range, Msg::TypeMismatch, "'family'", "a family name or a number (a phase)",
+                             typeName(t));
             layer.anonymousPhase = fam->value.get();
         }
         std::vector<std::string> allowed;
@@ -321,7 +358,8 @@ private:
         if (familyDecl) {
             for (size_t i = 0; i < familyDecl->params.size(); ++i)
                 if (!layer.args[i] && !familyDecl->params[i].defaultValue)
-                    diags_.error(fam->value->range, Msg::MissingParam, familyDecl->name, familyDecl->params[i].name);
+                    diags_.error(fam->value->range, Msg::MissingParam, familyDecl->name, familyDecl->params[i].name,
+                                 familyDecl->params[i].name);
         }
         out_.layers.push_back(std::move(layer));
     }
@@ -331,7 +369,16 @@ private:
         if (e.type == Type::Error || want == Type::Error || e.type == want) return;
         if (want == Type::Angle && e.type == Type::Num) {
             if (isLiteralZero(e)) return;
-            std::string example = e.kind == ExprKind::Number ? fmt::format("{}", e.number) : "30";
+            // The example repeats the number written, sign included (`-30` -> -30deg).
+            const Expr* lit = &e;
+            bool negative = false;
+            while (lit->kind == ExprKind::Unary) {
+                negative ^= lit->un == UnOp::Neg;
+                lit = lit->args[0].get();
+            }
+            std::string example = lit->kind == ExprKind::Number
+                                      ? fmt::format("{}{}", negative ? "-" : "", lit->number)
+                                      : "30";
             diags_.error(e.range, Msg::AngleNeedsUnit, what, example, example);
             return;
         }
@@ -345,10 +392,32 @@ private:
         }
     }
 
+    void tooDeep(const Expr& e) {
+        // Once is enough: the rest of a long chain would report it again every
+        // kMaxExpandedDepth links.
+        if (!tooDeepReported_) diags_.error(e.opRange, Msg::FieldsTooDeep, e.name, kMaxExpandedDepth);
+        tooDeepReported_ = true;
+    }
+
+    // Checks `e` and leaves in lastHeight_ its height with fields and lets filled in.
     Type checkExpr(Expr& e, const Scope& scope) {
-        for (ExprPtr& a : e.args) checkExpr(*a, scope);
+        DepthGuard guard(exprDepth_);
+        int height = 0;
+        for (ExprPtr& a : e.args) {
+            checkExpr(*a, scope);
+            height = std::max(height, lastHeight_);
+        }
         inherit(e);
-        e.type = typeOf(e, scope);
+        refHeight_ = 0;
+        e.type = typeOf(e, scope); // a name sets refHeight_ to the height of what it names
+        // (A name whose value is already in error was reported where that error is.)
+        if (refHeight_ >= kMaxExpandedDepth && e.type != Type::Error) {
+            tooDeep(e);
+            // Reported once, here: whatever uses this expression counts it as a leaf.
+            refHeight_ = 0;
+            e.type = Type::Error;
+        }
+        lastHeight_ = 1 + std::max(height, refHeight_);
         return e.type;
     }
 
@@ -381,7 +450,7 @@ private:
             Type t = e.args[0]->type;
             if (t == Type::Error) return t;
             if (t == Type::Color) {
-                diags_.error(e.range, Msg::UnaryType, e.un == UnOp::Neg ? "-" : "+", typeName(t));
+                diags_.error(e.opRange, Msg::UnaryType, e.un == UnOp::Neg ? "-" : "+", typeName(t));
                 return Type::Error;
             }
             return t;
@@ -396,7 +465,12 @@ private:
         Type a = e.args[0]->type, b = e.args[1]->type;
         if (a == Type::Error || b == Type::Error) return Type::Error;
         auto fail = [&] {
-            diags_.error(e.range, Msg::BinaryTypes, binOpSpelling(e.bin), typeName(a), typeName(b));
+            // Adding a bare number to an angle is the usual slip: the number wants a unit.
+            bool angleAndNumber = (a == Type::Angle && b == Type::Num) || (a == Type::Num && b == Type::Angle);
+            const char* hint = (e.bin == BinOp::Add || e.bin == BinOp::Sub) && angleAndNumber
+                                   ? "; give the number a unit, as in 30deg"
+                                   : "";
+            diags_.error(e.opRange, Msg::BinaryTypes, binOpSpelling(e.bin), typeName(a), typeName(b), hint);
             return Type::Error;
         };
         switch (e.bin) {
@@ -426,12 +500,12 @@ private:
     Type callType(Expr& e) {
         auto fn = lookupFn(e.name);
         if (!fn) {
-            if (lookupName(e.name)) diags_.error(e.range, Msg::NotAFunction, e.name, "a built-in value");
+            if (lookupName(e.name)) diags_.error(e.opRange, Msg::NotAFunction, e.name, "a built-in value");
             else if (globals_.count(e.name))
-                diags_.error(e.range, Msg::NotAFunction, e.name,
+                diags_.error(e.opRange, Msg::NotAFunction, e.name,
                              globals_[e.name]->kind == DeclKind::Field ? "a field" : "a family");
             else
-                diags_.error(e.range, Msg::UnknownFunction, e.name, didYouMean(e.name, builtinFunctions()));
+                diags_.error(e.opRange, Msg::UnknownFunction, e.name, didYouMean(e.name, builtinFunctions()));
             return Type::Error;
         }
         e.refIndex = static_cast<int>(*fn);
@@ -499,6 +573,7 @@ private:
                 e.refIndex = static_cast<int>(i);
                 e.dependsOnPosition = l.value->dependsOnPosition;
                 e.dependsOnTime = l.value->dependsOnTime;
+                refHeight_ = letHeight_[&l];
                 return l.value->type;
             }
             for (size_t i = 0; i < scope.family->params.size(); ++i) {
@@ -515,7 +590,7 @@ private:
         }
         if (n == "spacing") {
             if (!scope.allowSpacing) {
-                diags_.error(e.range, Msg::NameNotHere, n, "in a family's phase");
+                diags_.error(e.opRange, Msg::NameNotHere, n, "in a family's phase");
                 return Type::Error;
             }
             e.ref = RefKind::Spacing;
@@ -540,10 +615,17 @@ private:
                     if (on) path += (path.empty() ? "" : " -> ") + d->name;
                 }
                 path += " -> " + f->name;
-                diags_.error(e.range, Msg::FieldCycle, f->name, path);
+                diags_.error(e.opRange, Msg::FieldCycle, f->name, path);
+                return Type::Error;
+            }
+            if (fieldState_[f] == State::Unvisited && exprDepth_ >= kMaxExpandedDepth) {
+                // Checking `f` now would recurse once more per field in a chain of fields
+                // each defined by the next; past the limit the chain is too deep anyway.
+                tooDeep(e);
                 return Type::Error;
             }
             checkField(*f);
+            refHeight_ = fieldHeight_[f];
             e.ref = RefKind::Field;
             e.refDecl = f;
             e.dependsOnPosition = f->value->dependsOnPosition;
@@ -551,12 +633,20 @@ private:
             return f->value->type;
         }
         if (g != globals_.end() && g->second->kind == DeclKind::Family) {
-            diags_.error(e.range, Msg::FamilyAsValue, n, n);
+            diags_.error(e.opRange, Msg::FamilyAsValue, n, n);
             return Type::Error;
         }
         if (lookupFn(n)) {
-            diags_.error(e.range, Msg::FunctionAsValue, n, n);
+            diags_.error(e.opRange, Msg::FunctionAsValue, n, n);
             return Type::Error;
+        }
+        if (scope.family) {
+            // A let below this point (or this very let) is not defined yet.
+            for (size_t i = scope.visibleLets; i < scope.family->lets.size(); ++i)
+                if (scope.family->lets[i].name == n) {
+                    diags_.error(e.opRange, Msg::NameNotHere, n, fmt::format("after 'let {} = ...' defines it", n));
+                    return Type::Error;
+                }
         }
         std::vector<std::string> candidates = builtinNames();
         for (auto& [name, d] : globals_)
@@ -566,7 +656,7 @@ private:
             for (const FamilyParam& p : scope.family->params) candidates.push_back(p.name);
         }
         if (scope.allowSpacing) candidates.push_back("spacing");
-        diags_.error(e.range, Msg::UnknownName, n, didYouMean(n, candidates));
+        diags_.error(e.opRange, Msg::UnknownName, n, didYouMean(n, candidates));
         return Type::Error;
     }
 
@@ -577,6 +667,13 @@ private:
     std::vector<Decl*> fields_, familyDecls_;
     std::unordered_map<const Decl*, State> fieldState_;
     std::vector<const Decl*> fieldStack_;
+    // Heights with fields and lets filled in (see kMaxExpandedDepth).
+    std::unordered_map<const Decl*, int> fieldHeight_;
+    std::unordered_map<const Let*, int> letHeight_;
+    int lastHeight_ = 0; // of the expression checkExpr last finished
+    int exprDepth_ = 0;
+    bool tooDeepReported_ = false;  // checkExpr calls under way, through the fields they name
+    int refHeight_ = 0;  // of what the name being resolved refers to
 };
 
 } // namespace

@@ -29,6 +29,9 @@ std::string nearestName(std::string_view name, const std::vector<std::string>& c
     int bestDistance = maxDistance + 1;
     for (const std::string& c : candidates) {
         int dist = editDistance(name, c);
+        // A suggestion must keep something of what was written: 'e' for 'a' replaces it
+        // whole, which is no hint at all (every one-letter name is that near).
+        if (dist >= static_cast<int>(std::max(name.size(), c.size()))) continue;
         if (dist < bestDistance || (dist == bestDistance && !best.empty() && c < best)) {
             bestDistance = dist;
             best = c;

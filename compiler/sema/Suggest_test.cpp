@@ -21,3 +21,11 @@ TEST_CASE("the nearest name is suggested only when it is close") {
     CHECK(didYouMean("opacty", names) == "; did you mean 'opacity'?");
     CHECK(didYouMean("q", names).empty());
 }
+
+TEST_CASE("a suggestion keeps something of the name written") {
+    // Any one-letter name is one edit from any other; suggesting 'e' for 'a' would be noise.
+    CHECK(nearestName("a", {"e", "x", "pi"}).empty());
+    CHECK(nearestName("X", {"x", "y"}) == "x"); // case alone differs: distance 0
+    CHECK(nearestName("sn", {"sin", "t"}) == "sin");
+    CHECK(didYouMean("k", {"pi", "e"}).empty());
+}

@@ -1,0 +1,318 @@
+// Semantic checks on small scenes, with the real standard library in scope: name
+// resolution, field cycles, types and units, arity, what may depend on the position or the
+// clock, duplicates and reserved names. Errors are checked by message id and text; valid
+// scenes by the annotations the checks leave on the tree.
+#include "compiler/sema/Sema.h"
+
+#include <doctest/doctest.h>
+
+#include <string>
+#include <vector>
+
+#include "compiler/parse/Parser.h"
+#include "compiler/stdlib/Embedded.h"
+
+using namespace moire;
+using namespace moire::ast;
+
+namespace {
+
+struct Checked {
+    std::unique_ptr<SourceManager> sm = std::make_unique<SourceManager>();
+    std::unique_ptr<DiagEngine> diags;
+    std::vector<std::unique_ptr<Module>> modules;
+    sema::CheckedScene scene;
+
+    const Module& user() const { return *modules.back(); }
+    const Decl& decl(const std::string& name) const {
+        for (const DeclPtr& d : user().decls)
+            if (d->name == name) return *d;
+        FAIL("no declaration named ", name);
+        throw;
+    }
+    std::vector<Msg> msgs() const {
+        std::vector<Msg> m;
+        for (const Diagnostic& d : diags->all()) m.push_back(d.msg);
+        return m;
+    }
+    std::string firstText() const { return diags->all().empty() ? "" : diags->all()[0].text; }
+};
+
+// Parses the standard library and `text`, then runs the semantic checks (as compileScene
+// does, without lowering).
+Checked check(const std::string& text) {
+    Checked c;
+    c.diags = std::make_unique<DiagEngine>(*c.sm);
+    for (const embedded::File& f : embedded::files()) {
+        std::string_view path = f.path;
+        if (!path.starts_with("stdlib/") || path.starts_with("stdlib/scenes/")) continue;
+        uint32_t id = c.sm->add(std::string(path), std::string(f.text), true);
+        c.modules.push_back(std::make_unique<Module>(Parser(*c.sm, id, *c.diags).parseModule()));
+    }
+    uint32_t id = c.sm->add("sema.moire", text);
+    c.modules.push_back(std::make_unique<Module>(Parser(*c.sm, id, *c.diags).parseModule()));
+    REQUIRE_MESSAGE(!c.diags->hasErrors(), "parse errors:\n", c.diags->render());
+    std::vector<Module*> mods;
+    for (auto& m : c.modules) mods.push_back(m.get());
+    c.scene = sema::check(mods, *c.diags);
+    return c;
+}
+
+Checked ok(const std::string& text) {
+    Checked c = check(text);
+    INFO(text, "\n", c.diags->render());
+    REQUIRE_FALSE(c.diags->hasErrors());
+    return c;
+}
+
+// The one error a scene must give.
+std::string error(const std::string& text, Msg want) {
+    Checked c = check(text);
+    INFO(text, "\n", c.diags->render());
+    REQUIRE(c.diags->errorCount() == 1);
+    CHECK(c.diags->all()[0].msg == want);
+    return c.firstText();
+}
+
+const Expr& fieldValue(const Checked& c, const std::string& name) { return *c.decl(name).value; }
+
+} // namespace
+
+TEST_CASE("sema: names resolve to fields, parameters, lets, spacing and built-ins") {
+    Checked c = ok("field f = x + 1\n"
+                   "family fam(k = 2) { let w = k * spacing; phase = w + f + pi }\n"
+                   "layer { family = fam }\n");
+    const Decl& fam = c.decl("fam");
+    const Expr& let = *fam.lets[0].value; // k * spacing
+    CHECK(let.args[0]->ref == RefKind::FamilyParam);
+    CHECK(let.args[0]->refIndex == 0);
+    CHECK(let.args[1]->ref == RefKind::Spacing);
+    const Expr& phase = *fam.prop("phase")->value; // (w + f) + pi
+    const Expr& w = *phase.args[0]->args[0];
+    CHECK(w.ref == RefKind::Let);
+    CHECK(w.refIndex == 0);
+    CHECK(w.refDecl == &fam);
+    const Expr& f = *phase.args[0]->args[1];
+    CHECK(f.ref == RefKind::Field);
+    CHECK(f.refDecl == &c.decl("f"));
+    CHECK(phase.args[1]->ref == RefKind::Builtin);
+    // The layer's family is the user's family.
+    REQUIRE(c.scene.layers.size() == 1);
+    REQUIRE(c.scene.layers[0].family);
+    CHECK(c.scene.layers[0].family->decl == &fam);
+}
+
+TEST_CASE("sema: spacing exists only inside families and anonymous phases") {
+    ok("layer { family = x + spacing / 2 }");
+    ok("layer { family = spacing }"); // a constant phase, not an unknown family
+    CHECK(error("field f = x / spacing", Msg::NameNotHere) == "'spacing' can only be used in a family's phase");
+    error("layer { family = circles; phase = spacing }", Msg::NameNotHere);
+}
+
+TEST_CASE("sema: a let is visible only after it is defined") {
+    CHECK(error("family f { let a = b; let b = 1; phase = a }", Msg::NameNotHere) ==
+          "'b' can only be used after 'let b = ...' defines it");
+    error("family f { let a = a + 1; phase = a }", Msg::NameNotHere);
+    // ... but a let may hide a field of the same name, which its own value can still use.
+    ok("field a = 1\nfamily f { let a = a * 2; phase = x * a }");
+}
+
+TEST_CASE("sema: unknown names suggest only near candidates") {
+    CHECK(error("field f = thta", Msg::UnknownName) == "unknown name 'thta'; did you mean 'theta'?");
+    // Every one-letter name is one edit from every other: no suggestion for those.
+    CHECK(error("field f = a", Msg::UnknownName) == "unknown name 'a'");
+    CHECK(error("field f = sine(x)", Msg::UnknownFunction) == "unknown function 'sine'; did you mean 'sin'?");
+    CHECK(error("layer { family = circle }", Msg::UnknownFamily) ==
+          "unknown family 'circle'; did you mean 'circles'?");
+}
+
+TEST_CASE("sema: fields may not depend on themselves") {
+    CHECK(error("field a = b + 1\nfield b = a * 2", Msg::FieldCycle) == "field 'a' depends on itself (a -> b -> a)");
+    CHECK(error("field a = a", Msg::FieldCycle) == "field 'a' depends on itself (a -> a)");
+    ok("field a = b + 1\nfield b = x"); // used before its declaration is fine
+}
+
+TEST_CASE("sema: expression types") {
+    Checked c = ok("field n = 1 + 2\n"
+                   "field a = 30deg + 1rad\n"
+                   "field ratio = 30deg / 10deg\n"
+                   "field scaled = 2 * 30deg\n"
+                   "field v = (1, 2) * 3\n"
+                   "field col = mix(#000000, #ffffff, 0.5)\n"
+                   "field len = length((3, 4))\n"
+                   "field s = sin(30deg) + sin(1)\n"
+                   "field m = min(10deg, 0)\n"
+                   "field rgbc = rgb(1, 0, 0)\n");
+    CHECK(fieldValue(c, "n").type == Type::Num);
+    CHECK(fieldValue(c, "a").type == Type::Angle);
+    CHECK(fieldValue(c, "ratio").type == Type::Num); // angle / angle
+    CHECK(fieldValue(c, "scaled").type == Type::Angle);
+    CHECK(fieldValue(c, "v").type == Type::Vec2);
+    CHECK(fieldValue(c, "col").type == Type::Color);
+    CHECK(fieldValue(c, "len").type == Type::Num);
+    CHECK(fieldValue(c, "s").type == Type::Num);
+    CHECK(fieldValue(c, "m").type == Type::Angle); // 0 is zero in every unit
+    CHECK(fieldValue(c, "rgbc").type == Type::Color);
+}
+
+TEST_CASE("sema: type errors") {
+    CHECK(error("field f = 30deg + 1", Msg::BinaryTypes) ==
+          "cannot apply '+' to an angle and a number; give the number a unit, as in 30deg");
+    CHECK(error("field f = 30deg * 30deg", Msg::BinaryTypes) == "cannot apply '*' to an angle and an angle");
+    CHECK(error("field f = 1 / 30deg", Msg::BinaryTypes) == "cannot apply '/' to a number and an angle");
+    CHECK(error("field f = #ffffff + #000000", Msg::BinaryTypes) == "cannot apply '+' to a colour and a colour");
+    CHECK(error("field f = 2 ^ 30deg", Msg::BinaryTypes) == "cannot apply '^' to a number and an angle");
+    CHECK(error("field f = -#ffffff", Msg::UnaryType) == "cannot apply '-' to a colour");
+    CHECK(error("field f = sqrt(30deg)", Msg::ArgumentType) ==
+          "argument 1 of 'sqrt' must be a number, but this is an angle");
+    CHECK(error("field f = max(1, 30deg)", Msg::SameTypeArgs) ==
+          "the arguments of 'max' must have the same type, but they are a number and an angle");
+    CHECK(error("field f = mix(1, #000000, 0.5)", Msg::SameTypeArgs) ==
+          "the arguments of 'mix' must have the same type, but they are a number and a colour");
+    CHECK(error("field f = (1, 2, 3)", Msg::VectorSize) == "a vector has 2 components, not 3");
+    CHECK(error("field f = (1, #000000)", Msg::TypeMismatch) ==
+          "a vector component expects a number, but this is a colour");
+    CHECK(error("layer { family = circles; spacing = #ff0000 }", Msg::TypeMismatch) ==
+          "'spacing' expects a number, but this is a colour");
+    CHECK(error("layer { family = (x, y) }", Msg::TypeMismatch) ==
+          "'family' expects a family name or a number (a phase), but this is a 2-vector");
+}
+
+TEST_CASE("sema: angles need a unit, except a literal zero") {
+    CHECK(error("camera { rotation = 30 }", Msg::AngleNeedsUnit) ==
+          "'rotation' is an angle: write the number with a unit, as in 30deg or 30rad");
+    CHECK(error("camera { rotation = -12.5 }", Msg::AngleNeedsUnit) ==
+          "'rotation' is an angle: write the number with a unit, as in -12.5deg or -12.5rad");
+    ok("camera { rotation = 0 }");
+    ok("camera { rotation = -0 }");
+    ok("camera { rotation = 30deg }");
+    ok("layer { family = circles; rotation = 1rad * t }");
+    // A stdlib family's angle parameter takes the same rule.
+    CHECK(error("layer { family = lines; angle = 45 }", Msg::AngleNeedsUnit) ==
+          "'angle' is an angle: write the number with a unit, as in 45deg or 45rad");
+    ok("layer { family = lines; angle = 45deg }");
+}
+
+TEST_CASE("sema: calls take the number of arguments their function has") {
+    CHECK(error("field f = sin(1, 2)", Msg::Arity) == "'sin' takes 1 argument, but 2 were given");
+    CHECK(error("field f = atan2(1)", Msg::Arity) == "'atan2' takes 2 arguments, but 1 was given");
+    CHECK(error("field f = rgba()", Msg::Arity) == "'rgba' takes 4 arguments, but 0 were given");
+    CHECK(error("field f = x(2)", Msg::NotAFunction) == "'x' is a built-in value, not a function");
+    CHECK(error("field g = 1\nfield f = g(2)", Msg::NotAFunction) == "'g' is a field, not a function");
+    CHECK(error("field f = circles(2)", Msg::NotAFunction) == "'circles' is a family, not a function");
+    CHECK(error("field f = sin", Msg::FunctionAsValue) == "'sin' is a function; call it with arguments, as in sin(...)");
+    CHECK(error("field f = circles", Msg::FamilyAsValue) ==
+          "'circles' is a family; give it to a layer, as in: family = circles");
+}
+
+TEST_CASE("sema: settings that are fixed for a frame or a whole render") {
+    CHECK(error("camera { zoom = 1 + x / 100 }", Msg::MustBeConstant) ==
+          "'zoom' cannot depend on the position (x, y, r or theta)");
+    ok("camera { zoom = 1 + t / 10 }"); // the camera may move over time
+    CHECK(error("scene { size = (100 + t, 100) }", Msg::MustBeConstant) == "'size' cannot depend on the clock t");
+    // Through a field, too.
+    error("field g = theta\ncamera { center = (g, 0) }", Msg::MustBeConstant);
+    // Layers may vary in space and time.
+    ok("layer { family = circles; spacing = 5 + x / 100; color = rgb(t, 0, 0) }");
+}
+
+TEST_CASE("sema: position and time dependence is annotated") {
+    Checked c = ok("field p = x * 2\n"
+                   "field q = t\n"
+                   "field both = p + q\n"
+                   "field none = pi * 2\n"
+                   "field polar = r + theta\n");
+    CHECK(fieldValue(c, "p").dependsOnPosition);
+    CHECK_FALSE(fieldValue(c, "p").dependsOnTime);
+    CHECK_FALSE(fieldValue(c, "q").dependsOnPosition);
+    CHECK(fieldValue(c, "q").dependsOnTime);
+    CHECK(fieldValue(c, "both").dependsOnPosition);
+    CHECK(fieldValue(c, "both").dependsOnTime);
+    CHECK_FALSE(fieldValue(c, "none").dependsOnPosition);
+    CHECK_FALSE(fieldValue(c, "none").dependsOnTime);
+    CHECK(fieldValue(c, "polar").dependsOnPosition);
+}
+
+TEST_CASE("sema: duplicates are reported with a note at the first") {
+    Checked props = check("layer { family = circles; spacing = 4; spacing = 5 }");
+    CHECK(props.msgs() == std::vector<Msg>{Msg::DuplicateProperty, Msg::FirstSeenHere});
+    CHECK(props.firstText() == "'spacing' is set twice in this layer");
+    Checked fields = check("field f = 1\nfield f = 2");
+    CHECK(fields.msgs() == std::vector<Msg>{Msg::DuplicateDecl, Msg::FirstDefinedHere});
+    CHECK(fields.firstText() == "there is already a field named 'f'");
+    Checked stdlib = check("family circles = r * 2");
+    CHECK(stdlib.firstText() == "there is already a family named 'circles'");
+    CHECK(check("layer a { family = circles }\nlayer a { family = circles }").firstText() ==
+          "there is already a layer named 'a'");
+    Checked scenes = check("scene { }\nscene { }");
+    CHECK(scenes.msgs() == std::vector<Msg>{Msg::DuplicateBlock, Msg::FirstDefinedHere});
+    CHECK(scenes.firstText() == "there is already a scene block; put all its settings in one block");
+    Checked params = check("family f(k, k) = x * k");
+    CHECK(params.msgs() == std::vector<Msg>{Msg::DuplicateDecl, Msg::FirstDefinedHere});
+    CHECK(check("family f(k = 1) { let k = 2; phase = x }").firstText() == "there is already a parameter named 'k'");
+    CHECK(check("family f { let a = 1; let a = 2; phase = x }").firstText() == "there is already a let named 'a'");
+}
+
+TEST_CASE("sema: built-in names cannot be redefined") {
+    for (const char* text : {"field x = 1", "field sin = 1", "family theta = r", "family f(t = 1) = x",
+                             "family f { let pi = 3; phase = x }", "field spacing = 2"}) {
+        CAPTURE(text);
+        Checked c = check(text);
+        REQUIRE_FALSE(c.msgs().empty());
+        CHECK(c.msgs()[0] == Msg::ReservedName);
+    }
+    CHECK(error("field tau = 6", Msg::ReservedName) == "'tau' is a built-in name and cannot be redefined");
+    CHECK(error("family f(stroke = 1) = x * stroke", Msg::ParamIsLayerProperty) ==
+          "a family parameter cannot be called 'stroke': that is the name of a layer property");
+}
+
+TEST_CASE("sema: the standard library's families are visible to layers") {
+    Checked c = ok("layer { family = wave; amplitude = 5; shift = 10deg }\nlayer { family = hyperbola }");
+    REQUIRE(c.scene.layers.size() == 2);
+    REQUIRE(c.scene.layers[0].family);
+    CHECK(c.scene.layers[0].family->decl->name == "wave");
+    REQUIRE(c.scene.layers[0].args.size() == 3);
+    CHECK(c.scene.layers[0].args[0] != nullptr); // amplitude set
+    CHECK(c.scene.layers[0].args[1] == nullptr); // frequency left at its default
+    CHECK(c.scene.layers[1].family->first == 1);
+    CHECK(error("layer { family = wave; amplitud = 5 }", Msg::UnknownProperty) ==
+          "'amplitud' is not a property of a layer of family 'wave'; did you mean 'amplitude'?");
+}
+
+TEST_CASE("sema: layers and families need what they need") {
+    error("layer { spacing = 4 }", Msg::MissingFamily);
+    CHECK(error("family ring(radius) = abs(r - radius)\nlayer { family = ring }", Msg::MissingParam) ==
+          "family 'ring' needs a value for its parameter 'radius'; set it in the layer, as in: radius = 1");
+    ok("family ring(radius) = abs(r - radius)\nlayer { family = ring; radius = 20 }");
+    CHECK(error("family blank { first = 1 }", Msg::FamilyNeedsPhase) ==
+          "family 'blank' has no phase; add one, as in: phase = r");
+    error("family f { phase = r; first = 0.5 }", Msg::FirstNotInteger);
+    error("family f { phase = r; first = x }", Msg::FirstNotInteger);
+    Checked negative = ok("family f { phase = r; first = -2 }");
+    CHECK(negative.scene.families.at(&negative.decl("f")).first == -2);
+    CHECK(error("family f { phase = r; w = 2 }", Msg::UnknownProperty) ==
+          "'w' is not a property of a family (its properties are phase and first); to name a value, write: let w = ...");
+    CHECK(error("scene { sise = (1, 2) }", Msg::UnknownProperty) ==
+          "'sise' is not a property of the scene; did you mean 'size'?");
+}
+
+TEST_CASE("sema: a chain of fields too deep to inline is an error, not a stack overflow") {
+    // f_k = f_(k-1) + 1 is 2k + 1 levels tall once the fields are filled in.
+    auto chain = [](int n, bool reversed) {
+        std::string text = "field f0 = x\n";
+        for (int k = 1; k <= n; ++k) text += "field f" + std::to_string(k) + " = f" + std::to_string(k - 1) + " + 1\n";
+        if (reversed) { // declared from the top down: checking f0 recurses through them all
+            text.clear();
+            for (int k = 0; k < n; ++k) text += "field f" + std::to_string(k) + " = f" + std::to_string(k + 1) + " + 1\n";
+            text += "field f" + std::to_string(n) + " = x\n";
+        }
+        return text;
+    };
+    ok(chain(500, false));
+    // f512 is 1025 levels tall: the name f512 in f513 is the first past the limit of 1024.
+    CHECK(error(chain(600, false), Msg::FieldsTooDeep) ==
+          "'f512' is nested too deeply once the fields and lets it uses are filled in (more than 1024 levels)");
+    // 100,000 fields, each named by the one before: one error, no crash.
+    Checked c = check(chain(100000, true));
+    CHECK(c.msgs() == std::vector<Msg>{Msg::FieldsTooDeep});
+}

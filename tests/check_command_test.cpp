@@ -1,0 +1,90 @@
+// `moire check` run as a user runs it, against the hand-written error catalogue: the same
+// diagnostics on stderr as the compiler gives in-process (tests/errors_test.cpp), exit
+// status 1 for a scene with errors, 0 and an "ok" line for a valid one, and one clear line
+// for a file that cannot be read.
+#include <doctest/doctest.h>
+#include <unistd.h>
+
+#include <filesystem>
+#include <fstream>
+
+#include <fmt/format.h>
+
+#include "tests/support/Support.h"
+
+using namespace moire;
+namespace fs = std::filesystem;
+
+namespace {
+
+// Runs `moire check <args>` from the source root, so that tests/errors/x.moire is named in
+// the diagnostics exactly as the .expected files name it.
+test::CommandResult check(const std::string& args) {
+    return test::runCommand("cd '" + test::sourcePath("") + "' && '" + test::moireBinary() + "' check " + args);
+}
+
+// A scene file in a fresh temporary directory, removed with this object.
+struct TempScene {
+    fs::path dir;
+    std::string path;
+    explicit TempScene(const std::string& text) {
+        dir = fs::temp_directory_path() /
+              ("moire-check-" + std::to_string(::getpid()) + "-" + std::to_string(reinterpret_cast<uintptr_t>(this)));
+        fs::create_directories(dir);
+        path = (dir / "scene.moire").string();
+        std::ofstream(path) << text;
+    }
+    ~TempScene() { fs::remove_all(dir); }
+};
+
+} // namespace
+
+TEST_CASE("moire check: a scene with errors exits 1 with exactly the catalogue's diagnostics") {
+    // One lexer case, one with a note into the standard library, and one found only when the
+    // frame is evaluated.
+    for (const char* name : {"unknown_unit", "duplicate_decl_stdlib", "bad_size", "unknown_property_family"}) {
+        CAPTURE(name);
+        std::string scene = std::string("tests/errors/") + name + ".moire";
+        test::CommandResult r = check(scene);
+        CHECK(r.status == 1);
+        CHECK(r.err == test::readFile(test::sourcePath(std::string("tests/errors/") + name + ".expected")));
+        CHECK(r.out.empty()); // nothing claimed "ok"
+    }
+}
+
+TEST_CASE("moire check: a valid scene exits 0 and says so") {
+    TempScene scene("// two ring families\n"
+                    "scene { size = (200, 100) }\n"
+                    "layer { family = circles; spacing = 6; origin = (-10, 0) }\n"
+                    "layer { family = circles; spacing = 6; origin = (10, 0) }\n");
+    test::CommandResult r = check("'" + scene.path + "'");
+    CHECK(r.status == 0);
+    CHECK(r.out == scene.path + ": ok\n");
+    CHECK(r.err.empty());
+    // --quiet keeps only errors.
+    test::CommandResult quiet = check("-q '" + scene.path + "'");
+    CHECK(quiet.status == 0);
+    CHECK(quiet.out.empty());
+    CHECK(quiet.err.empty());
+}
+
+TEST_CASE("moire check: several scenes are all checked; any error makes the status 1") {
+    TempScene good("layer { family = circles }\n");
+    test::CommandResult r = check("'" + good.path + "' tests/errors/missing_family.moire '" + good.path + "'");
+    CHECK(r.status == 1);
+    CHECK(r.out == good.path + ": ok\n" + good.path + ": ok\n");
+    CHECK(r.err == test::readFile(test::sourcePath("tests/errors/missing_family.expected")));
+}
+
+TEST_CASE("moire check: a file that cannot be read is one clear line, and status 1") {
+    std::string missing = "/nonexistent-moire-dir/none.moire";
+    test::CommandResult r = check(missing);
+    CHECK(r.status == 1);
+    CHECK(r.err == "moire: error: cannot read '" + missing + "': No such file or directory\n");
+    CHECK(r.out.empty());
+    TempScene scene("layer { family = circles }\n");
+    std::string dirPath = scene.dir.string();
+    test::CommandResult dir = check(fmt::format("'{}'", dirPath));
+    CHECK(dir.status == 1);
+    CHECK(dir.err == fmt::format("moire: error: cannot read '{}': it is a directory\n", dirPath));
+}

@@ -23,7 +23,10 @@ int messageCount() { return static_cast<int>(sizeof(kMessages) / sizeof(kMessage
 void DiagEngine::report(Severity s, SourceRange at, Msg m, std::string text) {
     if (s == Severity::Error) {
         droppedLastError_ = errorCount_ >= kMaxErrors;
-        if (droppedLastError_) return;
+        if (droppedLastError_) {
+            ++droppedErrors_;
+            return;
+        }
         ++errorCount_;
     } else if (droppedLastError_) {
         // A note explains the error before it; without that error it would point at nothing.
@@ -73,6 +76,9 @@ std::string DiagEngine::render(const Diagnostic& d) const {
 std::string DiagEngine::render() const {
     std::string out;
     for (const Diagnostic& d : diags_) out += render(d);
+    // Later errors are usually echoes of the first ones; say how many were left out.
+    if (droppedErrors_ > 0)
+        out += fmt::format("moire: note: {} more error{} not shown\n", droppedErrors_, droppedErrors_ == 1 ? "" : "s");
     return out;
 }
 

@@ -72,6 +72,7 @@ private:
     const SourceManager& sm_;
     std::vector<Diagnostic> diags_;
     int errorCount_ = 0;
+    int droppedErrors_ = 0;         // errors over kMaxErrors, counted but not kept
     bool droppedLastError_ = false; // the last error was over kMaxErrors: drop its notes too
 };
 

@@ -85,6 +85,8 @@ TEST_CASE("diagnostics: errors stop at the cap, and so do the notes that belong 
     CHECK(diags.errorCount() == DiagEngine::kMaxErrors);
     CHECK(diags.all().size() == 2 * DiagEngine::kMaxErrors);
     CHECK(diags.all().back().severity == Severity::Note);
+    std::string text = diags.render();
+    CHECK(text.substr(text.rfind("moire:")) == "moire: note: 5 more errors not shown\n");
 }
 
 TEST_CASE("diagnostics: a diagnostic without a location names the program") {

@@ -2,6 +2,8 @@
 
 #include <doctest/doctest.h>
 
+#include "tests/support/Support.h"
+
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -26,23 +28,6 @@ Image ramp(int w, int h) {
     return img;
 }
 
-struct TempDir {
-    fs::path path;
-    TempDir() {
-        path = fs::temp_directory_path() / ("moire-imageio-" + std::to_string(::getpid()) + "-" +
-                                            std::to_string(reinterpret_cast<uintptr_t>(this)));
-        fs::create_directories(path);
-    }
-    ~TempDir() { fs::remove_all(path); }
-    std::string file(const std::string& name) const { return (path / name).string(); }
-    // Names in the directory other than `keep` (left-over temporaries).
-    std::vector<std::string> others(const std::string& keep) const {
-        std::vector<std::string> v;
-        for (auto& e : fs::directory_iterator(path))
-            if (e.path().filename() != keep) v.push_back(e.path().filename().string());
-        return v;
-    }
-};
 
 // Worst per-channel difference between `got` and `expect(v)` applied to the source.
 template <class F>
@@ -66,7 +51,7 @@ TEST_CASE("sRGB transfer functions invert each other and match their definition"
 }
 
 TEST_CASE("PNG, TIFF, EXR and JPEG round-trip at their depths") {
-    TempDir dir;
+    test::TempDir dir("imageio");
     Image src = ramp(37, 23);
     auto same = [](float v, int) { return static_cast<double>(v); };
     // An integer format keeps every value to within half a step of its depth.
@@ -105,11 +90,11 @@ TEST_CASE("PNG, TIFF, EXR and JPEG round-trip at their depths") {
     CHECK(jpg.width == src.width);
     CHECK(worst(smooth, jpg, 3, same) < 0.05);
 
-    CHECK(dir.others("").size() == 6); // no temporaries left behind
+    CHECK(dir.names().size() == 6); // no temporaries left behind
 }
 
 TEST_CASE("depths a format cannot hold and unknown formats are refused before anything is written") {
-    TempDir dir;
+    test::TempDir dir("imageio");
     Image src = ramp(4, 4);
     WriteOptions f;
     f.depth = PixelDepth::Float;
@@ -118,33 +103,33 @@ TEST_CASE("depths a format cannot hold and unknown formats are refused before an
     u8.depth = PixelDepth::U8;
     CHECK_THROWS_AS(writeImage(dir.file("x.exr"), src, u8), IoError);
     CHECK_THROWS_AS(writeImage(dir.file("x.bmpx"), src), IoError);
-    CHECK(dir.others("").empty());
+    CHECK(dir.names().empty());
 }
 
 TEST_CASE("a failed write leaves the existing target and no temporary file") {
-    TempDir dir;
+    test::TempDir dir("imageio");
     Image src = ramp(8, 8);
     // The target is a directory: the image is written to a temporary, and the final rename
     // fails. The directory must survive and the temporary must be gone.
-    fs::create_directories(dir.path / "taken.png");
-    fs::path marker = dir.path / "taken.png" / "keep";
+    fs::create_directories(dir.file("taken.png"));
+    fs::path marker = dir.file("taken.png/keep");
     { std::ofstream(marker.string()) << "x"; }
     CHECK_THROWS_AS(writeImage(dir.file("taken.png"), src), IoError);
     CHECK(fs::exists(marker));
-    CHECK(dir.others("taken.png").empty());
+    CHECK(dir.names("taken.png").empty());
 
     // A directory that does not exist: a clear error, nothing created.
     CHECK_THROWS_AS(writeImage(dir.file("missing/sub/out.png"), src), IoError);
-    CHECK_FALSE(fs::exists(dir.path / "missing"));
+    CHECK_FALSE(fs::exists(dir.file("missing")));
 }
 
 TEST_CASE("an existing image is replaced whole") {
-    TempDir dir;
+    test::TempDir dir("imageio");
     writeImage(dir.file("out.png"), ramp(5, 3));
     Image bigger = ramp(50, 30);
     writeImage(dir.file("out.png"), bigger);
     Image back = readImage(dir.file("out.png"));
     CHECK(back.width == 50);
     CHECK(back.height == 30);
-    CHECK(dir.others("out.png").empty());
+    CHECK(dir.names("out.png").empty());
 }

@@ -24,17 +24,11 @@ test::CommandResult check(const std::string& args) {
 }
 
 // A scene file in a fresh temporary directory, removed with this object.
-struct TempScene {
-    fs::path dir;
-    std::string path;
-    explicit TempScene(const std::string& text) {
-        dir = fs::temp_directory_path() /
-              ("moire-check-" + std::to_string(::getpid()) + "-" + std::to_string(reinterpret_cast<uintptr_t>(this)));
-        fs::create_directories(dir);
-        path = (dir / "scene.moire").string();
-        std::ofstream(path) << text;
+struct TempScene : test::TempDir {
+    std::string scene;
+    explicit TempScene(const std::string& text) : test::TempDir("check"), scene(file("scene.moire")) {
+        write("scene.moire", text);
     }
-    ~TempScene() { fs::remove_all(dir); }
 };
 
 } // namespace
@@ -57,12 +51,12 @@ TEST_CASE("moire check: a valid scene exits 0 and says so") {
                     "scene { size = (200, 100) }\n"
                     "layer { family = circles; spacing = 6; origin = (-10, 0) }\n"
                     "layer { family = circles; spacing = 6; origin = (10, 0) }\n");
-    test::CommandResult r = check("'" + scene.path + "'");
+    test::CommandResult r = check("'" + scene.scene + "'");
     CHECK(r.status == 0);
-    CHECK(r.out == scene.path + ": ok\n");
+    CHECK(r.out == scene.scene + ": ok\n");
     CHECK(r.err.empty());
     // --quiet keeps only errors.
-    test::CommandResult quiet = check("-q '" + scene.path + "'");
+    test::CommandResult quiet = check("-q '" + scene.scene + "'");
     CHECK(quiet.status == 0);
     CHECK(quiet.out.empty());
     CHECK(quiet.err.empty());
@@ -70,9 +64,9 @@ TEST_CASE("moire check: a valid scene exits 0 and says so") {
 
 TEST_CASE("moire check: several scenes are all checked; any error makes the status 1") {
     TempScene good("layer { family = circles }\n");
-    test::CommandResult r = check("'" + good.path + "' tests/errors/missing_family.moire '" + good.path + "'");
+    test::CommandResult r = check("'" + good.scene + "' tests/errors/missing_family.moire '" + good.scene + "'");
     CHECK(r.status == 1);
-    CHECK(r.out == good.path + ": ok\n" + good.path + ": ok\n");
+    CHECK(r.out == good.scene + ": ok\n" + good.scene + ": ok\n");
     CHECK(r.err == test::readFile(test::sourcePath("tests/errors/missing_family.expected")));
 }
 
@@ -83,7 +77,7 @@ TEST_CASE("moire check: a file that cannot be read is one clear line, and status
     CHECK(r.err == "moire: error: cannot read '" + missing + "': No such file or directory\n");
     CHECK(r.out.empty());
     TempScene scene("layer { family = circles }\n");
-    std::string dirPath = scene.dir.string();
+    std::string dirPath = scene.path();
     test::CommandResult dir = check(fmt::format("'{}'", dirPath));
     CHECK(dir.status == 1);
     CHECK(dir.err == fmt::format("moire: error: cannot read '{}': it is a directory\n", dirPath));

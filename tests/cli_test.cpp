@@ -14,19 +14,12 @@ using namespace moire;
 
 namespace {
 
-struct Workdir {
-    fs::path path;
-    Workdir() {
-        path = fs::temp_directory_path() / ("moire-cli-" + std::to_string(::getpid()) + "-" +
-                                            std::to_string(reinterpret_cast<uintptr_t>(this)));
-        fs::create_directories(path);
-    }
-    ~Workdir() { fs::remove_all(path); }
-    std::string file(const std::string& name) const { return (path / name).string(); }
-    void write(const std::string& name, const std::string& text) const { std::ofstream(file(name)) << text; }
+// A scratch directory to run moire in.
+struct Workdir : test::TempDir {
+    Workdir() : test::TempDir("cli") {}
     // Runs moire with `args` inside this directory.
     test::CommandResult moire(const std::string& args) const {
-        return test::runCommand("cd '" + path.string() + "' && '" + test::moireBinary() + "' " + args);
+        return test::runCommand("cd '" + path() + "' && '" + test::moireBinary() + "' " + args);
     }
 };
 
@@ -98,9 +91,7 @@ TEST_CASE("bad command lines exit with status 2 and write nothing") {
         CHECK_FALSE(r.err.empty());
     }
     CHECK(w.moire("render s.moire --depth float -o f.png").status == 1); // PNG cannot hold float
-    std::vector<std::string> files;
-    for (auto& e : fs::directory_iterator(w.path)) files.push_back(e.path().filename().string());
-    CHECK(files == std::vector<std::string>{"s.moire"});
+    CHECK(w.names() == std::vector<std::string>{"s.moire"});
 }
 
 TEST_CASE("a scene with errors gives diagnostics, status 1 and no image") {

@@ -112,6 +112,34 @@ std::vector<std::string> exampleScenes() {
     return out;
 }
 
+TempDir::TempDir(const std::string& tag) {
+    static int counter = 0;
+    fs::path p = fs::temp_directory_path() /
+                 ("moire-" + tag + "-" + std::to_string(::getpid()) + "-" + std::to_string(counter++));
+    fs::remove_all(p);
+    fs::create_directories(p);
+    path_ = p.string();
+}
+
+TempDir::~TempDir() {
+    std::error_code ec;
+    fs::remove_all(path_, ec);
+}
+
+void TempDir::write(const std::string& name, const std::string& text) const {
+    std::ofstream out(file(name), std::ios::binary);
+    out << text;
+    REQUIRE_MESSAGE(out.good(), "cannot write ", file(name));
+}
+
+std::vector<std::string> TempDir::names(const std::string& except) const {
+    std::vector<std::string> v;
+    for (const auto& e : fs::directory_iterator(path_))
+        if (e.path().filename() != except) v.push_back(e.path().filename().string());
+    std::sort(v.begin(), v.end());
+    return v;
+}
+
 CommandResult runCommand(const std::string& command) {
     char outName[] = "/tmp/moire-test-out-XXXXXX";
     char errName[] = "/tmp/moire-test-err-XXXXXX";

@@ -45,6 +45,25 @@ ImageDiff compareImages(const Image& a, const Image& b, double tolerance, int ch
 // The example scenes (examples/*.moire), sorted, as paths relative to the source root.
 std::vector<std::string> exampleScenes();
 
+// A fresh directory under the system's temporary directory, removed with everything in it
+// when the object goes.
+class TempDir {
+public:
+    explicit TempDir(const std::string& tag = "test");
+    ~TempDir();
+    TempDir(const TempDir&) = delete;
+    TempDir& operator=(const TempDir&) = delete;
+
+    const std::string& path() const { return path_; }
+    std::string file(const std::string& name) const { return path_ + "/" + name; }
+    void write(const std::string& name, const std::string& text) const;
+    // The names in the directory, sorted, leaving out `except`.
+    std::vector<std::string> names(const std::string& except = "") const;
+
+private:
+    std::string path_;
+};
+
 // Runs a command through the shell; returns its exit status and captures stdout/stderr.
 struct CommandResult {
     int status = -1;

@@ -6,28 +6,29 @@
 // to callable JIT code, then Mpx/s of the reference interpreter and of the JIT at 1920x1080,
 // and their ratio. Each render is repeated and the fastest run kept (other work on the
 // machine can only add time).
-#include <fmt/format.h>
+#include "compiler/backend/interp/Interpreter.h"
+#include "compiler/backend/llvm/LlvmJit.h"
+#include "compiler/Compile.h"
+#include "runtime/FrameEval.h"
+#include "runtime/TileExecutor.h"
 
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
+#include <fmt/format.h>
 #include <fstream>
 #include <sstream>
 #include <thread>
-
-#include "compiler/Compile.h"
-#include "compiler/backend/interp/Interpreter.h"
-#include "compiler/backend/llvm/LlvmJit.h"
-#include "runtime/FrameEval.h"
-#include "runtime/TileExecutor.h"
 
 using namespace moire;
 using Clock = std::chrono::steady_clock;
 
 namespace {
 
-double seconds(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
+double seconds(Clock::time_point t0) {
+    return std::chrono::duration<double>(Clock::now() - t0).count();
+}
 
 struct Scene {
     std::string name, path, text;
@@ -68,8 +69,10 @@ int main(int argc, char** argv) {
     std::vector<Scene> scenes;
     for (int i = 1; i < argc; ++i) {
         std::string a = argv[i];
-        if (a == "--size" && i + 1 < argc) std::sscanf(argv[++i], "%dx%d", &width, &height);
-        else if (a == "--repeat" && i + 1 < argc) repeat = std::max(1, std::atoi(argv[++i]));
+        if (a == "--size" && i + 1 < argc)
+            std::sscanf(argv[++i], "%dx%d", &width, &height);
+        else if (a == "--repeat" && i + 1 < argc)
+            repeat = std::max(1, std::atoi(argv[++i]));
         else {
             std::ifstream in(a);
             std::stringstream ss;
@@ -81,8 +84,8 @@ int main(int argc, char** argv) {
 
     fmt::print("moire render benchmark: {}x{}, best of {}, {} threads\n\n", width, height, repeat,
                std::max(1u, std::thread::hardware_concurrency()));
-    fmt::print("{:<18} {:>10} {:>10} {:>12} {:>12} {:>9}\n", "scene", "front ms", "jit ms", "interp Mpx/s",
-               "jit Mpx/s", "jit/int");
+    fmt::print("{:<18} {:>10} {:>10} {:>12} {:>12} {:>9}\n", "scene", "front ms", "jit ms",
+               "interp Mpx/s", "jit Mpx/s", "jit/int");
     const double mpx = width * static_cast<double>(height) / 1e6;
     for (const Scene& s : scenes) {
         // Source to callable code: parse, check, lower, AD, passes, then LLVM (a fresh JIT so
@@ -113,10 +116,11 @@ int main(int argc, char** argv) {
         auto interpKernel = interp.compile(r.program->kernel);
         double tInterp = timeRender(*interpKernel, frame, 1); // slow: once is enough
         double tJit = timeRender(*jitKernel, frame, repeat);
-        fmt::print("{:<18} {:>10.2f} {:>10.2f} {:>12.2f} {:>12.1f} {:>8.0f}x\n", s.name, front * 1e3, codegen * 1e3,
-                   mpx / tInterp, mpx / tJit, tInterp / tJit);
+        fmt::print("{:<18} {:>10.2f} {:>10.2f} {:>12.2f} {:>12.1f} {:>8.0f}x\n", s.name,
+                   front * 1e3, codegen * 1e3, mpx / tInterp, mpx / tJit, tInterp / tJit);
     }
-    fmt::print("\nfront: parse, checks, lowering, AD and IR passes; jit: LLVM translation, -O2 and\n"
-               "machine code. Parse to callable code is their sum.\n");
+    fmt::print(
+        "\nfront: parse, checks, lowering, AD and IR passes; jit: LLVM translation, -O2 and\n"
+        "machine code. Parse to callable code is their sum.\n");
     return 0;
 }

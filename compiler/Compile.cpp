@@ -11,7 +11,8 @@ namespace moire {
 
 namespace {
 bool isLibraryModule(std::string_view path) {
-    return path.starts_with("stdlib/") && !path.starts_with("stdlib/scenes/") && path.ends_with(".moire");
+    return path.starts_with("stdlib/") && !path.starts_with("stdlib/scenes/") &&
+           path.ends_with(".moire");
 }
 } // namespace
 
@@ -22,7 +23,8 @@ EmbeddedScene defaultScene() {
     MOIRE_ICE("the default scene is not embedded");
 }
 
-CompileResult compileScene(const std::string& path, std::string text, const CompileOptions& options) {
+CompileResult compileScene(const std::string& path, std::string text,
+                           const CompileOptions& options) {
     auto program = std::make_unique<SceneProgram>();
     program->sources = std::make_unique<SourceManager>();
     SourceManager& sm = *program->sources;
@@ -34,10 +36,12 @@ CompileResult compileScene(const std::string& path, std::string text, const Comp
         if (!isLibraryModule(f.path)) continue;
         std::string shown = "<stdlib>/" + std::string(std::string_view(f.path).substr(7));
         uint32_t id = sm.add(shown, std::string(f.text), /*isStdlib=*/true);
-        program->modules.push_back(std::make_unique<ast::Module>(Parser(sm, id, diags).parseModule()));
+        program->modules.push_back(
+            std::make_unique<ast::Module>(Parser(sm, id, diags).parseModule()));
     }
     uint32_t userId = sm.add(path, std::move(text));
-    program->modules.push_back(std::make_unique<ast::Module>(Parser(sm, userId, diags).parseModule()));
+    program->modules.push_back(
+        std::make_unique<ast::Module>(Parser(sm, userId, diags).parseModule()));
     program->literals = program->modules.back()->literals;
 
     // 2. Semantic checks: names, arity, types, units, constness.
@@ -60,11 +64,12 @@ CompileResult compileScene(const std::string& path, std::string text, const Comp
         program->literals.push_back(0.0);
     }
     ir::Function scene = lower::lowerScene(program->checked, lowerOptions, program->layout);
-    program->lowered = passes::simplify(scene);                    // fold, CSE, DCE
+    program->lowered = passes::simplify(scene);                              // fold, CSE, DCE
     program->derived = passes::simplify(passes::autoDiff(program->lowered)); // forward-mode AD
-    passes::FrameSplit split = passes::splitFrame(program->derived, program->layout.numKernelOutputs);
-    program->frame = std::move(split.frame);                       // per-frame uniforms
-    program->kernel = passes::simplify(split.kernel);              // per-pixel kernel
+    passes::FrameSplit split =
+        passes::splitFrame(program->derived, program->layout.numKernelOutputs);
+    program->frame = std::move(split.frame);          // per-frame uniforms
+    program->kernel = passes::simplify(split.kernel); // per-pixel kernel
     program->numUniforms = split.numUniforms;
     program->kernelHash = ir::structuralHash(program->kernel);
 

@@ -2,15 +2,15 @@
 // Compile.cpp reads as the ordered list of stages.
 #pragma once
 
-#include <memory>
-#include <string>
-#include <vector>
-
 #include "compiler/diag/Diagnostics.h"
 #include "compiler/ir/IR.h"
 #include "compiler/lower/LowerScene.h"
 #include "compiler/parse/Ast.h"
 #include "compiler/sema/Sema.h"
+
+#include <memory>
+#include <string>
+#include <vector>
 
 namespace moire {
 
@@ -26,10 +26,10 @@ struct SceneProgram {
     sema::CheckedScene checked;
     std::vector<double> literals; // the scene's literal table (values of its numbers)
 
-    ir::Function lowered;    // the scene function, simplified, before differentiation
-    ir::Function derived;    // after forward-mode AD and simplification
-    ir::Function frame;      // per-frame program: literals and clock -> uniforms, settings
-    ir::Function kernel;     // per-pixel program: uniforms, pixel -> outputs
+    ir::Function lowered; // the scene function, simplified, before differentiation
+    ir::Function derived; // after forward-mode AD and simplification
+    ir::Function frame;   // per-frame program: literals and clock -> uniforms, settings
+    ir::Function kernel;  // per-pixel program: uniforms, pixel -> outputs
     lower::OutputLayout layout;
     int numUniforms = 0;
     uint64_t kernelHash = 0; // structure only: unchanged when only numbers change
@@ -45,7 +45,8 @@ struct CompileResult {
 
 // Compiles `text` (read from `path`, used in diagnostics). User errors come back as
 // diagnostics; a bug in moire throws InternalError.
-CompileResult compileScene(const std::string& path, std::string text, const CompileOptions& options = {});
+CompileResult compileScene(const std::string& path, std::string text,
+                           const CompileOptions& options = {});
 
 // The embedded default scene (path and text).
 struct EmbeddedScene {

@@ -1,8 +1,8 @@
 #include "runtime/FrameEval.h"
 
-#include <cmath>
-
 #include "compiler/backend/interp/Interpreter.h"
+
+#include <cmath>
 
 namespace moire {
 
@@ -33,7 +33,9 @@ bool evaluateFrame(const SceneProgram& program, const FrameRequest& request, Fra
     out.zoom = outputs[u + lower::OutputLayout::kSettingZoom];
 
     DiagEngine diags(*program.sources);
-    auto whole = [](double v) { return std::isfinite(v) && v == std::floor(v) && v >= 1 && v <= kMaxImageSide; };
+    auto whole = [](double v) {
+        return std::isfinite(v) && v == std::floor(v) && v >= 1 && v <= kMaxImageSide;
+    };
     if (request.width > 0 && request.height > 0) {
         w = request.width;
         h = request.height;

@@ -3,10 +3,10 @@
 // settings. Nothing carries over from one frame to the next.
 #pragma once
 
+#include "compiler/Compile.h"
+
 #include <string>
 #include <vector>
-
-#include "compiler/Compile.h"
 
 namespace moire {
 

@@ -2,6 +2,7 @@
 // output is sRGB-encoded straight colour with alpha, as composited.
 #pragma once
 
+#include <cstddef>
 #include <vector>
 
 namespace moire {
@@ -11,9 +12,12 @@ struct Image {
     std::vector<float> pixels;
 
     Image() = default;
-    Image(int w, int h, int c) : width(w), height(h), channels(c), pixels(static_cast<size_t>(w) * h * c, 0.0f) {}
+    Image(int w, int h, int c)
+        : width(w), height(h), channels(c), pixels(static_cast<size_t>(w) * h * c, 0.0f) {}
     float* row(int y) { return pixels.data() + static_cast<size_t>(y) * width * channels; }
-    const float* row(int y) const { return pixels.data() + static_cast<size_t>(y) * width * channels; }
+    const float* row(int y) const {
+        return pixels.data() + static_cast<size_t>(y) * width * channels;
+    }
     float at(int x, int y, int c) const { return row(y)[x * channels + c]; }
 };
 

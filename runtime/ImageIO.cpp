@@ -1,14 +1,13 @@
 #include "runtime/ImageIO.h"
 
-#include <OpenImageIO/imageio.h>
-#include <fmt/format.h>
-#include <unistd.h>
-
 #include <algorithm>
 #include <atomic>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <fmt/format.h>
+#include <OpenImageIO/imageio.h>
+#include <unistd.h>
 
 namespace moire {
 
@@ -24,7 +23,8 @@ float linearToSrgb(float v) {
 
 std::string imageFormatOf(const std::string& path) {
     std::string ext = fs::path(path).extension().string();
-    std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
+    std::transform(ext.begin(), ext.end(), ext.begin(),
+                   [](unsigned char c) { return std::tolower(c); });
     if (ext == ".png") return "png";
     if (ext == ".exr") return "exr";
     if (ext == ".tif" || ext == ".tiff") return "tiff";
@@ -48,8 +48,9 @@ fs::path temporaryBeside(const fs::path& target) {
 void writeImage(const std::string& path, const Image& image, const WriteOptions& options) {
     const std::string format = imageFormatOf(path);
     if (format.empty())
-        throw IoError(fmt::format("cannot write '{}': unknown image format '{}'; use .png, .tif, .exr or .jpg",
-                                  path, fs::path(path).extension().string()));
+        throw IoError(fmt::format(
+            "cannot write '{}': unknown image format '{}'; use .png, .tif, .exr or .jpg", path,
+            fs::path(path).extension().string()));
     if (image.channels < 4) throw IoError("internal: writeImage needs RGBA");
 
     OIIO::TypeDesc type;
@@ -69,10 +70,18 @@ void writeImage(const std::string& path, const Image& image, const WriteOptions&
         if (depth != PixelDepth::U8) throw IoError("JPEG holds 8 bits per channel");
     }
     switch (depth) {
-    case PixelDepth::U8: type = OIIO::TypeDesc::UINT8; break;
-    case PixelDepth::U16: type = OIIO::TypeDesc::UINT16; break;
-    case PixelDepth::Half: type = OIIO::TypeDesc::HALF; break;
-    default: type = OIIO::TypeDesc::FLOAT; break;
+    case PixelDepth::U8:
+        type = OIIO::TypeDesc::UINT8;
+        break;
+    case PixelDepth::U16:
+        type = OIIO::TypeDesc::UINT16;
+        break;
+    case PixelDepth::Half:
+        type = OIIO::TypeDesc::HALF;
+        break;
+    default:
+        type = OIIO::TypeDesc::FLOAT;
+        break;
     }
 
     const int outChannels = format == "jpeg" ? 3 : 4;
@@ -112,7 +121,8 @@ void writeImage(const std::string& path, const Image& image, const WriteOptions&
     fs::path temp = temporaryBeside(target);
     auto out = OIIO::ImageOutput::create(format);
     if (!out) throw IoError(fmt::format("cannot write '{}': {}", path, OIIO::geterror()));
-    bool ok = out->open(temp.string(), spec) && out->write_image(OIIO::TypeDesc::FLOAT, data.data()) && out->close();
+    bool ok = out->open(temp.string(), spec) &&
+              out->write_image(OIIO::TypeDesc::FLOAT, data.data()) && out->close();
     if (!ok) {
         std::string why = out->geterror();
         std::error_code ec;
@@ -141,7 +151,8 @@ Image readImage(const std::string& path) {
     Image img(spec.width, spec.height, 4);
     for (size_t i = 0; i < static_cast<size_t>(spec.width) * spec.height; ++i) {
         for (int c = 0; c < 4; ++c) {
-            float v = c < spec.nchannels ? raw[i * spec.nchannels + c] : (c == 3 ? 1.0f : raw[i * spec.nchannels]);
+            float v = c < spec.nchannels ? raw[i * spec.nchannels + c]
+                                         : (c == 3 ? 1.0f : raw[i * spec.nchannels]);
             if (spec.nchannels < 3 && c < 3) v = raw[i * spec.nchannels];
             img.pixels[i * 4 + c] = v;
         }

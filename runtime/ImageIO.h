@@ -7,10 +7,10 @@
 // reader never sees half an image and a failed write leaves any existing file untouched.
 #pragma once
 
+#include "runtime/Image.h"
+
 #include <stdexcept>
 #include <string>
-
-#include "runtime/Image.h"
 
 namespace moire {
 
@@ -22,7 +22,7 @@ struct WriteOptions {
 };
 
 class IoError : public std::runtime_error {
-public:
+  public:
     using std::runtime_error::runtime_error;
 };
 

@@ -1,10 +1,8 @@
 #include "runtime/ImageIO.h"
-
-#include <doctest/doctest.h>
-
 #include "tests/support/Support.h"
 
 #include <cmath>
+#include <doctest/doctest.h>
 #include <filesystem>
 #include <fstream>
 #include <unistd.h>
@@ -28,7 +26,6 @@ Image ramp(int w, int h) {
     return img;
 }
 
-
 // Worst per-channel difference between `got` and `expect(v)` applied to the source.
 template <class F>
 double worst(const Image& src, const Image& got, int channels, F expect) {
@@ -36,7 +33,8 @@ double worst(const Image& src, const Image& got, int channels, F expect) {
     for (int y = 0; y < src.height; ++y)
         for (int x = 0; x < src.width; ++x)
             for (int c = 0; c < channels; ++c)
-                w = std::max(w, std::fabs(static_cast<double>(got.at(x, y, c)) - expect(src.at(x, y, c), c)));
+                w = std::max(w, std::fabs(static_cast<double>(got.at(x, y, c)) -
+                                          expect(src.at(x, y, c), c)));
     return w;
 }
 
@@ -46,7 +44,8 @@ TEST_CASE("sRGB transfer functions invert each other and match their definition"
     for (float v = 0.0f; v <= 1.0f; v += 0.01f) {
         CHECK(linearToSrgb(srgbToLinear(v)) == doctest::Approx(v).epsilon(1e-5));
     }
-    CHECK(srgbToLinear(0.5f) == doctest::Approx(std::pow((0.5 + 0.055) / 1.055, 2.4)).epsilon(1e-6));
+    CHECK(srgbToLinear(0.5f) ==
+          doctest::Approx(std::pow((0.5 + 0.055) / 1.055, 2.4)).epsilon(1e-6));
     CHECK(srgbToLinear(0.02f) == doctest::Approx(0.02 / 12.92).epsilon(1e-6));
 }
 
@@ -93,7 +92,8 @@ TEST_CASE("PNG, TIFF, EXR and JPEG round-trip at their depths") {
     CHECK(dir.names().size() == 6); // no temporaries left behind
 }
 
-TEST_CASE("depths a format cannot hold and unknown formats are refused before anything is written") {
+TEST_CASE(
+    "depths a format cannot hold and unknown formats are refused before anything is written") {
     test::TempDir dir("imageio");
     Image src = ramp(4, 4);
     WriteOptions f;

@@ -7,8 +7,10 @@ namespace moire {
 Prober::Prober(const SceneProgram& program, Backend* backend)
     : program_(program), literals_(program.literals), frame_(program.frame) {
     MOIRE_CHECK(program.probeSlot >= 0, "the program was not compiled for probing");
-    if (backend) compiled_ = backend->compile(program.kernel);
-    else exact_ = std::make_unique<Interpreter>(program.kernel);
+    if (backend)
+        compiled_ = backend->compile(program.kernel);
+    else
+        exact_ = std::make_unique<Interpreter>(program.kernel);
 }
 
 std::vector<double> Prober::at(double x, double y, double t) {

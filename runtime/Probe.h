@@ -3,17 +3,17 @@
 // backends and families to independent expectations; tools can use it to show values.
 #pragma once
 
-#include <memory>
-#include <vector>
-
-#include "compiler/Compile.h"
 #include "compiler/backend/Backend.h"
 #include "compiler/backend/interp/Interpreter.h"
+#include "compiler/Compile.h"
+
+#include <memory>
+#include <vector>
 
 namespace moire {
 
 class Prober {
-public:
+  public:
     // `program` must be compiled with CompileOptions::probe (and usually layerFields).
     // With `backend` null the reference interpreter evaluates the kernel in double precision;
     // otherwise the backend's compiled kernel does (in its own precision).
@@ -22,7 +22,7 @@ public:
     // All kernel outputs at world point (x, y), at clock time t.
     std::vector<double> at(double x, double y, double t = 0.0);
 
-private:
+  private:
     const SceneProgram& program_;
     std::vector<double> literals_;
     std::unique_ptr<CompiledKernel> compiled_;

@@ -1,15 +1,15 @@
 // Rendering a compiled scene: choose a backend, evaluate the frame, run the kernel.
 #pragma once
 
-#include <memory>
-#include <string>
-#include <vector>
-
-#include "compiler/Compile.h"
 #include "compiler/backend/Backend.h"
+#include "compiler/Compile.h"
 #include "runtime/FrameEval.h"
 #include "runtime/Image.h"
 #include "runtime/TileExecutor.h"
+
+#include <memory>
+#include <string>
+#include <vector>
 
 namespace moire {
 

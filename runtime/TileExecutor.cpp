@@ -8,14 +8,16 @@
 
 namespace moire {
 
-Image runKernel(const CompiledKernel& kernel, const KernelFrame& frame, const ExecOptions& options) {
+Image runKernel(const CompiledKernel& kernel, const KernelFrame& frame,
+                const ExecOptions& options) {
     const int n = kernel.numOutputs();
     Image img(frame.imageW, frame.imageH, n);
     const int ts = std::max(8, options.tileSize);
     const int tilesX = (frame.imageW + ts - 1) / ts;
     const int tilesY = (frame.imageH + ts - 1) / ts;
     const int total = tilesX * tilesY;
-    int threads = options.threads > 0 ? options.threads : static_cast<int>(std::thread::hardware_concurrency());
+    int threads = options.threads > 0 ? options.threads
+                                      : static_cast<int>(std::thread::hardware_concurrency());
     threads = std::max(1, std::min(threads, total));
 
     std::atomic<int> next{0};

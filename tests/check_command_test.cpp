@@ -2,15 +2,13 @@
 // diagnostics on stderr as the compiler gives in-process (tests/errors_test.cpp), exit
 // status 1 for a scene with errors, 0 and an "ok" line for a valid one, and one clear line
 // for a file that cannot be read.
-#include <doctest/doctest.h>
-#include <unistd.h>
-
-#include <filesystem>
-#include <fstream>
-
-#include <fmt/format.h>
-
 #include "tests/support/Support.h"
+
+#include <doctest/doctest.h>
+#include <filesystem>
+#include <fmt/format.h>
+#include <fstream>
+#include <unistd.h>
 
 using namespace moire;
 namespace fs = std::filesystem;
@@ -20,13 +18,15 @@ namespace {
 // Runs `moire check <args>` from the source root, so that tests/errors/x.moire is named in
 // the diagnostics exactly as the .expected files name it.
 test::CommandResult check(const std::string& args) {
-    return test::runCommand("cd '" + test::sourcePath("") + "' && '" + test::moireBinary() + "' check " + args);
+    return test::runCommand("cd '" + test::sourcePath("") + "' && '" + test::moireBinary() +
+                            "' check " + args);
 }
 
 // A scene file in a fresh temporary directory, removed with this object.
 struct TempScene : test::TempDir {
     std::string scene;
-    explicit TempScene(const std::string& text) : test::TempDir("check"), scene(file("scene.moire")) {
+    explicit TempScene(const std::string& text)
+        : test::TempDir("check"), scene(file("scene.moire")) {
         write("scene.moire", text);
     }
 };
@@ -36,12 +36,14 @@ struct TempScene : test::TempDir {
 TEST_CASE("moire check: a scene with errors exits 1 with exactly the catalogue's diagnostics") {
     // One lexer case, one with a note into the standard library, and one found only when the
     // frame is evaluated.
-    for (const char* name : {"unknown_unit", "duplicate_decl_stdlib", "bad_size", "unknown_property_family"}) {
+    for (const char* name :
+         {"unknown_unit", "duplicate_decl_stdlib", "bad_size", "unknown_property_family"}) {
         CAPTURE(name);
         std::string scene = std::string("tests/errors/") + name + ".moire";
         test::CommandResult r = check(scene);
         CHECK(r.status == 1);
-        CHECK(r.err == test::readFile(test::sourcePath(std::string("tests/errors/") + name + ".expected")));
+        CHECK(r.err ==
+              test::readFile(test::sourcePath(std::string("tests/errors/") + name + ".expected")));
         CHECK(r.out.empty()); // nothing claimed "ok"
     }
 }
@@ -64,7 +66,8 @@ TEST_CASE("moire check: a valid scene exits 0 and says so") {
 
 TEST_CASE("moire check: several scenes are all checked; any error makes the status 1") {
     TempScene good("layer { family = circles }\n");
-    test::CommandResult r = check("'" + good.scene + "' tests/errors/missing_family.moire '" + good.scene + "'");
+    test::CommandResult r =
+        check("'" + good.scene + "' tests/errors/missing_family.moire '" + good.scene + "'");
     CHECK(r.status == 1);
     CHECK(r.out == good.scene + ": ok\n" + good.scene + ": ok\n");
     CHECK(r.err == test::readFile(test::sourcePath("tests/errors/missing_family.expected")));

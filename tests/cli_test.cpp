@@ -1,13 +1,12 @@
 // The `moire` command line, run as a user runs it: exit statuses, files written (and not
 // written), and what each dump shows.
-#include <doctest/doctest.h>
+#include "runtime/ImageIO.h"
+#include "tests/support/Support.h"
 
+#include <doctest/doctest.h>
 #include <filesystem>
 #include <fstream>
 #include <unistd.h>
-
-#include "runtime/ImageIO.h"
-#include "tests/support/Support.h"
 
 namespace fs = std::filesystem;
 using namespace moire;
@@ -34,7 +33,8 @@ TEST_CASE("--version and --help") {
     CHECK(v.out.find("moire 0.") != std::string::npos);
     auto h = w.moire("--help");
     CHECK(h.status == 0);
-    for (const char* cmd : {"render", "check", "compile"}) CHECK(h.out.find(cmd) != std::string::npos);
+    for (const char* cmd : {"render", "check", "compile"})
+        CHECK(h.out.find(cmd) != std::string::npos);
     auto none = w.moire("");
     CHECK(none.status == 0);
     CHECK(none.out.find("render") != std::string::npos);
@@ -64,7 +64,8 @@ TEST_CASE("render writes every format, at the scene's size unless told otherwise
         CHECK(img.width == 64);
         CHECK(img.height == 40);
     }
-    auto r = w.moire("render s.moire -q -o big.png --size 128x80 --depth 16 --backend interp --time 2 --dpi 300");
+    auto r = w.moire("render s.moire -q -o big.png --size 128x80 --depth 16 --backend interp "
+                     "--time 2 --dpi 300");
     INFO(r.err);
     CHECK(r.status == 0);
     CHECK(readImage(w.file("big.png")).width == 128);
@@ -75,16 +76,18 @@ TEST_CASE("the two backends render the same picture from the command line") {
     w.write("s.moire", kSmall);
     REQUIRE(w.moire("render s.moire -q -o jit.png --backend jit").status == 0);
     REQUIRE(w.moire("render s.moire -q -o interp.png --backend interp").status == 0);
-    test::ImageDiff d = test::compareImages(readImage(w.file("jit.png")), readImage(w.file("interp.png")), 2.0 / 255);
+    test::ImageDiff d = test::compareImages(readImage(w.file("jit.png")),
+                                            readImage(w.file("interp.png")), 2.0 / 255);
     CHECK(d.fractionWithin() >= 0.999);
 }
 
 TEST_CASE("bad command lines exit with status 2 and write nothing") {
     Workdir w;
     w.write("s.moire", kSmall);
-    for (const char* args : {"render s.moire --size 0x10", "render s.moire --size 12", "render s.moire --backend gpu",
-                             "render s.moire -o out.bmpx", "render s.moire --depth 12", "compile s.moire --dump=asm",
-                             "render s.moire --nonsense", "frobnicate"}) {
+    for (const char* args :
+         {"render s.moire --size 0x10", "render s.moire --size 12", "render s.moire --backend gpu",
+          "render s.moire -o out.bmpx", "render s.moire --depth 12", "compile s.moire --dump=asm",
+          "render s.moire --nonsense", "frobnicate"}) {
         CAPTURE(args);
         auto r = w.moire(args);
         CHECK(r.status == 2);
@@ -99,7 +102,8 @@ TEST_CASE("a scene with errors gives diagnostics, status 1 and no image") {
     w.write("bad.moire", "layer {\n  family = circels\n}\n");
     auto r = w.moire("render bad.moire -o out.png");
     CHECK(r.status == 1);
-    CHECK(r.err.find("bad.moire:2:12: error: unknown family 'circels'; did you mean 'circles'?") != std::string::npos);
+    CHECK(r.err.find("bad.moire:2:12: error: unknown family 'circels'; did you mean 'circles'?") !=
+          std::string::npos);
     CHECK_FALSE(fs::exists(w.file("out.png")));
     auto missing = w.moire("render nowhere.moire");
     CHECK(missing.status == 1);

@@ -2,15 +2,14 @@
 // text in <name>.expected (written by hand: file:line:col, message, source line, caret).
 // Two more tests keep the catalogue whole: every message of compiler/diag/Messages.def is
 // shown by at least one case, and every case has both of its files.
-#include <doctest/doctest.h>
+#include "tests/support/Support.h"
 
 #include <algorithm>
+#include <doctest/doctest.h>
 #include <filesystem>
 #include <regex>
 #include <set>
 #include <sstream>
-
-#include "tests/support/Support.h"
 
 using namespace moire;
 namespace fs = std::filesystem;
@@ -79,7 +78,8 @@ TEST_CASE("errors: every case gives exactly its expected diagnostics") {
 TEST_CASE("errors: every message in Messages.def is shown by some case") {
     std::vector<std::string> expectedLines;
     for (const std::string& name : stems(".expected"))
-        for (std::string& line : lines(test::readFile(test::sourcePath(kDir + "/" + name + ".expected"))))
+        for (std::string& line :
+             lines(test::readFile(test::sourcePath(kDir + "/" + name + ".expected"))))
             expectedLines.push_back(std::move(line));
     REQUIRE(messageCount() > 0);
     for (int i = 0; i < messageCount(); ++i) {
@@ -88,8 +88,9 @@ TEST_CASE("errors: every message in Messages.def is shown by some case") {
         CAPTURE(name);
         CAPTURE(tmpl);
         std::regex re = templateRegex(messageTemplate(m));
-        bool shown = std::any_of(expectedLines.begin(), expectedLines.end(),
-                                 [&](const std::string& line) { return std::regex_match(line, re); });
+        bool shown =
+            std::any_of(expectedLines.begin(), expectedLines.end(),
+                        [&](const std::string& line) { return std::regex_match(line, re); });
         CHECK_MESSAGE(shown, "no case in tests/errors shows this message; add one");
     }
 }
@@ -99,11 +100,13 @@ TEST_CASE("errors: the template matcher tells messages apart") {
     // another message's.
     std::regex arity = templateRegex(messageTemplate(Msg::Arity));
     CHECK(std::regex_match("a.moire:2:3: error: 'sin' takes 1 argument, but 2 were given", arity));
-    CHECK_FALSE(std::regex_match("a.moire:2:3: error: 'sin' is a built-in value, not a function", arity));
+    CHECK_FALSE(
+        std::regex_match("a.moire:2:3: error: 'sin' is a built-in value, not a function", arity));
     std::regex byte = templateRegex(messageTemplate(Msg::UnexpectedByte));
-    CHECK(std::regex_match("a.moire:1:1: error: unexpected byte 0xE9, which is not a printable character of "
-                           "UTF-8 text",
-                           byte));
+    CHECK(std::regex_match(
+        "a.moire:1:1: error: unexpected byte 0xE9, which is not a printable character of "
+        "UTF-8 text",
+        byte));
     std::regex note = templateRegex(messageTemplate(Msg::FirstSeenHere));
     CHECK(std::regex_match("a.moire:4:5: note: first set here", note));
     CHECK_FALSE(std::regex_match("a.moire:4:5: note: first defined here", note));

@@ -1,15 +1,14 @@
 // Every example scene (and the embedded default) against the two independent expectations
 // an example can have: the reference interpreter (backend parity) and a reviewed golden
 // image (regressions).
-#include <doctest/doctest.h>
-
-#include <cmath>
-#include <cstdlib>
-#include <filesystem>
-
 #include "runtime/ImageIO.h"
 #include "runtime/Render.h"
 #include "tests/support/Support.h"
+
+#include <cmath>
+#include <cstdlib>
+#include <doctest/doctest.h>
+#include <filesystem>
 
 using namespace moire;
 
@@ -24,7 +23,8 @@ std::vector<Scene> allScenes() {
     EmbeddedScene d = defaultScene();
     out.push_back({"default", d.path, d.text});
     for (const std::string& rel : test::exampleScenes())
-        out.push_back({std::filesystem::path(rel).stem().string(), rel, test::readFile(test::sourcePath(rel))});
+        out.push_back({std::filesystem::path(rel).stem().string(), rel,
+                       test::readFile(test::sourcePath(rel))});
     return out;
 }
 
@@ -60,7 +60,8 @@ TEST_CASE("every backend agrees with the interpreter on every example") {
             if (!backend) continue;
             Image got = test::renderScene(*program, *backend, kParityW, kParityH);
             test::ImageDiff d = test::compareImages(expected, got, 1.0 / 255.0);
-            INFO("max ", d.maxAbs * 255, "/255, mean ", d.meanAbs * 255, "/255, within ", d.fractionWithin());
+            INFO("max ", d.maxAbs * 255, "/255, mean ", d.meanAbs * 255, "/255, within ",
+                 d.fractionWithin());
             CHECK(d.fractionWithin() >= 0.999);
         }
     }
@@ -83,12 +84,14 @@ TEST_CASE("examples match their golden images") {
             MESSAGE("wrote ", golden);
             continue;
         }
-        REQUIRE_MESSAGE(std::filesystem::exists(golden), "no golden image; run with MOIRE_UPDATE_GOLDEN=1 and review it");
+        REQUIRE_MESSAGE(std::filesystem::exists(golden),
+                        "no golden image; run with MOIRE_UPDATE_GOLDEN=1 and review it");
         Image ref = readImage(golden);
         // Quantise the render as the PNG writer does.
         for (float& v : img.pixels) v = std::round(std::clamp(v, 0.0f, 1.0f) * 255.0f) / 255.0f;
         test::ImageDiff d = test::compareImages(ref, img, 2.0 / 255.0);
-        INFO("max ", d.maxAbs * 255, "/255, mean ", d.meanAbs * 255, "/255, within ", d.fractionWithin());
+        INFO("max ", d.maxAbs * 255, "/255, mean ", d.meanAbs * 255, "/255, within ",
+             d.fractionWithin());
         CHECK(d.fractionWithin() >= 0.995);
         CHECK(d.meanAbs <= 0.5 / 255.0);
     }

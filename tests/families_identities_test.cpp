@@ -1,18 +1,17 @@
 // The stdlib families' special cases and identities, the AD gradient against Table 1's
 // |grad phi| column, and the JIT against the exact interpreter. The distance checks against
 // true Euclidean distance are in families_test.cpp.
-#include <doctest/doctest.h>
+#include "runtime/Probe.h"
+#include "tests/support/NearestMember.h"
+#include "tests/support/Support.h"
 
 #include <cfloat>
 #include <cmath>
+#include <doctest/doctest.h>
 #include <numbers>
 #include <random>
 #include <string>
 #include <vector>
-
-#include "runtime/Probe.h"
-#include "tests/support/NearestMember.h"
-#include "tests/support/Support.h"
 
 using namespace moire;
 using test::RefLayer;

@@ -9,21 +9,20 @@
 //    of a first-order approximation at every point, and within measured tolerances in the
 //    band that is inked (distance up to a quarter spacing).
 // docs/families.md tabulates the measured errors; MOIRE_FAMILIES_REPORT=1 prints them.
-#include <doctest/doctest.h>
+#include "runtime/Probe.h"
+#include "tests/support/NearestMember.h"
+#include "tests/support/Support.h"
 
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <doctest/doctest.h>
 #include <map>
 #include <numbers>
 #include <random>
 #include <string>
 #include <vector>
-
-#include "runtime/Probe.h"
-#include "tests/support/NearestMember.h"
-#include "tests/support/Support.h"
 
 using namespace moire;
 using test::RefLayer;

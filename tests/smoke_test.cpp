@@ -1,7 +1,7 @@
-#include <doctest/doctest.h>
-
 #include "runtime/Probe.h"
 #include "tests/support/Support.h"
+
+#include <doctest/doctest.h>
 
 using namespace moire;
 

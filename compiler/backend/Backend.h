@@ -3,11 +3,11 @@
 // against every backend that is available.
 #pragma once
 
+#include "compiler/ir/IR.h"
+
 #include <cstddef>
 #include <memory>
 #include <string>
-
-#include "compiler/ir/IR.h"
 
 namespace moire {
 
@@ -21,15 +21,17 @@ struct KernelFrame {
 };
 
 class CompiledKernel {
-public:
+  public:
     virtual ~CompiledKernel() = default;
-    // Writes `numOutputs()` floats per pixel: out[(y - tile.y0) * rowStride + (x - tile.x0) * n + k].
-    virtual void runTile(const KernelFrame& frame, TileRect tile, float* out, size_t rowStride) const = 0;
+    // Writes `numOutputs()` floats per pixel: out[(y - tile.y0) * rowStride + (x - tile.x0) * n +
+    // k].
+    virtual void runTile(const KernelFrame& frame, TileRect tile, float* out,
+                         size_t rowStride) const = 0;
     virtual int numOutputs() const = 0;
 };
 
 class Backend {
-public:
+  public:
     virtual ~Backend() = default;
     virtual std::string name() const = 0;
     virtual std::unique_ptr<CompiledKernel> compile(const ir::Function& kernel) = 0;

@@ -16,9 +16,15 @@ constexpr MsgInfo kMessages[] = {
 };
 } // namespace
 
-const char* messageTemplate(Msg m) { return kMessages[static_cast<int>(m)].text; }
-const char* messageName(Msg m) { return kMessages[static_cast<int>(m)].name; }
-int messageCount() { return static_cast<int>(sizeof(kMessages) / sizeof(kMessages[0])); }
+const char* messageTemplate(Msg m) {
+    return kMessages[static_cast<int>(m)].text;
+}
+const char* messageName(Msg m) {
+    return kMessages[static_cast<int>(m)].name;
+}
+int messageCount() {
+    return static_cast<int>(sizeof(kMessages) / sizeof(kMessages[0]));
+}
 
 void DiagEngine::report(Severity s, SourceRange at, Msg m, std::string text) {
     if (s == Severity::Error) {
@@ -45,8 +51,8 @@ std::string DiagEngine::render(const Diagnostic& d) const {
     std::string_view line = f.lineText(d.range.begin.offset);
     uint32_t lineStart = f.lineStart(d.range.begin.offset);
     uint32_t rangeBegin = d.range.begin.offset;
-    uint32_t rangeEnd = static_cast<uint32_t>(std::min<uint64_t>(uint64_t{rangeBegin} + d.range.length,
-                                                                 uint64_t{lineStart} + line.size()));
+    uint32_t rangeEnd = static_cast<uint32_t>(std::min<uint64_t>(
+        uint64_t{rangeBegin} + d.range.length, uint64_t{lineStart} + line.size()));
     // Walk the line one character at a time (as SourceFile::lineCol counts columns). The
     // shown line replaces control characters and bytes that are not UTF-8 with U+FFFD, so the
     // output stays readable text; the caret line keeps tabs so that it stays aligned under
@@ -60,9 +66,12 @@ std::string DiagEngine::render(const Diagnostic& d) const {
         shown += printable ? line.substr(i, n) : std::string_view("\xEF\xBF\xBD");
         size_t step = n ? n : 1;
         uint32_t at = lineStart + static_cast<uint32_t>(i);
-        if (at + step <= rangeBegin) marks += n == 1 && cp == '\t' ? '\t' : ' ';
-        else if (!caret) marks += '^', caret = true;
-        else if (at < rangeEnd) marks += '~';
+        if (at + step <= rangeBegin)
+            marks += n == 1 && cp == '\t' ? '\t' : ' ';
+        else if (!caret)
+            marks += '^', caret = true;
+        else if (at < rangeEnd)
+            marks += '~';
         i += step;
     }
     // The range may begin at the end of the line (a missing ')' or '}').
@@ -78,7 +87,8 @@ std::string DiagEngine::render() const {
     for (const Diagnostic& d : diags_) out += render(d);
     // Later errors are usually echoes of the first ones; say how many were left out.
     if (droppedErrors_ > 0)
-        out += fmt::format("moire: note: {} more error{} not shown\n", droppedErrors_, droppedErrors_ == 1 ? "" : "s");
+        out += fmt::format("moire: note: {} more error{} not shown\n", droppedErrors_,
+                           droppedErrors_ == 1 ? "" : "s");
     return out;
 }
 

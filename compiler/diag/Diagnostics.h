@@ -5,13 +5,12 @@
 //    expected, and exits with status 70.
 #pragma once
 
-#include <fmt/format.h>
+#include "compiler/diag/Source.h"
 
+#include <fmt/format.h>
 #include <stdexcept>
 #include <string>
 #include <vector>
-
-#include "compiler/diag/Source.h"
 
 namespace moire {
 
@@ -36,7 +35,7 @@ struct Diagnostic {
 };
 
 class DiagEngine {
-public:
+  public:
     explicit DiagEngine(const SourceManager& sm) : sm_(sm) {}
 
     template <class... Args>
@@ -62,7 +61,7 @@ public:
     // Stop collecting after this many errors; later stages would only repeat the cause.
     static constexpr int kMaxErrors = 20;
 
-private:
+  private:
     template <class... Args>
     static std::string format(Msg m, Args&&... args) {
         return fmt::format(fmt::runtime(messageTemplate(m)), std::forward<Args>(args)...);
@@ -78,13 +77,13 @@ private:
 
 // Thrown when a stage finished with errors; the DiagEngine holds them.
 class UserError : public std::runtime_error {
-public:
+  public:
     UserError() : std::runtime_error("the scene has errors") {}
 };
 
 // A bug in moire. Never the user's fault.
 class InternalError : public std::logic_error {
-public:
+  public:
     using std::logic_error::logic_error;
 };
 
@@ -93,7 +92,7 @@ public:
 } // namespace moire
 
 #define MOIRE_ICE(...) ::moire::internalError(__FILE__, __LINE__, fmt::format(__VA_ARGS__))
-#define MOIRE_CHECK(cond, ...)                                                                    \
+#define MOIRE_CHECK(cond, ...)                                                                     \
     do {                                                                                           \
         if (!(cond)) MOIRE_ICE("check failed: " #cond " " __VA_ARGS__);                            \
     } while (0)

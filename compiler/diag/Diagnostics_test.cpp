@@ -4,7 +4,6 @@
 #include "compiler/diag/Diagnostics.h"
 
 #include <doctest/doctest.h>
-
 #include <string>
 
 using namespace moire;
@@ -30,10 +29,9 @@ TEST_CASE("diagnostics: location, source line and caret") {
 }
 
 TEST_CASE("diagnostics: tabs in the source are kept in the caret line") {
-    CHECK(renderAt("\tfield\tg = abc\n", 11, 3) ==
-          "d.moire:1:12: error: unknown name 'q'\n"
-          "    1 | \tfield\tg = abc\n"
-          "      | \t     \t    ^~~\n");
+    CHECK(renderAt("\tfield\tg = abc\n", 11, 3) == "d.moire:1:12: error: unknown name 'q'\n"
+                                                   "    1 | \tfield\tg = abc\n"
+                                                   "      | \t     \t    ^~~\n");
 }
 
 TEST_CASE("diagnostics: columns and carets count characters, not bytes") {
@@ -43,35 +41,31 @@ TEST_CASE("diagnostics: columns and carets count characters, not bytes") {
           "    2 | x = \xC3\xA9 + abc\n"
           "      |         ^~~\n");
     // A range over one two-byte character is one caret, no tilde.
-    CHECK(renderAt("a \xC3\xA9 b", 2, 2) ==
-          "d.moire:1:3: error: unknown name 'q'\n"
-          "    1 | a \xC3\xA9 b\n"
-          "      |   ^\n");
+    CHECK(renderAt("a \xC3\xA9 b", 2, 2) == "d.moire:1:3: error: unknown name 'q'\n"
+                                            "    1 | a \xC3\xA9 b\n"
+                                            "      |   ^\n");
 }
 
 TEST_CASE("diagnostics: control bytes and invalid UTF-8 are shown as U+FFFD") {
     std::string text = std::string("a\0b \xFF c", 7);
-    CHECK(renderAt(text, 6, 1) ==
-          "d.moire:1:7: error: unknown name 'q'\n"
-          "    1 | a\xEF\xBF\xBD" "b \xEF\xBF\xBD c\n"
-          "      |       ^\n");
+    CHECK(renderAt(text, 6, 1) == "d.moire:1:7: error: unknown name 'q'\n"
+                                  "    1 | a\xEF\xBF\xBD"
+                                  "b \xEF\xBF\xBD c\n"
+                                  "      |       ^\n");
 }
 
 TEST_CASE("diagnostics: a range is cut at the end of its line") {
-    CHECK(renderAt("ab (1,\n 2)\n", 3, 7) ==
-          "d.moire:1:4: error: unknown name 'q'\n"
-          "    1 | ab (1,\n"
-          "      |    ^~~\n");
+    CHECK(renderAt("ab (1,\n 2)\n", 3, 7) == "d.moire:1:4: error: unknown name 'q'\n"
+                                             "    1 | ab (1,\n"
+                                             "      |    ^~~\n");
     // A caret just past the last character (a missing '}').
-    CHECK(renderAt("scene {\n", 7, 1) ==
-          "d.moire:1:8: error: unknown name 'q'\n"
-          "    1 | scene {\n"
-          "      |        ^\n");
+    CHECK(renderAt("scene {\n", 7, 1) == "d.moire:1:8: error: unknown name 'q'\n"
+                                         "    1 | scene {\n"
+                                         "      |        ^\n");
     // Windows line ends: the '\r' is not part of the line shown.
-    CHECK(renderAt("abc\r\ndef\r\n", 5, 3) ==
-          "d.moire:2:1: error: unknown name 'q'\n"
-          "    2 | def\n"
-          "      | ^~~\n");
+    CHECK(renderAt("abc\r\ndef\r\n", 5, 3) == "d.moire:2:1: error: unknown name 'q'\n"
+                                              "    2 | def\n"
+                                              "      | ^~~\n");
 }
 
 TEST_CASE("diagnostics: errors stop at the cap, and so do the notes that belong to them") {

@@ -24,7 +24,10 @@ size_t decodeUtf8(std::string_view s, size_t i, uint32_t& cp) {
         cp = c;
         return 1;
     }
-    size_t n = c >= 0xF0 && c <= 0xF4 ? 4 : c >= 0xE0 && c < 0xF0 ? 3 : c >= 0xC2 && c < 0xE0 ? 2 : 0;
+    size_t n = c >= 0xF0 && c <= 0xF4  ? 4
+               : c >= 0xE0 && c < 0xF0 ? 3
+               : c >= 0xC2 && c < 0xE0 ? 2
+                                       : 0;
     if (n == 0 || i + n > s.size()) return 0;
     uint32_t v = c & (0x7F >> n);
     for (size_t k = 1; k < n; ++k) {

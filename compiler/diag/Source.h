@@ -33,7 +33,7 @@ struct LineCol {
 };
 
 class SourceFile {
-public:
+  public:
     SourceFile(std::string path, std::string text, bool isStdlib);
 
     const std::string& path() const { return path_; }
@@ -45,7 +45,7 @@ public:
     std::string_view lineText(uint32_t offset) const;
     uint32_t lineStart(uint32_t offset) const;
 
-private:
+  private:
     std::string path_;
     std::string text_;
     bool isStdlib_;
@@ -53,12 +53,12 @@ private:
 };
 
 class SourceManager {
-public:
+  public:
     uint32_t add(std::string path, std::string text, bool isStdlib = false);
     const SourceFile& file(uint32_t id) const { return *files_.at(id); }
     uint32_t size() const { return static_cast<uint32_t>(files_.size()); }
 
-private:
+  private:
     std::vector<std::unique_ptr<SourceFile>> files_;
 };
 

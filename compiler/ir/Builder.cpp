@@ -18,7 +18,8 @@ ValueId Builder::emit(Op op, std::initializer_list<ValueId> args, double imm, in
     const OpInfo& info = opInfo(op);
     MOIRE_CHECK(info.numArgs == static_cast<int>(args.size()), "for op {}", info.spelling);
     Type t = op == Op::Select ? f_.type(*(args.begin() + 1)) : info.result;
-    MOIRE_CHECK(t == Type::F || t == Type::I || t == Type::B, "op {} has no single result", info.spelling);
+    MOIRE_CHECK(t == Type::F || t == Type::I || t == Type::B, "op {} has no single result",
+                info.spelling);
     ValueId r = f_.newValue(t);
     Inst& inst = append(op, std::vector<ValueId>(args));
     inst.imm = imm;

@@ -2,16 +2,16 @@
 // written against this API once; every backend then runs what it builds.
 #pragma once
 
+#include "compiler/ir/IR.h"
+
 #include <functional>
 #include <initializer_list>
 #include <span>
 
-#include "compiler/ir/IR.h"
-
 namespace moire::ir {
 
 class Builder {
-public:
+  public:
     explicit Builder(Function& f) : f_(f) {}
 
     Function& function() { return f_; }
@@ -66,15 +66,17 @@ public:
     ValueId denan(ValueId v, ValueId fallback) { return select(emit(Op::Ne, {v, v}), fallback, v); }
 
     // Structured control flow. The callbacks build the regions and return what they yield.
-    std::vector<ValueId> ifThenElse(ValueId cond, const std::function<std::vector<ValueId>()>& thenFn,
+    std::vector<ValueId> ifThenElse(ValueId cond,
+                                    const std::function<std::vector<ValueId>()>& thenFn,
                                     const std::function<std::vector<ValueId>()>& elseFn);
     using LoopFn = std::function<std::vector<ValueId>(std::span<const ValueId>)>;
     // while (cond(carried)) carried = body(carried); returns the final carried values.
-    std::vector<ValueId> loop(const std::vector<ValueId>& inits, const LoopFn& cond, const LoopFn& body);
+    std::vector<ValueId> loop(const std::vector<ValueId>& inits, const LoopFn& cond,
+                              const LoopFn& body);
 
     void output(int slot, ValueId v) { emitSink(Op::Output, {v}, slot); }
 
-private:
+  private:
     Inst& append(Op op, std::vector<ValueId> args);
 
     Function& f_;

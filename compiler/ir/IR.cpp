@@ -1,8 +1,8 @@
 #include "compiler/ir/IR.h"
 
-#include <fmt/format.h>
-
 #include "compiler/diag/Diagnostics.h"
+
+#include <fmt/format.h>
 
 namespace moire::ir {
 
@@ -17,15 +17,22 @@ constexpr OpInfo kOps[] = {
 static_assert(sizeof(kOps) / sizeof(kOps[0]) == kNumOps);
 } // namespace
 
-const OpInfo& opInfo(Op op) { return kOps[static_cast<int>(op)]; }
+const OpInfo& opInfo(Op op) {
+    return kOps[static_cast<int>(op)];
+}
 
 const char* typeSpelling(Type t) {
     switch (t) {
-    case Type::F: return "f";
-    case Type::I: return "i";
-    case Type::B: return "b";
-    case Type::None: return "none";
-    case Type::Multi: return "multi";
+    case Type::F:
+        return "f";
+    case Type::I:
+        return "i";
+    case Type::B:
+        return "b";
+    case Type::None:
+        return "none";
+    case Type::Multi:
+        return "multi";
     }
     return "?";
 }

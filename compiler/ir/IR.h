@@ -7,11 +7,11 @@
 // op by op, and later passes see loops as loops.
 #pragma once
 
+#include "compiler/diag/Source.h"
+
 #include <cstdint>
 #include <string>
 #include <vector>
-
-#include "compiler/diag/Source.h"
 
 namespace moire::ir {
 
@@ -40,8 +40,12 @@ struct OpInfo {
     uint8_t flags;
 };
 const OpInfo& opInfo(Op op);
-inline const char* spelling(Op op) { return opInfo(op).spelling; }
-inline bool isPure(Op op) { return opInfo(op).flags & flags::Pure; }
+inline const char* spelling(Op op) {
+    return opInfo(op).spelling;
+}
+inline bool isPure(Op op) {
+    return opInfo(op).flags & flags::Pure;
+}
 
 using ValueId = uint32_t;
 using BlockId = uint32_t;

@@ -40,7 +40,6 @@ bool sameFloat(float got, float want) {
     return std::fabs(got - want) <= std::numeric_limits<float>::epsilon() * std::fabs(want);
 }
 
-
 // Folding a function whose operands are all constants must leave one constant per output
 // (once the operands it no longer needs are dropped).
 void checkFoldsAway(const Function& folded) {

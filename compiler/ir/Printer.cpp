@@ -1,6 +1,6 @@
-#include <fmt/format.h>
-
 #include "compiler/ir/IR.h"
+
+#include <fmt/format.h>
 
 namespace moire::ir {
 
@@ -20,17 +20,30 @@ void printInst(std::string& out, const Function& f, const Inst& inst, int depth)
     if (!inst.results.empty()) out += valueList(inst.results) + " = ";
     out += spelling(inst.op);
     switch (inst.op) {
-    case Op::ConstF: out += fmt::format(" {}", inst.imm); break;
-    case Op::ConstI: out += fmt::format(" {}", inst.iimm); break;
-    case Op::ConstB: out += inst.iimm ? " true" : " false"; break;
+    case Op::ConstF:
+        out += fmt::format(" {}", inst.imm);
+        break;
+    case Op::ConstI:
+        out += fmt::format(" {}", inst.iimm);
+        break;
+    case Op::ConstB:
+        out += inst.iimm ? " true" : " false";
+        break;
     case Op::Param:
     case Op::Uniform:
-    case Op::Output: out += fmt::format(" [{}]", inst.iimm); break;
+    case Op::Output:
+        out += fmt::format(" [{}]", inst.iimm);
+        break;
     case Op::PowI:
-    case Op::Indep: out += fmt::format(" {}", inst.iimm); break;
-    default: break;
+    case Op::Indep:
+        out += fmt::format(" {}", inst.iimm);
+        break;
+    default:
+        break;
     }
-    if (!inst.args.empty()) out += (inst.op == Op::PowI || inst.op == Op::Indep || inst.op == Op::Output ? ", " : " ") + valueList(inst.args);
+    if (!inst.args.empty())
+        out += (inst.op == Op::PowI || inst.op == Op::Indep || inst.op == Op::Output ? ", " : " ") +
+               valueList(inst.args);
     if (inst.results.size() == 1 && inst.regions.empty())
         out += fmt::format(" : {}", typeSpelling(f.type(inst.results[0])));
     if (inst.op == Op::If) {
@@ -58,8 +71,8 @@ void printBlock(std::string& out, const Function& f, BlockId id, int depth) {
 } // namespace
 
 std::string print(const Function& f) {
-    std::string out = fmt::format("func {} (outputs {}, values {})", f.name, f.numOutputs,
-                                  f.numValues());
+    std::string out =
+        fmt::format("func {} (outputs {}, values {})", f.name, f.numOutputs, f.numValues());
     printBlock(out, f, 0, 0);
     return out + "\n";
 }

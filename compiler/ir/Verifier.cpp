@@ -1,15 +1,16 @@
-#include <fmt/format.h>
-
 #include "compiler/diag/Diagnostics.h"
 #include "compiler/ir/IR.h"
+
+#include <fmt/format.h>
 
 namespace moire::ir {
 
 namespace {
 
 class Verifier {
-public:
-    explicit Verifier(const Function& f) : f_(f), defined_(f.numValues(), false), visited_(f.blocks.size(), false) {}
+  public:
+    explicit Verifier(const Function& f)
+        : f_(f), defined_(f.numValues(), false), visited_(f.blocks.size(), false) {}
 
     void run() {
         block(0, {});
@@ -18,7 +19,7 @@ public:
                 fail(fmt::format("block {} is not owned by any instruction", b));
     }
 
-private:
+  private:
     [[noreturn]] void fail(const std::string& what) const {
         MOIRE_ICE("IR verifier: {} in function '{}'\n{}", what, f_.name, print(f_));
     }
@@ -45,7 +46,8 @@ private:
         const Block& b = f_.blocks[id];
         scope_.emplace_back();
         if (b.params.size() != paramTypes.size())
-            fail(fmt::format("block {} has {} params, expected {}", id, b.params.size(), paramTypes.size()));
+            fail(fmt::format("block {} has {} params, expected {}", id, b.params.size(),
+                             paramTypes.size()));
         for (size_t i = 0; i < b.params.size(); ++i) {
             define(b.params[i]);
             if (f_.type(b.params[i]) != paramTypes[i]) fail(fmt::format("block {} param type", id));
@@ -75,7 +77,8 @@ private:
     void instruction(const Inst& inst) {
         const OpInfo& info = opInfo(inst.op);
         if (info.numArgs >= 0 && static_cast<int>(inst.args.size()) != info.numArgs)
-            fail(fmt::format("{} has {} operands, expected {}", info.spelling, inst.args.size(), info.numArgs));
+            fail(fmt::format("{} has {} operands, expected {}", info.spelling, inst.args.size(),
+                             info.numArgs));
         switch (inst.op) {
         case Op::If: {
             if (inst.args.size() != 1 || inst.regions.size() != 2) fail("malformed if");
@@ -95,7 +98,8 @@ private:
                 types.push_back(f_.type(a));
             }
             auto c = block(inst.regions[0], types);
-            if (c.size() != 1 || f_.type(c[0]) != Type::B) fail("loop condition must yield one bool");
+            if (c.size() != 1 || f_.type(c[0]) != Type::B)
+                fail("loop condition must yield one bool");
             auto next = block(inst.regions[1], types);
             if (next.size() != types.size()) fail("loop body yields the wrong number of values");
             for (size_t i = 0; i < types.size(); ++i)
@@ -120,23 +124,30 @@ private:
         case Op::Param:
         case Op::Uniform:
             // Fix: a negative slot was accepted, and the JIT reads uniforms[slot] unchecked.
-            if (inst.iimm < 0) fail(fmt::format("{} slot {} is negative", info.spelling, inst.iimm));
-            if (inst.results.size() != 1 || f_.type(inst.results[0]) != Type::F) fail(fmt::format("{} result type", info.spelling));
+            if (inst.iimm < 0)
+                fail(fmt::format("{} slot {} is negative", info.spelling, inst.iimm));
+            if (inst.results.size() != 1 || f_.type(inst.results[0]) != Type::F)
+                fail(fmt::format("{} result type", info.spelling));
             break;
         default: {
             Type operand = Type::F;
             switch (inst.op) {
             case Op::And:
             case Op::Or:
-            case Op::Not: operand = Type::B; break;
+            case Op::Not:
+                operand = Type::B;
+                break;
             case Op::IAdd:
             case Op::ISub:
             case Op::IMul:
             case Op::ILt:
             case Op::ILe:
             case Op::IEq:
-            case Op::IToF: operand = Type::I; break;
-            default: break;
+            case Op::IToF:
+                operand = Type::I;
+                break;
+            default:
+                break;
             }
             for (ValueId a : inst.args) use(a, operand);
             if (info.result == Type::None) {
@@ -164,6 +175,8 @@ private:
 
 } // namespace
 
-void verify(const Function& f) { Verifier(f).run(); }
+void verify(const Function& f) {
+    Verifier(f).run();
+}
 
 } // namespace moire::ir

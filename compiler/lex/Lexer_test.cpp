@@ -3,9 +3,8 @@
 // Expected values are written out or computed here, never read back from the lexer.
 #include "compiler/lex/Lexer.h"
 
-#include <doctest/doctest.h>
-
 #include <cmath>
+#include <doctest/doctest.h>
 #include <numbers>
 #include <string>
 #include <vector>
@@ -67,10 +66,10 @@ Token number(const std::string& text) {
 
 TEST_CASE("lexer: punctuation, names and their positions") {
     Lexed l = lex("scene { size = (1, 2); } + - * / ^");
-    std::vector<Tok> want = {Tok::Ident, Tok::LBrace, Tok::Ident,  Tok::Assign, Tok::LParen,
-                             Tok::Number, Tok::Comma, Tok::Number, Tok::RParen, Tok::Semi,
-                             Tok::RBrace, Tok::Plus,  Tok::Minus,  Tok::Star,   Tok::Slash,
-                             Tok::Caret};
+    std::vector<Tok> want = {Tok::Ident,  Tok::LBrace, Tok::Ident,  Tok::Assign,
+                             Tok::LParen, Tok::Number, Tok::Comma,  Tok::Number,
+                             Tok::RParen, Tok::Semi,   Tok::RBrace, Tok::Plus,
+                             Tok::Minus,  Tok::Star,   Tok::Slash,  Tok::Caret};
     CHECK(kinds(l) == want);
     CHECK(l.diags.empty());
     CHECK(l.spellings[0] == "scene");
@@ -131,8 +130,9 @@ TEST_CASE("lexer: an unknown unit is reported, with a hint when one fits") {
           "unknown unit 'x' after a number; the units are deg and rad; to multiply, write 2 * x");
     Lexed spelt = lex("30degrees");
     REQUIRE(spelt.diags.size() == 1);
-    CHECK(spelt.diags[0].text ==
-          "unknown unit 'degrees' after a number; the units are deg and rad; did you mean '30deg'?");
+    CHECK(
+        spelt.diags[0].text ==
+        "unknown unit 'degrees' after a number; the units are deg and rad; did you mean '30deg'?");
     Lexed typo = lex("1.5rda");
     REQUIRE(typo.diags.size() == 1);
     CHECK(typo.diags[0].text ==
@@ -152,9 +152,11 @@ TEST_CASE("lexer: colours give straight components in 0..1") {
     CHECK(six.tokens[0].rgba == std::array<double, 4>{1.0, 128 / 255.0, 0.0, 1.0});
     Lexed eight = lex("#11223344");
     REQUIRE(eight.tokens.size() == 1);
-    CHECK(eight.tokens[0].rgba == std::array<double, 4>{17 / 255.0, 34 / 255.0, 51 / 255.0, 68 / 255.0});
+    CHECK(eight.tokens[0].rgba ==
+          std::array<double, 4>{17 / 255.0, 34 / 255.0, 51 / 255.0, 68 / 255.0});
     Lexed upper = lex("#ABCDEF");
-    CHECK(upper.tokens[0].rgba == std::array<double, 4>{171 / 255.0, 205 / 255.0, 239 / 255.0, 1.0});
+    CHECK(upper.tokens[0].rgba ==
+          std::array<double, 4>{171 / 255.0, 205 / 255.0, 239 / 255.0, 1.0});
 }
 
 TEST_CASE("lexer: a colour with the wrong digits is one error over the whole colour") {
@@ -221,8 +223,9 @@ TEST_CASE("lexer: a non-ASCII character is one error, however many bytes it has"
     Lexed l = lex("x \xC3\x97 y"); // U+00D7 multiplication sign, 2 bytes
     REQUIRE(l.diags.size() == 1);
     CHECK(l.diags[0].msg == Msg::NonAsciiChar);
-    CHECK(l.diags[0].text == "unexpected character '\xC3\x97' (U+00D7): outside comments, use only ASCII "
-                             "characters; to multiply, write *");
+    CHECK(l.diags[0].text ==
+          "unexpected character '\xC3\x97' (U+00D7): outside comments, use only ASCII "
+          "characters; to multiply, write *");
     CHECK(l.diags[0].range.begin.offset == 2);
     CHECK(l.diags[0].range.length == 2);
     CHECK(l.spellings == std::vector<std::string>{"x", "y"});
@@ -237,7 +240,8 @@ TEST_CASE("lexer: bytes that are not UTF-8 text are reported one by one") {
     // 0xE9 is Latin-1 'e acute': a file saved in the wrong encoding.
     Lexed latin1 = lex("caf\xE9 = 1");
     REQUIRE(latin1.diags.size() == 1);
-    CHECK(latin1.diags[0].text == "unexpected byte 0xE9, which is not a printable character of UTF-8 text");
+    CHECK(latin1.diags[0].text ==
+          "unexpected byte 0xE9, which is not a printable character of UTF-8 text");
     CHECK(latin1.spellings == std::vector<std::string>{"caf", "=", "1"});
     // A lone continuation byte, an overlong encoding of '/', a cut-short sequence, DEL.
     for (std::string bad : {"\x80", "\xC0\xAF", "\xE2\x88", "\x7F"}) {
@@ -250,11 +254,14 @@ TEST_CASE("lexer: bytes that are not UTF-8 text are reported one by one") {
 }
 
 TEST_CASE("lexer: NUL and control bytes in the text are errors, and lexing goes on past them") {
-    Lexed l = lex(bytes("a\0b\x01" "c"));
+    Lexed l = lex(bytes("a\0b\x01"
+                        "c"));
     REQUIRE(l.diags.size() == 2);
-    CHECK(l.diags[0].text == "unexpected byte 0x00, which is not a printable character of UTF-8 text");
+    CHECK(l.diags[0].text ==
+          "unexpected byte 0x00, which is not a printable character of UTF-8 text");
     CHECK(l.diags[0].range.begin.offset == 1);
-    CHECK(l.diags[1].text == "unexpected byte 0x01, which is not a printable character of UTF-8 text");
+    CHECK(l.diags[1].text ==
+          "unexpected byte 0x01, which is not a printable character of UTF-8 text");
     CHECK(l.spellings == std::vector<std::string>{"a", "b", "c"});
     // A NUL right after a number or a name ends it; it is not read past.
     Lexed tail = lex(bytes("12\0"));

@@ -1,10 +1,10 @@
 #pragma once
 
+#include "compiler/parse/Ast.h"
+
 #include <array>
 #include <cstdint>
 #include <string_view>
-
-#include "compiler/parse/Ast.h"
 
 namespace moire {
 
@@ -34,7 +34,7 @@ struct Token {
     Tok kind = Tok::End;
     uint32_t offset = 0;
     uint32_t length = 0;
-    double number = 0.0;             // Number: value in canonical units (radians for angles)
+    double number = 0.0;              // Number: value in canonical units (radians for angles)
     ast::Unit unit = ast::Unit::None; // Number: the written unit
     std::array<double, 4> rgba{};     // Color
 };

@@ -39,8 +39,8 @@ LayerFields phaseFamilyFields(ir::Builder& b, ValueId phi, ValueId phase, ValueI
         // centre it overstates it: measured within +12% below member 1, docs/families.md).
         ValueId c = b.add(b.mul(b.constF(*first), s), phase);
         ValueId twoPhiGrad = b.mul(b.mul(b.constF(2.0), phi), b.mul(s, grad)); // |grad phi^2|
-        ValueId fold = b.div(b.mul(b.sub(c, phi), b.add(c, phi)),
-                             b.max(twoPhiGrad, b.constF(ir::kTiny)));
+        ValueId fold =
+            b.div(b.mul(b.sub(c, phi), b.add(c, phi)), b.max(twoPhiGrad, b.constF(ir::kTiny)));
         ValueId inFold = b.select(b.gt(phi, b.constF(0.0)), b.max(distance, fold), distance);
         distance = b.select(b.lt(index, b.constF(*first)), inFold, distance);
     }

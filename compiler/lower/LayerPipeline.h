@@ -5,15 +5,15 @@
 //  - ink-over-paper compositing (§3.4).
 #pragma once
 
-#include <optional>
-
 #include "compiler/ir/Builder.h"
+
+#include <optional>
 
 namespace moire::lower {
 
 struct LayerFields {
-    ir::ValueId index;    // fractional member index: member n is {index = n}
-    ir::ValueId distance; // world distance to the nearest member
+    ir::ValueId index;        // fractional member index: member n is {index = n}
+    ir::ValueId distance;     // world distance to the nearest member
     ir::ValueId gradX, gradY; // the index gradient, per world unit
 };
 
@@ -22,8 +22,8 @@ struct LayerFields {
 // distance is the index residual over the index gradient's length (Eq. 5); short of the
 // first member, where the excluded members' phase may be singular, Eq. 5 is applied to
 // phi^2 instead (see the .cpp).
-LayerFields phaseFamilyFields(ir::Builder& b, ir::ValueId phi, ir::ValueId phase, ir::ValueId spacing,
-                              std::optional<int> first);
+LayerFields phaseFamilyFields(ir::Builder& b, ir::ValueId phi, ir::ValueId phase,
+                              ir::ValueId spacing, std::optional<int> first);
 
 // Coverage of a stroke of thickness `stroke` at distance `d`, with the floor
 // h = max(t/2, 1.15 px) and band a = 0.7 px, where px is the world size of a pixel:
@@ -37,7 +37,8 @@ struct Ink {
 };
 Ink paper(ir::Builder& b, ir::ValueId r, ir::ValueId g, ir::ValueId bl, ir::ValueId a);
 // Lays ink of colour (r, g, bl) with coverage `cov` over `acc` (the running mix of §3.4).
-Ink inkOver(ir::Builder& b, const Ink& acc, ir::ValueId r, ir::ValueId g, ir::ValueId bl, ir::ValueId cov);
+Ink inkOver(ir::Builder& b, const Ink& acc, ir::ValueId r, ir::ValueId g, ir::ValueId bl,
+            ir::ValueId cov);
 // Straight (unpremultiplied) colour and alpha of the result.
 Ink unpremultiply(ir::Builder& b, const Ink& acc);
 

@@ -1,10 +1,10 @@
 #include "compiler/lower/LowerExpr.h"
 
-#include <cmath>
-#include <numbers>
-
 #include "compiler/diag/Diagnostics.h"
 #include "compiler/sema/Builtins.h"
+
+#include <cmath>
+#include <numbers>
 
 namespace moire::lower {
 
@@ -27,23 +27,30 @@ ValueId ExprLowering::scalar(const Expr& e, Frame& frame) {
 Vals ExprLowering::lower(const Expr& e, Frame& frame) {
     b_.setLoc(e.range.begin);
     switch (e.kind) {
-    case ExprKind::Error: MOIRE_ICE("lowering an expression that failed to parse");
-    case ExprKind::Number: return {literal(e.number, e.literalSlot)};
+    case ExprKind::Error:
+        MOIRE_ICE("lowering an expression that failed to parse");
+    case ExprKind::Number:
+        return {literal(e.number, e.literalSlot)};
     case ExprKind::Color: {
         Vals v;
-        for (int i = 0; i < 4; ++i) v.push_back(literal(e.rgba[i], e.literalSlot < 0 ? -1 : e.literalSlot + i));
+        for (int i = 0; i < 4; ++i)
+            v.push_back(literal(e.rgba[i], e.literalSlot < 0 ? -1 : e.literalSlot + i));
         return v;
     }
-    case ExprKind::Name: return name(e, frame);
-    case ExprKind::Vector: return {scalar(*e.args[0], frame), scalar(*e.args[1], frame)};
+    case ExprKind::Name:
+        return name(e, frame);
+    case ExprKind::Vector:
+        return {scalar(*e.args[0], frame), scalar(*e.args[1], frame)};
     case ExprKind::Unary: {
         Vals v = lower(*e.args[0], frame);
         if (e.un == UnOp::Neg)
             for (ValueId& c : v) c = b_.neg(c);
         return v;
     }
-    case ExprKind::Binary: return binary(e, frame);
-    case ExprKind::Call: return call(e, frame);
+    case ExprKind::Binary:
+        return binary(e, frame);
+    case ExprKind::Call:
+        return call(e, frame);
     }
     MOIRE_ICE("unhandled expression kind");
 }
@@ -52,18 +59,24 @@ Vals ExprLowering::name(const Expr& e, Frame& frame) {
     switch (e.ref) {
     case RefKind::Builtin:
         switch (static_cast<sema::Name>(e.refIndex)) {
-        case sema::Name::X: return {frame.x};
-        case sema::Name::Y: return {frame.y};
+        case sema::Name::X:
+            return {frame.x};
+        case sema::Name::Y:
+            return {frame.y};
         case sema::Name::R:
             if (frame.r == ir::kNoValue) frame.r = b_.hypot(frame.x, frame.y);
             return {frame.r};
         case sema::Name::Theta:
             if (frame.theta == ir::kNoValue) frame.theta = b_.emit(Op::Atan2, {frame.y, frame.x});
             return {frame.theta};
-        case sema::Name::Pi: return {b_.constF(std::numbers::pi)};
-        case sema::Name::Tau: return {b_.constF(2.0 * std::numbers::pi)};
-        case sema::Name::E: return {b_.constF(std::numbers::e)};
-        case sema::Name::T: return {b_.leaf(Op::Time)};
+        case sema::Name::Pi:
+            return {b_.constF(std::numbers::pi)};
+        case sema::Name::Tau:
+            return {b_.constF(2.0 * std::numbers::pi)};
+        case sema::Name::E:
+            return {b_.constF(std::numbers::e)};
+        case sema::Name::T:
+            return {b_.leaf(Op::Time)};
         }
         break;
     case RefKind::Field: {
@@ -83,7 +96,8 @@ Vals ExprLowering::name(const Expr& e, Frame& frame) {
     case RefKind::Spacing:
         MOIRE_CHECK(frame.spacing != ir::kNoValue, "spacing outside a family");
         return {frame.spacing};
-    case RefKind::Unresolved: break;
+    case RefKind::Unresolved:
+        break;
     }
     MOIRE_ICE("unresolved name '{}' reached lowering", e.name);
 }
@@ -118,7 +132,10 @@ Vals ExprLowering::binary(const Expr& e, Frame& frame) {
     Vals a = lower(lhsE, frame);
     Vals c = lower(rhsE, frame);
     b_.setLoc(e.range.begin);
-    Op op = e.bin == BinOp::Add ? Op::Add : e.bin == BinOp::Sub ? Op::Sub : e.bin == BinOp::Mul ? Op::Mul : Op::Div;
+    Op op = e.bin == BinOp::Add   ? Op::Add
+            : e.bin == BinOp::Sub ? Op::Sub
+            : e.bin == BinOp::Mul ? Op::Mul
+                                  : Op::Div;
     // Component-wise, broadcasting a scalar against a vector.
     size_t n = std::max(a.size(), c.size());
     Vals out;
@@ -138,36 +155,61 @@ Vals ExprLowering::call(const Expr& e, Frame& frame) {
     auto unary = [&](Op op) { return Vals{b_.emit(op, {s(0)})}; };
     auto binaryOp = [&](Op op) { return Vals{b_.emit(op, {s(0), s(1)})}; };
     switch (static_cast<sema::Fn>(e.refIndex)) {
-    case sema::Fn::Sin: return unary(Op::Sin);
-    case sema::Fn::Cos: return unary(Op::Cos);
-    case sema::Fn::Tan: return unary(Op::Tan);
-    case sema::Fn::Asin: return unary(Op::Asin);
-    case sema::Fn::Acos: return unary(Op::Acos);
-    case sema::Fn::Atan: return unary(Op::Atan);
-    case sema::Fn::Atan2: return binaryOp(Op::Atan2);
-    case sema::Fn::Exp: return unary(Op::Exp);
-    case sema::Fn::Log: return unary(Op::Log);
-    case sema::Fn::Sqrt: return unary(Op::Sqrt);
-    case sema::Fn::Abs: return unary(Op::Abs);
-    case sema::Fn::Floor: return unary(Op::Floor);
-    case sema::Fn::Fract: return unary(Op::Fract);
-    case sema::Fn::Round: return unary(Op::Round);
-    case sema::Fn::Sign: return unary(Op::Sign);
-    case sema::Fn::Min: return binaryOp(Op::Min);
-    case sema::Fn::Max: return binaryOp(Op::Max);
-    case sema::Fn::Mod: return binaryOp(Op::Mod);
-    case sema::Fn::Hypot: return binaryOp(Op::Hypot);
-    case sema::Fn::Clamp: return {b_.clamp(s(0), s(1), s(2))};
-    case sema::Fn::Wrap: return {b_.wrap(s(0), s(1))};
-    case sema::Fn::Smoothstep: return {b_.smoothstep(s(0), s(1), s(2))};
+    case sema::Fn::Sin:
+        return unary(Op::Sin);
+    case sema::Fn::Cos:
+        return unary(Op::Cos);
+    case sema::Fn::Tan:
+        return unary(Op::Tan);
+    case sema::Fn::Asin:
+        return unary(Op::Asin);
+    case sema::Fn::Acos:
+        return unary(Op::Acos);
+    case sema::Fn::Atan:
+        return unary(Op::Atan);
+    case sema::Fn::Atan2:
+        return binaryOp(Op::Atan2);
+    case sema::Fn::Exp:
+        return unary(Op::Exp);
+    case sema::Fn::Log:
+        return unary(Op::Log);
+    case sema::Fn::Sqrt:
+        return unary(Op::Sqrt);
+    case sema::Fn::Abs:
+        return unary(Op::Abs);
+    case sema::Fn::Floor:
+        return unary(Op::Floor);
+    case sema::Fn::Fract:
+        return unary(Op::Fract);
+    case sema::Fn::Round:
+        return unary(Op::Round);
+    case sema::Fn::Sign:
+        return unary(Op::Sign);
+    case sema::Fn::Min:
+        return binaryOp(Op::Min);
+    case sema::Fn::Max:
+        return binaryOp(Op::Max);
+    case sema::Fn::Mod:
+        return binaryOp(Op::Mod);
+    case sema::Fn::Hypot:
+        return binaryOp(Op::Hypot);
+    case sema::Fn::Clamp:
+        return {b_.clamp(s(0), s(1), s(2))};
+    case sema::Fn::Wrap:
+        return {b_.wrap(s(0), s(1))};
+    case sema::Fn::Smoothstep:
+        return {b_.smoothstep(s(0), s(1), s(2))};
     case sema::Fn::Mix: {
         Vals out;
         for (size_t i = 0; i < a[0].size(); ++i) out.push_back(b_.mix(a[0][i], a[1][i], s(2)));
         return out;
     }
-    case sema::Fn::Length: return {b_.hypot(a[0][0], a[0][1])};
-    case sema::Fn::Rgb: return {s(0), s(1), s(2), b_.constF(1.0)};
-    case sema::Fn::Rgba: return {s(0), s(1), s(2), s(3)};
+    case sema::Fn::Length:
+        return {b_.hypot(a[0][0], a[0][1])};
+    case sema::Fn::Rgb:
+        return {s(0), s(1), s(2), b_.constF(1.0)};
+    case sema::Fn::Rgba:
+        return {s(0), s(1), s(2), s(3)};
     }
     MOIRE_ICE("unhandled function '{}'", e.name);
 }

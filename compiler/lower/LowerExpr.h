@@ -4,12 +4,12 @@
 // frame and elsewhere in the scene's.
 #pragma once
 
-#include <unordered_map>
-#include <vector>
-
 #include "compiler/ir/Builder.h"
 #include "compiler/parse/Ast.h"
 #include "compiler/sema/Sema.h"
+
+#include <unordered_map>
+#include <vector>
 
 namespace moire::lower {
 
@@ -20,20 +20,20 @@ struct Frame {
     ir::ValueId r = ir::kNoValue, theta = ir::kNoValue; // computed on first use
     // Inside a family body:
     const ast::Decl* family = nullptr;
-    std::vector<Vals> params;  // the layer's argument values
-    std::vector<Vals> lets;    // lowered in order
+    std::vector<Vals> params; // the layer's argument values
+    std::vector<Vals> lets;   // lowered in order
     ir::ValueId spacing = ir::kNoValue;
     std::unordered_map<const ast::Decl*, Vals> fields; // fields already lowered here
 };
 
 class ExprLowering {
-public:
+  public:
     explicit ExprLowering(ir::Builder& b) : b_(b) {}
 
     Vals lower(const ast::Expr& e, Frame& frame);
     ir::ValueId scalar(const ast::Expr& e, Frame& frame);
 
-private:
+  private:
     Vals name(const ast::Expr& e, Frame& frame);
     Vals binary(const ast::Expr& e, Frame& frame);
     Vals call(const ast::Expr& e, Frame& frame);

@@ -14,22 +14,25 @@ using ir::ValueId;
 namespace {
 
 class SceneLowering {
-public:
+  public:
     SceneLowering(const sema::CheckedScene& scene, ir::Function& f, const LowerOptions& options)
         : scene_(scene), options_(options), b_(f), exprs_(b_) {}
 
     void run(const OutputLayout& layout) {
         // Frame settings.
-        Vals size = settingOr(scene_.scene, "size", {b_.constF(kDefaultWidth), b_.constF(kDefaultHeight)});
+        Vals size =
+            settingOr(scene_.scene, "size", {b_.constF(kDefaultWidth), b_.constF(kDefaultHeight)});
         b_.output(layout.numKernelOutputs + OutputLayout::kSettingWidth, size[0]);
         b_.output(layout.numKernelOutputs + OutputLayout::kSettingHeight, size[1]);
 
         // Camera: world = center + Rot(rotation) (pixel - image centre) / zoom, with y up.
         Vals center = settingOr(scene_.camera, "center", {b_.constF(0.0), b_.constF(0.0)});
-        if (options_.probeSlot >= 0) center = {b_.param(options_.probeSlot), b_.param(options_.probeSlot + 1)};
+        if (options_.probeSlot >= 0)
+            center = {b_.param(options_.probeSlot), b_.param(options_.probeSlot + 1)};
         ValueId zoom = settingOr(scene_.camera, "zoom", {b_.constF(1.0)})[0];
         const Expr* turn = scene_.camera && scene_.camera->prop("rotation")
-                               ? scene_.camera->prop("rotation")->value.get() : nullptr;
+                               ? scene_.camera->prop("rotation")->value.get()
+                               : nullptr;
         b_.output(layout.numKernelOutputs + OutputLayout::kSettingZoom, zoom);
         b_.setLoc({});
         ValueId sx = b_.sub(b_.leaf(Op::PixelX), b_.mul(b_.leaf(Op::ImageW), b_.constF(0.5)));
@@ -39,9 +42,11 @@ public:
         // differs), so a print-size render is the same picture with more pixels.
         ValueId fit = b_.constF(1.0);
         if (options_.probeSlot < 0)
-            fit = b_.max(b_.div(size[0], b_.leaf(Op::ImageW)), b_.div(size[1], b_.leaf(Op::ImageH)));
+            fit =
+                b_.max(b_.div(size[0], b_.leaf(Op::ImageW)), b_.div(size[1], b_.leaf(Op::ImageH)));
         ValueId pixel = b_.div(fit, zoom);
-        auto [rx, ry] = turn ? rotate(sx, sy, exprs_.scalar(*turn, constantFrame_)) : std::pair{sx, sy};
+        auto [rx, ry] =
+            turn ? rotate(sx, sy, exprs_.scalar(*turn, constantFrame_)) : std::pair{sx, sy};
         // Everything downstream is differentiated with respect to these two values.
         ValueId wx = b_.mul(rx, pixel), wy = b_.mul(ry, pixel);
         // The default centre is the origin; adding 0 would cost two ops per pixel.
@@ -52,13 +57,15 @@ public:
         world_.x = b_.emit(Op::Indep, {wx}, 0.0, 0);
         world_.y = b_.emit(Op::Indep, {wy}, 0.0, 1);
 
-        Vals bg = settingOr(scene_.scene, "background", {b_.constF(1), b_.constF(1), b_.constF(1), b_.constF(1)});
+        Vals bg = settingOr(scene_.scene, "background",
+                            {b_.constF(1), b_.constF(1), b_.constF(1), b_.constF(1)});
         Ink acc = paper(b_, bg[0], bg[1], bg[2], bg[3]);
 
         for (size_t i = 0; i < scene_.layers.size(); ++i) {
             const sema::CheckedLayer& layer = scene_.layers[i];
             LayerFields fields = layerFields(layer);
-            Vals color = prop(layer, "color", {b_.constF(0), b_.constF(0), b_.constF(0), b_.constF(1)});
+            Vals color =
+                prop(layer, "color", {b_.constF(0), b_.constF(0), b_.constF(0), b_.constF(1)});
             ValueId stroke = prop(layer, "stroke", {b_.constF(1.0)})[0];
             ValueId opacity = prop(layer, "opacity", {b_.constF(1.0)})[0];
             b_.setLoc(layer.decl->range.begin);
@@ -78,7 +85,7 @@ public:
         b_.output(3, out.a);
     }
 
-private:
+  private:
     std::pair<ValueId, ValueId> rotate(ValueId x, ValueId y, ValueId angle) {
         ValueId c = b_.cos(angle), s = b_.sin(angle);
         return {b_.sub(b_.mul(c, x), b_.mul(s, y)), b_.add(b_.mul(s, x), b_.mul(c, y))};
@@ -106,7 +113,8 @@ private:
         // The layer's own frame: q = Rot(-rotation) (p - origin).
         Frame local;
         ValueId dx = b_.sub(world_.x, origin[0]), dy = b_.sub(world_.y, origin[1]);
-        auto [qx, qy] = turn ? rotate(dx, dy, b_.neg(exprs_.scalar(*turn, world_))) : std::pair{dx, dy};
+        auto [qx, qy] =
+            turn ? rotate(dx, dy, b_.neg(exprs_.scalar(*turn, world_))) : std::pair{dx, dy};
         local.x = qx;
         local.y = qy;
         local.spacing = spacing;
@@ -117,7 +125,8 @@ private:
             const Decl& fam = *layer.family->decl;
             local.family = &fam;
             for (size_t i = 0; i < fam.params.size(); ++i) {
-                const Expr* value = layer.args[i] ? layer.args[i] : fam.params[i].defaultValue.get();
+                const Expr* value =
+                    layer.args[i] ? layer.args[i] : fam.params[i].defaultValue.get();
                 MOIRE_CHECK(value, "missing family argument survived checking");
                 local.params.push_back(exprs_.lower(*value, world_));
             }
@@ -141,10 +150,12 @@ private:
 
 } // namespace
 
-ir::Function lowerScene(const sema::CheckedScene& scene, const LowerOptions& options, OutputLayout& layout) {
+ir::Function lowerScene(const sema::CheckedScene& scene, const LowerOptions& options,
+                        OutputLayout& layout) {
     layout.numLayers = static_cast<int>(scene.layers.size());
     layout.layerFields = options.layerFields;
-    layout.numKernelOutputs = 4 + (options.layerFields ? OutputLayout::kFieldsPerLayer * layout.numLayers : 0);
+    layout.numKernelOutputs =
+        4 + (options.layerFields ? OutputLayout::kFieldsPerLayer * layout.numLayers : 0);
     ir::Function f;
     f.name = "scene";
     f.numOutputs = layout.numKernelOutputs + OutputLayout::kNumSettings;

@@ -1,6 +1,7 @@
 // Lowers a checked scene to one IR function evaluated per pixel: the camera, every layer's
 // fields and coverage, and the composite. Outputs: RGBA (slots 0-3), optionally each layer's
-// index, distance and index gradient, then the frame settings (image width and height, camera zoom).
+// index, distance and index gradient, then the frame settings (image width and height, camera
+// zoom).
 #pragma once
 
 #include "compiler/ir/IR.h"
@@ -20,7 +21,7 @@ struct OutputLayout {
     int numKernelOutputs = 4; // RGBA, then kFieldsPerLayer per layer when layerFields is set
     int numLayers = 0;
     bool layerFields = false;
-    static constexpr int kSettingWidth = 0;  // settings are numbered from numKernelOutputs
+    static constexpr int kSettingWidth = 0; // settings are numbered from numKernelOutputs
     static constexpr int kSettingHeight = 1;
     static constexpr int kSettingZoom = 2;
     static constexpr int kNumSettings = 3;
@@ -34,6 +35,7 @@ struct OutputLayout {
 constexpr int kDefaultWidth = 1200;
 constexpr int kDefaultHeight = 800;
 
-ir::Function lowerScene(const sema::CheckedScene& scene, const LowerOptions& options, OutputLayout& layout);
+ir::Function lowerScene(const sema::CheckedScene& scene, const LowerOptions& options,
+                        OutputLayout& layout);
 
 } // namespace moire::lower

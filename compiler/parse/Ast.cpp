@@ -6,33 +6,48 @@ namespace moire::ast {
 
 const char* typeName(Type t) {
     switch (t) {
-    case Type::Error: return "an invalid value";
-    case Type::Num: return "a number";
-    case Type::Angle: return "an angle";
-    case Type::Vec2: return "a 2-vector";
-    case Type::Color: return "a colour";
+    case Type::Error:
+        return "an invalid value";
+    case Type::Num:
+        return "a number";
+    case Type::Angle:
+        return "an angle";
+    case Type::Vec2:
+        return "a 2-vector";
+    case Type::Color:
+        return "a colour";
     }
     return "?";
 }
 
 const char* binOpSpelling(BinOp op) {
     switch (op) {
-    case BinOp::Add: return "+";
-    case BinOp::Sub: return "-";
-    case BinOp::Mul: return "*";
-    case BinOp::Div: return "/";
-    case BinOp::Pow: return "^";
+    case BinOp::Add:
+        return "+";
+    case BinOp::Sub:
+        return "-";
+    case BinOp::Mul:
+        return "*";
+    case BinOp::Div:
+        return "/";
+    case BinOp::Pow:
+        return "^";
     }
     return "?";
 }
 
 const char* declKindName(DeclKind k) {
     switch (k) {
-    case DeclKind::Scene: return "scene";
-    case DeclKind::Camera: return "camera";
-    case DeclKind::Field: return "field";
-    case DeclKind::Family: return "family";
-    case DeclKind::Layer: return "layer";
+    case DeclKind::Scene:
+        return "scene";
+    case DeclKind::Camera:
+        return "camera";
+    case DeclKind::Field:
+        return "field";
+    case DeclKind::Family:
+        return "family";
+    case DeclKind::Layer:
+        return "layer";
     }
     return "?";
 }
@@ -40,11 +55,16 @@ const char* declKindName(DeclKind k) {
 namespace {
 const char* shortType(Type t) {
     switch (t) {
-    case Type::Error: return "?";
-    case Type::Num: return "num";
-    case Type::Angle: return "angle";
-    case Type::Vec2: return "vec2";
-    case Type::Color: return "color";
+    case Type::Error:
+        return "?";
+    case Type::Num:
+        return "num";
+    case Type::Angle:
+        return "angle";
+    case Type::Vec2:
+        return "vec2";
+    case Type::Color:
+        return "color";
     }
     return "?";
 }
@@ -60,7 +80,8 @@ std::string annot(const Expr& e) {
 
 std::string printExpr(const Expr& e) {
     switch (e.kind) {
-    case ExprKind::Error: return "<error>";
+    case ExprKind::Error:
+        return "<error>";
     case ExprKind::Number:
         return e.unit == Unit::Deg   ? fmt::format("{}rad(deg)", e.number)
                : e.unit == Unit::Rad ? fmt::format("{}rad", e.number)
@@ -68,7 +89,8 @@ std::string printExpr(const Expr& e) {
     case ExprKind::Color:
         return fmt::format("rgba({:.4g}, {:.4g}, {:.4g}, {:.4g})", e.rgba[0], e.rgba[1], e.rgba[2],
                            e.rgba[3]);
-    case ExprKind::Name: return e.name;
+    case ExprKind::Name:
+        return e.name;
     case ExprKind::Unary:
         return fmt::format("({}{})", e.un == UnOp::Neg ? "-" : "+", printExpr(*e.args[0]));
     case ExprKind::Binary:
@@ -77,8 +99,7 @@ std::string printExpr(const Expr& e) {
     case ExprKind::Call:
     case ExprKind::Vector: {
         std::string s = e.kind == ExprKind::Call ? e.name + "(" : "(";
-        for (size_t i = 0; i < e.args.size(); ++i)
-            s += (i ? ", " : "") + printExpr(*e.args[i]);
+        for (size_t i = 0; i < e.args.size(); ++i) s += (i ? ", " : "") + printExpr(*e.args[i]);
         return s + ")";
     }
     }
@@ -92,11 +113,21 @@ void printTree(std::string& out, const Expr& e, int depth) {
     case ExprKind::Error:
     case ExprKind::Number:
     case ExprKind::Color:
-    case ExprKind::Name: out += pad + printExpr(e) + annot(e) + "\n"; return;
-    case ExprKind::Unary: out += pad + (e.un == UnOp::Neg ? "neg" : "plus"); break;
-    case ExprKind::Binary: out += pad + binOpSpelling(e.bin); break;
-    case ExprKind::Call: out += pad + "call " + e.name; break;
-    case ExprKind::Vector: out += pad + "vector"; break;
+    case ExprKind::Name:
+        out += pad + printExpr(e) + annot(e) + "\n";
+        return;
+    case ExprKind::Unary:
+        out += pad + (e.un == UnOp::Neg ? "neg" : "plus");
+        break;
+    case ExprKind::Binary:
+        out += pad + binOpSpelling(e.bin);
+        break;
+    case ExprKind::Call:
+        out += pad + "call " + e.name;
+        break;
+    case ExprKind::Vector:
+        out += pad + "vector";
+        break;
     }
     out += annot(e) + "\n";
     for (const ExprPtr& a : e.args) printTree(out, *a, depth + 1);
@@ -130,7 +161,8 @@ std::string printModule(const Module& m) {
     }
     if (!m.literals.empty()) {
         out += "literals";
-        for (size_t i = 0; i < m.literals.size(); ++i) out += fmt::format(" [{}]={}", i, m.literals[i]);
+        for (size_t i = 0; i < m.literals.size(); ++i)
+            out += fmt::format(" [{}]={}", i, m.literals[i]);
         out += "\n";
     }
     return out;

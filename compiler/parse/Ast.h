@@ -2,13 +2,13 @@
 // annotate it (types, resolved names); lowering turns it into IR.
 #pragma once
 
+#include "compiler/diag/Source.h"
+
 #include <array>
 #include <cstdint>
 #include <memory>
 #include <string>
 #include <vector>
-
-#include "compiler/diag/Source.h"
 
 namespace moire::ast {
 
@@ -61,8 +61,8 @@ struct Expr {
     // Annotations from semantic checks.
     Type type = Type::Error;
     RefKind ref = RefKind::Unresolved;
-    const Decl* refDecl = nullptr; // Field decl, or the family owning a param/let
-    int refIndex = -1;             // builtin id, param index or let index
+    const Decl* refDecl = nullptr;  // Field decl, or the family owning a param/let
+    int refIndex = -1;              // builtin id, param index or let index
     bool dependsOnPosition = false; // uses x, y, r or theta (directly or through fields)
     bool dependsOnTime = false;     // uses t
 
@@ -85,7 +85,7 @@ struct Let {
 struct FamilyParam {
     std::string name;
     SourceRange nameRange;
-    ExprPtr defaultValue; // null: the layer must set it
+    ExprPtr defaultValue;  // null: the layer must set it
     Type type = Type::Num; // from the default value's type (Num when there is none)
 };
 

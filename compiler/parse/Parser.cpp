@@ -1,8 +1,8 @@
 #include "compiler/parse/Parser.h"
 
-#include <fmt/format.h>
-
 #include "compiler/sema/Suggest.h"
+
+#include <fmt/format.h>
 
 namespace moire {
 
@@ -19,7 +19,9 @@ const std::vector<std::string> kDeclWords = {"scene", "camera", "layer", "field"
 
 // Tokens that can begin a value but never a property or a declaration: met right after a
 // value, they mean a missing operator, as in `2 (x + 1)`.
-bool beginsValueOnly(Tok k) { return k == Tok::Number || k == Tok::Color || k == Tok::LParen; }
+bool beginsValueOnly(Tok k) {
+    return k == Tok::Number || k == Tok::Color || k == Tok::LParen;
+}
 } // namespace
 
 Parser::Parser(const SourceManager& sm, uint32_t fileId, DiagEngine& diags)
@@ -41,11 +43,15 @@ bool Parser::accept(Tok k) {
 
 std::string Parser::describeCurrent() const {
     switch (tok_.kind) {
-    case Tok::End: return "end of file";
-    case Tok::Ident: return fmt::format("'{}'", lexer_.spelling(tok_));
+    case Tok::End:
+        return "end of file";
+    case Tok::Ident:
+        return fmt::format("'{}'", lexer_.spelling(tok_));
     case Tok::Number:
-    case Tok::Color: return fmt::format("{} '{}'", tokDescription(tok_.kind), lexer_.spelling(tok_));
-    default: return tokDescription(tok_.kind);
+    case Tok::Color:
+        return fmt::format("{} '{}'", tokDescription(tok_.kind), lexer_.spelling(tok_));
+    default:
+        return tokDescription(tok_.kind);
     }
 }
 
@@ -75,7 +81,8 @@ bool Parser::tooDeep() {
 
 bool Parser::valueEnds() {
     if (!beginsValueOnly(tok_.kind)) return true;
-    diags_.error(range(), Msg::Expected, "an operator such as '*' between two values", describeCurrent());
+    diags_.error(range(), Msg::Expected, "an operator such as '*' between two values",
+                 describeCurrent());
     return false;
 }
 
@@ -143,15 +150,21 @@ DeclPtr Parser::parseDecl() {
     SourceRange kw = range();
     std::string word = at(Tok::Ident) ? std::string(lexer_.spelling(tok_)) : std::string();
     DeclKind kind;
-    if (word == "scene") kind = DeclKind::Scene;
-    else if (word == "camera") kind = DeclKind::Camera;
-    else if (word == "layer") kind = DeclKind::Layer;
-    else if (word == "field") kind = DeclKind::Field;
-    else if (word == "family") kind = DeclKind::Family;
+    if (word == "scene")
+        kind = DeclKind::Scene;
+    else if (word == "camera")
+        kind = DeclKind::Camera;
+    else if (word == "layer")
+        kind = DeclKind::Layer;
+    else if (word == "field")
+        kind = DeclKind::Field;
+    else if (word == "family")
+        kind = DeclKind::Family;
     else {
         std::string found = describeCurrent();
         if (at(Tok::Ident)) found += didYouMean(word, kDeclWords);
-        diags_.error(range(), Msg::Expected, "a declaration (scene, camera, layer, field or family)", found);
+        diags_.error(range(), Msg::Expected,
+                     "a declaration (scene, camera, layer, field or family)", found);
         advance();
         recoverTo(false);
         return nullptr;
@@ -183,8 +196,12 @@ DeclPtr Parser::parseDecl() {
         }
         accept(Tok::Semi);
         break;
-    case DeclKind::Family: parseFamily(*d); break;
-    default: parseBlock(*d); break;
+    case DeclKind::Family:
+        parseFamily(*d);
+        break;
+    default:
+        parseBlock(*d);
+        break;
     }
     return d;
 }
@@ -437,7 +454,8 @@ ExprPtr Parser::parsePrimary() {
         if (!abandoned_) diags_.error(range(), Msg::Expected, "an expression", describeCurrent());
         // Leave a closing token to whatever expects it (`sin()`, `(1, )`, `size = ;`), so one
         // missing value is one error; skip anything else, so that parsing moves on.
-        if (!at(Tok::End) && !at(Tok::RBrace) && !at(Tok::RParen) && !at(Tok::Comma) && !at(Tok::Semi))
+        if (!at(Tok::End) && !at(Tok::RBrace) && !at(Tok::RParen) && !at(Tok::Comma) &&
+            !at(Tok::Semi))
             advance();
         return errorExpr();
     }

@@ -21,7 +21,7 @@
 namespace moire {
 
 class Parser {
-public:
+  public:
     // Literals of a user file get slots in the module's literal table; stdlib literals are
     // structural constants.
     Parser(const SourceManager& sm, uint32_t fileId, DiagEngine& diags);
@@ -32,7 +32,7 @@ public:
 
     static constexpr int kMaxDepth = 256;
 
-private:
+  private:
     void advance();
     bool at(Tok k) const { return tok_.kind == k; }
     bool atWord(std::string_view w) const { return at(Tok::Ident) && lexer_.spelling(tok_) == w; }
@@ -72,7 +72,7 @@ private:
     Lexer lexer_;
     Token tok_;
     Token prevTok_;
-    int depth_ = 0;         // nesting of the expression being read (see parseSum)
+    int depth_ = 0;          // nesting of the expression being read (see parseSum)
     bool abandoned_ = false; // an expression was too deep; the rest of the input is skipped
     std::vector<double> literals_;
 };

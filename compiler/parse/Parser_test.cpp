@@ -4,7 +4,6 @@
 #include "compiler/parse/Parser.h"
 
 #include <doctest/doctest.h>
-
 #include <numbers>
 #include <string>
 #include <vector>
@@ -147,8 +146,9 @@ TEST_CASE("parser: one declaration of each kind") {
         kinds.push_back(d->kind);
         names.push_back(d->name);
     }
-    CHECK(kinds == std::vector<DeclKind>{DeclKind::Scene, DeclKind::Camera, DeclKind::Field, DeclKind::Family,
-                                         DeclKind::Family, DeclKind::Family, DeclKind::Layer, DeclKind::Layer});
+    CHECK(kinds == std::vector<DeclKind>{DeclKind::Scene, DeclKind::Camera, DeclKind::Field,
+                                         DeclKind::Family, DeclKind::Family, DeclKind::Family,
+                                         DeclKind::Layer, DeclKind::Layer});
     CHECK(names == std::vector<std::string>{"", "", "f", "lines2", "ring", "plain", "left", ""});
 
     const Decl& scene = *p.module.decls[0];
@@ -198,22 +198,23 @@ TEST_CASE("parser: separators between properties are optional") {
 
 TEST_CASE("parser: errors in several declarations are all reported, and parsing goes on") {
     // After an error in a declaration, parsing resumes at the next declaration keyword.
-    Parsed p = parseModule("scene { size = }\n"                        // 1: no value
-                           "layer { family = circles spacing 7 }\n"     // 2: no '='
-                           "fild g = 1\n"                               // 3: misspelt keyword
-                           "field = 3\n"                                // 4: no name
-                           "field ok = 2 (x + 1)\n"                     // 5: no operator
+    Parsed p = parseModule("scene { size = }\n"                     // 1: no value
+                           "layer { family = circles spacing 7 }\n" // 2: no '='
+                           "fild g = 1\n"                           // 3: misspelt keyword
+                           "field = 3\n"                            // 4: no name
+                           "field ok = 2 (x + 1)\n"                 // 5: no operator
                            "field fine = 1\n");
     std::vector<uint32_t> lines;
-    for (const Diagnostic& d : p.diags->all()) lines.push_back(p.sm->file(0).lineCol(d.range.begin.offset).line);
+    for (const Diagnostic& d : p.diags->all())
+        lines.push_back(p.sm->file(0).lineCol(d.range.begin.offset).line);
     CHECK(lines == std::vector<uint32_t>{1, 2, 3, 4, 5});
     std::vector<std::string> texts;
     for (const Diagnostic& d : p.diags->all()) texts.push_back(d.text);
     REQUIRE(texts.size() == 5);
     CHECK(texts[0] == "expected an expression, found '}'");
     CHECK(texts[1] == "expected '=' after 'spacing', found a number '7'");
-    CHECK(texts[2] ==
-          "expected a declaration (scene, camera, layer, field or family), found 'fild'; did you mean 'field'?");
+    CHECK(texts[2] == "expected a declaration (scene, camera, layer, field or family), found "
+                      "'fild'; did you mean 'field'?");
     CHECK(texts[3] == "expected a name for the field, found '='");
     CHECK(texts[4] == "expected an operator such as '*' between two values, found '('");
     // The declaration after the errors is intact.
@@ -239,7 +240,8 @@ TEST_CASE("parser: 'found end of file' points just after the last token") {
 }
 
 TEST_CASE("parser: a missing value is one error, not two") {
-    for (const char* text : {"field f = ()", "field f = sin(1, )", "scene { size = ; background = #000000 }"}) {
+    for (const char* text :
+         {"field f = ()", "field f = sin(1, )", "scene { size = ; background = #000000 }"}) {
         CAPTURE(text);
         Parsed p = parseModule(text);
         CHECK(p.msgs() == std::vector<Msg>{Msg::Expected});
@@ -265,7 +267,8 @@ TEST_CASE("parser: never crashes on a runaway nesting; one TooDeep error") {
         CHECK(p.diags->all()[0].text.find("more than 256 levels") != std::string::npos);
     }
     // Well inside the limit is fine.
-    CHECK_FALSE(parseModule("field f = " + std::string(200, '(') + "x" + std::string(200, ')')).diags->hasErrors());
+    CHECK_FALSE(parseModule("field f = " + std::string(200, '(') + "x" + std::string(200, ')'))
+                    .diags->hasErrors());
     std::string sum = "field f = 1";
     for (int i = 0; i < 200; ++i) sum += " + 1";
     CHECK_FALSE(parseModule(sum).diags->hasErrors());

@@ -1,10 +1,10 @@
 #include "compiler/passes/AutoDiff.h"
 
-#include <array>
-
 #include "compiler/diag/Diagnostics.h"
 #include "compiler/ir/Builder.h"
 #include "compiler/ir/Semantics.h"
+
+#include <array>
 
 namespace moire::passes {
 
@@ -15,23 +15,37 @@ namespace {
 constexpr int kDims = 2;
 using Tangent = std::array<ValueId, kDims>; // kNoValue: structurally zero
 
-bool isZero(const Tangent& t) { return t[0] == kNoValue && t[1] == kNoValue; }
+bool isZero(const Tangent& t) {
+    return t[0] == kNoValue && t[1] == kNoValue;
+}
 
 // Ops whose derivative is zero wherever it exists (piecewise constant), or whose result is
 // not a float.
 bool hasNoDerivative(Op op) {
     switch (op) {
-    case Op::Sign: case Op::Floor: case Op::Round:
-    case Op::ConstF: case Op::ConstI: case Op::ConstB: case Op::PixelX: case Op::PixelY:
-    case Op::ImageW: case Op::ImageH: case Op::Time: case Op::Param: case Op::Uniform:
-    case Op::FToI: case Op::IToF:
+    case Op::Sign:
+    case Op::Floor:
+    case Op::Round:
+    case Op::ConstF:
+    case Op::ConstI:
+    case Op::ConstB:
+    case Op::PixelX:
+    case Op::PixelY:
+    case Op::ImageW:
+    case Op::ImageH:
+    case Op::Time:
+    case Op::Param:
+    case Op::Uniform:
+    case Op::FToI:
+    case Op::IToF:
         return true;
-    default: return isCompareOp(op) || opInfo(op).result == Type::B || opInfo(op).result == Type::I;
+    default:
+        return isCompareOp(op) || opInfo(op).result == Type::B || opInfo(op).result == Type::I;
     }
 }
 
 class AutoDiff {
-public:
+  public:
     explicit AutoDiff(const Function& f) : f_(f), b_(g_) {
         g_.name = f.name;
         g_.numOutputs = f.numOutputs;
@@ -50,7 +64,7 @@ public:
         return std::move(g_);
     }
 
-private:
+  private:
     // ---- analysis -------------------------------------------------------------------
     template <class Fn>
     void forEachInst(Fn&& fn) {
@@ -74,7 +88,8 @@ private:
                     changed |= mark(hasT_, inst.results[0]);
                 } else if (inst.op == Op::If) {
                     for (size_t i = 0; i < inst.results.size(); ++i)
-                        if (hasT_[yieldOf(inst.regions[0]).args[i]] || hasT_[yieldOf(inst.regions[1]).args[i]])
+                        if (hasT_[yieldOf(inst.regions[0]).args[i]] ||
+                            hasT_[yieldOf(inst.regions[1]).args[i]])
                             changed |= mark(hasT_, inst.results[i]);
                 } else if (inst.op == Op::Loop) {
                     const Block& cond = f_.blocks[inst.regions[0]];
@@ -86,8 +101,8 @@ private:
                             changed |= mark(hasT_, body.params[i]);
                         }
                     }
-                } else if (!inst.results.empty() && !hasNoDerivative(inst.op) && inst.op != Op::DerivX &&
-                           inst.op != Op::DerivY) {
+                } else if (!inst.results.empty() && !hasNoDerivative(inst.op) &&
+                           inst.op != Op::DerivX && inst.op != Op::DerivY) {
                     size_t first = inst.op == Op::Select ? 1 : 0;
                     for (size_t i = first; i < inst.args.size(); ++i)
                         if (hasT_[inst.args[i]]) changed |= mark(hasT_, inst.results[0]);
@@ -111,14 +126,17 @@ private:
                     const Block& cond = f_.blocks[inst.regions[0]];
                     const Block& body = f_.blocks[inst.regions[1]];
                     for (size_t i = 0; i < inst.results.size(); ++i) {
-                        if (!needT_[inst.results[i]] && !needT_[cond.params[i]] && !needT_[body.params[i]]) continue;
+                        if (!needT_[inst.results[i]] && !needT_[cond.params[i]] &&
+                            !needT_[body.params[i]])
+                            continue;
                         changed |= mark(needT_, inst.results[i]);
                         changed |= mark(needT_, cond.params[i]);
                         changed |= mark(needT_, body.params[i]);
                         changed |= mark(needT_, inst.args[i]);
                         changed |= mark(needT_, yieldOf(inst.regions[1]).args[i]);
                     }
-                } else if (inst.results.size() == 1 && needT_[inst.results[0]] && !hasNoDerivative(inst.op)) {
+                } else if (inst.results.size() == 1 && needT_[inst.results[0]] &&
+                           !hasNoDerivative(inst.op)) {
                     for (ValueId a : inst.args)
                         if (f_.type(a) == Type::F) changed |= mark(needT_, a);
                 }
@@ -127,8 +145,10 @@ private:
         // Fix: the result of a derivative marker never gets a tangent, so a derivative of a
         // derivative came out as a silent 0. The pass is first order: refuse instead.
         forEachInst([&](const Inst& inst) {
-            if ((inst.op == Op::DerivX || inst.op == Op::DerivY) && needT_[inst.results[0]] && hasT_[inst.args[0]])
-                MOIRE_ICE("AD: a derivative of a derivative (%{}) is not supported", inst.results[0]);
+            if ((inst.op == Op::DerivX || inst.op == Op::DerivY) && needT_[inst.results[0]] &&
+                hasT_[inst.args[0]])
+                MOIRE_ICE("AD: a derivative of a derivative (%{}) is not supported",
+                          inst.results[0]);
         });
     }
 
@@ -171,7 +191,8 @@ private:
     Tangent choose(ValueId cond, const Tangent& p, const Tangent& q) {
         Tangent r{kNoValue, kNoValue};
         for (int k = 0; k < kDims; ++k)
-            if (p[k] != kNoValue || q[k] != kNoValue) r[k] = b_.select(cond, orZero(p[k]), orZero(q[k]));
+            if (p[k] != kNoValue || q[k] != kNoValue)
+                r[k] = b_.select(cond, orZero(p[k]), orZero(q[k]));
         return r;
     }
 
@@ -182,33 +203,44 @@ private:
         auto dA = [&](int i) { return t(inst.args[i]); };
         switch (inst.op) {
         // d(a + b) = da + db
-        case Op::Add: return plus(dA(0), dA(1));
+        case Op::Add:
+            return plus(dA(0), dA(1));
         // d(a - b) = da - db
-        case Op::Sub: return plus(dA(0), negate(dA(1)));
+        case Op::Sub:
+            return plus(dA(0), negate(dA(1)));
         // d(a b) = a db + b da
         case Op::Mul:
-        case Op::MulZ: return plus(scale(A(0), dA(1)), scale(A(1), dA(0)));
+        case Op::MulZ:
+            return plus(scale(A(0), dA(1)), scale(A(1), dA(0)));
         // d(a / b) = (da - (a/b) db) / b
-        case Op::Div: return divide(plus(dA(0), negate(scale(res, dA(1)))), A(1));
+        case Op::Div:
+            return divide(plus(dA(0), negate(scale(res, dA(1)))), A(1));
         // d(-a) = -da
-        case Op::Neg: return negate(dA(0));
+        case Op::Neg:
+            return negate(dA(0));
         // d|a| = sign(a) da   (sign(0) = 0: no slope at the kink)
-        case Op::Abs: return scale(b_.emit(Op::Sign, {A(0)}), dA(0));
+        case Op::Abs:
+            return scale(b_.emit(Op::Sign, {A(0)}), dA(0));
         // d fract(a) = da   (away from the integer jumps)
-        case Op::Fract: return dA(0);
+        case Op::Fract:
+            return dA(0);
         // d mod(a, b) = da - floor(a / b) db
-        case Op::Mod: return plus(dA(0), negate(scale(b_.floor(b_.div(A(0), A(1))), dA(1))));
+        case Op::Mod:
+            return plus(dA(0), negate(scale(b_.floor(b_.div(A(0), A(1))), dA(1))));
         // d min(a, b) = db where b < a, else da   (the same tie rule as the value)
-        case Op::Min: return choose(b_.lt(A(1), A(0)), dA(1), dA(0));
+        case Op::Min:
+            return choose(b_.lt(A(1), A(0)), dA(1), dA(0));
         // d max(a, b) = db where b > a, else da
-        case Op::Max: return choose(b_.gt(A(1), A(0)), dA(1), dA(0));
+        case Op::Max:
+            return choose(b_.gt(A(1), A(0)), dA(1), dA(0));
         // d sqrt(a) = da / (2 sqrt(a)) for a > 0, else 0; sqrt(a) floored at kSqrtFloor
         case Op::Sqrt: {
             ValueId k = b_.div(b_.constF(0.5), b_.max(res, b_.constF(kSqrtFloor)));
             return scale(b_.select(b_.gt(A(0), b_.constF(0.0)), k, zero()), dA(0));
         }
         // d exp(a) = exp(a) da
-        case Op::Exp: return scale(res, dA(0));
+        case Op::Exp:
+            return scale(res, dA(0));
         // d log(a) = da / a for a > kTiny (the clamp's flat region has no slope)
         case Op::Log: {
             ValueId k = b_.div(b_.constF(1.0), A(0));
@@ -221,29 +253,36 @@ private:
         case Op::Pow: {
             Tangent r{kNoValue, kNoValue};
             if (!isZero(dA(0))) {
-                ValueId k = b_.emit(Op::MulZ, {A(1), b_.emit(Op::Pow, {A(0), b_.sub(A(1), b_.constF(1.0))})});
+                ValueId k = b_.emit(Op::MulZ,
+                                    {A(1), b_.emit(Op::Pow, {A(0), b_.sub(A(1), b_.constF(1.0))})});
                 r = scale(k, dA(0));
             }
-            if (!isZero(dA(1))) r = plus(r, scale(b_.emit(Op::MulZ, {res, b_.emit(Op::Log, {A(0)})}), dA(1)));
+            if (!isZero(dA(1)))
+                r = plus(r, scale(b_.emit(Op::MulZ, {res, b_.emit(Op::Log, {A(0)})}), dA(1)));
             return r;
         }
         // d a^n = n a^(n-1) da
         case Op::PowI: {
             if (inst.iimm == 0) return {kNoValue, kNoValue};
-            ValueId k = b_.mul(b_.constF(static_cast<double>(inst.iimm)), b_.powi(A(0), inst.iimm - 1));
+            ValueId k =
+                b_.mul(b_.constF(static_cast<double>(inst.iimm)), b_.powi(A(0), inst.iimm - 1));
             return scale(k, dA(0));
         }
         // d sin(a) = cos(a) da
-        case Op::Sin: return scale(b_.cos(A(0)), dA(0));
+        case Op::Sin:
+            return scale(b_.cos(A(0)), dA(0));
         // d cos(a) = -sin(a) da
-        case Op::Cos: return scale(b_.neg(b_.sin(A(0))), dA(0));
+        case Op::Cos:
+            return scale(b_.neg(b_.sin(A(0))), dA(0));
         // d tan(a) = (1 + tan(a)^2) da
-        case Op::Tan: return scale(b_.add(b_.constF(1.0), b_.mul(res, res)), dA(0));
+        case Op::Tan:
+            return scale(b_.add(b_.constF(1.0), b_.mul(res, res)), dA(0));
         // d asin(a) = da / sqrt(1 - a^2) for |a| < 1, else 0 (the clamp is flat there)
         // d acos(a) = -da / sqrt(1 - a^2)
         case Op::Asin:
         case Op::Acos: {
-            ValueId s = b_.sqrt(b_.max(b_.sub(b_.constF(1.0), b_.mul(A(0), A(0))), b_.constF(kTiny)));
+            ValueId s =
+                b_.sqrt(b_.max(b_.sub(b_.constF(1.0), b_.mul(A(0), A(0))), b_.constF(kTiny)));
             ValueId k = b_.div(b_.constF(inst.op == Op::Asin ? 1.0 : -1.0), s);
             ValueId inside = b_.lt(b_.abs(A(0)), b_.constF(1.0));
             return scale(b_.select(inside, k, zero()), dA(0));
@@ -262,8 +301,10 @@ private:
             return divide(plus(scale(A(0), dA(0)), scale(A(1), dA(1))), den);
         }
         // d select(c, a, b) = select(c, da, db)
-        case Op::Select: return choose(A(0), dA(1), dA(2));
-        default: MOIRE_ICE("AD: no rule for op '{}'", spelling(inst.op));
+        case Op::Select:
+            return choose(A(0), dA(1), dA(2));
+        default:
+            MOIRE_ICE("AD: no rule for op '{}'", spelling(inst.op));
         }
     }
 
@@ -272,8 +313,8 @@ private:
         for (const Inst& inst : f_.blocks[old].insts) emitInst(inst);
     }
 
-    std::vector<ValueId> withTangents(const std::vector<ValueId>& olds, const std::vector<ValueId>& slots,
-                                      bool zeroFill) {
+    std::vector<ValueId> withTangents(const std::vector<ValueId>& olds,
+                                      const std::vector<ValueId>& slots, bool zeroFill) {
         std::vector<ValueId> out;
         for (ValueId o : olds) out.push_back(v(o));
         for (size_t i = 0; i < slots.size(); ++i) {
@@ -287,7 +328,8 @@ private:
     void emitInst(const Inst& inst) {
         b_.setLoc(inst.loc);
         switch (inst.op) {
-        case Op::Yield: return; // handled by the enclosing region
+        case Op::Yield:
+            return; // handled by the enclosing region
         case Op::DerivX:
         case Op::DerivY: {
             Tangent d = t(inst.args[0]);
@@ -339,7 +381,8 @@ private:
             bindResults(inst.results, res);
             return;
         }
-        default: break;
+        default:
+            break;
         }
         // Ordinary instruction: copy it, then its tangent if anything needs it.
         Inst copy = inst;

@@ -1,9 +1,9 @@
+#include "compiler/passes/Rewriter.h"
+#include "compiler/passes/Simplify.h"
+
 #include <cstring>
 #include <map>
 #include <tuple>
-
-#include "compiler/passes/Rewriter.h"
-#include "compiler/passes/Simplify.h"
 
 namespace moire::passes {
 
@@ -15,10 +15,10 @@ namespace {
 // and immediates) is replaced by it. A value defined inside a region is visible only there,
 // so the table is a stack of scopes.
 class Cse : public Rewriter {
-public:
+  public:
     using Rewriter::Rewriter;
 
-private:
+  private:
     using Key = std::tuple<Op, std::vector<ValueId>, uint64_t, int64_t>;
 
     bool visit(const Inst& inst) override {
@@ -54,6 +54,8 @@ private:
 
 } // namespace
 
-Function eliminateCommonSubexpressions(const Function& f) { return Cse(f).run(); }
+Function eliminateCommonSubexpressions(const Function& f) {
+    return Cse(f).run();
+}
 
 } // namespace moire::passes

@@ -1,10 +1,10 @@
-#include <cmath>
-#include <optional>
-#include <unordered_map>
-
 #include "compiler/ir/Semantics.h"
 #include "compiler/passes/Rewriter.h"
 #include "compiler/passes/Simplify.h"
+
+#include <cmath>
+#include <optional>
+#include <unordered_map>
 
 namespace moire::passes {
 
@@ -13,17 +13,19 @@ using namespace ir;
 namespace {
 
 class Folder : public Rewriter {
-public:
+  public:
     using Rewriter::Rewriter;
 
-private:
+  private:
     std::optional<double> constant(ValueId newValue) const {
         auto it = consts_.find(newValue);
         if (it == consts_.end()) return std::nullopt;
         return it->second;
     }
     ValueId makeConst(Type t, double v) {
-        ValueId r = t == Type::F ? b_.constF(v) : t == Type::I ? b_.constI(static_cast<int64_t>(v)) : b_.constB(v != 0.0);
+        ValueId r = t == Type::F   ? b_.constF(v)
+                    : t == Type::I ? b_.constI(static_cast<int64_t>(v))
+                                   : b_.constB(v != 0.0);
         consts_[r] = v;
         return r;
     }
@@ -36,9 +38,15 @@ private:
     bool visit(const Inst& inst) override {
         b_.setLoc(inst.loc);
         switch (inst.op) {
-        case Op::ConstF: bind(inst.results[0], makeConst(Type::F, inst.imm)); return true;
-        case Op::ConstI: bind(inst.results[0], makeConst(Type::I, static_cast<double>(inst.iimm))); return true;
-        case Op::ConstB: bind(inst.results[0], makeConst(Type::B, static_cast<double>(inst.iimm))); return true;
+        case Op::ConstF:
+            bind(inst.results[0], makeConst(Type::F, inst.imm));
+            return true;
+        case Op::ConstI:
+            bind(inst.results[0], makeConst(Type::I, static_cast<double>(inst.iimm)));
+            return true;
+        case Op::ConstB:
+            bind(inst.results[0], makeConst(Type::B, static_cast<double>(inst.iimm)));
+            return true;
         case Op::If: {
             auto c = constant(map(inst.args[0]));
             if (!c) return false;
@@ -46,7 +54,8 @@ private:
             for (size_t i = 0; i < y.size(); ++i) bind(inst.results[i], y[i]);
             return true;
         }
-        default: break;
+        default:
+            break;
         }
         if (!isPure(inst.op) || inst.results.size() != 1) return false;
 
@@ -64,22 +73,53 @@ private:
             double v[3] = {0, 0, 0};
             for (size_t i = 0; i < c.size(); ++i) v[i] = *c[i];
             double out;
-            if (isFloatOp(inst.op)) out = evalFloat<double>(inst.op, v, inst.iimm);
-            else if (isCompareOp(inst.op)) out = evalCompare<double>(inst.op, v[0], v[1]);
-            else switch (inst.op) {
-                case Op::Select: out = v[0] != 0.0 ? v[1] : v[2]; break;
-                case Op::And: out = v[0] != 0.0 && v[1] != 0.0; break;
-                case Op::Or: out = v[0] != 0.0 || v[1] != 0.0; break;
-                case Op::Not: out = v[0] == 0.0; break;
-                case Op::IAdd: out = static_cast<int32_t>(static_cast<int64_t>(v[0]) + static_cast<int64_t>(v[1])); break;
-                case Op::ISub: out = static_cast<int32_t>(static_cast<int64_t>(v[0]) - static_cast<int64_t>(v[1])); break;
-                case Op::IMul: out = static_cast<int32_t>(static_cast<int64_t>(v[0]) * static_cast<int64_t>(v[1])); break;
-                case Op::ILt: out = v[0] < v[1]; break;
-                case Op::ILe: out = v[0] <= v[1]; break;
-                case Op::IEq: out = v[0] == v[1]; break;
-                case Op::FToI: out = semFToI(v[0]); break;
-                case Op::IToF: out = v[0]; break;
-                default: return false;
+            if (isFloatOp(inst.op))
+                out = evalFloat<double>(inst.op, v, inst.iimm);
+            else if (isCompareOp(inst.op))
+                out = evalCompare<double>(inst.op, v[0], v[1]);
+            else
+                switch (inst.op) {
+                case Op::Select:
+                    out = v[0] != 0.0 ? v[1] : v[2];
+                    break;
+                case Op::And:
+                    out = v[0] != 0.0 && v[1] != 0.0;
+                    break;
+                case Op::Or:
+                    out = v[0] != 0.0 || v[1] != 0.0;
+                    break;
+                case Op::Not:
+                    out = v[0] == 0.0;
+                    break;
+                case Op::IAdd:
+                    out = static_cast<int32_t>(static_cast<int64_t>(v[0]) +
+                                               static_cast<int64_t>(v[1]));
+                    break;
+                case Op::ISub:
+                    out = static_cast<int32_t>(static_cast<int64_t>(v[0]) -
+                                               static_cast<int64_t>(v[1]));
+                    break;
+                case Op::IMul:
+                    out = static_cast<int32_t>(static_cast<int64_t>(v[0]) *
+                                               static_cast<int64_t>(v[1]));
+                    break;
+                case Op::ILt:
+                    out = v[0] < v[1];
+                    break;
+                case Op::ILe:
+                    out = v[0] <= v[1];
+                    break;
+                case Op::IEq:
+                    out = v[0] == v[1];
+                    break;
+                case Op::FToI:
+                    out = semFToI(v[0]);
+                    break;
+                case Op::IToF:
+                    out = v[0];
+                    break;
+                default:
+                    return false;
                 }
             bind(res, makeConst(rt, out));
             return true;
@@ -139,7 +179,8 @@ private:
             if (is(c[0], 0.0)) return forward(args[1]);
             if (is(c[1], 0.0)) return forward(args[0]);
             break;
-        default: break;
+        default:
+            break;
         }
         return false;
     }
@@ -149,6 +190,8 @@ private:
 
 } // namespace
 
-Function constantFold(const Function& f) { return Folder(f).run(); }
+Function constantFold(const Function& f) {
+    return Folder(f).run();
+}
 
 } // namespace moire::passes

@@ -8,12 +8,13 @@ using namespace ir;
 namespace {
 
 class Dce : public Rewriter {
-public:
-    explicit Dce(const Function& f) : Rewriter(f), live_(f.numValues(), false), sinks_(f.blocks.size(), -1) {
+  public:
+    explicit Dce(const Function& f)
+        : Rewriter(f), live_(f.numValues(), false), sinks_(f.blocks.size(), -1) {
         analyse();
     }
 
-private:
+  private:
     bool isLive(const Inst& inst) const {
         if (opInfo(inst.op).flags & flags::Sink) return true;
         // Fix: an if or loop whose results are unused was dropped with everything in it,
@@ -53,7 +54,8 @@ private:
                     const Inst& inst = *it;
                     if (inst.op == Op::Yield || !isLive(inst)) continue;
                     changed |= markArgs(inst.args);
-                    for (BlockId r : inst.regions) changed |= markArgs(src_.blocks[r].insts.back().args);
+                    for (BlockId r : inst.regions)
+                        changed |= markArgs(src_.blocks[r].insts.back().args);
                 }
             }
         }
@@ -73,7 +75,9 @@ private:
 
 } // namespace
 
-Function eliminateDeadCode(const Function& f) { return Dce(f).run(); }
+Function eliminateDeadCode(const Function& f) {
+    return Dce(f).run();
+}
 
 Function simplify(const Function& f) {
     Function cur = eliminateDeadCode(eliminateCommonSubexpressions(constantFold(f)));

@@ -17,7 +17,9 @@ ValueId Rewriter::map(ValueId v) {
     return vmap_[v];
 }
 
-ValueId Rewriter::mapMissing(ValueId v) { MOIRE_ICE("rewriter: %{} has no mapping", v); }
+ValueId Rewriter::mapMissing(ValueId v) {
+    MOIRE_ICE("rewriter: %{} has no mapping", v);
+}
 
 Function Rewriter::run() {
     b_.setBlock(0);
@@ -52,7 +54,8 @@ std::vector<ValueId> Rewriter::copy(const Inst& inst) {
                 return y;
             };
         };
-        auto res = b_.ifThenElse(map(inst.args[0]), region(inst.regions[0]), region(inst.regions[1]));
+        auto res =
+            b_.ifThenElse(map(inst.args[0]), region(inst.regions[0]), region(inst.regions[1]));
         for (size_t i = 0; i < res.size(); ++i) bind(inst.results[i], res[i]);
         return res;
     }

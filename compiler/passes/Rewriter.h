@@ -9,13 +9,13 @@
 namespace moire::passes {
 
 class Rewriter {
-public:
+  public:
     explicit Rewriter(const ir::Function& src);
     virtual ~Rewriter() = default;
 
     ir::Function run();
 
-protected:
+  protected:
     // Handles one instruction of the source. Return false to get the default copy.
     virtual bool visit(const ir::Inst& inst) { return false; }
     // Called when a region is entered or left (CSE uses it to scope its table).
@@ -38,7 +38,7 @@ protected:
     ir::Function dst_;
     ir::Builder b_;
 
-private:
+  private:
     std::vector<ir::ValueId> vmap_;
 };
 

@@ -39,7 +39,6 @@ size_t count(const Function& f, Op op) {
     return n;
 }
 
-
 // Random functions of three uniforms: float ops of every kind, constants (special values
 // included), repeated subexpressions, ifs and loops nested two deep.
 class RandomFunction {

@@ -1,10 +1,10 @@
 #include "compiler/passes/SplitFrame.h"
 
-#include <unordered_map>
-
 #include "compiler/diag/Diagnostics.h"
 #include "compiler/passes/Rewriter.h"
 #include "compiler/passes/Simplify.h"
+
+#include <unordered_map>
 
 namespace moire::passes {
 
@@ -49,7 +49,9 @@ std::vector<bool> varyingValues(const Function& f) {
 }
 
 // Leaves only the frame program can evaluate.
-bool isFrameLeaf(Op op) { return op == Op::Time || op == Op::Param; }
+bool isFrameLeaf(Op op) {
+    return op == Op::Time || op == Op::Param;
+}
 
 bool instVarying(const Inst& inst, const std::vector<bool>& varying) {
     if (isPixelInput(inst.op)) return true;
@@ -63,7 +65,7 @@ bool instVarying(const Inst& inst, const std::vector<bool>& varying) {
 // Builds the kernel: the varying instructions of the entry block (with everything inside
 // their regions). A non-varying value the kernel uses becomes a uniform, or a constant.
 class KernelBuilder : public Rewriter {
-public:
+  public:
     KernelBuilder(const Function& scene, const std::vector<bool>& varying, int numOutputs)
         : Rewriter(scene), varying_(varying) {
         dst_.name = "kernel";
@@ -74,7 +76,7 @@ public:
     }
     std::vector<ValueId> uniformSources; // scene value behind each uniform slot
 
-private:
+  private:
     bool visit(const Inst& inst) override {
         // Fix: time and param belong to the frame program even when they are read inside a
         // varying region, where everything else is copied; they used to be copied too, and
@@ -125,10 +127,11 @@ private:
 // Builds the frame program: the non-varying instructions, then one output per uniform and
 // per setting.
 class FrameBuilder : public Rewriter {
-public:
+  public:
     FrameBuilder(const Function& scene, const std::vector<bool>& varying, int numKernelOutputs,
                  const std::vector<ValueId>& uniforms)
-        : Rewriter(scene), varying_(varying), numKernelOutputs_(numKernelOutputs), uniforms_(uniforms) {
+        : Rewriter(scene), varying_(varying), numKernelOutputs_(numKernelOutputs),
+          uniforms_(uniforms) {
         dst_.name = "frame";
         for (const Block& blk : scene.blocks)
             for (const Inst& inst : blk.insts)
@@ -136,7 +139,7 @@ public:
     }
     int numSettings = 0;
 
-private:
+  private:
     // A uniform read from a time or param leaf inside a varying region (skipped here with
     // its region): the leaf is read again in the frame program.
     ValueId mapMissing(ValueId v) override {
@@ -160,12 +163,14 @@ private:
     void finish() override {
         int slot = 0;
         numSettings = 0;
-        for (const Inst* s : settings_) numSettings = std::max<int>(numSettings, s->iimm - numKernelOutputs_ + 1);
+        for (const Inst* s : settings_)
+            numSettings = std::max<int>(numSettings, s->iimm - numKernelOutputs_ + 1);
         dst_.numOutputs = static_cast<int>(uniforms_.size()) + numSettings;
         for (ValueId u : uniforms_) b_.output(slot++, asFloat(map(u)));
         for (const Inst* s : settings_) {
             MOIRE_CHECK(!varying_[s->args[0]], "a scene setting depends on the pixel");
-            b_.output(static_cast<int>(uniforms_.size() + (s->iimm - numKernelOutputs_)), map(s->args[0]));
+            b_.output(static_cast<int>(uniforms_.size() + (s->iimm - numKernelOutputs_)),
+                      map(s->args[0]));
         }
     }
 

@@ -35,17 +35,24 @@ constexpr FnInfo kFns[] = {
     {"mod", 2, Signature::SameUnit, "mod(a, b) = a - b floor(a / b)"},
     {"hypot", 2, Signature::SameUnit, "sqrt(a^2 + b^2) without overflow"},
     {"clamp", 3, Signature::SameUnit, "clamp(v, lo, hi)"},
-    {"wrap", 2, Signature::SameUnit, "wrap(v, w): v moved by whole multiples of w into [-w/2, w/2)"},
-    {"smoothstep", 3, Signature::SameToNum, "smoothstep(e0, e1, v): 0 below e0, 1 above e1, smooth between"},
-    {"mix", 3, Signature::Mix, "mix(a, b, u) = a + (b - a) u, for numbers, angles, vectors or colours"},
+    {"wrap", 2, Signature::SameUnit,
+     "wrap(v, w): v moved by whole multiples of w into [-w/2, w/2)"},
+    {"smoothstep", 3, Signature::SameToNum,
+     "smoothstep(e0, e1, v): 0 below e0, 1 above e1, smooth between"},
+    {"mix", 3, Signature::Mix,
+     "mix(a, b, u) = a + (b - a) u, for numbers, angles, vectors or colours"},
     {"length", 1, Signature::Length, "length of a 2-vector"},
     {"rgb", 3, Signature::Color, "colour from red, green, blue in 0..1"},
     {"rgba", 4, Signature::Color, "colour from red, green, blue, alpha in 0..1"},
 };
 } // namespace
 
-const NameInfo& nameInfo(Name n) { return kNames[static_cast<int>(n)]; }
-const FnInfo& fnInfo(Fn f) { return kFns[static_cast<int>(f)]; }
+const NameInfo& nameInfo(Name n) {
+    return kNames[static_cast<int>(n)];
+}
+const FnInfo& fnInfo(Fn f) {
+    return kFns[static_cast<int>(f)];
+}
 
 std::optional<Name> lookupName(std::string_view s) {
     for (size_t i = 0; i < std::size(kNames); ++i)

@@ -22,19 +22,42 @@ std::optional<Name> lookupName(std::string_view s);
 
 // Built-in functions.
 enum class Fn {
-    Sin, Cos, Tan, Asin, Acos, Atan, Atan2,
-    Exp, Log, Sqrt, Abs, Floor, Fract, Round, Sign,
-    Min, Max, Mod, Hypot, Clamp, Wrap, Smoothstep, Mix, Length, Rgb, Rgba,
+    Sin,
+    Cos,
+    Tan,
+    Asin,
+    Acos,
+    Atan,
+    Atan2,
+    Exp,
+    Log,
+    Sqrt,
+    Abs,
+    Floor,
+    Fract,
+    Round,
+    Sign,
+    Min,
+    Max,
+    Mod,
+    Hypot,
+    Clamp,
+    Wrap,
+    Smoothstep,
+    Mix,
+    Length,
+    Rgb,
+    Rgba,
 };
 // How a function's argument and result types relate.
 enum class Signature {
-    Trig,       // (number | angle) -> number
-    NumToNum,   // number... -> number
-    SameUnit,   // all arguments number, or all angle -> that type
-    SameToNum,  // all arguments number, or all angle -> number (smoothstep, sign)
-    Mix,        // (T, T, number) -> T, T any value type
-    Length,     // vector -> number
-    Color,      // numbers -> colour
+    Trig,      // (number | angle) -> number
+    NumToNum,  // number... -> number
+    SameUnit,  // all arguments number, or all angle -> that type
+    SameToNum, // all arguments number, or all angle -> number (smoothstep, sign)
+    Mix,       // (T, T, number) -> T, T any value type
+    Length,    // vector -> number
+    Color,     // numbers -> colour
 };
 struct FnInfo {
     const char* spelling;

@@ -1,13 +1,12 @@
 // Checking expressions: name resolution, the types and units of operators and calls, and
 // what each expression depends on (the position, the clock).
-#include <fmt/format.h>
-
-#include <algorithm>
-#include <cmath>
-
 #include "compiler/sema/Builtins.h"
 #include "compiler/sema/Checker.h"
 #include "compiler/sema/Suggest.h"
+
+#include <algorithm>
+#include <cmath>
+#include <fmt/format.h>
 
 namespace moire::sema::detail {
 
@@ -75,10 +74,14 @@ bool Checker::anyError(const Expr& e) const {
 
 Type Checker::typeOf(Expr& e, const Scope& scope) {
     switch (e.kind) {
-    case ExprKind::Error: return Type::Error;
-    case ExprKind::Number: return e.unit == Unit::None ? Type::Num : Type::Angle;
-    case ExprKind::Color: return Type::Color;
-    case ExprKind::Name: return resolveName(e, scope);
+    case ExprKind::Error:
+        return Type::Error;
+    case ExprKind::Number:
+        return e.unit == Unit::None ? Type::Num : Type::Angle;
+    case ExprKind::Color:
+        return Type::Color;
+    case ExprKind::Name:
+        return resolveName(e, scope);
     case ExprKind::Vector: {
         if (e.args.size() != 2) {
             diags_.error(e.range, Msg::VectorSize, e.args.size());
@@ -101,8 +104,10 @@ Type Checker::typeOf(Expr& e, const Scope& scope) {
         }
         return t;
     }
-    case ExprKind::Binary: return binaryType(e);
-    case ExprKind::Call: return callType(e);
+    case ExprKind::Binary:
+        return binaryType(e);
+    case ExprKind::Call:
+        return callType(e);
     }
     return Type::Error;
 }
@@ -112,11 +117,13 @@ Type Checker::binaryType(Expr& e) {
     if (a == Type::Error || b == Type::Error) return Type::Error;
     auto fail = [&] {
         // Adding a bare number to an angle is the usual slip: the number wants a unit.
-        bool angleAndNumber = (a == Type::Angle && b == Type::Num) || (a == Type::Num && b == Type::Angle);
+        bool angleAndNumber =
+            (a == Type::Angle && b == Type::Num) || (a == Type::Num && b == Type::Angle);
         const char* hint = (e.bin == BinOp::Add || e.bin == BinOp::Sub) && angleAndNumber
                                ? "; give the number a unit, as in 30deg"
                                : "";
-        diags_.error(e.opRange, Msg::BinaryTypes, binOpSpelling(e.bin), typeName(a), typeName(b), hint);
+        diags_.error(e.opRange, Msg::BinaryTypes, binOpSpelling(e.bin), typeName(a), typeName(b),
+                     hint);
         return Type::Error;
     };
     switch (e.bin) {
@@ -146,12 +153,14 @@ Type Checker::binaryType(Expr& e) {
 Type Checker::callType(Expr& e) {
     auto fn = lookupFn(e.name);
     if (!fn) {
-        if (lookupName(e.name)) diags_.error(e.opRange, Msg::NotAFunction, e.name, "a built-in value");
+        if (lookupName(e.name))
+            diags_.error(e.opRange, Msg::NotAFunction, e.name, "a built-in value");
         else if (globals_.count(e.name))
             diags_.error(e.opRange, Msg::NotAFunction, e.name,
                          globals_[e.name]->kind == DeclKind::Field ? "a field" : "a family");
         else
-            diags_.error(e.opRange, Msg::UnknownFunction, e.name, didYouMean(e.name, builtinFunctions()));
+            diags_.error(e.opRange, Msg::UnknownFunction, e.name,
+                         didYouMean(e.name, builtinFunctions()));
         return Type::Error;
     }
     e.refIndex = static_cast<int>(*fn);
@@ -164,12 +173,14 @@ Type Checker::callType(Expr& e) {
     }
     if (anyError(e)) return Type::Error;
     auto argFail = [&](int i, const char* want) {
-        diags_.error(e.args[i]->range, Msg::ArgumentType, i + 1, e.name, want, typeName(e.args[i]->type));
+        diags_.error(e.args[i]->range, Msg::ArgumentType, i + 1, e.name, want,
+                     typeName(e.args[i]->type));
         return Type::Error;
     };
     switch (info.sig) {
     case Signature::Trig:
-        if (e.args[0]->type != Type::Num && e.args[0]->type != Type::Angle) return argFail(0, "a number or an angle");
+        if (e.args[0]->type != Type::Num && e.args[0]->type != Type::Angle)
+            return argFail(0, "a number or an angle");
         return Type::Num;
     case Signature::NumToNum:
         for (int i = 0; i < given; ++i)
@@ -290,7 +301,8 @@ Type Checker::resolveName(Expr& e, const Scope& scope) {
         // A let below this point (or this very let) is not defined yet.
         for (size_t i = scope.visibleLets; i < scope.family->lets.size(); ++i)
             if (scope.family->lets[i].name == n) {
-                diags_.error(e.opRange, Msg::NameNotHere, n, fmt::format("after 'let {} = ...' defines it", n));
+                diags_.error(e.opRange, Msg::NameNotHere, n,
+                             fmt::format("after 'let {} = ...' defines it", n));
                 return Type::Error;
             }
     }
@@ -298,7 +310,8 @@ Type Checker::resolveName(Expr& e, const Scope& scope) {
     for (auto& [name, d] : globals_)
         if (d->kind == DeclKind::Field) candidates.push_back(name);
     if (scope.family) {
-        for (size_t i = 0; i < scope.visibleLets; ++i) candidates.push_back(scope.family->lets[i].name);
+        for (size_t i = 0; i < scope.visibleLets; ++i)
+            candidates.push_back(scope.family->lets[i].name);
         for (const FamilyParam& p : scope.family->params) candidates.push_back(p.name);
     }
     if (scope.allowSpacing) candidates.push_back("spacing");

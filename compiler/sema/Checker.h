@@ -2,19 +2,20 @@
 // CheckExpr.cpp (expressions: names, types, units). Not part of the compiler's interface.
 #pragma once
 
-#include <fmt/format.h>
+#include "compiler/sema/Sema.h"
 
+#include <fmt/format.h>
 #include <string>
 #include <unordered_map>
 #include <vector>
-
-#include "compiler/sema/Sema.h"
 
 namespace moire::sema::detail {
 
 using namespace ast;
 
-inline std::string plural(int n, const char* word) { return fmt::format("{} {}{}", n, word, n == 1 ? "" : "s"); }
+inline std::string plural(int n, const char* word) {
+    return fmt::format("{} {}{}", n, word, n == 1 ? "" : "s");
+}
 
 // How tall an expression may grow once the fields and lets it names are filled in. Lowering
 // inlines them and walks the result recursively; the parser already bounds each expression
@@ -38,16 +39,16 @@ struct DepthGuard {
 struct Scope {
     const Decl* family = nullptr; // inside a family body
     size_t visibleLets = 0;
-    bool allowSpacing = false;    // family bodies and anonymous phases
+    bool allowSpacing = false; // family bodies and anonymous phases
 };
 
 class Checker {
-public:
+  public:
     explicit Checker(DiagEngine& diags) : diags_(diags) {}
 
     CheckedScene run(const std::vector<Module*>& modules);
 
-private:
+  private:
     // ---- declarations -------------------------------------------------------------------
     bool reserved(const std::string& name, SourceRange at);
     void collect(const std::vector<Module*>& modules);
@@ -89,8 +90,8 @@ private:
     std::unordered_map<const Let*, int> letHeight_;
     int lastHeight_ = 0; // of the expression checkExpr last finished
     int exprDepth_ = 0;
-    bool tooDeepReported_ = false;  // checkExpr calls under way, through the fields they name
-    int refHeight_ = 0;  // of what the name being resolved refers to
+    bool tooDeepReported_ = false; // checkExpr calls under way, through the fields they name
+    int refHeight_ = 0;            // of what the name being resolved refers to
 };
 
 } // namespace moire::sema::detail

@@ -1,14 +1,13 @@
 #include "compiler/sema/Sema.h"
 
-#include <fmt/format.h>
-
-#include <algorithm>
-#include <cmath>
-#include <functional>
-
 #include "compiler/sema/Builtins.h"
 #include "compiler/sema/Checker.h"
 #include "compiler/sema/Suggest.h"
+
+#include <algorithm>
+#include <cmath>
+#include <fmt/format.h>
+#include <functional>
 
 namespace moire::sema {
 
@@ -16,7 +15,8 @@ using namespace ast;
 
 const std::vector<PropertySpec>& sceneProperties() {
     static const std::vector<PropertySpec> props = {
-        {"size", Type::Vec2, true, true, "image size in pixels, (width, height); default (1200, 800)"},
+        {"size", Type::Vec2, true, true,
+         "image size in pixels, (width, height); default (1200, 800)"},
         {"background", Type::Color, true, false, "paper colour; default #ffffff"},
     };
     return props;
@@ -24,7 +24,8 @@ const std::vector<PropertySpec>& sceneProperties() {
 
 const std::vector<PropertySpec>& cameraProperties() {
     static const std::vector<PropertySpec> props = {
-        {"center", Type::Vec2, true, false, "world point at the middle of the image; default (0, 0)"},
+        {"center", Type::Vec2, true, false,
+         "world point at the middle of the image; default (0, 0)"},
         {"zoom", Type::Num, true, false, "pixels per world unit; default 1"},
         {"rotation", Type::Angle, true, false, "turn of the view; default 0deg"},
     };
@@ -40,7 +41,8 @@ const std::vector<PropertySpec>& layerProperties() {
         {"color", Type::Color, false, false, "ink colour; default #000000"},
         {"opacity", Type::Num, false, false, "0..1; default 1"},
         {"origin", Type::Vec2, false, false, "where the family's (0, 0) sits; default (0, 0)"},
-        {"rotation", Type::Angle, false, false, "turn of the family about its origin; default 0deg"},
+        {"rotation", Type::Angle, false, false,
+         "turn of the family about its origin; default 0deg"},
     };
     return props;
 }
@@ -96,7 +98,8 @@ void Checker::collect(const std::vector<Module*>& modules) {
                 if (reserved(d.name, d.nameRange)) break;
                 auto known = globals_.find(d.name);
                 if (known != globals_.end()) {
-                    diags_.error(d.nameRange, Msg::DuplicateDecl, declKindName(known->second->kind), d.name);
+                    diags_.error(d.nameRange, Msg::DuplicateDecl, declKindName(known->second->kind),
+                                 d.name);
                     diags_.note(known->second->nameRange, Msg::FirstDefinedHere);
                     break;
                 }
@@ -200,8 +203,8 @@ void Checker::checkFamily(Decl& f) {
                 negative ^= e->un == UnOp::Neg;
                 e = e->args[0].get();
             }
-            if (e->kind != ExprKind::Number || e->unit != Unit::None || std::floor(e->number) != e->number ||
-                std::fabs(e->number) > 1e6) {
+            if (e->kind != ExprKind::Number || e->unit != Unit::None ||
+                std::floor(e->number) != e->number || std::fabs(e->number) > 1e6) {
                 diags_.error(p.value->range, Msg::FirstNotInteger);
             } else {
                 cf.first = static_cast<int>(negative ? -e->number : e->number);
@@ -210,14 +213,15 @@ void Checker::checkFamily(Decl& f) {
             // `w = 2` in a family body is most likely a value meant to be named.
             std::string hint = didYouMean(p.name, {"phase", "first"});
             if (hint.empty()) hint = fmt::format("; to name a value, write: let {} = ...", p.name);
-            diags_.error(p.nameRange, Msg::UnknownProperty, p.name, "a family (its properties are phase and first)",
-                         hint);
+            diags_.error(p.nameRange, Msg::UnknownProperty, p.name,
+                         "a family (its properties are phase and first)", hint);
         }
     }
     if (!cf.phase) diags_.error(f.nameRange, Msg::FamilyNeedsPhase, f.name);
 }
 
-const PropertySpec* Checker::findSpec(const std::vector<PropertySpec>& specs, const std::string& name) {
+const PropertySpec* Checker::findSpec(const std::vector<PropertySpec>& specs,
+                                      const std::string& name) {
     for (const PropertySpec& s : specs)
         if (name == s.name) return &s;
     return nullptr;
@@ -230,7 +234,8 @@ void Checker::checkProperty(Property& p, const PropertySpec& spec, const Scope& 
         diags_.error(p.value->range, Msg::MustBeConstant, fmt::format("'{}'", p.name),
                      "the position (x, y, r or theta)");
     if (spec.timeFree && p.value->dependsOnTime)
-        diags_.error(p.value->range, Msg::MustBeConstant, fmt::format("'{}'", p.name), "the clock t");
+        diags_.error(p.value->range, Msg::MustBeConstant, fmt::format("'{}'", p.name),
+                     "the clock t");
 }
 
 bool Checker::noDuplicates(Decl& d, const char* what) {
@@ -274,7 +279,8 @@ void Checker::checkLayer(Decl& d) {
         diags_.error(d.range, Msg::MissingFamily);
     } else if (fam->value->kind == ExprKind::Name && !lookupName(fam->value->name) &&
                fam->value->name != "spacing" && // a (constant) phase, like any built-in name
-               !(globals_.count(fam->value->name) && globals_[fam->value->name]->kind == DeclKind::Field)) {
+               !(globals_.count(fam->value->name) &&
+                 globals_[fam->value->name]->kind == DeclKind::Field)) {
         auto it = globals_.find(fam->value->name);
         if (it != globals_.end() && it->second->kind == DeclKind::Family) {
             familyDecl = it->second;
@@ -290,8 +296,8 @@ void Checker::checkLayer(Decl& d) {
         // Said in the layer's terms: `family` takes a family's name or a phase.
         Type t = fam->value->type;
         if (t != Type::Num && t != Type::Error)
-            diags_.error(fam->value->range, Msg::TypeMismatch, "'family'", "a family name or a number (a phase)",
-                         typeName(t));
+            diags_.error(fam->value->range, Msg::TypeMismatch, "'family'",
+                         "a family name or a number (a phase)", typeName(t));
         layer.anonymousPhase = fam->value.get();
     }
     std::vector<std::string> allowed;
@@ -320,14 +326,15 @@ void Checker::checkLayer(Decl& d) {
         if (!matched) {
             std::string owner = familyDecl ? fmt::format("a layer of family '{}'", familyDecl->name)
                                            : std::string("a layer");
-            diags_.error(p.nameRange, Msg::UnknownProperty, p.name, owner, didYouMean(p.name, allowed));
+            diags_.error(p.nameRange, Msg::UnknownProperty, p.name, owner,
+                         didYouMean(p.name, allowed));
         }
     }
     if (familyDecl) {
         for (size_t i = 0; i < familyDecl->params.size(); ++i)
             if (!layer.args[i] && !familyDecl->params[i].defaultValue)
-                diags_.error(fam->value->range, Msg::MissingParam, familyDecl->name, familyDecl->params[i].name,
-                             familyDecl->params[i].name);
+                diags_.error(fam->value->range, Msg::MissingParam, familyDecl->name,
+                             familyDecl->params[i].name, familyDecl->params[i].name);
     }
     out_.layers.push_back(std::move(layer));
 }

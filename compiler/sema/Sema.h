@@ -2,13 +2,13 @@
 // position or the clock. The result points into the checked modules, annotated in place.
 #pragma once
 
+#include "compiler/diag/Diagnostics.h"
+#include "compiler/parse/Ast.h"
+
 #include <optional>
 #include <string>
 #include <unordered_map>
 #include <vector>
-
-#include "compiler/diag/Diagnostics.h"
-#include "compiler/parse/Ast.h"
 
 namespace moire::sema {
 
@@ -20,7 +20,7 @@ struct CheckedFamily {
 
 struct CheckedLayer {
     const ast::Decl* decl = nullptr;
-    const CheckedFamily* family = nullptr; // a named family, or null
+    const CheckedFamily* family = nullptr;     // a named family, or null
     const ast::Expr* anonymousPhase = nullptr; // `family = <expression>`
     // One entry per parameter of the family: the layer's value, or null for the default.
     std::vector<const ast::Expr*> args;

@@ -2,15 +2,13 @@
 // resolution, field cycles, types and units, arity, what may depend on the position or the
 // clock, duplicates and reserved names. Errors are checked by message id and text; valid
 // scenes by the annotations the checks leave on the tree.
+#include "compiler/parse/Parser.h"
 #include "compiler/sema/Sema.h"
+#include "compiler/stdlib/Embedded.h"
 
 #include <doctest/doctest.h>
-
 #include <string>
 #include <vector>
-
-#include "compiler/parse/Parser.h"
-#include "compiler/stdlib/Embedded.h"
 
 using namespace moire;
 using namespace moire::ast;
@@ -74,7 +72,9 @@ std::string error(const std::string& text, Msg want) {
     return c.firstText();
 }
 
-const Expr& fieldValue(const Checked& c, const std::string& name) { return *c.decl(name).value; }
+const Expr& fieldValue(const Checked& c, const std::string& name) {
+    return *c.decl(name).value;
+}
 
 } // namespace
 
@@ -105,7 +105,8 @@ TEST_CASE("sema: names resolve to fields, parameters, lets, spacing and built-in
 TEST_CASE("sema: spacing exists only inside families and anonymous phases") {
     ok("layer { family = x + spacing / 2 }");
     ok("layer { family = spacing }"); // a constant phase, not an unknown family
-    CHECK(error("field f = x / spacing", Msg::NameNotHere) == "'spacing' can only be used in a family's phase");
+    CHECK(error("field f = x / spacing", Msg::NameNotHere) ==
+          "'spacing' can only be used in a family's phase");
     error("layer { family = circles; phase = spacing }", Msg::NameNotHere);
 }
 
@@ -118,16 +119,19 @@ TEST_CASE("sema: a let is visible only after it is defined") {
 }
 
 TEST_CASE("sema: unknown names suggest only near candidates") {
-    CHECK(error("field f = thta", Msg::UnknownName) == "unknown name 'thta'; did you mean 'theta'?");
+    CHECK(error("field f = thta", Msg::UnknownName) ==
+          "unknown name 'thta'; did you mean 'theta'?");
     // Every one-letter name is one edit from every other: no suggestion for those.
     CHECK(error("field f = a", Msg::UnknownName) == "unknown name 'a'");
-    CHECK(error("field f = sine(x)", Msg::UnknownFunction) == "unknown function 'sine'; did you mean 'sin'?");
+    CHECK(error("field f = sine(x)", Msg::UnknownFunction) ==
+          "unknown function 'sine'; did you mean 'sin'?");
     CHECK(error("layer { family = circle }", Msg::UnknownFamily) ==
           "unknown family 'circle'; did you mean 'circles'?");
 }
 
 TEST_CASE("sema: fields may not depend on themselves") {
-    CHECK(error("field a = b + 1\nfield b = a * 2", Msg::FieldCycle) == "field 'a' depends on itself (a -> b -> a)");
+    CHECK(error("field a = b + 1\nfield b = a * 2", Msg::FieldCycle) ==
+          "field 'a' depends on itself (a -> b -> a)");
     CHECK(error("field a = a", Msg::FieldCycle) == "field 'a' depends on itself (a -> a)");
     ok("field a = b + 1\nfield b = x"); // used before its declaration is fine
 }
@@ -158,10 +162,14 @@ TEST_CASE("sema: expression types") {
 TEST_CASE("sema: type errors") {
     CHECK(error("field f = 30deg + 1", Msg::BinaryTypes) ==
           "cannot apply '+' to an angle and a number; give the number a unit, as in 30deg");
-    CHECK(error("field f = 30deg * 30deg", Msg::BinaryTypes) == "cannot apply '*' to an angle and an angle");
-    CHECK(error("field f = 1 / 30deg", Msg::BinaryTypes) == "cannot apply '/' to a number and an angle");
-    CHECK(error("field f = #ffffff + #000000", Msg::BinaryTypes) == "cannot apply '+' to a colour and a colour");
-    CHECK(error("field f = 2 ^ 30deg", Msg::BinaryTypes) == "cannot apply '^' to a number and an angle");
+    CHECK(error("field f = 30deg * 30deg", Msg::BinaryTypes) ==
+          "cannot apply '*' to an angle and an angle");
+    CHECK(error("field f = 1 / 30deg", Msg::BinaryTypes) ==
+          "cannot apply '/' to a number and an angle");
+    CHECK(error("field f = #ffffff + #000000", Msg::BinaryTypes) ==
+          "cannot apply '+' to a colour and a colour");
+    CHECK(error("field f = 2 ^ 30deg", Msg::BinaryTypes) ==
+          "cannot apply '^' to a number and an angle");
     CHECK(error("field f = -#ffffff", Msg::UnaryType) == "cannot apply '-' to a colour");
     CHECK(error("field f = sqrt(30deg)", Msg::ArgumentType) ==
           "argument 1 of 'sqrt' must be a number, but this is an angle");
@@ -198,9 +206,12 @@ TEST_CASE("sema: calls take the number of arguments their function has") {
     CHECK(error("field f = atan2(1)", Msg::Arity) == "'atan2' takes 2 arguments, but 1 was given");
     CHECK(error("field f = rgba()", Msg::Arity) == "'rgba' takes 4 arguments, but 0 were given");
     CHECK(error("field f = x(2)", Msg::NotAFunction) == "'x' is a built-in value, not a function");
-    CHECK(error("field g = 1\nfield f = g(2)", Msg::NotAFunction) == "'g' is a field, not a function");
-    CHECK(error("field f = circles(2)", Msg::NotAFunction) == "'circles' is a family, not a function");
-    CHECK(error("field f = sin", Msg::FunctionAsValue) == "'sin' is a function; call it with arguments, as in sin(...)");
+    CHECK(error("field g = 1\nfield f = g(2)", Msg::NotAFunction) ==
+          "'g' is a field, not a function");
+    CHECK(error("field f = circles(2)", Msg::NotAFunction) ==
+          "'circles' is a family, not a function");
+    CHECK(error("field f = sin", Msg::FunctionAsValue) ==
+          "'sin' is a function; call it with arguments, as in sin(...)");
     CHECK(error("field f = circles", Msg::FamilyAsValue) ==
           "'circles' is a family; give it to a layer, as in: family = circles");
 }
@@ -209,7 +220,8 @@ TEST_CASE("sema: settings that are fixed for a frame or a whole render") {
     CHECK(error("camera { zoom = 1 + x / 100 }", Msg::MustBeConstant) ==
           "'zoom' cannot depend on the position (x, y, r or theta)");
     ok("camera { zoom = 1 + t / 10 }"); // the camera may move over time
-    CHECK(error("scene { size = (100 + t, 100) }", Msg::MustBeConstant) == "'size' cannot depend on the clock t");
+    CHECK(error("scene { size = (100 + t, 100) }", Msg::MustBeConstant) ==
+          "'size' cannot depend on the clock t");
     // Through a field, too.
     error("field g = theta\ncamera { center = (g, 0) }", Msg::MustBeConstant);
     // Layers may vary in space and time.
@@ -246,28 +258,34 @@ TEST_CASE("sema: duplicates are reported with a note at the first") {
           "there is already a layer named 'a'");
     Checked scenes = check("scene { }\nscene { }");
     CHECK(scenes.msgs() == std::vector<Msg>{Msg::DuplicateBlock, Msg::FirstDefinedHere});
-    CHECK(scenes.firstText() == "there is already a scene block; put all its settings in one block");
+    CHECK(scenes.firstText() ==
+          "there is already a scene block; put all its settings in one block");
     Checked params = check("family f(k, k) = x * k");
     CHECK(params.msgs() == std::vector<Msg>{Msg::DuplicateDecl, Msg::FirstDefinedHere});
-    CHECK(check("family f(k = 1) { let k = 2; phase = x }").firstText() == "there is already a parameter named 'k'");
-    CHECK(check("family f { let a = 1; let a = 2; phase = x }").firstText() == "there is already a let named 'a'");
+    CHECK(check("family f(k = 1) { let k = 2; phase = x }").firstText() ==
+          "there is already a parameter named 'k'");
+    CHECK(check("family f { let a = 1; let a = 2; phase = x }").firstText() ==
+          "there is already a let named 'a'");
 }
 
 TEST_CASE("sema: built-in names cannot be redefined") {
-    for (const char* text : {"field x = 1", "field sin = 1", "family theta = r", "family f(t = 1) = x",
-                             "family f { let pi = 3; phase = x }", "field spacing = 2"}) {
+    for (const char* text :
+         {"field x = 1", "field sin = 1", "family theta = r", "family f(t = 1) = x",
+          "family f { let pi = 3; phase = x }", "field spacing = 2"}) {
         CAPTURE(text);
         Checked c = check(text);
         REQUIRE_FALSE(c.msgs().empty());
         CHECK(c.msgs()[0] == Msg::ReservedName);
     }
-    CHECK(error("field tau = 6", Msg::ReservedName) == "'tau' is a built-in name and cannot be redefined");
+    CHECK(error("field tau = 6", Msg::ReservedName) ==
+          "'tau' is a built-in name and cannot be redefined");
     CHECK(error("family f(stroke = 1) = x * stroke", Msg::ParamIsLayerProperty) ==
           "a family parameter cannot be called 'stroke': that is the name of a layer property");
 }
 
 TEST_CASE("sema: the standard library's families are visible to layers") {
-    Checked c = ok("layer { family = wave; amplitude = 5; shift = 10deg }\nlayer { family = hyperbola }");
+    Checked c =
+        ok("layer { family = wave; amplitude = 5; shift = 10deg }\nlayer { family = hyperbola }");
     REQUIRE(c.scene.layers.size() == 2);
     REQUIRE(c.scene.layers[0].family);
     CHECK(c.scene.layers[0].family->decl->name == "wave");
@@ -281,8 +299,9 @@ TEST_CASE("sema: the standard library's families are visible to layers") {
 
 TEST_CASE("sema: layers and families need what they need") {
     error("layer { spacing = 4 }", Msg::MissingFamily);
-    CHECK(error("family ring(radius) = abs(r - radius)\nlayer { family = ring }", Msg::MissingParam) ==
-          "family 'ring' needs a value for its parameter 'radius'; set it in the layer, as in: radius = 1");
+    CHECK(error("family ring(radius) = abs(r - radius)\nlayer { family = ring }",
+                Msg::MissingParam) == "family 'ring' needs a value for its parameter 'radius'; set "
+                                      "it in the layer, as in: radius = 1");
     ok("family ring(radius) = abs(r - radius)\nlayer { family = ring; radius = 20 }");
     CHECK(error("family blank { first = 1 }", Msg::FamilyNeedsPhase) ==
           "family 'blank' has no phase; add one, as in: phase = r");
@@ -291,7 +310,8 @@ TEST_CASE("sema: layers and families need what they need") {
     Checked negative = ok("family f { phase = r; first = -2 }");
     CHECK(negative.scene.families.at(&negative.decl("f")).first == -2);
     CHECK(error("family f { phase = r; w = 2 }", Msg::UnknownProperty) ==
-          "'w' is not a property of a family (its properties are phase and first); to name a value, write: let w = ...");
+          "'w' is not a property of a family (its properties are phase and first); to name a "
+          "value, write: let w = ...");
     CHECK(error("scene { sise = (1, 2) }", Msg::UnknownProperty) ==
           "'sise' is not a property of the scene; did you mean 'size'?");
 }
@@ -300,10 +320,12 @@ TEST_CASE("sema: a chain of fields too deep to inline is an error, not a stack o
     // f_k = f_(k-1) + 1 is 2k + 1 levels tall once the fields are filled in.
     auto chain = [](int n, bool reversed) {
         std::string text = "field f0 = x\n";
-        for (int k = 1; k <= n; ++k) text += "field f" + std::to_string(k) + " = f" + std::to_string(k - 1) + " + 1\n";
+        for (int k = 1; k <= n; ++k)
+            text += "field f" + std::to_string(k) + " = f" + std::to_string(k - 1) + " + 1\n";
         if (reversed) { // declared from the top down: checking f0 recurses through them all
             text.clear();
-            for (int k = 0; k < n; ++k) text += "field f" + std::to_string(k) + " = f" + std::to_string(k + 1) + " + 1\n";
+            for (int k = 0; k < n; ++k)
+                text += "field f" + std::to_string(k) + " = f" + std::to_string(k + 1) + " + 1\n";
             text += "field f" + std::to_string(n) + " = x\n";
         }
         return text;
@@ -311,7 +333,8 @@ TEST_CASE("sema: a chain of fields too deep to inline is an error, not a stack o
     ok(chain(500, false));
     // f512 is 1025 levels tall: the name f512 in f513 is the first past the limit of 1024.
     CHECK(error(chain(600, false), Msg::FieldsTooDeep) ==
-          "'f512' is nested too deeply once the fields and lets it uses are filled in (more than 1024 levels)");
+          "'f512' is nested too deeply once the fields and lets it uses are filled in (more than "
+          "1024 levels)");
     // 100,000 fields, each named by the one before: one error, no crash.
     Checked c = check(chain(100000, true));
     CHECK(c.msgs() == std::vector<Msg>{Msg::FieldsTooDeep});

@@ -23,8 +23,7 @@ int editDistance(std::string_view a, std::string_view b) {
 
 std::string nearestName(std::string_view name, const std::vector<std::string>& candidates,
                         int maxDistance) {
-    if (maxDistance < 0)
-        maxDistance = std::clamp(static_cast<int>(name.size()) / 3, 1, 3);
+    if (maxDistance < 0) maxDistance = std::clamp(static_cast<int>(name.size()) / 3, 1, 3);
     std::string best;
     int bestDistance = maxDistance + 1;
     for (const std::string& c : candidates) {

@@ -8,7 +8,7 @@
 namespace moire::embedded {
 
 struct File {
-    const char* path;      // relative to the source root, e.g. "stdlib/families.moire"
+    const char* path; // relative to the source root, e.g. "stdlib/families.moire"
     std::string_view text;
 };
 

@@ -1,19 +1,18 @@
 #include "runtime/cli/Commands.h"
 
-#include <fmt/format.h>
-#include <unistd.h>
+#include "compiler/backend/llvm/LlvmJit.h"
+#include "compiler/Compile.h"
+#include "runtime/ImageIO.h"
+#include "runtime/Render.h"
 
 #include <chrono>
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
+#include <fmt/format.h>
 #include <fstream>
 #include <sstream>
-
-#include "compiler/Compile.h"
-#include "compiler/backend/llvm/LlvmJit.h"
-#include "runtime/ImageIO.h"
-#include "runtime/Render.h"
+#include <unistd.h>
 
 namespace moire::cli {
 
@@ -50,7 +49,8 @@ bool readScene(const std::string& path, Source& out) {
     return true;
 }
 
-std::unique_ptr<SceneProgram> compileOrReport(const Source& src, const CompileOptions& options = {}) {
+std::unique_ptr<SceneProgram> compileOrReport(const Source& src,
+                                              const CompileOptions& options = {}) {
     CompileResult r = compileScene(src.path, src.text, options);
     if (!r.diagnostics.empty()) fmt::print(stderr, "{}", r.diagnostics);
     return std::move(r.program);
@@ -59,17 +59,23 @@ std::unique_ptr<SceneProgram> compileOrReport(const Source& src, const CompileOp
 bool parseSize(const std::string& s, int& w, int& h) {
     char x = 0;
     char extra = 0;
-    return std::sscanf(s.c_str(), "%d%c%d%c", &w, &x, &h, &extra) == 3 && (x == 'x' || x == 'X') && w >= 1 &&
-           h >= 1 && w <= kMaxImageSide && h <= kMaxImageSide;
+    return std::sscanf(s.c_str(), "%d%c%d%c", &w, &x, &h, &extra) == 3 && (x == 'x' || x == 'X') &&
+           w >= 1 && h >= 1 && w <= kMaxImageSide && h <= kMaxImageSide;
 }
 
 bool parseDepth(const std::string& s, PixelDepth& d) {
-    if (s.empty()) d = PixelDepth::Default;
-    else if (s == "8") d = PixelDepth::U8;
-    else if (s == "16") d = PixelDepth::U16;
-    else if (s == "half") d = PixelDepth::Half;
-    else if (s == "float" || s == "32") d = PixelDepth::Float;
-    else return false;
+    if (s.empty())
+        d = PixelDepth::Default;
+    else if (s == "8")
+        d = PixelDepth::U8;
+    else if (s == "16")
+        d = PixelDepth::U16;
+    else if (s == "half")
+        d = PixelDepth::Half;
+    else if (s == "float" || s == "32")
+        d = PixelDepth::Float;
+    else
+        return false;
     return true;
 }
 
@@ -82,26 +88,33 @@ double secondsSince(std::chrono::steady_clock::time_point t0) {
 int render(const RenderArgs& args) {
     int w = 0, h = 0;
     if (!args.size.empty() && !parseSize(args.size, w, h)) {
-        fmt::print(stderr, "moire: error: --size must be WIDTHxHEIGHT in pixels (1 to {}), not '{}'\n",
+        fmt::print(stderr,
+                   "moire: error: --size must be WIDTHxHEIGHT in pixels (1 to {}), not '{}'\n",
                    kMaxImageSide, args.size);
         return kExitUsage;
     }
     PixelDepth depth;
     if (!parseDepth(args.depth, depth)) {
-        fmt::print(stderr, "moire: error: --depth must be 8, 16, half or float, not '{}'\n", args.depth);
+        fmt::print(stderr, "moire: error: --depth must be 8, 16, half or float, not '{}'\n",
+                   args.depth);
         return kExitUsage;
     }
     std::string output = args.output;
     if (output.empty())
-        output = (args.scene.empty() ? std::string("default") : fs::path(args.scene).stem().string()) + ".png";
+        output =
+            (args.scene.empty() ? std::string("default") : fs::path(args.scene).stem().string()) +
+            ".png";
     if (imageFormatOf(output).empty()) {
-        fmt::print(stderr, "moire: error: cannot write '{}': unknown image format; use .png, .tif, .exr or .jpg\n",
-                   output);
+        fmt::print(
+            stderr,
+            "moire: error: cannot write '{}': unknown image format; use .png, .tif, .exr or .jpg\n",
+            output);
         return kExitUsage;
     }
     std::unique_ptr<Backend> backend = makeBackend(args.backend);
     if (!backend) {
-        fmt::print(stderr, "moire: error: unknown backend '{}'; the backends are jit and interp\n", args.backend);
+        fmt::print(stderr, "moire: error: unknown backend '{}'; the backends are jit and interp\n",
+                   args.backend);
         return kExitUsage;
     }
 
@@ -150,8 +163,8 @@ int render(const RenderArgs& args) {
     }
     double seconds = secondsSince(t0);
     if (!args.quiet)
-        fmt::print(stderr, "moire: wrote {} ({}x{}, {}, {:.0f} ms)\n", output, frame.width, frame.height,
-                   backend->name(), seconds * 1000.0);
+        fmt::print(stderr, "moire: wrote {} ({}x{}, {}, {:.0f} ms)\n", output, frame.width,
+                   frame.height, backend->name(), seconds * 1000.0);
     return kExitOk;
 }
 
@@ -183,8 +196,10 @@ int check(const std::vector<std::string>& scenes, bool quiet) {
 int compile(const CompileArgs& args) {
     static const char* kDumps[] = {"ast", "ir", "ir-ad", "frame", "kernel", "llvm"};
     if (std::find(std::begin(kDumps), std::end(kDumps), args.dump) == std::end(kDumps)) {
-        fmt::print(stderr, "moire: error: --dump must be one of ast, ir, ir-ad, frame, kernel, llvm; not '{}'\n",
-                   args.dump);
+        fmt::print(
+            stderr,
+            "moire: error: --dump must be one of ast, ir, ir-ad, frame, kernel, llvm; not '{}'\n",
+            args.dump);
         return kExitUsage;
     }
     Source src;
@@ -193,12 +208,18 @@ int compile(const CompileArgs& args) {
     options.layerFields = args.layerFields;
     auto program = compileOrReport(src, options);
     if (!program) return kExitUserError;
-    if (args.dump == "ast") fmt::print("{}", ast::printModule(program->userModule()));
-    else if (args.dump == "ir") fmt::print("{}", ir::print(program->lowered));
-    else if (args.dump == "ir-ad") fmt::print("{}", ir::print(program->derived));
-    else if (args.dump == "frame") fmt::print("{}", ir::print(program->frame));
-    else if (args.dump == "kernel") fmt::print("{}", ir::print(program->kernel));
-    else if (args.dump == "llvm") fmt::print("{}", LlvmJitBackend().dumpLlvm(program->kernel));
+    if (args.dump == "ast")
+        fmt::print("{}", ast::printModule(program->userModule()));
+    else if (args.dump == "ir")
+        fmt::print("{}", ir::print(program->lowered));
+    else if (args.dump == "ir-ad")
+        fmt::print("{}", ir::print(program->derived));
+    else if (args.dump == "frame")
+        fmt::print("{}", ir::print(program->frame));
+    else if (args.dump == "kernel")
+        fmt::print("{}", ir::print(program->kernel));
+    else if (args.dump == "llvm")
+        fmt::print("{}", LlvmJitBackend().dumpLlvm(program->kernel));
     return kExitOk;
 }
 

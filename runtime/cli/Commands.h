@@ -14,12 +14,12 @@ constexpr int kExitUsage = 2;
 constexpr int kExitInternal = 70;
 
 struct RenderArgs {
-    std::string scene;   // empty: the embedded default scene
-    std::string output;  // empty: <scene stem>.png in the current directory
-    std::string size;    // "WxH", empty: the scene's
+    std::string scene;  // empty: the embedded default scene
+    std::string output; // empty: <scene stem>.png in the current directory
+    std::string size;   // "WxH", empty: the scene's
     double time = 0.0;
     std::string backend = "jit";
-    std::string depth;   // 8, 16, half, float
+    std::string depth; // 8, 16, half, float
     double dpi = 0.0;
     int threads = 0;
     bool quiet = false;

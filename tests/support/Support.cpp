@@ -1,26 +1,29 @@
 #include "tests/support/Support.h"
 
-#include <doctest/doctest.h>
-#include <sys/wait.h>
-#include <unistd.h>
+#include "runtime/FrameEval.h"
+#include "runtime/Render.h"
 
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
+#include <doctest/doctest.h>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
-
-#include "runtime/FrameEval.h"
-#include "runtime/Render.h"
+#include <sys/wait.h>
+#include <unistd.h>
 
 namespace moire::test {
 
 namespace fs = std::filesystem;
 
-std::string sourcePath(const std::string& relative) { return std::string(MOIRE_SOURCE_DIR) + "/" + relative; }
+std::string sourcePath(const std::string& relative) {
+    return std::string(MOIRE_SOURCE_DIR) + "/" + relative;
+}
 
-std::string moireBinary() { return MOIRE_BINARY; }
+std::string moireBinary() {
+    return MOIRE_BINARY;
+}
 
 std::string readFile(const std::string& path) {
     std::ifstream in(path, std::ios::binary);
@@ -107,15 +110,16 @@ ImageDiff compareImages(const Image& a, const Image& b, double tolerance, int ch
 std::vector<std::string> exampleScenes() {
     std::vector<std::string> out;
     for (const auto& entry : fs::directory_iterator(sourcePath("examples")))
-        if (entry.path().extension() == ".moire") out.push_back("examples/" + entry.path().filename().string());
+        if (entry.path().extension() == ".moire")
+            out.push_back("examples/" + entry.path().filename().string());
     std::sort(out.begin(), out.end());
     return out;
 }
 
 TempDir::TempDir(const std::string& tag) {
     static int counter = 0;
-    fs::path p = fs::temp_directory_path() /
-                 ("moire-" + tag + "-" + std::to_string(::getpid()) + "-" + std::to_string(counter++));
+    fs::path p = fs::temp_directory_path() / ("moire-" + tag + "-" + std::to_string(::getpid()) +
+                                              "-" + std::to_string(counter++));
     fs::remove_all(p);
     fs::create_directories(p);
     path_ = p.string();

@@ -2,13 +2,13 @@
 // is available (one test body, every backend), reading files, comparing images.
 #pragma once
 
+#include "compiler/backend/Backend.h"
+#include "compiler/Compile.h"
+#include "runtime/Image.h"
+
 #include <memory>
 #include <string>
 #include <vector>
-
-#include "compiler/Compile.h"
-#include "compiler/backend/Backend.h"
-#include "runtime/Image.h"
 
 namespace moire::test {
 
@@ -30,15 +30,18 @@ std::vector<std::string> availableBackends();
 std::unique_ptr<Backend> makeBackendOrSkip(const std::string& name);
 
 // Renders frame `t` of a program at the given size (0: the scene's size) on a backend.
-Image renderScene(const SceneProgram& program, Backend& backend, int width = 0, int height = 0, double t = 0.0);
+Image renderScene(const SceneProgram& program, Backend& backend, int width = 0, int height = 0,
+                  double t = 0.0);
 
 // Per-channel comparison of two images of the same size.
 struct ImageDiff {
-    size_t samples = 0;        // pixels x channels compared
+    size_t samples = 0; // pixels x channels compared
     double maxAbs = 0.0;
     double meanAbs = 0.0;
-    size_t over = 0;           // samples whose difference exceeds the tolerance given
-    double fractionWithin() const { return samples ? 1.0 - static_cast<double>(over) / samples : 1.0; }
+    size_t over = 0; // samples whose difference exceeds the tolerance given
+    double fractionWithin() const {
+        return samples ? 1.0 - static_cast<double>(over) / samples : 1.0;
+    }
 };
 ImageDiff compareImages(const Image& a, const Image& b, double tolerance, int channels = 4);
 
@@ -48,7 +51,7 @@ std::vector<std::string> exampleScenes();
 // A fresh directory under the system's temporary directory, removed with everything in it
 // when the object goes.
 class TempDir {
-public:
+  public:
     explicit TempDir(const std::string& tag = "test");
     ~TempDir();
     TempDir(const TempDir&) = delete;
@@ -60,7 +63,7 @@ public:
     // The names in the directory, sorted, leaving out `except`.
     std::vector<std::string> names(const std::string& except = "") const;
 
-private:
+  private:
     std::string path_;
 };
 

@@ -1,10 +1,10 @@
 #include "compiler/backend/interp/Interpreter.h"
 
-#include <algorithm>
-#include <cmath>
-
 #include "compiler/diag/Diagnostics.h"
 #include "compiler/ir/Semantics.h"
+
+#include <algorithm>
+#include <cmath>
 
 namespace moire {
 
@@ -14,9 +14,12 @@ namespace {
 thread_local uint64_t tOpCount = 0;
 }
 
-uint64_t Interpreter::lastOpCount() { return tOpCount; }
+uint64_t Interpreter::lastOpCount() {
+    return tOpCount;
+}
 
-Interpreter::Interpreter(const ir::Function& f) : numOutputs_(f.numOutputs), numValues_(f.numValues()) {
+Interpreter::Interpreter(const ir::Function& f)
+    : numOutputs_(f.numOutputs), numValues_(f.numValues()) {
     blocks_.resize(f.blocks.size());
     for (size_t bi = 0; bi < f.blocks.size(); ++bi) {
         const ir::Block& b = f.blocks[bi];
@@ -63,14 +66,28 @@ void Interpreter::runBlock(uint32_t id, const InterpEnv& env, double* r) const {
     tOpCount += block.insts.size();
     for (const PInst& p : block.insts) {
         switch (p.op) {
-        case Op::ConstF: r[p.result] = p.imm; break;
+        case Op::ConstF:
+            r[p.result] = p.imm;
+            break;
         case Op::ConstI:
-        case Op::ConstB: r[p.result] = static_cast<double>(p.iimm); break;
-        case Op::PixelX: r[p.result] = env.pixelX; break;
-        case Op::PixelY: r[p.result] = env.pixelY; break;
-        case Op::ImageW: r[p.result] = env.imageW; break;
-        case Op::ImageH: r[p.result] = env.imageH; break;
-        case Op::Time: r[p.result] = env.time; break;
+        case Op::ConstB:
+            r[p.result] = static_cast<double>(p.iimm);
+            break;
+        case Op::PixelX:
+            r[p.result] = env.pixelX;
+            break;
+        case Op::PixelY:
+            r[p.result] = env.pixelY;
+            break;
+        case Op::ImageW:
+            r[p.result] = env.imageW;
+            break;
+        case Op::ImageH:
+            r[p.result] = env.imageH;
+            break;
+        case Op::Time:
+            r[p.result] = env.time;
+            break;
         case Op::Param:
             MOIRE_CHECK(static_cast<size_t>(p.iimm) < env.numParams, "param slot {}", p.iimm);
             r[p.result] = env.params[p.iimm];
@@ -79,27 +96,69 @@ void Interpreter::runBlock(uint32_t id, const InterpEnv& env, double* r) const {
             MOIRE_CHECK(static_cast<size_t>(p.iimm) < env.numUniforms, "uniform slot {}", p.iimm);
             r[p.result] = env.uniforms[p.iimm];
             break;
-        case Op::Indep: r[p.result] = r[p.a]; break;
+        case Op::Indep:
+            r[p.result] = r[p.a];
+            break;
         case Op::DerivX:
-        case Op::DerivY: MOIRE_ICE("derivative markers must be removed by the AD pass");
-        case Op::Select: r[p.result] = r[p.a] != 0.0 ? r[p.b] : r[p.c]; break;
-        case Op::Lt: r[p.result] = r[p.a] < r[p.b]; break;
-        case Op::Le: r[p.result] = r[p.a] <= r[p.b]; break;
-        case Op::Gt: r[p.result] = r[p.a] > r[p.b]; break;
-        case Op::Ge: r[p.result] = r[p.a] >= r[p.b]; break;
-        case Op::Eq: r[p.result] = r[p.a] == r[p.b]; break;
-        case Op::Ne: r[p.result] = r[p.a] != r[p.b]; break;
-        case Op::And: r[p.result] = (r[p.a] != 0.0) && (r[p.b] != 0.0); break;
-        case Op::Or: r[p.result] = (r[p.a] != 0.0) || (r[p.b] != 0.0); break;
-        case Op::Not: r[p.result] = r[p.a] == 0.0; break;
-        case Op::IAdd: r[p.result] = static_cast<int32_t>(static_cast<int64_t>(r[p.a]) + static_cast<int64_t>(r[p.b])); break;
-        case Op::ISub: r[p.result] = static_cast<int32_t>(static_cast<int64_t>(r[p.a]) - static_cast<int64_t>(r[p.b])); break;
-        case Op::IMul: r[p.result] = static_cast<int32_t>(static_cast<int64_t>(r[p.a]) * static_cast<int64_t>(r[p.b])); break;
-        case Op::ILt: r[p.result] = r[p.a] < r[p.b]; break;
-        case Op::ILe: r[p.result] = r[p.a] <= r[p.b]; break;
-        case Op::IEq: r[p.result] = r[p.a] == r[p.b]; break;
-        case Op::FToI: r[p.result] = ir::semFToI(r[p.a]); break;
-        case Op::IToF: r[p.result] = r[p.a]; break;
+        case Op::DerivY:
+            MOIRE_ICE("derivative markers must be removed by the AD pass");
+        case Op::Select:
+            r[p.result] = r[p.a] != 0.0 ? r[p.b] : r[p.c];
+            break;
+        case Op::Lt:
+            r[p.result] = r[p.a] < r[p.b];
+            break;
+        case Op::Le:
+            r[p.result] = r[p.a] <= r[p.b];
+            break;
+        case Op::Gt:
+            r[p.result] = r[p.a] > r[p.b];
+            break;
+        case Op::Ge:
+            r[p.result] = r[p.a] >= r[p.b];
+            break;
+        case Op::Eq:
+            r[p.result] = r[p.a] == r[p.b];
+            break;
+        case Op::Ne:
+            r[p.result] = r[p.a] != r[p.b];
+            break;
+        case Op::And:
+            r[p.result] = (r[p.a] != 0.0) && (r[p.b] != 0.0);
+            break;
+        case Op::Or:
+            r[p.result] = (r[p.a] != 0.0) || (r[p.b] != 0.0);
+            break;
+        case Op::Not:
+            r[p.result] = r[p.a] == 0.0;
+            break;
+        case Op::IAdd:
+            r[p.result] =
+                static_cast<int32_t>(static_cast<int64_t>(r[p.a]) + static_cast<int64_t>(r[p.b]));
+            break;
+        case Op::ISub:
+            r[p.result] =
+                static_cast<int32_t>(static_cast<int64_t>(r[p.a]) - static_cast<int64_t>(r[p.b]));
+            break;
+        case Op::IMul:
+            r[p.result] =
+                static_cast<int32_t>(static_cast<int64_t>(r[p.a]) * static_cast<int64_t>(r[p.b]));
+            break;
+        case Op::ILt:
+            r[p.result] = r[p.a] < r[p.b];
+            break;
+        case Op::ILe:
+            r[p.result] = r[p.a] <= r[p.b];
+            break;
+        case Op::IEq:
+            r[p.result] = r[p.a] == r[p.b];
+            break;
+        case Op::FToI:
+            r[p.result] = ir::semFToI(r[p.a]);
+            break;
+        case Op::IToF:
+            r[p.result] = r[p.a];
+            break;
         case Op::Output:
             MOIRE_CHECK(p.iimm < numOutputs_, "output slot");
             env.outputs[p.iimm] = r[p.a];
@@ -119,17 +178,20 @@ void Interpreter::runBlock(uint32_t id, const InterpEnv& env, double* r) const {
             for (uint32_t i = 0; i < p.numRes; ++i)
                 r[argPool_[p.firstRes + i]] = r[argPool_[p.firstArg + i]];
             for (;;) {
-                for (uint32_t i = 0; i < p.numRes; ++i) r[cond.params[i]] = r[argPool_[p.firstRes + i]];
+                for (uint32_t i = 0; i < p.numRes; ++i)
+                    r[cond.params[i]] = r[argPool_[p.firstRes + i]];
                 runBlock(p.region0, env, r);
                 if (r[argPool_[cond.firstYield]] == 0.0) break;
-                for (uint32_t i = 0; i < p.numRes; ++i) r[body.params[i]] = r[argPool_[p.firstRes + i]];
+                for (uint32_t i = 0; i < p.numRes; ++i)
+                    r[body.params[i]] = r[argPool_[p.firstRes + i]];
                 runBlock(p.region1, env, r);
                 for (uint32_t i = 0; i < p.numRes; ++i)
                     r[argPool_[p.firstRes + i]] = r[argPool_[body.firstYield + i]];
             }
             break;
         }
-        case Op::Yield: break;
+        case Op::Yield:
+            break;
         default: {
             double a[3] = {r[p.a], r[p.b], r[p.c]};
             r[p.result] = ir::evalFloat<double>(p.op, a, p.iimm);
@@ -141,10 +203,11 @@ void Interpreter::runBlock(uint32_t id, const InterpEnv& env, double* r) const {
 
 namespace {
 class InterpKernel : public CompiledKernel {
-public:
+  public:
     explicit InterpKernel(const ir::Function& f) : interp_(f) {}
     int numOutputs() const override { return interp_.numOutputs(); }
-    void runTile(const KernelFrame& frame, TileRect tile, float* out, size_t rowStride) const override {
+    void runTile(const KernelFrame& frame, TileRect tile, float* out,
+                 size_t rowStride) const override {
         std::vector<double> regs(interp_.numValues());
         std::vector<double> outputs(interp_.numOutputs());
         InterpEnv env;
@@ -162,12 +225,13 @@ public:
                 // Outputs a kernel does not write stay 0, as in the caller's buffer on the JIT.
                 std::fill(outputs.begin(), outputs.end(), 0.0);
                 interp_.run(env, regs);
-                for (int k = 0; k < n; ++k) row[(x - tile.x0) * n + k] = static_cast<float>(outputs[k]);
+                for (int k = 0; k < n; ++k)
+                    row[(x - tile.x0) * n + k] = static_cast<float>(outputs[k]);
             }
         }
     }
 
-private:
+  private:
     Interpreter interp_;
 };
 } // namespace

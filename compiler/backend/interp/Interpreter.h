@@ -2,11 +2,11 @@
 // the other backends are tested against, and it runs each frame's parameter program.
 #pragma once
 
-#include <cstdint>
-#include <vector>
-
 #include "compiler/backend/Backend.h"
 #include "compiler/ir/IR.h"
+
+#include <cstdint>
+#include <vector>
 
 namespace moire {
 
@@ -14,15 +14,15 @@ struct InterpEnv {
     double pixelX = 0.0, pixelY = 0.0;
     double imageW = 0.0, imageH = 0.0;
     double time = 0.0;
-    const double* params = nullptr;   // literal table (Param)
+    const double* params = nullptr; // literal table (Param)
     size_t numParams = 0;
     const double* uniforms = nullptr; // Uniform
     size_t numUniforms = 0;
-    double* outputs = nullptr;        // Output
+    double* outputs = nullptr; // Output
 };
 
 class Interpreter {
-public:
+  public:
     explicit Interpreter(const ir::Function& f);
 
     // Runs the function once. `regs` is scratch space reused across calls.
@@ -32,7 +32,7 @@ public:
     // Number of instructions executed by the most recent run on this thread.
     static uint64_t lastOpCount();
 
-private:
+  private:
     struct PInst {
         ir::Op op;
         uint32_t result;
@@ -40,8 +40,8 @@ private:
         double imm = 0.0;
         int64_t iimm = 0;
         uint32_t region0 = 0, region1 = 0;
-        uint32_t firstArg = 0, numArgs = 0;   // into argPool_ (If/Loop/Yield)
-        uint32_t firstRes = 0, numRes = 0;    // into argPool_ (If/Loop results)
+        uint32_t firstArg = 0, numArgs = 0; // into argPool_ (If/Loop/Yield)
+        uint32_t firstRes = 0, numRes = 0;  // into argPool_ (If/Loop results)
     };
     struct PBlock {
         std::vector<PInst> insts;
@@ -57,7 +57,7 @@ private:
 };
 
 class InterpBackend : public Backend {
-public:
+  public:
     std::string name() const override { return "interp"; }
     std::unique_ptr<CompiledKernel> compile(const ir::Function& kernel) override;
 };

@@ -1,5 +1,9 @@
 #include "compiler/backend/llvm/LlvmJit.h"
 
+#include "compiler/backend/llvm/LlvmTranslate.h"
+#include "compiler/diag/Diagnostics.h"
+
+#include <fmt/format.h>
 #include <llvm/Analysis/TargetLibraryInfo.h>
 #include <llvm/ExecutionEngine/Orc/ExecutionUtils.h>
 #include <llvm/ExecutionEngine/Orc/JITTargetMachineBuilder.h>
@@ -8,18 +12,12 @@
 #include <llvm/IR/LegacyPassManager.h>
 #include <llvm/Passes/PassBuilder.h>
 #include <llvm/Support/DynamicLibrary.h>
-#include <llvm/Support/TargetSelect.h>
 #include <llvm/Support/raw_ostream.h>
+#include <llvm/Support/TargetSelect.h>
 #include <llvm/Target/TargetMachine.h>
 #include <llvm/TargetParser/Host.h>
-
-#include <fmt/format.h>
-
 #include <mutex>
 #include <unordered_map>
-
-#include "compiler/backend/llvm/LlvmTranslate.h"
-#include "compiler/diag/Diagnostics.h"
 
 namespace moire {
 
@@ -46,11 +44,16 @@ std::string errorText(llvm::Error e) {
 // the kernel calls sinf or atan2f. Accuracy: within 4 ulp, like the scalar functions.
 constexpr const char* kLibmvec[][3] = {
     // scalar, 4 lanes, 8 lanes
-    {"sinf", "_ZGVbN4v_sinf", "_ZGVdN8v_sinf"},     {"cosf", "_ZGVbN4v_cosf", "_ZGVdN8v_cosf"},
-    {"tanf", "_ZGVbN4v_tanf", "_ZGVdN8v_tanf"},     {"asinf", "_ZGVbN4v_asinf", "_ZGVdN8v_asinf"},
-    {"acosf", "_ZGVbN4v_acosf", "_ZGVdN8v_acosf"},  {"atanf", "_ZGVbN4v_atanf", "_ZGVdN8v_atanf"},
-    {"atan2f", "_ZGVbN4vv_atan2f", "_ZGVdN8vv_atan2f"}, {"expf", "_ZGVbN4v_expf", "_ZGVdN8v_expf"},
-    {"logf", "_ZGVbN4v_logf", "_ZGVdN8v_logf"},     {"powf", "_ZGVbN4vv_powf", "_ZGVdN8vv_powf"},
+    {"sinf", "_ZGVbN4v_sinf", "_ZGVdN8v_sinf"},
+    {"cosf", "_ZGVbN4v_cosf", "_ZGVdN8v_cosf"},
+    {"tanf", "_ZGVbN4v_tanf", "_ZGVdN8v_tanf"},
+    {"asinf", "_ZGVbN4v_asinf", "_ZGVdN8v_asinf"},
+    {"acosf", "_ZGVbN4v_acosf", "_ZGVdN8v_acosf"},
+    {"atanf", "_ZGVbN4v_atanf", "_ZGVdN8v_atanf"},
+    {"atan2f", "_ZGVbN4vv_atan2f", "_ZGVdN8vv_atan2f"},
+    {"expf", "_ZGVbN4v_expf", "_ZGVdN8v_expf"},
+    {"logf", "_ZGVbN4v_logf", "_ZGVdN8v_logf"},
+    {"powf", "_ZGVbN4vv_powf", "_ZGVdN8vv_powf"},
 };
 
 // Loads libmvec into the process once; false where it is missing (kernels stay scalar).
@@ -95,15 +98,16 @@ void optimise(llvm::Module& m, llvm::TargetMachine& tm) {
 }
 
 class JitKernel : public CompiledKernel {
-public:
+  public:
     JitKernel(llvmbackend::TileFn fn, int numOutputs) : fn_(fn), numOutputs_(numOutputs) {}
     int numOutputs() const override { return numOutputs_; }
-    void runTile(const KernelFrame& frame, TileRect t, float* out, size_t rowStride) const override {
+    void runTile(const KernelFrame& frame, TileRect t, float* out,
+                 size_t rowStride) const override {
         fn_(frame.uniforms, frame.imageW, frame.imageH, t.x0, t.y0, t.x1, t.y1, out,
             static_cast<int64_t>(rowStride));
     }
 
-private:
+  private:
     llvmbackend::TileFn fn_;
     int numOutputs_;
 };
@@ -125,7 +129,8 @@ struct LlvmJitBackend::Impl {
         auto tmOr = jtmb->createTargetMachine();
         if (!tmOr) MOIRE_ICE("LLVM target machine: {}", errorText(tmOr.takeError()));
         tm = std::move(*tmOr);
-        auto built = llvm::orc::LLJITBuilder().setJITTargetMachineBuilder(std::move(*jtmb)).create();
+        auto built =
+            llvm::orc::LLJITBuilder().setJITTargetMachineBuilder(std::move(*jtmb)).create();
         if (!built) MOIRE_ICE("cannot start the LLVM JIT: {}", errorText(built.takeError()));
         jit = std::move(*built);
         // Kernels call libm (sinf, atan2f, ...) from this process.
@@ -135,7 +140,8 @@ struct LlvmJitBackend::Impl {
         jit->getMainJITDylib().addGenerator(std::move(*gen));
     }
 
-    std::unique_ptr<llvm::Module> build(const ir::Function& kernel, const std::string& name, llvm::LLVMContext& ctx) {
+    std::unique_ptr<llvm::Module> build(const ir::Function& kernel, const std::string& name,
+                                        llvm::LLVMContext& ctx) {
         auto m = llvmbackend::translate(kernel, name, ctx);
         m->setDataLayout(jit->getDataLayout());
         m->setTargetTriple(tm->getTargetTriple().str());
@@ -147,7 +153,9 @@ struct LlvmJitBackend::Impl {
 LlvmJitBackend::LlvmJitBackend() : impl_(std::make_unique<Impl>()) {}
 LlvmJitBackend::~LlvmJitBackend() = default;
 
-int LlvmJitBackend::compileCount() const { return impl_->compiled; }
+int LlvmJitBackend::compileCount() const {
+    return impl_->compiled;
+}
 
 std::unique_ptr<CompiledKernel> LlvmJitBackend::compile(const ir::Function& kernel) {
     uint64_t hash = ir::structuralHash(kernel);
@@ -157,7 +165,8 @@ std::unique_ptr<CompiledKernel> LlvmJitBackend::compile(const ir::Function& kern
         std::string name = fmt::format("moire_kernel_{:016x}", hash);
         auto ctx = std::make_unique<llvm::LLVMContext>();
         auto m = impl_->build(kernel, name, *ctx);
-        if (auto err = impl_->jit->addIRModule(llvm::orc::ThreadSafeModule(std::move(m), std::move(ctx))))
+        if (auto err =
+                impl_->jit->addIRModule(llvm::orc::ThreadSafeModule(std::move(m), std::move(ctx))))
             MOIRE_ICE("LLVM JIT rejected the module: {}", errorText(std::move(err)));
         auto sym = impl_->jit->lookup(name);
         if (!sym) MOIRE_ICE("LLVM JIT lookup: {}", errorText(sym.takeError()));

@@ -3,15 +3,15 @@
 // cached by their structural hash, so a scene whose numbers change is not recompiled.
 #pragma once
 
+#include "compiler/backend/Backend.h"
+
 #include <memory>
 #include <string>
-
-#include "compiler/backend/Backend.h"
 
 namespace moire {
 
 class LlvmJitBackend : public Backend {
-public:
+  public:
     LlvmJitBackend();
     ~LlvmJitBackend() override;
 
@@ -24,7 +24,7 @@ public:
     // How many kernels were actually compiled (cache misses), for tests and benchmarks.
     int compileCount() const;
 
-private:
+  private:
     struct Impl;
     std::unique_ptr<Impl> impl_;
 };

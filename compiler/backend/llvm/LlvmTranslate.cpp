@@ -1,14 +1,13 @@
 #include "compiler/backend/llvm/LlvmTranslate.h"
 
-#include <llvm/IR/IRBuilder.h>
-#include <llvm/IR/Intrinsics.h>
-#include <llvm/IR/Verifier.h>
-#include <llvm/Support/raw_ostream.h>
-
-#include <unordered_map>
-
 #include "compiler/diag/Diagnostics.h"
 #include "compiler/ir/Semantics.h"
+
+#include <llvm/IR/Intrinsics.h>
+#include <llvm/IR/IRBuilder.h>
+#include <llvm/IR/Verifier.h>
+#include <llvm/Support/raw_ostream.h>
+#include <unordered_map>
 
 namespace moire::llvmbackend {
 
@@ -18,7 +17,7 @@ using ir::ValueId;
 namespace {
 
 class Translator {
-public:
+  public:
     Translator(const ir::Function& f, llvm::Module& m)
         : f_(f), m_(m), ctx_(m.getContext()), b_(ctx_), vals_(f.numValues(), nullptr) {
         fTy_ = llvm::Type::getFloatTy(ctx_);
@@ -28,8 +27,9 @@ public:
 
     void run(const std::string& name) {
         auto* ptr = llvm::PointerType::get(ctx_, 0);
-        auto* fnTy = llvm::FunctionType::get(llvm::Type::getVoidTy(ctx_),
-                                             {ptr, i32_, i32_, i32_, i32_, i32_, i32_, ptr, i64_}, false);
+        auto* fnTy =
+            llvm::FunctionType::get(llvm::Type::getVoidTy(ctx_),
+                                    {ptr, i32_, i32_, i32_, i32_, i32_, i32_, ptr, i64_}, false);
         fn_ = llvm::Function::Create(fnTy, llvm::Function::ExternalLinkage, name, m_);
         auto arg = [&](int i) { return fn_->getArg(i); };
         uniforms_ = arg(0);
@@ -90,7 +90,7 @@ public:
         if (llvm::verifyFunction(*fn_, &os)) MOIRE_ICE("LLVM rejected the kernel: {}", os.str());
     }
 
-private:
+  private:
     llvm::Constant* cf(double v) { return llvm::ConstantFP::get(fTy_, v); }
     llvm::Value* v(ValueId id) {
         MOIRE_CHECK(vals_[id], "LLVM: %{} used before definition", id);
@@ -115,8 +115,12 @@ private:
         return b_.CreateCall(callee, args);
     }
     // The shared semantics' min and max (Semantics.h): b < a ? b : a, b > a ? b : a.
-    llvm::Value* semMin(llvm::Value* a, llvm::Value* bv) { return b_.CreateSelect(b_.CreateFCmpOLT(bv, a), bv, a); }
-    llvm::Value* semMax(llvm::Value* a, llvm::Value* bv) { return b_.CreateSelect(b_.CreateFCmpOGT(bv, a), bv, a); }
+    llvm::Value* semMin(llvm::Value* a, llvm::Value* bv) {
+        return b_.CreateSelect(b_.CreateFCmpOLT(bv, a), bv, a);
+    }
+    llvm::Value* semMax(llvm::Value* a, llvm::Value* bv) {
+        return b_.CreateSelect(b_.CreateFCmpOGT(bv, a), bv, a);
+    }
     llvm::Value* floorOf(llvm::Value* a) { return intrinsic(llvm::Intrinsic::floor, {a}); }
     // hypot without libm's call: big * sqrt(1 + (small / big)^2), which neither overflows
     // nor underflows; 0 at the origin and inf when either side is infinite, as hypotf.
@@ -126,7 +130,8 @@ private:
         llvm::Value* big = intrinsic(llvm::Intrinsic::maxnum, {x, y});
         llvm::Value* small = intrinsic(llvm::Intrinsic::minnum, {x, y});
         llvm::Value* q = b_.CreateFDiv(small, big);
-        llvm::Value* h = b_.CreateFMul(big, intrinsic(llvm::Intrinsic::sqrt, {b_.CreateFAdd(cf(1), b_.CreateFMul(q, q))}));
+        llvm::Value* h = b_.CreateFMul(
+            big, intrinsic(llvm::Intrinsic::sqrt, {b_.CreateFAdd(cf(1), b_.CreateFMul(q, q))}));
         llvm::Value* inf = llvm::ConstantFP::getInfinity(fTy_);
         h = b_.CreateSelect(b_.CreateFCmpOEQ(big, cf(0)), cf(0), h);
         // Fix: maxnum/minnum drop a NaN operand, so hypot(a, NaN) came out as |a| sqrt(2)
@@ -148,10 +153,14 @@ private:
     }
     llvm::Type* typeOf(ValueId id) const {
         switch (f_.type(id)) {
-        case ir::Type::F: return fTy_;
-        case ir::Type::I: return i32_;
-        case ir::Type::B: return llvm::Type::getInt1Ty(ctx_);
-        default: MOIRE_ICE("no LLVM type for %{}", id);
+        case ir::Type::F:
+            return fTy_;
+        case ir::Type::I:
+            return i32_;
+        case ir::Type::B:
+            return llvm::Type::getInt1Ty(ctx_);
+        default:
+            MOIRE_ICE("no LLVM type for %{}", id);
         }
     }
 
@@ -159,54 +168,109 @@ private:
         auto A = [&](int i) { return v(inst.args[i]); };
         llvm::Value* r = nullptr;
         switch (inst.op) {
-        case Op::ConstF: r = cf(inst.imm); break;
-        case Op::ConstI: r = llvm::ConstantInt::get(i32_, inst.iimm); break;
-        case Op::ConstB: r = llvm::ConstantInt::getBool(ctx_, inst.iimm != 0); break;
-        case Op::PixelX: r = pixelX_; break;
-        case Op::PixelY: r = pixelY_; break;
-        case Op::ImageW: r = imageW_; break;
-        case Op::ImageH: r = imageH_; break;
+        case Op::ConstF:
+            r = cf(inst.imm);
+            break;
+        case Op::ConstI:
+            r = llvm::ConstantInt::get(i32_, inst.iimm);
+            break;
+        case Op::ConstB:
+            r = llvm::ConstantInt::getBool(ctx_, inst.iimm != 0);
+            break;
+        case Op::PixelX:
+            r = pixelX_;
+            break;
+        case Op::PixelY:
+            r = pixelY_;
+            break;
+        case Op::ImageW:
+            r = imageW_;
+            break;
+        case Op::ImageH:
+            r = imageH_;
+            break;
         case Op::Uniform: {
             auto it = uniformLoads_.find(inst.iimm);
             if (it == uniformLoads_.end()) {
                 llvm::IRBuilder<> eb(entryInsert_);
-                llvm::Value* p = eb.CreateConstGEP1_64(llvm::Type::getDoubleTy(ctx_), uniforms_, inst.iimm);
+                llvm::Value* p =
+                    eb.CreateConstGEP1_64(llvm::Type::getDoubleTy(ctx_), uniforms_, inst.iimm);
                 llvm::Value* d = eb.CreateLoad(llvm::Type::getDoubleTy(ctx_), p);
-                it = uniformLoads_.emplace(inst.iimm, eb.CreateFPTrunc(d, fTy_, "u" + std::to_string(inst.iimm))).first;
+                it = uniformLoads_
+                         .emplace(inst.iimm,
+                                  eb.CreateFPTrunc(d, fTy_, "u" + std::to_string(inst.iimm)))
+                         .first;
             }
             r = it->second;
             break;
         }
         case Op::Time:
-        case Op::Param: MOIRE_ICE("'{}' belongs to the frame program, not the kernel", ir::spelling(inst.op));
+        case Op::Param:
+            MOIRE_ICE("'{}' belongs to the frame program, not the kernel", ir::spelling(inst.op));
         case Op::DerivX:
-        case Op::DerivY: MOIRE_ICE("derivative markers must be removed by the AD pass");
-        case Op::Indep: r = A(0); break;
-        case Op::Add: r = b_.CreateFAdd(A(0), A(1)); break;
-        case Op::Sub: r = b_.CreateFSub(A(0), A(1)); break;
-        case Op::Mul: r = b_.CreateFMul(A(0), A(1)); break;
+        case Op::DerivY:
+            MOIRE_ICE("derivative markers must be removed by the AD pass");
+        case Op::Indep:
+            r = A(0);
+            break;
+        case Op::Add:
+            r = b_.CreateFAdd(A(0), A(1));
+            break;
+        case Op::Sub:
+            r = b_.CreateFSub(A(0), A(1));
+            break;
+        case Op::Mul:
+            r = b_.CreateFMul(A(0), A(1));
+            break;
         case Op::MulZ: {
-            llvm::Value* zero = b_.CreateOr(b_.CreateFCmpOEQ(A(0), cf(0)), b_.CreateFCmpOEQ(A(1), cf(0)));
+            llvm::Value* zero =
+                b_.CreateOr(b_.CreateFCmpOEQ(A(0), cf(0)), b_.CreateFCmpOEQ(A(1), cf(0)));
             r = b_.CreateSelect(zero, cf(0), b_.CreateFMul(A(0), A(1)));
             break;
         }
-        case Op::Div: r = b_.CreateFDiv(A(0), A(1)); break;
-        case Op::Neg: r = b_.CreateFNeg(A(0)); break;
-        case Op::Abs: r = intrinsic(llvm::Intrinsic::fabs, {A(0)}); break;
+        case Op::Div:
+            r = b_.CreateFDiv(A(0), A(1));
+            break;
+        case Op::Neg:
+            r = b_.CreateFNeg(A(0));
+            break;
+        case Op::Abs:
+            r = intrinsic(llvm::Intrinsic::fabs, {A(0)});
+            break;
         case Op::Sign:
             r = b_.CreateSelect(b_.CreateFCmpOGT(A(0), cf(0)), cf(1),
                                 b_.CreateSelect(b_.CreateFCmpOLT(A(0), cf(0)), cf(-1), cf(0)));
             break;
-        case Op::Floor: r = floorOf(A(0)); break;
-        case Op::Round: r = floorOf(b_.CreateFAdd(A(0), cf(0.5))); break;
-        case Op::Fract: r = b_.CreateFSub(A(0), floorOf(A(0))); break;
-        case Op::Mod: r = b_.CreateFSub(A(0), b_.CreateFMul(A(1), floorOf(b_.CreateFDiv(A(0), A(1))))); break;
-        case Op::Min: r = semMin(A(0), A(1)); break;
-        case Op::Max: r = semMax(A(0), A(1)); break;
-        case Op::Sqrt: r = intrinsic(llvm::Intrinsic::sqrt, {semMax(A(0), cf(0))}); break;
-        case Op::Exp: r = libm("expf", {A(0)}); break;
-        case Op::Log: r = libm("logf", {semMax(A(0), cf(ir::kTiny))}); break;
-        case Op::Pow: r = libm("powf", {A(0), A(1)}); break;
+        case Op::Floor:
+            r = floorOf(A(0));
+            break;
+        case Op::Round:
+            r = floorOf(b_.CreateFAdd(A(0), cf(0.5)));
+            break;
+        case Op::Fract:
+            r = b_.CreateFSub(A(0), floorOf(A(0)));
+            break;
+        case Op::Mod:
+            r = b_.CreateFSub(A(0), b_.CreateFMul(A(1), floorOf(b_.CreateFDiv(A(0), A(1)))));
+            break;
+        case Op::Min:
+            r = semMin(A(0), A(1));
+            break;
+        case Op::Max:
+            r = semMax(A(0), A(1));
+            break;
+        case Op::Sqrt:
+            r = intrinsic(llvm::Intrinsic::sqrt, {semMax(A(0), cf(0))});
+            break;
+        case Op::Exp:
+            r = libm("expf", {A(0)});
+            break;
+        case Op::Log:
+            r = libm("logf", {semMax(A(0), cf(ir::kTiny))});
+            break;
+        case Op::Pow:
+            r = libm("powf", {A(0), A(1)});
+            break;
         case Op::PowI: {
             // The same binary exponentiation as semPowI.
             int64_t n = inst.iimm;
@@ -221,30 +285,78 @@ private:
             r = acc ? acc : cf(1);
             break;
         }
-        case Op::Sin: r = libm("sinf", {A(0)}); break;
-        case Op::Cos: r = libm("cosf", {A(0)}); break;
-        case Op::Tan: r = libm("tanf", {A(0)}); break;
-        case Op::Asin: r = libm("asinf", {semMin(semMax(A(0), cf(-1)), cf(1))}); break;
-        case Op::Acos: r = libm("acosf", {semMin(semMax(A(0), cf(-1)), cf(1))}); break;
-        case Op::Atan: r = libm("atanf", {A(0)}); break;
-        case Op::Atan2: r = libm("atan2f", {A(0), A(1)}); break;
-        case Op::Hypot: r = hypot(A(0), A(1)); break;
-        case Op::Select: r = b_.CreateSelect(A(0), A(1), A(2)); break;
-        case Op::Lt: r = b_.CreateFCmpOLT(A(0), A(1)); break;
-        case Op::Le: r = b_.CreateFCmpOLE(A(0), A(1)); break;
-        case Op::Gt: r = b_.CreateFCmpOGT(A(0), A(1)); break;
-        case Op::Ge: r = b_.CreateFCmpOGE(A(0), A(1)); break;
-        case Op::Eq: r = b_.CreateFCmpOEQ(A(0), A(1)); break;
-        case Op::Ne: r = b_.CreateFCmpUNE(A(0), A(1)); break;
-        case Op::And: r = b_.CreateAnd(A(0), A(1)); break;
-        case Op::Or: r = b_.CreateOr(A(0), A(1)); break;
-        case Op::Not: r = b_.CreateNot(A(0)); break;
-        case Op::IAdd: r = b_.CreateAdd(A(0), A(1)); break;
-        case Op::ISub: r = b_.CreateSub(A(0), A(1)); break;
-        case Op::IMul: r = b_.CreateMul(A(0), A(1)); break;
-        case Op::ILt: r = b_.CreateICmpSLT(A(0), A(1)); break;
-        case Op::ILe: r = b_.CreateICmpSLE(A(0), A(1)); break;
-        case Op::IEq: r = b_.CreateICmpEQ(A(0), A(1)); break;
+        case Op::Sin:
+            r = libm("sinf", {A(0)});
+            break;
+        case Op::Cos:
+            r = libm("cosf", {A(0)});
+            break;
+        case Op::Tan:
+            r = libm("tanf", {A(0)});
+            break;
+        case Op::Asin:
+            r = libm("asinf", {semMin(semMax(A(0), cf(-1)), cf(1))});
+            break;
+        case Op::Acos:
+            r = libm("acosf", {semMin(semMax(A(0), cf(-1)), cf(1))});
+            break;
+        case Op::Atan:
+            r = libm("atanf", {A(0)});
+            break;
+        case Op::Atan2:
+            r = libm("atan2f", {A(0), A(1)});
+            break;
+        case Op::Hypot:
+            r = hypot(A(0), A(1));
+            break;
+        case Op::Select:
+            r = b_.CreateSelect(A(0), A(1), A(2));
+            break;
+        case Op::Lt:
+            r = b_.CreateFCmpOLT(A(0), A(1));
+            break;
+        case Op::Le:
+            r = b_.CreateFCmpOLE(A(0), A(1));
+            break;
+        case Op::Gt:
+            r = b_.CreateFCmpOGT(A(0), A(1));
+            break;
+        case Op::Ge:
+            r = b_.CreateFCmpOGE(A(0), A(1));
+            break;
+        case Op::Eq:
+            r = b_.CreateFCmpOEQ(A(0), A(1));
+            break;
+        case Op::Ne:
+            r = b_.CreateFCmpUNE(A(0), A(1));
+            break;
+        case Op::And:
+            r = b_.CreateAnd(A(0), A(1));
+            break;
+        case Op::Or:
+            r = b_.CreateOr(A(0), A(1));
+            break;
+        case Op::Not:
+            r = b_.CreateNot(A(0));
+            break;
+        case Op::IAdd:
+            r = b_.CreateAdd(A(0), A(1));
+            break;
+        case Op::ISub:
+            r = b_.CreateSub(A(0), A(1));
+            break;
+        case Op::IMul:
+            r = b_.CreateMul(A(0), A(1));
+            break;
+        case Op::ILt:
+            r = b_.CreateICmpSLT(A(0), A(1));
+            break;
+        case Op::ILe:
+            r = b_.CreateICmpSLE(A(0), A(1));
+            break;
+        case Op::IEq:
+            r = b_.CreateICmpEQ(A(0), A(1));
+            break;
         case Op::FToI: {
             const double lim = static_cast<double>(ir::kIntClamp);
             llvm::Value* f = semMin(semMax(floorOf(A(0)), cf(-lim)), cf(lim));
@@ -252,15 +364,22 @@ private:
                                 b_.CreateFPToSI(f, i32_));
             break;
         }
-        case Op::IToF: r = b_.CreateSIToFP(A(0), fTy_); break;
+        case Op::IToF:
+            r = b_.CreateSIToFP(A(0), fTy_);
+            break;
         case Op::Output: {
             llvm::Value* idx = b_.CreateAdd(pixelBase_, llvm::ConstantInt::get(i64_, inst.iimm));
             b_.CreateStore(A(0), b_.CreateGEP(fTy_, row_, idx));
             return;
         }
-        case Op::If: ifInst(inst); return;
-        case Op::Loop: loopInst(inst); return;
-        case Op::Yield: MOIRE_ICE("stray yield");
+        case Op::If:
+            ifInst(inst);
+            return;
+        case Op::Loop:
+            loopInst(inst);
+            return;
+        case Op::Yield:
+            MOIRE_ICE("stray yield");
         }
         MOIRE_CHECK(r, "LLVM: op '{}' produced nothing", ir::spelling(inst.op));
         vals_[inst.results[0]] = r;
@@ -336,7 +455,8 @@ private:
 
 } // namespace
 
-std::unique_ptr<llvm::Module> translate(const ir::Function& kernel, const std::string& name, llvm::LLVMContext& ctx) {
+std::unique_ptr<llvm::Module> translate(const ir::Function& kernel, const std::string& name,
+                                        llvm::LLVMContext& ctx) {
     auto m = std::make_unique<llvm::Module>(name, ctx);
     Translator(kernel, *m).run(name);
     return m;

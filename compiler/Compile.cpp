@@ -58,6 +58,7 @@ CompileResult compileScene(const std::string& path, std::string text,
     // 3. Lower to the scene function, then the ordered IR passes.
     lower::LowerOptions lowerOptions;
     lowerOptions.layerFields = options.layerFields;
+    lowerOptions.tally = options.tally;
     if (options.probe) {
         program->probeSlot = lowerOptions.probeSlot = static_cast<int>(program->literals.size());
         program->literals.push_back(0.0);

@@ -17,6 +17,7 @@ namespace moire {
 struct CompileOptions {
     bool layerFields = false; // the kernel also outputs each layer's index, distance and gradient
     bool probe = false;       // camera centre from literal slots probeSlot, probeSlot + 1
+    bool tally = false;       // count the walking solver's radius evaluations (interpreter)
 };
 
 // A compiled scene, with every intermediate stage kept for `moire compile --dump`.

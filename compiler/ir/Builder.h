@@ -52,6 +52,7 @@ class Builder {
     ValueId select(ValueId c, ValueId a, ValueId b) { return emit(Op::Select, {c, a, b}); }
     ValueId lt(ValueId a, ValueId b) { return emit(Op::Lt, {a, b}); }
     ValueId gt(ValueId a, ValueId b) { return emit(Op::Gt, {a, b}); }
+    ValueId le(ValueId a, ValueId b) { return emit(Op::Le, {a, b}); }
     ValueId powi(ValueId a, int64_t n) { return emit(Op::PowI, {a}, 0.0, n); }
 
     // Composite helpers, expanded into ops (so backends need nothing extra).

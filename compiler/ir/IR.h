@@ -47,6 +47,9 @@ inline bool isPure(Op op) {
     return opInfo(op).flags & flags::Pure;
 }
 
+// Counters a kernel can bump with `tally` (read back from the interpreter).
+constexpr int kMaxTallies = 4;
+
 using ValueId = uint32_t;
 using BlockId = uint32_t;
 constexpr ValueId kNoValue = UINT32_MAX;

@@ -36,6 +36,7 @@ enum class Kind {
     IToF,        // i -> f
     Control,     // if, loop, yield
     Sink,        // output
+    Counter,     // tally: counted by the interpreter, ignored by other backends
 };
 
 struct Entry {
@@ -76,6 +77,7 @@ inline const std::vector<Entry>& opTable() {
         {Op::FToI, Kind::FToI},         {Op::IToF, Kind::IToF},
         {Op::If, Kind::Control},        {Op::Loop, Kind::Control},
         {Op::Yield, Kind::Control},     {Op::Output, Kind::Sink},
+        {Op::Tally, Kind::Counter},
     };
     return table;
 }

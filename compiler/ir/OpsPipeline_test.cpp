@@ -80,6 +80,9 @@ ValueId sample(Builder& b, Op op, ValueId a, ValueId c) {
         return b.ifThenElse(
             b.lt(a, c), [&] { return std::vector<ValueId>{b.mul(a, c)}; },
             [&] { return std::vector<ValueId>{b.sub(b.emit(Op::Exp, {a}), c)}; })[0];
+    case Kind::Counter: // must survive every pass: the kernel keeps it
+        b.emitSink(Op::Tally, {}, 1);
+        return b.mul(b.sin(a), c);
     case Kind::Marker: // indep, deriv.x and deriv.y are in every scene built below
     case Kind::Sink:   // and so is output
         return b.mul(b.sin(a), c);

@@ -398,3 +398,29 @@ TEST_CASE("if, loop and yield run the same on every backend") {
         }
     }
 }
+
+TEST_CASE("ops: tally counts on the interpreter and costs nothing elsewhere") {
+    // A loop of 5 iterations with a tally in its body, and one more tally outside it.
+    Function f = build(1, [](Builder& b) {
+        auto res = b.loop(
+            {b.constF(0.0)}, [&](std::span<const ValueId> p) { return std::vector<ValueId>{b.lt(p[0], b.constF(5.0))}; },
+            [&](std::span<const ValueId> p) {
+                b.emitSink(Op::Tally, {}, 2);
+                return std::vector<ValueId>{b.add(p[0], b.constF(1.0))};
+            });
+        b.emitSink(Op::Tally, {}, 0);
+        b.output(0, res[0]);
+    });
+    optest::InterpInputs in;
+    CHECK(optest::interpret(f, in)[0] == 5.0);
+    CHECK(Interpreter::lastTally(2) == 5);
+    CHECK(Interpreter::lastTally(0) == 1);
+    CHECK(Interpreter::lastTally(1) == 0);
+    // A second run starts its counts again.
+    optest::interpret(f, in);
+    CHECK(Interpreter::lastTally(2) == 5);
+    for (auto& backend : optest::allBackends()) {
+        CAPTURE(backend->name());
+        CHECK(optest::runPixel(*backend->compile(passes::simplify(f)), {})[0] == 5.0f);
+    }
+}

@@ -32,6 +32,7 @@ void printInst(std::string& out, const Function& f, const Inst& inst, int depth)
     case Op::Param:
     case Op::Uniform:
     case Op::Output:
+    case Op::Tally:
         out += fmt::format(" [{}]", inst.iimm);
         break;
     case Op::PowI:

@@ -121,6 +121,10 @@ class Verifier {
             use(inst.args[0], Type::F);
             if (inst.iimm < 0 || inst.iimm >= f_.numOutputs) fail("output slot out of range");
             break;
+        case Op::Tally:
+            if (inst.iimm < 0 || inst.iimm >= kMaxTallies) fail("tally counter out of range");
+            if (!inst.results.empty()) fail("tally has a result");
+            break;
         case Op::Param:
         case Op::Uniform:
             // Fix: a negative slot was accepted, and the JIT reads uniforms[slot] unchecked.

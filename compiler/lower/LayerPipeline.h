@@ -14,8 +14,17 @@ namespace moire::lower {
 struct LayerFields {
     ir::ValueId index;        // fractional member index: member n is {index = n}
     ir::ValueId distance;     // world distance to the nearest member
-    ir::ValueId gradX, gradY; // the index gradient, per world unit
+    ir::ValueId gradX = ir::kNoValue, gradY = ir::kNoValue; // the index gradient, per world unit
+    // Family-specific diagnostics (the walking solver's certified interval), for tests.
+    ir::ValueId aux0 = ir::kNoValue, aux1 = ir::kNoValue;
 };
+
+// The stroke in world units: half-width h = max(t/2, 1.15 px) and antialias band
+// a = 0.7 px, where px is the world size of a pixel (Eq. 35).
+struct StrokeBand {
+    ir::ValueId h, a;
+};
+StrokeBand strokeBand(ir::Builder& b, ir::ValueId stroke, ir::ValueId pixel);
 
 // Members are the level sets {phi = n s + phase}. The index is (phi - phase) / s; the nearest
 // member is the rounded index (clamped to `first` when the family starts there), and the
@@ -25,11 +34,10 @@ struct LayerFields {
 LayerFields phaseFamilyFields(ir::Builder& b, ir::ValueId phi, ir::ValueId phase,
                               ir::ValueId spacing, std::optional<int> first);
 
-// Coverage of a stroke of thickness `stroke` at distance `d`, with the floor
-// h = max(t/2, 1.15 px) and band a = 0.7 px, where px is the world size of a pixel:
+// Coverage of the stroke at distance `d` (Eq. 4):
 // (1 - smoothstep(h - a, h + a, d)) * opacity * alpha, clamped to [0, 1], NaN read as 0.
-ir::ValueId strokeCoverage(ir::Builder& b, ir::ValueId d, ir::ValueId stroke, ir::ValueId pixel,
-                           ir::ValueId opacity, ir::ValueId alpha);
+ir::ValueId strokeCoverage(ir::Builder& b, ir::ValueId d, const StrokeBand& band, ir::ValueId opacity,
+                           ir::ValueId alpha);
 
 // Premultiplied RGBA accumulated from the background up.
 struct Ink {

@@ -2,8 +2,10 @@
 
 #include "compiler/diag/Diagnostics.h"
 #include "compiler/ir/Builder.h"
+#include "compiler/lower/LatticeFamily.h"
 #include "compiler/lower/LayerPipeline.h"
 #include "compiler/lower/LowerExpr.h"
+#include "compiler/lower/WalkingFamily.h"
 
 namespace moire::lower {
 
@@ -63,19 +65,24 @@ class SceneLowering {
 
         for (size_t i = 0; i < scene_.layers.size(); ++i) {
             const sema::CheckedLayer& layer = scene_.layers[i];
-            LayerFields fields = layerFields(layer);
             Vals color =
                 prop(layer, "color", {b_.constF(0), b_.constF(0), b_.constF(0), b_.constF(1)});
             ValueId stroke = prop(layer, "stroke", {b_.constF(1.0)})[0];
             ValueId opacity = prop(layer, "opacity", {b_.constF(1.0)})[0];
             b_.setLoc(layer.decl->range.begin);
-            ValueId cov = strokeCoverage(b_, fields.distance, stroke, pixel, opacity, color[3]);
+            StrokeBand band = strokeBand(b_, stroke, pixel);
+            LayerFields fields = layerFields(layer, band, layout.layerFields);
+            b_.setLoc(layer.decl->range.begin);
+            ValueId cov = strokeCoverage(b_, fields.distance, band, opacity, color[3]);
             acc = inkOver(b_, acc, color[0], color[1], color[2], cov);
             if (layout.layerFields) {
                 b_.output(layout.indexSlot(static_cast<int>(i)), fields.index);
                 b_.output(layout.distanceSlot(static_cast<int>(i)), fields.distance);
-                b_.output(layout.gradXSlot(static_cast<int>(i)), fields.gradX);
-                b_.output(layout.gradYSlot(static_cast<int>(i)), fields.gradY);
+                auto orZero = [&](ValueId v) { return v == ir::kNoValue ? b_.constF(0.0) : v; };
+                b_.output(layout.gradXSlot(static_cast<int>(i)), orZero(fields.gradX));
+                b_.output(layout.gradYSlot(static_cast<int>(i)), orZero(fields.gradY));
+                b_.output(layout.aux0Slot(static_cast<int>(i)), orZero(fields.aux0));
+                b_.output(layout.aux1Slot(static_cast<int>(i)), orZero(fields.aux1));
             }
         }
         Ink out = unpremultiply(b_, acc);
@@ -103,7 +110,8 @@ class SceneLowering {
         return e ? exprs_.lower(*e, world_) : fallback;
     }
 
-    LayerFields layerFields(const sema::CheckedLayer& layer) {
+    // The fields of one layer, by the kind of its family.
+    LayerFields layerFields(const sema::CheckedLayer& layer, const StrokeBand& band, bool wantIndex) {
         b_.setLoc(layer.decl->range.begin);
         ValueId spacing = prop(layer, "spacing", {b_.constF(10.0)})[0];
         ValueId phase = prop(layer, "phase", {b_.constF(0.0)})[0];
@@ -119,10 +127,9 @@ class SceneLowering {
         local.y = qy;
         local.spacing = spacing;
 
-        const Expr* phaseExpr = layer.anonymousPhase;
-        std::optional<int> first;
-        if (layer.family) {
-            const Decl& fam = *layer.family->decl;
+        const sema::CheckedFamily* family = layer.family;
+        if (family) {
+            const Decl& fam = *family->decl;
             local.family = &fam;
             for (size_t i = 0; i < fam.params.size(); ++i) {
                 const Expr* value =
@@ -130,14 +137,57 @@ class SceneLowering {
                 MOIRE_CHECK(value, "missing family argument survived checking");
                 local.params.push_back(exprs_.lower(*value, world_));
             }
-            for (const Let& l : fam.lets) local.lets.push_back(exprs_.lower(*l.value, local));
-            phaseExpr = layer.family->phase;
-            first = layer.family->first;
         }
+        // The family's expressions at another point of its frame: a fresh frame with the same
+        // parameters, its lets lowered anew (they may use x and y).
+        auto at = [&](ValueId x, ValueId y) {
+            Frame f;
+            f.x = x;
+            f.y = y;
+            f.spacing = spacing;
+            f.family = local.family;
+            f.params = local.params;
+            if (family)
+                for (const Let& l : family->decl->lets) f.lets.push_back(exprs_.lower(*l.value, f));
+            return f;
+        };
+
+        if (family && family->kind == sema::FamilyKind::Builtin) {
+            LatticeInputs in{qx, qy, spacing, local.params.at(0), local.params.at(1)[0]};
+            return latticeFields(b_, latticeKind(family->decl->name), in);
+        }
+        Frame here = at(qx, qy);
+        if (family && family->kind == sema::FamilyKind::Distance) {
+            LayerFields out;
+            out.distance = exprs_.scalar(*family->distance, here);
+            out.index = family->index ? exprs_.scalar(*family->index, here) : b_.constF(0.0);
+            return out;
+        }
+        if (layer.walking) {
+            WalkingInputs in;
+            in.px = qx;
+            in.py = qy;
+            in.spacing = spacing;
+            in.phase = phase;
+            Vals offset = prop(layer, "offset", {b_.constF(0.0), b_.constF(0.0)});
+            in.offsetX = offset[0];
+            in.offsetY = offset[1];
+            in.turn = prop(layer, "turn", {b_.constF(0.0)})[0];
+            in.facets = exprs_.scalar(*family->facets, here);
+            in.band = band;
+            in.wantIndex = wantIndex;
+            in.tally = options_.tally;
+            RadiusFn rho = [&](ir::Builder&, ValueId x, ValueId y) {
+                Frame f = at(x, y);
+                return exprs_.scalar(*family->phase, f);
+            };
+            return walkingFamilyFields(b_, in, rho);
+        }
+        const Expr* phaseExpr = family ? family->phase : layer.anonymousPhase;
         MOIRE_CHECK(phaseExpr, "layer without a phase survived checking");
-        ValueId phi = exprs_.scalar(*phaseExpr, local);
+        ValueId phi = exprs_.scalar(*phaseExpr, here);
         b_.setLoc(layer.decl->range.begin);
-        return phaseFamilyFields(b_, phi, phase, spacing, first);
+        return phaseFamilyFields(b_, phi, phase, spacing, family ? family->first : std::nullopt);
     }
 
     const sema::CheckedScene& scene_;

@@ -14,6 +14,9 @@ struct LowerOptions {
     // Probe mode: the camera centre is read from two literal slots appended to the table
     // (`probeSlot`), so that the pixel of a 1x1 image sits on any chosen world point.
     int probeSlot = -1;
+    // Count the walking solver's radius evaluations with `tally` (the interpreter's
+    // counting mode, for benchmarks).
+    bool tally = false;
 };
 
 // Where things are in the scene function's outputs.
@@ -25,11 +28,14 @@ struct OutputLayout {
     static constexpr int kSettingHeight = 1;
     static constexpr int kSettingZoom = 2;
     static constexpr int kNumSettings = 3;
-    static constexpr int kFieldsPerLayer = 4;
+    static constexpr int kFieldsPerLayer = 6;
     int indexSlot(int layer) const { return 4 + kFieldsPerLayer * layer; }
     int distanceSlot(int layer) const { return indexSlot(layer) + 1; }
     int gradXSlot(int layer) const { return indexSlot(layer) + 2; }
     int gradYSlot(int layer) const { return indexSlot(layer) + 3; }
+    // Family diagnostics: the walking solver's certified interval [n_lo, n_hi].
+    int aux0Slot(int layer) const { return indexSlot(layer) + 4; }
+    int aux1Slot(int layer) const { return indexSlot(layer) + 5; }
 };
 
 constexpr int kDefaultWidth = 1200;

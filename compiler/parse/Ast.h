@@ -102,6 +102,7 @@ struct Decl {
     std::vector<Let> lets;           // family body, in order
     std::vector<Property> props;     // scene, camera, layer, family body
     ExprPtr value;                   // field
+    bool builtin = false;            // family implemented by the compiler (stdlib only)
 
     const Property* prop(std::string_view n) const {
         for (const Property& p : props)

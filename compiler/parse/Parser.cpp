@@ -150,6 +150,19 @@ DeclPtr Parser::parseDecl() {
     SourceRange kw = range();
     std::string word = at(Tok::Ident) ? std::string(lexer_.spelling(tok_)) : std::string();
     DeclKind kind;
+    // `builtin family name(params)`: a family the compiler implements in IR-building code
+    // (the lattices). Only the standard library declares them.
+    bool builtin = false;
+    if (word == "builtin" && isStdlib_) {
+        builtin = true;
+        advance();
+        word = at(Tok::Ident) ? std::string(lexer_.spelling(tok_)) : std::string();
+        if (word != "family") {
+            diags_.error(range(), Msg::Expected, "'family' after 'builtin'", describeCurrent());
+            recoverTo(false);
+            return nullptr;
+        }
+    }
     if (word == "scene")
         kind = DeclKind::Scene;
     else if (word == "camera")
@@ -197,6 +210,7 @@ DeclPtr Parser::parseDecl() {
         accept(Tok::Semi);
         break;
     case DeclKind::Family:
+        d->builtin = builtin;
         parseFamily(*d);
         break;
     default:
@@ -260,6 +274,7 @@ void Parser::parseFamily(Decl& d) {
             return;
         }
     }
+    if (d.builtin) return; // no body: the compiler provides it
     if (accept(Tok::Assign)) {
         // Shorthand: family name(params) = phase-expression
         Property p;

@@ -54,7 +54,7 @@ bool isFrameLeaf(Op op) {
 }
 
 bool instVarying(const Inst& inst, const std::vector<bool>& varying) {
-    if (isPixelInput(inst.op)) return true;
+    if (isPixelInput(inst.op) || inst.op == Op::Tally) return true; // a tally counts per pixel
     for (ValueId r : inst.results)
         if (varying[r]) return true;
     for (ValueId a : inst.args)

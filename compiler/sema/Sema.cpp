@@ -43,6 +43,9 @@ const std::vector<PropertySpec>& layerProperties() {
         {"origin", Type::Vec2, false, false, "where the family's (0, 0) sits; default (0, 0)"},
         {"rotation", Type::Angle, false, false,
          "turn of the family about its origin; default 0deg"},
+        {"offset", Type::Vec2, false, false,
+         "walking families: member n is moved by n * offset (turned with it); default (0, 0)"},
+        {"turn", Type::Angle, false, false, "walking families: member n is turned by n * turn; default 0deg"},
     };
     return props;
 }
@@ -191,10 +194,16 @@ void Checker::checkFamily(Decl& f) {
             continue;
         }
         props[p.name] = &p;
-        if (p.name == "phase") {
+        if (p.name == "phase" || p.name == "distance" || p.name == "index") {
             checkExpr(*p.value, scope);
-            expectType(*p.value, Type::Num, "the phase");
-            cf.phase = p.value.get();
+            expectType(*p.value, Type::Num, p.name == "phase" ? "the phase" : "the " + p.name);
+            (p.name == "phase" ? cf.phase : p.name == "distance" ? cf.distance : cf.index) = p.value.get();
+        } else if (p.name == "facets") {
+            // Usually a whole number from the family's parameters; the walking solver copes
+            // with any value (fractional counts fall through to its scan).
+            checkExpr(*p.value, scope);
+            expectType(*p.value, Type::Num, "'facets'");
+            cf.facets = p.value.get();
         } else if (p.name == "first") {
             checkExpr(*p.value, scope);
             const Expr* e = p.value.get();
@@ -211,13 +220,31 @@ void Checker::checkFamily(Decl& f) {
             }
         } else {
             // `w = 2` in a family body is most likely a value meant to be named.
-            std::string hint = didYouMean(p.name, {"phase", "first"});
+            std::string hint = didYouMean(p.name, {"phase", "first", "facets", "distance", "index"});
             if (hint.empty()) hint = fmt::format("; to name a value, write: let {} = ...", p.name);
             diags_.error(p.nameRange, Msg::UnknownProperty, p.name,
-                         "a family (its properties are phase and first)", hint);
+                         "a family (its properties are phase, first, facets, distance and index)",
+                         hint);
         }
     }
-    if (!cf.phase) diags_.error(f.nameRange, Msg::FamilyNeedsPhase, f.name);
+    if (f.builtin) {
+        cf.kind = FamilyKind::Builtin;
+        return;
+    }
+    if (cf.phase && cf.distance) {
+        diags_.error(props["distance"]->nameRange, Msg::FamilyPhaseAndDistance);
+        diags_.note(props["phase"]->nameRange, Msg::FirstSeenHere);
+    } else if (cf.distance) {
+        cf.kind = FamilyKind::Distance;
+        for (const char* phaseOnly : {"first", "facets"})
+            if (props.count(phaseOnly))
+                diags_.error(props[phaseOnly]->nameRange, Msg::PropertyNeedsKind, phaseOnly, "phase");
+    } else if (cf.phase) {
+        if (props.count("index"))
+            diags_.error(props["index"]->nameRange, Msg::PropertyNeedsKind, "index", "distance");
+    } else {
+        diags_.error(f.nameRange, Msg::FamilyNeedsPhase, f.name);
+    }
 }
 
 const PropertySpec* Checker::findSpec(const std::vector<PropertySpec>& specs,
@@ -329,6 +356,16 @@ void Checker::checkLayer(Decl& d) {
             diags_.error(p.nameRange, Msg::UnknownProperty, p.name, owner,
                          didYouMean(p.name, allowed));
         }
+    }
+    // Walking moves each member in its own frame, which only a support-function phase
+    // (a family with facets) has.
+    for (const char* walk : {"offset", "turn"}) {
+        const Property* p = d.prop(walk);
+        if (!p) continue;
+        layer.walking = true;
+        if (fam && !(layer.family && layer.family->facets))
+            diags_.error(p->nameRange, Msg::NotWalkable, walk,
+                         familyDecl ? fmt::format("'{}'", familyDecl->name) : std::string("this layer's family"));
     }
     if (familyDecl) {
         for (size_t i = 0; i < familyDecl->params.size(); ++i)

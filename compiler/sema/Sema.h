@@ -12,16 +12,31 @@
 
 namespace moire::sema {
 
+// How a family defines its members.
+enum class FamilyKind {
+    Phase,    // members are the level sets {phase = n * spacing + offset}
+    Distance, // the family gives its distance (and index) fields directly
+    Builtin,  // the compiler builds the fields (lattices)
+};
+
 struct CheckedFamily {
     const ast::Decl* decl = nullptr;
+    FamilyKind kind = FamilyKind::Phase;
     const ast::Expr* phase = nullptr;
     std::optional<int> first; // lowest member index, when the family excludes some
+    // The phase is the support function of a regular polygon with this many facets, the
+    // first facing +x (0: a circle). Such a family can walk: each member moved by n * offset
+    // and turned by n * turn (the walking solver).
+    const ast::Expr* facets = nullptr;
+    const ast::Expr* distance = nullptr; // Distance families
+    const ast::Expr* index = nullptr;    // Distance families; null: 0
 };
 
 struct CheckedLayer {
     const ast::Decl* decl = nullptr;
     const CheckedFamily* family = nullptr;     // a named family, or null
     const ast::Expr* anonymousPhase = nullptr; // `family = <expression>`
+    bool walking = false; // sets offset or turn: its members are found by the walking solver
     // One entry per parameter of the family: the layer's value, or null for the default.
     std::vector<const ast::Expr*> args;
     const ast::Expr* prop(std::string_view name) const {

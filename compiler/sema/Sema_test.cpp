@@ -304,13 +304,13 @@ TEST_CASE("sema: layers and families need what they need") {
                                       "it in the layer, as in: radius = 1");
     ok("family ring(radius) = abs(r - radius)\nlayer { family = ring; radius = 20 }");
     CHECK(error("family blank { first = 1 }", Msg::FamilyNeedsPhase) ==
-          "family 'blank' has no phase; add one, as in: phase = r");
+          "family 'blank' has no phase or distance; add one, as in: phase = r");
     error("family f { phase = r; first = 0.5 }", Msg::FirstNotInteger);
     error("family f { phase = r; first = x }", Msg::FirstNotInteger);
     Checked negative = ok("family f { phase = r; first = -2 }");
     CHECK(negative.scene.families.at(&negative.decl("f")).first == -2);
     CHECK(error("family f { phase = r; w = 2 }", Msg::UnknownProperty) ==
-          "'w' is not a property of a family (its properties are phase and first); to name a "
+          "'w' is not a property of a family (its properties are phase, first, facets, distance and index); to name a "
           "value, write: let w = ...");
     CHECK(error("scene { sise = (1, 2) }", Msg::UnknownProperty) ==
           "'sise' is not a property of the scene; did you mean 'size'?");

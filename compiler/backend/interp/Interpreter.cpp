@@ -12,10 +12,15 @@ using ir::Op;
 
 namespace {
 thread_local uint64_t tOpCount = 0;
+thread_local uint64_t tTallies[ir::kMaxTallies] = {};
 }
 
 uint64_t Interpreter::lastOpCount() {
     return tOpCount;
+}
+
+uint64_t Interpreter::lastTally(int counter) {
+    return counter >= 0 && counter < ir::kMaxTallies ? tTallies[counter] : 0;
 }
 
 Interpreter::Interpreter(const ir::Function& f)
@@ -58,6 +63,7 @@ Interpreter::Interpreter(const ir::Function& f)
 void Interpreter::run(const InterpEnv& env, std::vector<double>& regs) const {
     if (regs.size() < numValues_) regs.resize(numValues_);
     tOpCount = 0;
+    std::fill(std::begin(tTallies), std::end(tTallies), 0);
     runBlock(0, env, regs.data());
 }
 
@@ -162,6 +168,9 @@ void Interpreter::runBlock(uint32_t id, const InterpEnv& env, double* r) const {
         case Op::Output:
             MOIRE_CHECK(p.iimm < numOutputs_, "output slot");
             env.outputs[p.iimm] = r[p.a];
+            break;
+        case Op::Tally:
+            ++tTallies[p.iimm];
             break;
         case Op::If: {
             uint32_t region = r[argPool_[p.firstArg]] != 0.0 ? p.region0 : p.region1;

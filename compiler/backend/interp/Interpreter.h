@@ -31,6 +31,8 @@ class Interpreter {
     size_t numValues() const { return numValues_; }
     // Number of instructions executed by the most recent run on this thread.
     static uint64_t lastOpCount();
+    // How many times `tally [counter]` ran in the most recent run on this thread.
+    static uint64_t lastTally(int counter);
 
   private:
     struct PInst {

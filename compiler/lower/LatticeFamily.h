@@ -1,0 +1,35 @@
+// The lattice families (spec §3.6): points indexed by two integers, found by rounding in the
+// lattice basis (cube rounding for the A2 lattices), with a distance either to the nearest
+// point or to the nearest edge of its cell, under an anisotropic scale that keeps strokes
+// metrically correct. Built once as IR, so every backend runs the same maths.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "compiler/ir/Builder.h"
+#include "compiler/lower/LayerPipeline.h"
+
+namespace moire::lower {
+
+enum class LatticeKind {
+    Square,   // square_lattice: points on a square grid; cells are squares
+    Triangle, // triangle_lattice: the A2 lattice; edges are the triangles' sides
+    Hex,      // hex_lattice: a honeycomb; points are the hexagons' corners, edges their sides
+};
+
+// The kind named by a builtin family of the standard library (square_lattice, ...).
+LatticeKind latticeKind(const std::string& familyName);
+
+struct LatticeInputs {
+    ir::ValueId px, py;              // the point, in the layer's frame
+    ir::ValueId spacing;             // distance between neighbouring points
+    std::vector<ir::ValueId> scale;  // (sx, sy): the lattice stretched along x and y
+    ir::ValueId edges;               // 0: distance to the points; otherwise to the edges
+};
+
+// distance: to the nearest point or edge; index: the first of the point's two integer
+// coordinates; aux0: the second.
+LayerFields latticeFields(ir::Builder& b, LatticeKind kind, const LatticeInputs& in);
+
+} // namespace moire::lower

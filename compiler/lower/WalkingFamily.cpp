@@ -1,0 +1,284 @@
+#include "compiler/lower/WalkingFamily.h"
+
+#include <limits>
+#include <numbers>
+
+namespace moire::lower {
+
+using ir::Op;
+using ir::ValueId;
+using Vals = std::vector<ValueId>;
+
+namespace {
+
+// A distance no member reaches: larger than any guard, finite in single precision.
+constexpr double kFar = 1e30;
+// The argmin recorded for the flat tail of a marginal drift, which no finite index attains.
+constexpr double kFarIndex = 1e7;
+
+class Solver {
+  public:
+    Solver(ir::Builder& b, const WalkingInputs& in, const RadiusFn& rho) : b_(b), in_(in), rho_(rho) {}
+
+    LayerFields run() {
+        setUp();
+        // The cheapest method that is exact for these parameters (§7.5). The conditions
+        // depend on layer parameters only, so each pixel of a layer takes the same branch.
+        Vals found = b_.ifThenElse(
+            still_, [&] { return concentric(); },
+            [&] {
+                return b_.ifThenElse(
+                    quadratic_, [&] { return translatedCircle(); },
+                    [&] {
+                        return b_.ifThenElse(
+                            closedPolygon_, [&] { return translatedPolygon(); }, [&] { return scan(); });
+                    });
+            });
+        LayerFields out;
+        out.distance = b_.min(found[0], guard_);
+        out.index = in_.wantIndex ? searchedIndex(found[1]) : found[1];
+        out.aux0 = nLo_;
+        out.aux1 = nHiRaw_;
+        return out;
+    }
+
+  private:
+    ValueId c(double v) { return b_.constF(v); }
+    ValueId both(ValueId a, ValueId b) { return b_.emit(Op::And, {a, b}); }
+    ValueId eq(ValueId a, ValueId b) { return b_.emit(Op::Eq, {a, b}); }
+    ValueId ceil(ValueId v) { return b_.neg(b_.floor(b_.neg(v))); }
+
+    ValueId radius(ValueId qx, ValueId qy) {
+        if (in_.tally) b_.emitSink(Op::Tally, {}, kRadiusTally);
+        return rho_(b_, qx, qy);
+    }
+    // Rot(-angle) p: the point in the frame of a member turned by `angle`.
+    std::pair<ValueId, ValueId> unturn(ValueId angle) {
+        ValueId cs = b_.cos(angle), sn = b_.sin(angle);
+        return {b_.add(b_.mul(cs, in_.px), b_.mul(sn, in_.py)), b_.sub(b_.mul(cs, in_.py), b_.mul(sn, in_.px))};
+    }
+    // The signed residual h_p(n) = rho(Rot(-n theta) p - n delta) - (n s + phase) (Eq. 24).
+    ValueId residual(ValueId n) {
+        auto [qx, qy] = unturn(b_.mul(n, in_.turn));
+        return residualAt(n, qx, qy);
+    }
+    // The same, with the turned point Rot(-n theta) p given.
+    ValueId residualAt(ValueId n, ValueId turnedX, ValueId turnedY) {
+        ValueId qx = b_.sub(turnedX, b_.mul(n, in_.offsetX));
+        ValueId qy = b_.sub(turnedY, b_.mul(n, in_.offsetY));
+        return b_.sub(radius(qx, qy), b_.add(b_.mul(n, s_), in_.phase));
+    }
+    // Folds |h_p(n)| at one more index into (best, argmin). NaN candidates never win.
+    void consider(ValueId& best, ValueId& argmin, ValueId n, ValueId value) {
+        ValueId v = b_.abs(value);
+        ValueId better = b_.lt(v, best);
+        best = b_.select(better, v, best);
+        argmin = b_.select(better, n, argmin);
+    }
+    ValueId member(ValueId n) { return b_.max(n, c(0.0)); } // members start at n = 0
+
+    void setUp() {
+        s_ = b_.max(in_.spacing, c(1e-6));
+        ValueId reach = b_.add(in_.band.h, in_.band.a);
+        // The guard (Eq. 26): any distance past it draws nothing, so the search may stop there.
+        guard_ = b_.max(reach, b_.mul(s_, c(in_.flankGuard ? 1.0 : 0.75)));
+        accept_ = b_.sub(in_.band.h, in_.band.a); // fully inked below this: stop early
+        r_ = b_.hypot(in_.px, in_.py);
+        len_ = b_.hypot(in_.offsetX, in_.offsetY);
+        round_ = eq(in_.facets, c(0.0));
+        // The drift constant m = rho(-delta) (Eq. 29): how fast member n outruns its radius.
+        drift_ = rho_(b_, b_.neg(in_.offsetX), b_.neg(in_.offsetY));
+        // kappa = cos(pi / N), the inradius of the shape's normals (Eq. 21); 1 for a circle.
+        ValueId sides = b_.max(in_.facets, c(2.0));
+        kappa_ = b_.select(round_, c(1.0), b_.cos(b_.div(c(std::numbers::pi), sides)));
+
+        ValueId noOffset = eq(len_, c(0.0));
+        ValueId noTurn = eq(in_.turn, c(0.0));
+        still_ = both(noOffset, b_.emit(Op::Or, {noTurn, round_}));
+        quadratic_ = both(round_, noTurn);
+        ValueId whole = both(eq(in_.facets, b_.floor(in_.facets)),
+                             both(b_.emit(Op::Ge, {in_.facets, c(3.0)}), b_.emit(Op::Le, {in_.facets, c(kWalkMaxFacets)})));
+        closedPolygon_ = both(both(b_.emit(Op::Not, {round_}), noTurn),
+                              both(whole, b_.emit(Op::Le, {drift_, b_.add(s_, c(kWalkMarginal))})));
+
+        // Theorem 4's interval, with the per-branch upper bounds of §7.6.
+        ValueId kr = b_.mul(kappa_, r_);
+        nLo_ = member(b_.floor(b_.div(b_.sub(b_.sub(kr, in_.phase), guard_), b_.add(s_, b_.mul(kappa_, len_)))));
+        ValueId gap = b_.sub(s_, drift_);
+        ValueId slower = b_.div(b_.add(b_.sub(r_, in_.phase), guard_), gap);          // m < s
+        ValueId faster = b_.div(b_.add(b_.add(r_, in_.phase), guard_), b_.neg(gap)); // m > s
+        nHiRaw_ = ceil(b_.select(b_.gt(gap, c(0.0)), slower,
+                                 b_.select(b_.lt(gap, c(0.0)), faster, c(kFar))));
+    }
+
+    // delta = 0, and no turn (or a circle, which turning leaves alone): h_p is affine in n,
+    // one evaluation and a rounding.
+    Vals concentric() {
+        ValueId v = b_.sub(radius(in_.px, in_.py), in_.phase);
+        ValueId n = member(b_.round(b_.div(v, s_)));
+        return {b_.abs(b_.sub(v, b_.mul(n, s_))), n};
+    }
+
+    // A translated circle (turn 0): |p - n delta| = n s + phase is a quadratic in n, and h_p
+    // is convex, so |h_p| is least next to one of its zeros, at n = 0, or (when it has no
+    // zero) next to its vertex; at the marginal drift it tends to a constant.
+    Vals translatedCircle() {
+        ValueId a = b_.sub(b_.mul(len_, len_), b_.mul(s_, s_));              // L^2 - s^2
+        ValueId pd = b_.add(b_.mul(in_.px, in_.offsetX), b_.mul(in_.py, in_.offsetY)); // p . delta
+        ValueId half = b_.add(pd, b_.mul(s_, in_.phase));                    // A n^2 - 2 half n + C
+        ValueId cc = b_.sub(b_.mul(r_, r_), b_.mul(in_.phase, in_.phase));
+        ValueId disc = b_.sub(b_.mul(half, half), b_.mul(a, cc));
+        // Roots in the cancellation-free form: q = half + sign(half) sqrt(disc), t = q / A, C / q.
+        ValueId sgn = b_.select(b_.lt(half, c(0.0)), c(-1.0), c(1.0));
+        ValueId q = b_.add(half, b_.mul(sgn, b_.sqrt(disc)));
+        ValueId nan = c(std::numeric_limits<double>::quiet_NaN());
+        ValueId real = b_.emit(Op::Ge, {disc, c(0.0)});
+        ValueId t1 = b_.select(real, b_.div(q, a), nan);
+        ValueId t2 = b_.select(real, b_.div(cc, q), nan);
+        // The vertex of h_p, where it has a minimum (only when L > s).
+        ValueId w = b_.sqrt(b_.sub(b_.mul(b_.mul(r_, r_), b_.mul(len_, len_)), b_.mul(pd, pd)));
+        ValueId l2 = b_.mul(len_, len_);
+        ValueId tv = b_.add(b_.div(pd, l2), b_.div(b_.mul(s_, w), b_.mul(l2, b_.sqrt(a))));
+        ValueId vertex = b_.select(b_.gt(a, c(0.0)), tv, nan);
+
+        ValueId best = c(kFar), argmin = c(0.0);
+        consider(best, argmin, c(0.0), residualAt(c(0.0), in_.px, in_.py));
+        for (ValueId t : {t1, t2, vertex}) {
+            ValueId lo = member(b_.floor(t));
+            consider(best, argmin, lo, residualAt(lo, in_.px, in_.py));
+            ValueId hi = b_.add(lo, c(1.0));
+            consider(best, argmin, hi, residualAt(hi, in_.px, in_.py));
+        }
+        // Marginal drift: h_p tends to -(p . delta) / L - phase along the far members.
+        ValueId marginal = b_.le(b_.abs(b_.sub(len_, s_)), c(kWalkMarginal));
+        ValueId flat = b_.select(marginal, b_.sub(b_.neg(b_.div(pd, len_)), in_.phase), nan);
+        consider(best, argmin, c(kFarIndex), flat);
+        return {best, argmin};
+    }
+
+    // A translated polygon with a whole number of facets and drift m <= s (Proposition 6):
+    // h_p is convex and piecewise linear, one piece per facet, so its zero is one of the N
+    // facet solves; at the marginal drift the leading facet's piece is flat.
+    Vals translatedPolygon() {
+        ValueId rp = radius(in_.px, in_.py);
+        ValueId inside = b_.lt(rp, in_.phase);
+        return b_.ifThenElse(
+            inside, [&] { return Vals{b_.sub(in_.phase, rp), c(0.0)}; },
+            [&] {
+                ValueId step = b_.div(c(2.0 * std::numbers::pi), in_.facets);
+                ValueId cs = b_.cos(step), sn = b_.sin(step);
+                // Carried: facet k, its normal u_k (rotated by 2 pi / N each step), the best
+                // candidate, and the largest a_k among facets whose slope vanishes.
+                Vals init = {c(0.0), c(1.0), c(0.0), c(kFar), c(0.0), c(-kFar)};
+                Vals res = b_.loop(
+                    init, [&](std::span<const ValueId> v) { return Vals{b_.lt(v[0], in_.facets)}; },
+                    [&](std::span<const ValueId> v) {
+                        ValueId k = v[0], ux = v[1], uy = v[2], best = v[3], argmin = v[4], flatA = v[5];
+                        ValueId ak = b_.add(b_.mul(in_.px, ux), b_.mul(in_.py, uy));
+                        ValueId bk = b_.add(b_.mul(in_.offsetX, ux), b_.mul(in_.offsetY, uy));
+                        ValueId slope = b_.add(s_, bk); // -(slope of this facet's piece)
+                        ValueId solves = b_.gt(slope, c(kWalkMarginal));
+                        ValueId nk = b_.div(b_.sub(ak, in_.phase), slope);
+                        ValueId lo = member(b_.floor(nk));
+                        ValueId hi = b_.add(lo, c(1.0));
+                        ValueId nan = c(std::numeric_limits<double>::quiet_NaN());
+                        consider(best, argmin, lo, b_.select(solves, residualAt(lo, in_.px, in_.py), nan));
+                        consider(best, argmin, hi, b_.select(solves, residualAt(hi, in_.px, in_.py), nan));
+                        flatA = b_.select(solves, flatA, b_.max(flatA, ak));
+                        return Vals{b_.add(k, c(1.0)), b_.sub(b_.mul(cs, ux), b_.mul(sn, uy)),
+                                    b_.add(b_.mul(sn, ux), b_.mul(cs, uy)), best, argmin, flatA};
+                    });
+                ValueId best = res[3], argmin = res[4];
+                // The flat tail: every far member sits at exactly a_k* - phase (case 2).
+                ValueId flat = b_.select(b_.gt(res[5], c(-kFar)), b_.sub(res[5], in_.phase),
+                                         c(std::numeric_limits<double>::quiet_NaN()));
+                consider(best, argmin, c(kFarIndex), flat);
+                return Vals{best, argmin};
+            });
+    }
+
+    // Algorithm 1: walk the certified interval, skipping by the Lipschitz bound, with a
+    // power-of-two stride anchored to the global index lattice when the interval is wider
+    // than the budget.
+    Vals scan() {
+        ValueId nHi = b_.min(nHiRaw_, b_.add(nLo_, c(kWalkSpanCap - 1.0)));
+        ValueId span = b_.add(b_.sub(nHi, nLo_), c(1.0));
+        // Lipschitz constant of h_p in n (Lemma 5).
+        ValueId lambda = b_.add(b_.add(s_, len_), b_.mul(b_.abs(in_.turn), r_));
+        // The stride: the least power of two that fits the interval into the budget.
+        ValueId stride = b_.loop(
+            {c(1.0)},
+            [&](std::span<const ValueId> v) { return Vals{b_.lt(b_.mul(v[0], c(kWalkBudget)), span)}; },
+            [&](std::span<const ValueId> v) { return Vals{b_.mul(v[0], c(2.0))}; })[0];
+        // Anchored to multiples of the stride, not to n_lo: neighbouring pixels then sample
+        // the same members (§9.6).
+        ValueId start = b_.mul(stride, ceil(b_.div(nLo_, stride)));
+        auto [p0x, p0y] = unturn(b_.mul(start, in_.turn));
+        ValueId strideTurn = b_.mul(stride, in_.turn);
+        ValueId cs = b_.cos(strideTurn), sn = b_.sin(strideTurn);
+
+        // Carried: iteration, n, best, argmin, Rot(-n theta) p, steps since the last anchor.
+        Vals init = {c(0.0), start, c(kFar), start, p0x, p0y, c(0.0)};
+        Vals res = b_.loop(
+            init,
+            [&](std::span<const ValueId> v) {
+                ValueId going = both(b_.lt(v[0], c(kWalkBudget)), b_.le(v[1], nHi));
+                return Vals{both(going, b_.gt(v[2], accept_))};
+            },
+            [&](std::span<const ValueId> v) {
+                ValueId iter = v[0], n = v[1], best = v[2], argmin = v[3], tx = v[4], ty = v[5], steps = v[6];
+                ValueId value = b_.abs(residualAt(n, tx, ty));
+                ValueId better = b_.lt(value, best);
+                best = b_.select(better, value, best);
+                argmin = b_.select(better, n, argmin);
+                // No index within (value - min(best, G)) / Lambda of n can come under the guard
+                // or beat the best: skip them, in whole strides.
+                ValueId skip = b_.add(b_.floor(b_.div(b_.sub(value, b_.min(best, guard_)), lambda)), c(1.0));
+                ValueId jump = b_.mul(stride, b_.max(c(1.0), ceil(b_.div(skip, stride))));
+                ValueId next = b_.add(n, jump);
+                // One stride: advance the carried rotation by angle addition; a longer jump,
+                // or every kWalkReanchor steps, takes a fresh cosine and sine instead.
+                ValueId carry = both(eq(jump, stride), b_.lt(steps, c(kWalkReanchor)));
+                Vals turned = b_.ifThenElse(
+                    carry,
+                    [&] {
+                        return Vals{b_.add(b_.mul(cs, tx), b_.mul(sn, ty)), b_.sub(b_.mul(cs, ty), b_.mul(sn, tx)),
+                                    b_.add(steps, c(1.0))};
+                    },
+                    [&] {
+                        auto [ax, ay] = unturn(b_.mul(next, in_.turn));
+                        return Vals{ax, ay, c(0.0)};
+                    });
+                return Vals{b_.add(iter, c(1.0)), next, best, argmin, turned[0], turned[1], turned[2]};
+            });
+        return {res[2], res[3]};
+    }
+
+    // The searched index field of §4.1: the nearest index plus the fractional residual
+    // h(n*) / (h(n*) - h(n* + 1)) (or towards n* - 1 inside member n*).
+    ValueId searchedIndex(ValueId argmin) {
+        ValueId n = b_.min(argmin, c(kFarIndex));
+        ValueId h0 = residual(n);
+        ValueId outside = b_.emit(Op::Ge, {h0, c(0.0)});
+        ValueId neighbour = member(b_.select(outside, b_.add(n, c(1.0)), b_.sub(n, c(1.0))));
+        ValueId h1 = residual(neighbour);
+        ValueId frac = b_.select(outside, b_.div(h0, b_.sub(h0, h1)), b_.div(h0, b_.sub(h1, h0)));
+        ValueId usable = b_.emit(Op::Ne, {neighbour, n});
+        return b_.add(n, b_.select(usable, frac, b_.div(h0, s_)));
+    }
+
+    ir::Builder& b_;
+    const WalkingInputs& in_;
+    const RadiusFn& rho_;
+    ValueId s_, guard_, accept_, r_, len_, round_, drift_, kappa_;
+    ValueId still_, quadratic_, closedPolygon_;
+    ValueId nLo_, nHiRaw_;
+};
+
+} // namespace
+
+LayerFields walkingFamilyFields(ir::Builder& b, const WalkingInputs& in, const RadiusFn& rho) {
+    return Solver(b, in, rho).run();
+}
+
+} // namespace moire::lower

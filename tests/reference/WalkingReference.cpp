@@ -1,0 +1,58 @@
+#include "tests/reference/WalkingReference.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+namespace moire::reference {
+
+double radius(int facets, double qx, double qy) {
+    if (facets == 0) return std::hypot(qx, qy);
+    // max over the N unit facet normals u_k = (cos 2 pi k / N, sin 2 pi k / N) of <q, u_k>:
+    // the definition (Eq. 16), not the folded forms the standard library writes.
+    double best = -INFINITY;
+    for (int k = 0; k < facets; ++k) {
+        double a = 2.0 * std::numbers::pi * k / facets;
+        best = std::max(best, qx * std::cos(a) + qy * std::sin(a));
+    }
+    return best;
+}
+
+double residual(const Walking& w, double px, double py, int64_t n) {
+    double a = static_cast<double>(n) * w.turn;
+    double c = std::cos(a), s = std::sin(a);
+    double qx = c * px + s * py - n * w.offsetX;
+    double qy = -s * px + c * py - n * w.offsetY;
+    return radius(w.facets, qx, qy) - (n * w.spacing + w.phase);
+}
+
+double drift(const Walking& w) { return radius(w.facets, -w.offsetX, -w.offsetY); }
+
+Nearest nearest(const Walking& w, double px, double py, double guard, int64_t maxMembers) {
+    const double r = std::hypot(px, py);
+    const double m = drift(w);
+    const double s = w.spacing;
+    Nearest out;
+    out.distance = guard;
+    for (int64_t n = 0;; ++n) {
+        // Eq. 28 bounds the residual on both sides by lines in n: h(n) <= r + n m - n s - phase
+        // and h(n) >= n m - r - n s - phase. Once the upper line is below -guard (m < s) or
+        // the lower line above +guard (m > s), it stays there for every larger n.
+        double upper = r + n * (m - s) - w.phase;
+        double lower = n * (m - s) - r - w.phase;
+        if (upper < -guard || lower > guard) break;
+        if (n >= maxMembers) {
+            out.complete = false;
+            break;
+        }
+        double v = std::fabs(residual(w, px, py, n));
+        ++out.evaluations;
+        if (v < out.distance) {
+            out.distance = v;
+            out.argmin = n;
+        }
+    }
+    return out;
+}
+
+} // namespace moire::reference

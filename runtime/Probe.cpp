@@ -13,6 +13,11 @@ Prober::Prober(const SceneProgram& program, Backend* backend)
         exact_ = std::make_unique<Interpreter>(program.kernel);
 }
 
+void Prober::setLiteral(int slot, double value) {
+    MOIRE_CHECK(slot >= 0 && slot < program_.probeSlot, "literal slot {} is not a scene number", slot);
+    literals_[slot] = value;
+}
+
 std::vector<double> Prober::at(double x, double y, double t) {
     literals_[program_.probeSlot] = x;
     literals_[program_.probeSlot + 1] = y;

@@ -22,6 +22,12 @@ class Prober {
     // All kernel outputs at world point (x, y), at clock time t.
     std::vector<double> at(double x, double y, double t = 0.0);
 
+    // Replaces the value of the scene's literal `slot` (its numbers in source order; see
+    // SceneProgram::literals) for the following calls, so that one compiled program can be
+    // probed at many parameter settings: the kernel's structure does not depend on them.
+    void setLiteral(int slot, double value);
+    double literal(int slot) const { return literals_.at(slot); }
+
   private:
     const SceneProgram& program_;
     std::vector<double> literals_;

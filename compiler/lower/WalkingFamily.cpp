@@ -18,7 +18,8 @@ constexpr double kFarIndex = 1e7;
 
 class Solver {
   public:
-    Solver(ir::Builder& b, const WalkingInputs& in, const RadiusFn& rho) : b_(b), in_(in), rho_(rho) {}
+    Solver(ir::Builder& b, const WalkingInputs& in, const RadiusFn& rho)
+        : b_(b), in_(in), rho_(rho) {}
 
     LayerFields run() {
         setUp();
@@ -31,11 +32,15 @@ class Solver {
                     quadratic_, [&] { return translatedCircle(); },
                     [&] {
                         return b_.ifThenElse(
-                            closedPolygon_, [&] { return translatedPolygon(); }, [&] { return scan(); });
+                            closedPolygon_, [&] { return translatedPolygon(); },
+                            [&] { return scan(); });
                     });
             });
         LayerFields out;
-        out.distance = b_.min(found[0], guard_);
+        // min(G, d) with the guard first: the IR's min keeps its first operand when the
+        // second is NaN, so a radius that is NaN everywhere (a shape with no sides, say) draws
+        // nothing at a finite distance instead of writing NaN.
+        out.distance = b_.min(guard_, found[0]);
         out.index = in_.wantIndex ? searchedIndex(found[1]) : found[1];
         out.aux0 = nLo_;
         out.aux1 = nHiRaw_;
@@ -49,13 +54,19 @@ class Solver {
     ValueId ceil(ValueId v) { return b_.neg(b_.floor(b_.neg(v))); }
 
     ValueId radius(ValueId qx, ValueId qy) {
-        if (in_.tally) b_.emitSink(Op::Tally, {}, kRadiusTally);
+        countEvaluations(1);
         return rho_(b_, qx, qy);
+    }
+    // Counts evaluations of the residual (of rho, or of its closed form) in the tally.
+    void countEvaluations(int count) {
+        if (in_.tally)
+            for (int i = 0; i < count; ++i) b_.emitSink(Op::Tally, {}, kRadiusTally);
     }
     // Rot(-angle) p: the point in the frame of a member turned by `angle`.
     std::pair<ValueId, ValueId> unturn(ValueId angle) {
         ValueId cs = b_.cos(angle), sn = b_.sin(angle);
-        return {b_.add(b_.mul(cs, in_.px), b_.mul(sn, in_.py)), b_.sub(b_.mul(cs, in_.py), b_.mul(sn, in_.px))};
+        return {b_.add(b_.mul(cs, in_.px), b_.mul(sn, in_.py)),
+                b_.sub(b_.mul(cs, in_.py), b_.mul(sn, in_.px))};
     }
     // The signed residual h_p(n) = rho(Rot(-n theta) p - n delta) - (n s + phase) (Eq. 24).
     ValueId residual(ValueId n) {
@@ -97,18 +108,20 @@ class Solver {
         still_ = both(noOffset, b_.emit(Op::Or, {noTurn, round_}));
         quadratic_ = both(round_, noTurn);
         ValueId whole = both(eq(in_.facets, b_.floor(in_.facets)),
-                             both(b_.emit(Op::Ge, {in_.facets, c(3.0)}), b_.emit(Op::Le, {in_.facets, c(kWalkMaxFacets)})));
+                             both(b_.emit(Op::Ge, {in_.facets, c(3.0)}),
+                                  b_.emit(Op::Le, {in_.facets, c(kWalkMaxFacets)})));
         closedPolygon_ = both(both(b_.emit(Op::Not, {round_}), noTurn),
                               both(whole, b_.emit(Op::Le, {drift_, b_.add(s_, c(kWalkMarginal))})));
 
         // Theorem 4's interval, with the per-branch upper bounds of §7.6.
         ValueId kr = b_.mul(kappa_, r_);
-        nLo_ = member(b_.floor(b_.div(b_.sub(b_.sub(kr, in_.phase), guard_), b_.add(s_, b_.mul(kappa_, len_)))));
+        nLo_ = member(b_.floor(
+            b_.div(b_.sub(b_.sub(kr, in_.phase), guard_), b_.add(s_, b_.mul(kappa_, len_)))));
         ValueId gap = b_.sub(s_, drift_);
-        ValueId slower = b_.div(b_.add(b_.sub(r_, in_.phase), guard_), gap);          // m < s
+        ValueId slower = b_.div(b_.add(b_.sub(r_, in_.phase), guard_), gap);         // m < s
         ValueId faster = b_.div(b_.add(b_.add(r_, in_.phase), guard_), b_.neg(gap)); // m > s
-        nHiRaw_ = ceil(b_.select(b_.gt(gap, c(0.0)), slower,
-                                 b_.select(b_.lt(gap, c(0.0)), faster, c(kFar))));
+        nHiRaw_ = ceil(
+            b_.select(b_.gt(gap, c(0.0)), slower, b_.select(b_.lt(gap, c(0.0)), faster, c(kFar))));
     }
 
     // delta = 0, and no turn (or a circle, which turning leaves alone): h_p is affine in n,
@@ -123,10 +136,14 @@ class Solver {
     // is convex, so |h_p| is least next to one of its zeros, at n = 0, or (when it has no
     // zero) next to its vertex; at the marginal drift it tends to a constant.
     Vals translatedCircle() {
-        ValueId a = b_.sub(b_.mul(len_, len_), b_.mul(s_, s_));              // L^2 - s^2
+        // A = L^2 - s^2 and C = r^2 - phase^2, as products of a difference and a sum: near
+        // the marginal drift L - s is exact in any precision where L^2 - s^2 would keep
+        // only the rounding of the squares (A is then small, and every index below is
+        // divided by it).
+        ValueId a = b_.mul(b_.sub(len_, s_), b_.add(len_, s_));
         ValueId pd = b_.add(b_.mul(in_.px, in_.offsetX), b_.mul(in_.py, in_.offsetY)); // p . delta
-        ValueId half = b_.add(pd, b_.mul(s_, in_.phase));                    // A n^2 - 2 half n + C
-        ValueId cc = b_.sub(b_.mul(r_, r_), b_.mul(in_.phase, in_.phase));
+        ValueId half = b_.add(pd, b_.mul(s_, in_.phase)); // A n^2 - 2 half n + C
+        ValueId cc = b_.mul(b_.sub(r_, in_.phase), b_.add(r_, in_.phase));
         ValueId disc = b_.sub(b_.mul(half, half), b_.mul(a, cc));
         // Roots in the cancellation-free form: q = half + sign(half) sqrt(disc), t = q / A, C / q.
         ValueId sgn = b_.select(b_.lt(half, c(0.0)), c(-1.0), c(1.0));
@@ -135,19 +152,48 @@ class Solver {
         ValueId real = b_.emit(Op::Ge, {disc, c(0.0)});
         ValueId t1 = b_.select(real, b_.div(q, a), nan);
         ValueId t2 = b_.select(real, b_.div(cc, q), nan);
-        // The vertex of h_p, where it has a minimum (only when L > s).
-        ValueId w = b_.sqrt(b_.sub(b_.mul(b_.mul(r_, r_), b_.mul(len_, len_)), b_.mul(pd, pd)));
+        // The vertex of h_p, where it has a minimum (only when L > s). Fix: the distance of p
+        // from the line of the walk is written as the cross product |p x delta| / L rather
+        // than sqrt(r^2 L^2 - (p . delta)^2), which cancels for p near that line.
+        ValueId w = b_.abs(b_.sub(b_.mul(in_.px, in_.offsetY), b_.mul(in_.py, in_.offsetX)));
         ValueId l2 = b_.mul(len_, len_);
         ValueId tv = b_.add(b_.div(pd, l2), b_.div(b_.mul(s_, w), b_.mul(l2, b_.sqrt(a))));
         ValueId vertex = b_.select(b_.gt(a, c(0.0)), tv, nan);
+
+        // A candidate's residual. Fix: the direct form |p - n delta| - (n s + phase) cancels
+        // catastrophically in single precision at large n (two lengths of order n s whose
+        // difference is a pixel), and near the marginal drift the roots and the vertex do sit
+        // at n ~ 1e4-1e7: the JIT drew white stripes across a band the interpreter inks solid.
+        // Through the quadratic Q(n) = A n^2 - 2 half n + C = |p - n delta|^2 - (n s + phase)^2,
+        // h(n) = Q(n) / (|p - n delta| + n s + phase) has no such cancellation, with Q written
+        // from the numbers the candidates were solved from: factored through its roots,
+        // (A n - q)(n - C / q), when it has real ones (this holds at A = 0 too), and as the
+        // completed square A (n - half / A)^2 - disc / A when it has none. The division needs
+        // a positive level n s + phase, so n = 0 and a negative phase's first members keep
+        // the direct form.
+        ValueId factored = both(real, b_.emit(Op::Ne, {q, c(0.0)}));
+        ValueId squared = both(b_.emit(Op::Not, {factored}), b_.emit(Op::Ne, {a, c(0.0)}));
+        ValueId centre = b_.div(half, a); // where Q is least
+        auto value = [&](ValueId n) {
+            ValueId dist = radius(b_.sub(in_.px, b_.mul(n, in_.offsetX)),
+                                  b_.sub(in_.py, b_.mul(n, in_.offsetY)));
+            ValueId level = b_.add(b_.mul(n, s_), in_.phase);
+            ValueId off = b_.sub(n, centre);
+            ValueId quad = b_.select(factored, b_.mul(b_.sub(b_.mul(a, n), q), b_.sub(n, t2)),
+                                     b_.sub(b_.mul(a, b_.mul(off, off)), b_.div(disc, a)));
+            ValueId useQ = both(
+                b_.emit(Op::Or, {factored, squared}),
+                both(b_.emit(Op::Ge, {n, c(1.0)}), b_.emit(Op::Ge, {level, b_.mul(s_, c(0.5))})));
+            return b_.select(useQ, b_.div(quad, b_.add(dist, level)), b_.sub(dist, level));
+        };
 
         ValueId best = c(kFar), argmin = c(0.0);
         consider(best, argmin, c(0.0), residualAt(c(0.0), in_.px, in_.py));
         for (ValueId t : {t1, t2, vertex}) {
             ValueId lo = member(b_.floor(t));
-            consider(best, argmin, lo, residualAt(lo, in_.px, in_.py));
+            consider(best, argmin, lo, value(lo));
             ValueId hi = b_.add(lo, c(1.0));
-            consider(best, argmin, hi, residualAt(hi, in_.px, in_.py));
+            consider(best, argmin, hi, value(hi));
         }
         // Marginal drift: h_p tends to -(p . delta) / L - phase along the far members.
         ValueId marginal = b_.le(b_.abs(b_.sub(len_, s_)), c(kWalkMarginal));
@@ -159,38 +205,73 @@ class Solver {
     // A translated polygon with a whole number of facets and drift m <= s (Proposition 6):
     // h_p is convex and piecewise linear, one piece per facet, so its zero is one of the N
     // facet solves; at the marginal drift the leading facet's piece is flat.
+    //
+    // Fix: the candidates' residuals used to be evaluated as rho(p - n delta) - (n s + phase),
+    // which in single precision loses everything once n is large (rho and n s are both of
+    // order n s and differ by a pixel), and near the marginal drift the zero does sit at
+    // n ~ (a_k - phase) / (s + b_k) ~ 1e7: the JIT drew white stripes across a band the
+    // interpreter inks solid. Here h_p is evaluated in its piecewise form (Eq. 34),
+    // max_k (a_k - phase - n (s + b_k)), from the same a_k and slopes the zero was solved
+    // from, which is consistent with that solve in any precision. Since h_p is a maximum of
+    // decreasing lines (every slope s + b_k > 0 off the flat facets), its zero is where the
+    // last of them crosses zero: the largest facet solve. So one pass finds that zero, a
+    // second evaluates Eq. 34 at the two members beside it: 2 evaluations of h_p and 2N dot
+    // products, where testing both neighbours of every facet's solve took 2N evaluations.
     Vals translatedPolygon() {
         ValueId rp = radius(in_.px, in_.py);
         ValueId inside = b_.lt(rp, in_.phase);
         return b_.ifThenElse(
-            inside, [&] { return Vals{b_.sub(in_.phase, rp), c(0.0)}; },
+            inside,
+            [&] {
+                return Vals{b_.sub(in_.phase, rp), c(0.0)};
+            },
             [&] {
                 ValueId step = b_.div(c(2.0 * std::numbers::pi), in_.facets);
                 ValueId cs = b_.cos(step), sn = b_.sin(step);
-                // Carried: facet k, its normal u_k (rotated by 2 pi / N each step), the best
-                // candidate, and the largest a_k among facets whose slope vanishes.
-                Vals init = {c(0.0), c(1.0), c(0.0), c(kFar), c(0.0), c(-kFar)};
-                Vals res = b_.loop(
-                    init, [&](std::span<const ValueId> v) { return Vals{b_.lt(v[0], in_.facets)}; },
-                    [&](std::span<const ValueId> v) {
-                        ValueId k = v[0], ux = v[1], uy = v[2], best = v[3], argmin = v[4], flatA = v[5];
-                        ValueId ak = b_.add(b_.mul(in_.px, ux), b_.mul(in_.py, uy));
-                        ValueId bk = b_.add(b_.mul(in_.offsetX, ux), b_.mul(in_.offsetY, uy));
-                        ValueId slope = b_.add(s_, bk); // -(slope of this facet's piece)
-                        ValueId solves = b_.gt(slope, c(kWalkMarginal));
-                        ValueId nk = b_.div(b_.sub(ak, in_.phase), slope);
-                        ValueId lo = member(b_.floor(nk));
-                        ValueId hi = b_.add(lo, c(1.0));
-                        ValueId nan = c(std::numeric_limits<double>::quiet_NaN());
-                        consider(best, argmin, lo, b_.select(solves, residualAt(lo, in_.px, in_.py), nan));
-                        consider(best, argmin, hi, b_.select(solves, residualAt(hi, in_.px, in_.py), nan));
-                        flatA = b_.select(solves, flatA, b_.max(flatA, ak));
-                        return Vals{b_.add(k, c(1.0)), b_.sub(b_.mul(cs, ux), b_.mul(sn, uy)),
-                                    b_.add(b_.mul(sn, ux), b_.mul(cs, uy)), best, argmin, flatA};
-                    });
-                ValueId best = res[3], argmin = res[4];
+                // Facet k's a_k - phase and slope s + b_k (the negated slope of its piece),
+                // with its normal u_k carried by a rotation of 2 pi / N per facet.
+                auto facet = [&](ValueId ux, ValueId uy) {
+                    ValueId ak = b_.add(b_.mul(in_.px, ux), b_.mul(in_.py, uy));
+                    ValueId bk = b_.add(b_.mul(in_.offsetX, ux), b_.mul(in_.offsetY, uy));
+                    return std::pair{b_.sub(ak, in_.phase), b_.add(s_, bk)};
+                };
+                auto turnNormal = [&](ValueId ux, ValueId uy) {
+                    return std::pair{b_.sub(b_.mul(cs, ux), b_.mul(sn, uy)),
+                                     b_.add(b_.mul(sn, ux), b_.mul(cs, uy))};
+                };
+                auto more = [&](std::span<const ValueId> v) {
+                    return Vals{b_.lt(v[0], in_.facets)};
+                };
+                // Pass 1. Carried: facet k, u_k, the largest solve, and the largest
+                // a_k - phase among facets whose slope vanishes (within kWalkMarginal).
+                Vals found =
+                    b_.loop({c(0.0), c(1.0), c(0.0), c(-kFar), c(-kFar)}, more,
+                            [&](std::span<const ValueId> v) {
+                                auto [level, slope] = facet(v[1], v[2]);
+                                ValueId solves = b_.gt(slope, c(kWalkMarginal));
+                                ValueId root =
+                                    b_.select(solves, b_.max(v[3], b_.div(level, slope)), v[3]);
+                                ValueId flatA = b_.select(solves, v[4], b_.max(v[4], level));
+                                auto [ux, uy] = turnNormal(v[1], v[2]);
+                                return Vals{b_.add(v[0], c(1.0)), ux, uy, root, flatA};
+                            });
+                ValueId lo = member(b_.floor(found[3]));
+                ValueId hi = b_.add(lo, c(1.0));
+                // Pass 2: h_p(lo) and h_p(hi) by Eq. 34, over every facet.
+                Vals at = b_.loop({c(0.0), c(1.0), c(0.0), c(-kFar), c(-kFar)}, more,
+                                  [&](std::span<const ValueId> v) {
+                                      auto [level, slope] = facet(v[1], v[2]);
+                                      ValueId hLo = b_.max(v[3], b_.sub(level, b_.mul(lo, slope)));
+                                      ValueId hHi = b_.max(v[4], b_.sub(level, b_.mul(hi, slope)));
+                                      auto [ux, uy] = turnNormal(v[1], v[2]);
+                                      return Vals{b_.add(v[0], c(1.0)), ux, uy, hLo, hHi};
+                                  });
+                countEvaluations(2);
+                ValueId best = c(kFar), argmin = c(0.0);
+                consider(best, argmin, lo, at[3]);
+                consider(best, argmin, hi, at[4]);
                 // The flat tail: every far member sits at exactly a_k* - phase (case 2).
-                ValueId flat = b_.select(b_.gt(res[5], c(-kFar)), b_.sub(res[5], in_.phase),
+                ValueId flat = b_.select(b_.gt(found[4], c(-kFar)), found[4],
                                          c(std::numeric_limits<double>::quiet_NaN()));
                 consider(best, argmin, c(kFarIndex), flat);
                 return Vals{best, argmin};
@@ -205,14 +286,19 @@ class Solver {
         ValueId span = b_.add(b_.sub(nHi, nLo_), c(1.0));
         // Lipschitz constant of h_p in n (Lemma 5).
         ValueId lambda = b_.add(b_.add(s_, len_), b_.mul(b_.abs(in_.turn), r_));
+        // The loop multiplies by reciprocals: divisions would sit on its critical path.
+        ValueId invLambda = b_.div(c(1.0), lambda);
         // The stride: the least power of two that fits the interval into the budget.
         ValueId stride = b_.loop(
             {c(1.0)},
-            [&](std::span<const ValueId> v) { return Vals{b_.lt(b_.mul(v[0], c(kWalkBudget)), span)}; },
+            [&](std::span<const ValueId> v) {
+                return Vals{b_.lt(b_.mul(v[0], c(kWalkBudget)), span)};
+            },
             [&](std::span<const ValueId> v) { return Vals{b_.mul(v[0], c(2.0))}; })[0];
         // Anchored to multiples of the stride, not to n_lo: neighbouring pixels then sample
         // the same members (§9.6).
-        ValueId start = b_.mul(stride, ceil(b_.div(nLo_, stride)));
+        ValueId invStride = b_.div(c(1.0), stride); // exact: a power of two
+        ValueId start = b_.mul(stride, ceil(b_.mul(nLo_, invStride)));
         auto [p0x, p0y] = unturn(b_.mul(start, in_.turn));
         ValueId strideTurn = b_.mul(stride, in_.turn);
         ValueId cs = b_.cos(strideTurn), sn = b_.sin(strideTurn);
@@ -226,15 +312,17 @@ class Solver {
                 return Vals{both(going, b_.gt(v[2], accept_))};
             },
             [&](std::span<const ValueId> v) {
-                ValueId iter = v[0], n = v[1], best = v[2], argmin = v[3], tx = v[4], ty = v[5], steps = v[6];
+                ValueId iter = v[0], n = v[1], best = v[2], argmin = v[3], tx = v[4], ty = v[5],
+                        steps = v[6];
                 ValueId value = b_.abs(residualAt(n, tx, ty));
                 ValueId better = b_.lt(value, best);
                 best = b_.select(better, value, best);
                 argmin = b_.select(better, n, argmin);
                 // No index within (value - min(best, G)) / Lambda of n can come under the guard
                 // or beat the best: skip them, in whole strides.
-                ValueId skip = b_.add(b_.floor(b_.div(b_.sub(value, b_.min(best, guard_)), lambda)), c(1.0));
-                ValueId jump = b_.mul(stride, b_.max(c(1.0), ceil(b_.div(skip, stride))));
+                ValueId skip = b_.add(
+                    b_.floor(b_.mul(b_.sub(value, b_.min(best, guard_)), invLambda)), c(1.0));
+                ValueId jump = b_.mul(stride, b_.max(c(1.0), ceil(b_.mul(skip, invStride))));
                 ValueId next = b_.add(n, jump);
                 // One stride: advance the carried rotation by angle addition; a longer jump,
                 // or every kWalkReanchor steps, takes a fresh cosine and sine instead.
@@ -242,14 +330,15 @@ class Solver {
                 Vals turned = b_.ifThenElse(
                     carry,
                     [&] {
-                        return Vals{b_.add(b_.mul(cs, tx), b_.mul(sn, ty)), b_.sub(b_.mul(cs, ty), b_.mul(sn, tx)),
-                                    b_.add(steps, c(1.0))};
+                        return Vals{b_.add(b_.mul(cs, tx), b_.mul(sn, ty)),
+                                    b_.sub(b_.mul(cs, ty), b_.mul(sn, tx)), b_.add(steps, c(1.0))};
                     },
                     [&] {
                         auto [ax, ay] = unturn(b_.mul(next, in_.turn));
                         return Vals{ax, ay, c(0.0)};
                     });
-                return Vals{b_.add(iter, c(1.0)), next, best, argmin, turned[0], turned[1], turned[2]};
+                return Vals{
+                    b_.add(iter, c(1.0)), next, best, argmin, turned[0], turned[1], turned[2]};
             });
         return {res[2], res[3]};
     }
@@ -257,14 +346,25 @@ class Solver {
     // The searched index field of §4.1: the nearest index plus the fractional residual
     // h(n*) / (h(n*) - h(n* + 1)) (or towards n* - 1 inside member n*).
     ValueId searchedIndex(ValueId argmin) {
-        ValueId n = b_.min(argmin, c(kFarIndex));
+        ValueId n = b_.denan(b_.min(argmin, c(kFarIndex)), c(0.0));
         ValueId h0 = residual(n);
         ValueId outside = b_.emit(Op::Ge, {h0, c(0.0)});
         ValueId neighbour = member(b_.select(outside, b_.add(n, c(1.0)), b_.sub(n, c(1.0))));
         ValueId h1 = residual(neighbour);
-        ValueId frac = b_.select(outside, b_.div(h0, b_.sub(h0, h1)), b_.div(h0, b_.sub(h1, h0)));
-        ValueId usable = b_.emit(Op::Ne, {neighbour, n});
-        return b_.add(n, b_.select(usable, frac, b_.div(h0, s_)));
+        // Fix: the interpolation is only meaningful where it brackets a crossing; on a flat
+        // tail (h1 = h0: the marginal drift's far members, or p on the line of the walk) it
+        // divided by zero and wrote an infinite or NaN index. A crossing towards the
+        // neighbour has a positive denominator and a fraction within [-1, 1]; anything else
+        // falls back to the residual in spacings, as inside member 0, held to one member.
+        ValueId denom = b_.select(outside, b_.sub(h0, h1), b_.sub(h1, h0));
+        ValueId usable = both(b_.emit(Op::Ne, {neighbour, n}), b_.gt(denom, c(0.0)));
+        ValueId toward = b_.max(c(-1.0), b_.min(c(1.0), b_.div(h0, denom)));
+        ValueId alone = b_.div(h0, s_);
+        ValueId frac =
+            b_.select(usable, toward,
+                      b_.select(eq(n, c(0.0)), alone, b_.max(c(-1.0), b_.min(c(1.0), alone))));
+        // A NaN radius (see run()) leaves the index at the searched member (or at 0).
+        return b_.denan(b_.add(n, frac), n);
     }
 
     ir::Builder& b_;

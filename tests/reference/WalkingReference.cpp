@@ -37,10 +37,13 @@ Nearest nearest(const Walking& w, double px, double py, double guard, int64_t ma
     for (int64_t n = 0;; ++n) {
         // Eq. 28 bounds the residual on both sides by lines in n: h(n) <= r + n m - n s - phase
         // and h(n) >= n m - r - n s - phase. Once the upper line is below -guard (m < s) or
-        // the lower line above +guard (m > s), it stays there for every larger n.
+        // the lower line above +guard (m > s), it stays there for every larger n. Each test
+        // is a proof only in its own direction: with m > s the upper line rises again (with
+        // phase > r it starts below -guard, and the scan used to stop at n = 0, missing the
+        // members that drift back over p), and with m < s the lower line falls.
         double upper = r + n * (m - s) - w.phase;
         double lower = n * (m - s) - r - w.phase;
-        if (upper < -guard || lower > guard) break;
+        if ((m <= s && upper < -guard) || (m >= s && lower > guard)) break;
         if (n >= maxMembers) {
             out.complete = false;
             break;

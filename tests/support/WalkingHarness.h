@@ -1,0 +1,159 @@
+// Shared by the walking-family tests (walking_test.cpp, walking_index_test.cpp): one
+// compiled walking layer whose numbers are re-set per setting, evaluated on the exact
+// interpreter with its radius evaluations counted, and helpers to place points.
+#pragma once
+
+#include "compiler/backend/interp/Interpreter.h"
+#include "runtime/Probe.h"
+#include "tests/reference/WalkingReference.h"
+#include "tests/support/Support.h"
+#include <algorithm>
+#include <cmath>
+#include <cstdlib>
+#include <doctest/doctest.h>
+#include <map>
+#include <numbers>
+#include <random>
+#include <set>
+#include <sstream>
+#include <string>
+#include <vector>
+
+namespace moire::walktest {
+
+using reference::Walking;
+
+
+constexpr double kPi = std::numbers::pi;
+constexpr double kDeg = kPi / 180.0;
+
+// Names and values for failure messages: SHOW(x, y) reports "x, y = 1.5, -2". INFO is lazy,
+// so nothing is formatted unless a check fails.
+template <class... T>
+inline std::string show(const T&... v) {
+    std::ostringstream o;
+    o.precision(17);
+    const char* sep = "";
+    ((o << sep << v, sep = ", "), ...);
+    return o.str();
+}
+#define SHOW(...) INFO(#__VA_ARGS__ " = ", show(__VA_ARGS__))
+// Measured figures (docs/families.md quotes them), printed with MOIRE_WALKING_REPORT=1.
+#define REPORT(...)                                                                                \
+    do {                                                                                           \
+        if (std::getenv("MOIRE_WALKING_REPORT")) MESSAGE(__VA_ARGS__);                             \
+    } while (false)
+
+// One compiled walking layer (double interpreter, counting radius evaluations) whose numbers
+// are re-set per setting: the scene is written with sentinel numbers, each found by value
+// among the literal slots.
+struct Walker {
+    std::unique_ptr<SceneProgram> program;
+    std::unique_ptr<Prober> probe;
+    int zoom, spacing, phase, ox, oy, turn, stroke, sides = -1;
+
+    explicit Walker(const std::string& fam) {
+        std::string text =
+            "camera { zoom = 1.0101 }\nlayer { family = " + fam +
+            "; spacing = 10.0202; phase = 0.0303; offset = (0.0404, 0.0505); turn = 0.0606rad;"
+            " stroke = 1.0707" +
+            (fam == "ngon" ? "; sides = 5.0808" : "") + " }\n";
+        program = test::compileOk(
+            text, CompileOptions{.layerFields = true, .probe = true, .tally = true});
+        probe = std::make_unique<Prober>(*program, nullptr);
+        auto slot = [&](double v) {
+            for (size_t i = 0; i < program->literals.size(); ++i)
+                if (program->literals[i] == v) return static_cast<int>(i);
+            FAIL("no literal slot holds ", v);
+            return -1;
+        };
+        zoom = slot(1.0101), spacing = slot(10.0202), phase = slot(0.0303), ox = slot(0.0404);
+        oy = slot(0.0505), turn = slot(0.0606), stroke = slot(1.0707);
+        if (fam == "ngon") sides = slot(5.0808);
+    }
+};
+
+struct Setting {
+    Walking w;
+    double zoom = 1.0, stroke = 1.5;
+    double sides = -1.0; // >= 0: an ngon layer with this side count (may be fractional)
+    double h() const { return std::max(stroke / 2.0, 1.15 / zoom); }
+    double a() const { return 0.7 / zoom; }
+    double guard() const { return std::max(h() + a(), 0.75 * w.spacing); }
+    double accept() const { return h() - a(); }
+};
+
+// A setting, as the scene would say it (the turn in radians).
+inline std::string describe(const Setting& st) {
+    return show("facets", st.w.facets, "sides", st.sides, "spacing", st.w.spacing, "phase",
+                st.w.phase, "offset", st.w.offsetX, st.w.offsetY, "turn", st.w.turn, "zoom",
+                st.zoom, "stroke", st.stroke);
+}
+
+struct Out {
+    double distance, index, lo, hi;
+    uint64_t evaluations; // radius evaluations the pixel took (the interpreter's tally)
+};
+
+inline std::string familyOf(int facets) {
+    return facets == 0   ? "circles"
+           : facets == 3 ? "triangles"
+           : facets == 4 ? "squares"
+           : facets == 6 ? "hexagons"
+                         : "ngon";
+}
+
+// The solver at (x, y) for a setting, on the double interpreter.
+inline Out solve(const Setting& st, double x, double y) {
+    static std::map<std::string, std::unique_ptr<Walker>> compiled; // one program per shape
+    const std::string fam = st.sides >= 0 ? "ngon" : familyOf(st.w.facets);
+    std::unique_ptr<Walker>& k = compiled[fam];
+    if (!k) k = std::make_unique<Walker>(fam);
+    Prober& p = *k->probe;
+    p.setLiteral(k->zoom, st.zoom);
+    p.setLiteral(k->spacing, st.w.spacing);
+    p.setLiteral(k->phase, st.w.phase);
+    p.setLiteral(k->ox, st.w.offsetX);
+    p.setLiteral(k->oy, st.w.offsetY);
+    p.setLiteral(k->turn, st.w.turn);
+    p.setLiteral(k->stroke, st.stroke);
+    if (k->sides >= 0) p.setLiteral(k->sides, st.sides >= 0 ? st.sides : st.w.facets);
+    std::vector<double> v = p.at(x, y);
+    const auto& L = k->program->layout;
+    return {v[L.distanceSlot(0)], v[L.indexSlot(0)], v[L.aux0Slot(0)], v[L.aux1Slot(0)],
+            Interpreter::lastTally(0)};
+}
+
+// The angle of facet normal k of an N-gon (facet 0 faces +x; vertices lie half way between).
+inline double facetAngle(int n, int k) {
+    return 2.0 * kPi * k / n;
+}
+
+// An offset whose drift constant m = rho(-delta) is f s, with -delta pointing at `angle`.
+inline void setDrift(Walking& w, double f, double angle) {
+    double t = f * w.spacing / reference::radius(w.facets, std::cos(angle), std::sin(angle));
+    w.offsetX = -t * std::cos(angle);
+    w.offsetY = -t * std::sin(angle);
+}
+
+// A point on member n of the family, in direction `angle` of that member's own frame, moved
+// by `jitter` along that direction (world units, approximately).
+inline void onMember(const Walking& w, int64_t n, double angle, double jitter, double& x, double& y) {
+    double dx = std::cos(angle), dy = std::sin(angle);
+    double rad =
+        std::max(0.0, n * w.spacing + w.phase) / reference::radius(w.facets, dx, dy) + jitter;
+    double qx = rad * dx + n * w.offsetX, qy = rad * dy + n * w.offsetY; // q_n + n delta
+    double c = std::cos(n * w.turn), s = std::sin(n * w.turn);
+    x = c * qx - s * qy;
+    y = s * qx + c * qy;
+}
+
+// The solver's clamped distance agrees with an expected one: equal to rounding, or both
+// inside the band that is inked solid (the solver may stop early there, §7.1).
+inline bool agrees(const Setting& st, double got, double want, double x, double y) {
+    double tol = 1e-10 * (1.0 + std::hypot(x, y) + st.w.spacing);
+    return std::fabs(got - want) <= tol || (got <= st.accept() && want <= st.accept());
+}
+
+
+} // namespace moire::walktest

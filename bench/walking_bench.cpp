@@ -11,23 +11,22 @@
 //  - Window: the shipped solver, run by the interpreter in its counting mode.
 // It also reports the share of pixels whose coverage differs from the reference's by more
 // than 8/255, for Sweep and Window, and the JIT's throughput on the default scene.
-#include <fmt/format.h>
+#include "compiler/backend/interp/Interpreter.h"
+#include "compiler/backend/llvm/LlvmJit.h"
+#include "compiler/Compile.h"
+#include "compiler/lower/WalkingFamily.h"
+#include "runtime/FrameEval.h"
+#include "runtime/TileExecutor.h"
+#include "tests/reference/WalkingReference.h"
 
 #include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <fmt/format.h>
 #include <numbers>
 #include <string>
 #include <vector>
-
-#include "compiler/Compile.h"
-#include "compiler/backend/interp/Interpreter.h"
-#include "compiler/backend/llvm/LlvmJit.h"
-#include "compiler/lower/WalkingFamily.h"
-#include "runtime/FrameEval.h"
-#include "runtime/TileExecutor.h"
-#include "tests/reference/WalkingReference.h"
 
 using namespace moire;
 namespace ref = moire::reference;
@@ -62,16 +61,19 @@ std::vector<Scene> scenes() {
 }
 
 std::string sceneText(const Scene& s, int w, int h) {
-    std::string t = fmt::format("scene {{ size = ({}, {}) }}\ncamera {{ zoom = {} }}\n", w, h, s.zoom);
+    std::string t =
+        fmt::format("scene {{ size = ({}, {}) }}\ncamera {{ zoom = {} }}\n", w, h, s.zoom);
     for (const Layer& l : s.layers)
-        t += fmt::format("layer {{ family = {}; spacing = {}; phase = {}; offset = ({}, {}); turn = {}deg; "
-                         "stroke = {} }}\n",
-                         l.family, l.spacing, l.phase, l.offsetX, l.offsetY, l.turnDeg, l.stroke);
+        t += fmt::format(
+            "layer {{ family = {}; spacing = {}; phase = {}; offset = ({}, {}); turn = {}deg; "
+            "stroke = {} }}\n",
+            l.family, l.spacing, l.phase, l.offsetX, l.offsetY, l.turnDeg, l.stroke);
     return t;
 }
 
 ref::Walking walking(const Layer& l) {
-    return {l.facets, l.spacing, l.phase, l.offsetX, l.offsetY, l.turnDeg * std::numbers::pi / 180.0};
+    return {l.facets,  l.spacing, l.phase,
+            l.offsetX, l.offsetY, l.turnDeg * std::numbers::pi / 180.0};
 }
 
 double coverage(double d, double h, double a) {
@@ -168,7 +170,8 @@ Row measure(const Scene& s, int w, int h) {
                 row.refEvals += static_cast<double>(exact.evaluations);
                 row.sweepEvals += sw.evaluations;
                 const double truth = coverage(exact.distance, hw, a);
-                const double window = coverage(out[p.layout.distanceSlot(static_cast<int>(i))], hw, a);
+                const double window =
+                    coverage(out[p.layout.distanceSlot(static_cast<int>(i))], hw, a);
                 row.windowDiffer += std::fabs(window - truth) > 8.0 / 255;
                 row.sweepDiffer += std::fabs(coverage(sw.distance, hw, a) - truth) > 8.0 / 255;
                 ++samples;
@@ -200,7 +203,8 @@ double defaultSceneMpxPerSecond() {
     for (int i = 0; i < 5; ++i) {
         auto t0 = std::chrono::steady_clock::now();
         runKernel(*kernel, frame);
-        best = std::min(best, std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+        best = std::min(
+            best, std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
     }
     return 1920.0 * 1080.0 / 1e6 / best;
 }
@@ -212,7 +216,8 @@ int main(int argc, char** argv) {
     for (int i = 1; i + 1 < argc; ++i)
         if (std::string(argv[i]) == "--size") std::sscanf(argv[++i], "%dx%d", &w, &h);
 
-    fmt::print("Walking-family solver: evaluations of rho per pixel and layer, {}x{} pixels\n\n", w, h);
+    fmt::print("Walking-family solver: evaluations of rho per pixel and layer, {}x{} pixels\n\n", w,
+               h);
     fmt::print("{:<34} {:>8} {:>8} {:>8} {:>9} {:>9} {:>9}\n", "scene", "Ref.", "Sweep", "Window",
                "Sweep/Win", "Sweep>8", "Window>8");
     double sumWindow = 0, sumSweep = 0, worstDiffer = 0;
@@ -222,12 +227,13 @@ int main(int argc, char** argv) {
         sumWindow += row.windowEvals;
         sumSweep += row.sweepEvals;
         worstDiffer = std::max(worstDiffer, row.windowDiffer);
-        fmt::print("{:<34} {:>8.1f} {:>8.1f} {:>8.1f} {:>8.1f}x {:>8.2f}% {:>8.2f}%\n", s.name, row.refEvals,
-                   row.sweepEvals, row.windowEvals, row.sweepEvals / row.windowEvals, 100 * row.sweepDiffer,
-                   100 * row.windowDiffer);
+        fmt::print("{:<34} {:>8.1f} {:>8.1f} {:>8.1f} {:>8.1f}x {:>8.2f}% {:>8.2f}%\n", s.name,
+                   row.refEvals, row.sweepEvals, row.windowEvals, row.sweepEvals / row.windowEvals,
+                   100 * row.sweepDiffer, 100 * row.windowDiffer);
     }
     double meanWindow = sumWindow / all.size(), meanSweep = sumSweep / all.size();
-    fmt::print("\nmean Window {:.1f} evaluations/pixel (target <= 12), {:.1f}x fewer than Sweep (target >= 15x),\n"
+    fmt::print("\nmean Window {:.1f} evaluations/pixel (target <= 12), {:.1f}x fewer than Sweep "
+               "(target >= 15x),\n"
                "worst share of Window pixels off the reference by > 8/255: {:.3f}% (target 0)\n",
                meanWindow, meanSweep / meanWindow, 100 * worstDiffer);
     fmt::print("JIT, default scene at 1920x1080: {:.1f} Mpx/s\n", defaultSceneMpxPerSecond());

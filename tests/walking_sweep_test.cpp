@@ -9,128 +9,12 @@
 //    distance is never below the reference's (where the reference is complete).
 // Outside the budget nothing is claimed; the figures there are counted and, with
 // MOIRE_WALKING_REPORT=1, printed (docs/families.md, "Walking families", quotes them).
-#include "runtime/Probe.h"
-#include "tests/reference/WalkingReference.h"
-#include "tests/support/Support.h"
-
-#include <algorithm>
-#include <cmath>
-#include <cstdlib>
-#include <doctest/doctest.h>
-#include <numbers>
-#include <random>
-#include <sstream>
-#include <string>
-#include <vector>
+#include "tests/support/WalkingHarness.h"
 
 using namespace moire;
+using namespace moire::walktest;
 
 namespace {
-
-constexpr double kPi = std::numbers::pi;
-constexpr double kDeg = kPi / 180.0;
-
-// Names and values for failure messages: SHOW(x, y) reports "x, y = 1.5, -2". INFO is lazy,
-// so nothing is formatted unless a check fails.
-template <class... T>
-std::string show(const T&... v) {
-    std::ostringstream o;
-    o.precision(17);
-    const char* sep = "";
-    ((o << sep << v, sep = ", "), ...);
-    return o.str();
-}
-#define SHOW(...) INFO(#__VA_ARGS__ " = ", show(__VA_ARGS__))
-// Measured figures (docs/families.md quotes them), printed with MOIRE_WALKING_REPORT=1.
-#define REPORT(...)                                                                                \
-    do {                                                                                           \
-        if (std::getenv("MOIRE_WALKING_REPORT")) MESSAGE(__VA_ARGS__);                             \
-    } while (false)
-
-// One compiled walking layer whose numbers are re-set per setting (Prober::setLiteral): the
-// scene is written with distinct sentinel numbers, and each one's slot is found by value.
-struct Walker {
-    std::unique_ptr<SceneProgram> program;
-    std::unique_ptr<Prober> probe;
-    int zoom, spacing, phase, ox, oy, turn, stroke, sides = -1;
-
-    explicit Walker(int n) { // 0: circles; 3, 4, 6: the stdlib polygons; otherwise ngon
-        std::string fam = n == 0   ? "circles"
-                          : n == 3 ? "triangles"
-                          : n == 4 ? "squares"
-                          : n == 6 ? "hexagons"
-                                   : "ngon";
-        std::string text =
-            "camera { zoom = 1.0101 }\nlayer { family = " + fam +
-            "; spacing = 10.0202; phase = 0.0303; offset = (0.0404, 0.0505); turn = 0.0606rad;"
-            " stroke = 1.0707" +
-            (fam == "ngon" ? "; sides = 5.0808" : "") + " }\n";
-        program = test::compileOk(text, CompileOptions{.layerFields = true, .probe = true});
-        probe = std::make_unique<Prober>(*program, nullptr);
-        auto slot = [&](double v) {
-            for (size_t i = 0; i < program->literals.size(); ++i)
-                if (program->literals[i] == v) return static_cast<int>(i);
-            FAIL("no literal slot holds ", v);
-            return -1;
-        };
-        zoom = slot(1.0101), spacing = slot(10.0202), phase = slot(0.0303), ox = slot(0.0404),
-        oy = slot(0.0505), turn = slot(0.0606), stroke = slot(1.0707);
-        if (fam == "ngon") sides = slot(5.0808);
-    }
-};
-
-struct Setting {
-    reference::Walking w;
-    double zoom = 1.0, stroke = 1.5;
-    double h() const { return std::max(stroke / 2.0, 1.15 / zoom); }
-    double a() const { return 0.7 / zoom; }
-    double guard() const { return std::max(h() + a(), 0.75 * w.spacing); }
-    double accept() const { return h() - a(); }
-    double coverage(double d) const { // Eq. 4 without opacity
-        double t = std::clamp((d - (h() - a())) / (2.0 * a()), 0.0, 1.0);
-        return 1.0 - t * t * (3.0 - 2.0 * t);
-    }
-};
-
-// A setting, as the scene would say it (the turn in radians).
-std::string describe(const Setting& st) {
-    return show("facets", st.w.facets, "spacing", st.w.spacing, "phase", st.w.phase, "offset",
-                st.w.offsetX, st.w.offsetY, "turn", st.w.turn, "zoom", st.zoom, "stroke",
-                st.stroke);
-}
-
-void apply(Walker& k, const Setting& st) {
-    k.probe->setLiteral(k.zoom, st.zoom);
-    k.probe->setLiteral(k.spacing, st.w.spacing);
-    k.probe->setLiteral(k.phase, st.w.phase);
-    k.probe->setLiteral(k.ox, st.w.offsetX);
-    k.probe->setLiteral(k.oy, st.w.offsetY);
-    k.probe->setLiteral(k.turn, st.w.turn);
-    k.probe->setLiteral(k.stroke, st.stroke);
-    if (k.sides >= 0) k.probe->setLiteral(k.sides, st.w.facets);
-}
-
-struct Out {
-    double distance, index, lo, hi;
-};
-Out solve(Walker& k, double x, double y) {
-    std::vector<double> v = k.probe->at(x, y);
-    const auto& L = k.program->layout;
-    return {v[L.distanceSlot(0)], v[L.indexSlot(0)], v[L.aux0Slot(0)], v[L.aux1Slot(0)]};
-}
-
-// A point on member n of the family, in direction `angle` of that member's own frame, moved
-// by `jitter` along that direction (world units, approximately).
-void onMember(const reference::Walking& w, int64_t n, double angle, double jitter, double& x,
-              double& y) {
-    double dx = std::cos(angle), dy = std::sin(angle);
-    double rad =
-        std::max(0.0, n * w.spacing + w.phase) / reference::radius(w.facets, dx, dy) + jitter;
-    double qx = rad * dx + n * w.offsetX, qy = rad * dy + n * w.offsetY; // q_n + n delta
-    double c = std::cos(n * w.turn), s = std::sin(n * w.turn);
-    x = c * qx - s * qy;
-    y = s * qx + c * qy;
-}
 
 // The reference's cost at a point: it stops at the first n past which Eq. 28 proves every
 // member outside the guard, or never at m = s.
@@ -171,7 +55,6 @@ TEST_CASE(
     const double kMaxReference = 50000; // members the reference may scan for one point
     std::mt19937_64 rng(20240611);
     std::uniform_real_distribution<double> unit(0.0, 1.0);
-    Walker circles(0), triangles(3), squares(4), hexagons(6), ngon(5);
     Tally t;
     for (int shape : shapes)
         for (double s : spacings)
@@ -196,12 +79,6 @@ TEST_CASE(
                             f * s / reference::radius(shape, std::cos(dir), std::sin(dir));
                         st.w.offsetX = -len * std::cos(dir);
                         st.w.offsetY = -len * std::sin(dir);
-                        Walker& k = shape == 0   ? circles
-                                    : shape == 3 ? triangles
-                                    : shape == 4 ? squares
-                                    : shape == 6 ? hexagons
-                                                 : ngon;
-                        apply(k, st);
                         ++t.settings;
                         const double extent = 650.0 / zoom; // the frame of a 1200 x 800 view
                         bool out = false, stridedOut = false;
@@ -215,7 +92,7 @@ TEST_CASE(
                                 onMember(st.w, n, 2 * kPi * unit(rng),
                                          (unit(rng) - 0.5) * st.guard(), x, y);
                             }
-                            Out o = solve(k, x, y);
+                            Out o = solve(st, x, y);
                             ++t.points;
                             REQUIRE(std::isfinite(o.distance));
                             const bool fits = o.hi - o.lo + 1.0 <= 1024.0;

@@ -313,4 +313,3 @@ TEST_CASE("walking: every dispatch branch runs where it should and is exact") {
         CHECK(dispatchRun(st, 200.0, 60, rng).size() > 3);
     }
 }
-

@@ -4,11 +4,11 @@
 // metrically correct. Built once as IR, so every backend runs the same maths.
 #pragma once
 
-#include <string>
-#include <vector>
-
 #include "compiler/ir/Builder.h"
 #include "compiler/lower/LayerPipeline.h"
+
+#include <string>
+#include <vector>
 
 namespace moire::lower {
 
@@ -22,10 +22,10 @@ enum class LatticeKind {
 LatticeKind latticeKind(const std::string& familyName);
 
 struct LatticeInputs {
-    ir::ValueId px, py;              // the point, in the layer's frame
-    ir::ValueId spacing;             // distance between neighbouring points
-    std::vector<ir::ValueId> scale;  // (sx, sy): the lattice stretched along x and y
-    ir::ValueId edges;               // 0: distance to the points; otherwise to the edges
+    ir::ValueId px, py;             // the point, in the layer's frame
+    ir::ValueId spacing;            // distance between neighbouring points
+    std::vector<ir::ValueId> scale; // (sx, sy): the lattice stretched along x and y
+    ir::ValueId edges;              // 0: distance to the points; otherwise to the edges
 };
 
 // distance: to the nearest point or edge; index: the first of the point's two integer

@@ -48,11 +48,14 @@ LayerFields phaseFamilyFields(ir::Builder& b, ValueId phi, ValueId phase, ValueI
 }
 
 StrokeBand strokeBand(ir::Builder& b, ValueId stroke, ValueId pixel) {
-    return {b.max(b.mul(stroke, b.constF(0.5)), b.mul(pixel, b.constF(1.15))), b.mul(pixel, b.constF(0.7))};
+    return {b.max(b.mul(stroke, b.constF(0.5)), b.mul(pixel, b.constF(1.15))),
+            b.mul(pixel, b.constF(0.7))};
 }
 
-ValueId strokeCoverage(ir::Builder& b, ValueId d, const StrokeBand& band, ValueId opacity, ValueId alpha) {
-    ValueId ink = b.sub(b.constF(1.0), b.smoothstep(b.sub(band.h, band.a), b.add(band.h, band.a), d));
+ValueId strokeCoverage(ir::Builder& b, ValueId d, const StrokeBand& band, ValueId opacity,
+                       ValueId alpha) {
+    ValueId ink =
+        b.sub(b.constF(1.0), b.smoothstep(b.sub(band.h, band.a), b.add(band.h, band.a), d));
     ValueId cov = b.mul(ink, b.mul(b.clamp(opacity, b.constF(0.0), b.constF(1.0)),
                                    b.clamp(alpha, b.constF(0.0), b.constF(1.0))));
     return b.denan(b.clamp(cov, b.constF(0.0), b.constF(1.0)), b.constF(0.0));

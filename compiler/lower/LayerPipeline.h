@@ -12,8 +12,8 @@
 namespace moire::lower {
 
 struct LayerFields {
-    ir::ValueId index;        // fractional member index: member n is {index = n}
-    ir::ValueId distance;     // world distance to the nearest member
+    ir::ValueId index;    // fractional member index: member n is {index = n}
+    ir::ValueId distance; // world distance to the nearest member
     ir::ValueId gradX = ir::kNoValue, gradY = ir::kNoValue; // the index gradient, per world unit
     // Family-specific diagnostics (the walking solver's certified interval), for tests.
     ir::ValueId aux0 = ir::kNoValue, aux1 = ir::kNoValue;
@@ -36,8 +36,8 @@ LayerFields phaseFamilyFields(ir::Builder& b, ir::ValueId phi, ir::ValueId phase
 
 // Coverage of the stroke at distance `d` (Eq. 4):
 // (1 - smoothstep(h - a, h + a, d)) * opacity * alpha, clamped to [0, 1], NaN read as 0.
-ir::ValueId strokeCoverage(ir::Builder& b, ir::ValueId d, const StrokeBand& band, ir::ValueId opacity,
-                           ir::ValueId alpha);
+ir::ValueId strokeCoverage(ir::Builder& b, ir::ValueId d, const StrokeBand& band,
+                           ir::ValueId opacity, ir::ValueId alpha);
 
 // Premultiplied RGBA accumulated from the background up.
 struct Ink {

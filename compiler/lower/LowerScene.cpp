@@ -111,7 +111,8 @@ class SceneLowering {
     }
 
     // The fields of one layer, by the kind of its family.
-    LayerFields layerFields(const sema::CheckedLayer& layer, const StrokeBand& band, bool wantIndex) {
+    LayerFields layerFields(const sema::CheckedLayer& layer, const StrokeBand& band,
+                            bool wantIndex) {
         b_.setLoc(layer.decl->range.begin);
         ValueId spacing = prop(layer, "spacing", {b_.constF(10.0)})[0];
         ValueId phase = prop(layer, "phase", {b_.constF(0.0)})[0];

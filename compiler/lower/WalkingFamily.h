@@ -5,10 +5,10 @@
 // once as IR, so every backend runs the same solver.
 #pragma once
 
-#include <functional>
-
 #include "compiler/ir/Builder.h"
 #include "compiler/lower/LayerPipeline.h"
+
+#include <functional>
 
 namespace moire::lower {
 
@@ -34,11 +34,11 @@ struct WalkingInputs {
 using RadiusFn = std::function<ir::ValueId(ir::Builder&, ir::ValueId qx, ir::ValueId qy)>;
 
 // The solver's constants (spec §7.6).
-constexpr double kWalkBudget = 1024;          // B: evaluations the scan may spend
-constexpr double kWalkSpanCap = 65536;        // 2^16: widest interval the scan considers
-constexpr double kWalkReanchor = 32;          // carried rotation re-anchored this often
-constexpr double kWalkMarginal = 1e-4;        // drift within this of s reads as marginal
-constexpr double kWalkMaxFacets = 24;         // larger side counts are scanned
+constexpr double kWalkBudget = 1024;   // B: evaluations the scan may spend
+constexpr double kWalkSpanCap = 65536; // 2^16: widest interval the scan considers
+constexpr double kWalkReanchor = 32;   // carried rotation re-anchored this often
+constexpr double kWalkMarginal = 1e-4; // drift within this of s reads as marginal
+constexpr double kWalkMaxFacets = 24;  // larger side counts are scanned
 
 // The tally counter the solver counts radius evaluations in.
 constexpr int kRadiusTally = 0;

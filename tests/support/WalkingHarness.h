@@ -7,6 +7,7 @@
 #include "runtime/Probe.h"
 #include "tests/reference/WalkingReference.h"
 #include "tests/support/Support.h"
+
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
@@ -22,7 +23,6 @@
 namespace moire::walktest {
 
 using reference::Walking;
-
 
 constexpr double kPi = std::numbers::pi;
 constexpr double kDeg = kPi / 180.0;
@@ -81,6 +81,10 @@ struct Setting {
     double a() const { return 0.7 / zoom; }
     double guard() const { return std::max(h() + a(), 0.75 * w.spacing); }
     double accept() const { return h() - a(); }
+    double coverage(double d) const { // Eq. 4 without opacity
+        double t = std::clamp((d - (h() - a())) / (2.0 * a()), 0.0, 1.0);
+        return 1.0 - t * t * (3.0 - 2.0 * t);
+    }
 };
 
 // A setting, as the scene would say it (the turn in radians).
@@ -138,7 +142,8 @@ inline void setDrift(Walking& w, double f, double angle) {
 
 // A point on member n of the family, in direction `angle` of that member's own frame, moved
 // by `jitter` along that direction (world units, approximately).
-inline void onMember(const Walking& w, int64_t n, double angle, double jitter, double& x, double& y) {
+inline void onMember(const Walking& w, int64_t n, double angle, double jitter, double& x,
+                     double& y) {
     double dx = std::cos(angle), dy = std::sin(angle);
     double rad =
         std::max(0.0, n * w.spacing + w.phase) / reference::radius(w.facets, dx, dy) + jitter;
@@ -154,6 +159,5 @@ inline bool agrees(const Setting& st, double got, double want, double x, double 
     double tol = 1e-10 * (1.0 + std::hypot(x, y) + st.w.spacing);
     return std::fabs(got - want) <= tol || (got <= st.accept() && want <= st.accept());
 }
-
 
 } // namespace moire::walktest

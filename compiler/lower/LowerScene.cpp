@@ -2,6 +2,7 @@
 
 #include "compiler/diag/Diagnostics.h"
 #include "compiler/ir/Builder.h"
+#include "compiler/ir/Semantics.h"
 #include "compiler/lower/LatticeFamily.h"
 #include "compiler/lower/LayerPipeline.h"
 #include "compiler/lower/LowerExpr.h"
@@ -62,6 +63,8 @@ class SceneLowering {
         Vals bg = settingOr(scene_.scene, "background",
                             {b_.constF(1), b_.constF(1), b_.constF(1), b_.constF(1)});
         Ink acc = paper(b_, bg[0], bg[1], bg[2], bg[3]);
+        const ValueId zero = b_.constF(0.0);
+        ValueId unresolved = zero; // the largest gain s |grad f| of the encoded layers
 
         for (size_t i = 0; i < scene_.layers.size(); ++i) {
             const sema::CheckedLayer& layer = scene_.layers[i];
@@ -71,7 +74,9 @@ class SceneLowering {
             ValueId opacity = prop(layer, "opacity", {b_.constF(1.0)})[0];
             b_.setLoc(layer.decl->range.begin);
             StrokeBand band = strokeBand(b_, stroke, pixel);
-            LayerFields fields = layerFields(layer, band, layout.layerFields);
+            Encoding enc = encoding(layer);
+            LayerFields fields = layerFields(layer, band, enc, layout.layerFields);
+            if (enc.field != ir::kNoValue) unresolved = b_.max(unresolved, sampling(layer, enc));
             b_.setLoc(layer.decl->range.begin);
             ValueId cov = strokeCoverage(b_, fields.distance, band, opacity, color[3]);
             acc = inkOver(b_, acc, color[0], color[1], color[2], cov);
@@ -84,6 +89,14 @@ class SceneLowering {
                 b_.output(layout.aux0Slot(static_cast<int>(i)), orZero(fields.aux0));
                 b_.output(layout.aux1Slot(static_cast<int>(i)), orZero(fields.aux1));
             }
+        }
+        // The sampling limit (§10.4): a carrier of pitch s cannot show fringes much finer than
+        // 3 s, so where an encoded field is that steep the scene's `unresolved` tint is laid
+        // over everything (transparent unless the scene sets it).
+        if (unresolved != zero) {
+            Vals tint = settingOr(scene_.scene, "unresolved", {zero, zero, zero, zero});
+            ValueId mark = b_.smoothstep(b_.constF(0.30), b_.constF(0.37), unresolved);
+            acc = inkOver(b_, acc, tint[0], tint[1], tint[2], b_.mul(mark, b_.clamp(tint[3], zero, b_.constF(1.0))));
         }
         Ink out = unpremultiply(b_, acc);
         b_.output(0, out.r);
@@ -110,8 +123,27 @@ class SceneLowering {
         return e ? exprs_.lower(*e, world_) : fallback;
     }
 
+    // A field encoded into a layer (§10.1): the phase becomes phi - gain s f.
+    struct Encoding {
+        ValueId field = ir::kNoValue, gain = ir::kNoValue;
+    };
+    Encoding encoding(const sema::CheckedLayer& layer) {
+        Encoding enc;
+        if (!layer.encoded) return enc;
+        enc.field = prop(layer, "field", {})[0];
+        enc.gain = prop(layer, "gain", {b_.constF(1.0)})[0];
+        return enc;
+    }
+    // gain s |grad f|, whose reciprocal is the fringe spacing in carrier pitches: the
+    // fringes are legible while it stays under about 1/3 (c / |grad f| >= 3 s, Eq. 38).
+    ValueId sampling(const sema::CheckedLayer& layer, const Encoding& enc) {
+        ValueId spacing = prop(layer, "spacing", {b_.constF(10.0)})[0];
+        ValueId slope = b_.hypot(b_.emit(Op::DerivX, {enc.field}), b_.emit(Op::DerivY, {enc.field}));
+        return b_.mul(b_.abs(b_.mul(enc.gain, spacing)), slope);
+    }
+
     // The fields of one layer, by the kind of its family.
-    LayerFields layerFields(const sema::CheckedLayer& layer, const StrokeBand& band,
+    LayerFields layerFields(const sema::CheckedLayer& layer, const StrokeBand& band, const Encoding& enc,
                             bool wantIndex) {
         b_.setLoc(layer.decl->range.begin);
         ValueId spacing = prop(layer, "spacing", {b_.constF(10.0)})[0];
@@ -170,24 +202,44 @@ class SceneLowering {
             in.py = qy;
             in.spacing = spacing;
             in.phase = phase;
+            // Encoding shifts every member's residual by -gain s f(p): the same as moving
+            // the phase by +gain s f. The residual is then divided by the carrier gradient,
+            // taken as radial from the layer's origin (a first-order convenience, §10.1),
+            // minus gain s grad f; the solver works in residual units, so its stroke band is
+            // scaled by that length and its distance divided by it.
+            ValueId slope = ir::kNoValue;
+            if (enc.field != ir::kNoValue) {
+                ValueId shift = b_.mul(b_.mul(enc.gain, spacing), enc.field);
+                in.phase = b_.add(phase, shift);
+                ValueId rr = b_.max(b_.hypot(dx, dy), b_.constF(ir::kTiny));
+                ValueId gx = b_.sub(b_.div(dx, rr), b_.emit(Op::DerivX, {shift}));
+                ValueId gy = b_.sub(b_.div(dy, rr), b_.emit(Op::DerivY, {shift}));
+                slope = b_.max(b_.hypot(gx, gy), b_.constF(ir::kTiny));
+            }
             Vals offset = prop(layer, "offset", {b_.constF(0.0), b_.constF(0.0)});
             in.offsetX = offset[0];
             in.offsetY = offset[1];
             in.turn = prop(layer, "turn", {b_.constF(0.0)})[0];
             in.facets = exprs_.scalar(*family->facets, here);
             in.band = band;
+            if (slope != ir::kNoValue) in.band = {b_.mul(band.h, slope), b_.mul(band.a, slope)};
             in.wantIndex = wantIndex;
             in.tally = options_.tally;
             RadiusFn rho = [&](ir::Builder&, ValueId x, ValueId y) {
                 Frame f = at(x, y);
                 return exprs_.scalar(*family->phase, f);
             };
-            return walkingFamilyFields(b_, in, rho);
+            LayerFields out = walkingFamilyFields(b_, in, rho);
+            if (slope != ir::kNoValue) out.distance = b_.div(out.distance, slope);
+            return out;
         }
         const Expr* phaseExpr = family ? family->phase : layer.anonymousPhase;
         MOIRE_CHECK(phaseExpr, "layer without a phase survived checking");
         ValueId phi = exprs_.scalar(*phaseExpr, here);
         b_.setLoc(layer.decl->range.begin);
+        // Encoding (§10.1): phi - gain s f; forward-mode AD gives the gradient it divides by.
+        if (enc.field != ir::kNoValue)
+            phi = b_.sub(phi, b_.mul(b_.mul(enc.gain, spacing), enc.field));
         return phaseFamilyFields(b_, phi, phase, spacing, family ? family->first : std::nullopt);
     }
 

@@ -25,7 +25,7 @@ bool beginsValueOnly(Tok k) {
 } // namespace
 
 Parser::Parser(const SourceManager& sm, uint32_t fileId, DiagEngine& diags)
-    : file_(fileId), isStdlib_(sm.file(fileId).isStdlib()), diags_(diags),
+    : file_(fileId), text_(sm.file(fileId).text()), isStdlib_(sm.file(fileId).isStdlib()), diags_(diags),
       lexer_(fileId, sm.file(fileId).text(), diags) {
     advance();
 }
@@ -83,6 +83,27 @@ bool Parser::valueEnds() {
     if (!beginsValueOnly(tok_.kind)) return true;
     diags_.error(range(), Msg::Expected, "an operator such as '*' between two values",
                  describeCurrent());
+    return false;
+}
+
+bool Parser::nextIsAssign() const {
+    // Scans the text after the current token, past white space and comments. (Peeking with
+    // the lexer would report its errors twice.)
+    size_t i = tok_.offset + tok_.length;
+    while (i < text_.size()) {
+        char c = text_[i];
+        if (c == ' ' || c == '\t' || c == '\r' || c == '\n' || c == '\f' || c == '\v') {
+            ++i;
+        } else if (text_.compare(i, 2, "//") == 0) {
+            while (i < text_.size() && text_[i] != '\n') ++i;
+        } else if (text_.compare(i, 2, "/*") == 0) {
+            size_t close = text_.find("*/", i + 2);
+            if (close == std::string_view::npos) return false;
+            i = close + 2;
+        } else {
+            return c == '=';
+        }
+    }
     return false;
 }
 
@@ -244,9 +265,10 @@ void Parser::parseBlock(Decl& d) {
     }
     while (!at(Tok::RBrace) && !at(Tok::End)) {
         if (diags_.errorCount() >= DiagEngine::kMaxErrors) return;
-        // No block has a property named after a declaration (a layer's `family` aside): the
-        // block's '}' is missing, and the declaration is left for parseModule to read.
-        if (atDeclWord() && !atWord("family")) break;
+        // A declaration keyword not followed by '=' is not a property (`family = ...` and
+        // `field = ...` are): the block's '}' is missing, and the declaration is left for
+        // parseModule to read.
+        if (atDeclWord() && !nextIsAssign()) break;
         if (!parseProperty(d.props)) recoverTo(true);
     }
     expect(Tok::RBrace, fmt::format("'}}' to close the {}", declKindName(d.kind)).c_str());

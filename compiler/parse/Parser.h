@@ -46,6 +46,9 @@ class Parser {
     // Skip to something that can begin the next declaration or property after an error.
     void recoverTo(bool inBlock);
     bool atDeclWord() const;
+    // Whether the token after the current one is '=' (a property, not a declaration: a
+    // layer's `field = saddle` against `field saddle = ...`).
+    bool nextIsAssign() const;
     // Reports TooDeep once depth_ is past kMaxDepth, and skips the rest of the input.
     bool tooDeep();
     // After a value: false (reported) when a second value follows with no operator between.
@@ -67,6 +70,7 @@ class Parser {
     int assignLiteral(double v);
 
     uint32_t file_;
+    std::string_view text_;
     bool isStdlib_;
     DiagEngine& diags_;
     Lexer lexer_;

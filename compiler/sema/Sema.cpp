@@ -18,6 +18,8 @@ const std::vector<PropertySpec>& sceneProperties() {
         {"size", Type::Vec2, true, true,
          "image size in pixels, (width, height); default (1200, 800)"},
         {"background", Type::Color, true, false, "paper colour; default #ffffff"},
+        {"unresolved", Type::Color, true, false,
+         "tint laid where an encoded field's fringes are too fine for its carrier; default none"},
     };
     return props;
 }
@@ -46,6 +48,9 @@ const std::vector<PropertySpec>& layerProperties() {
         {"offset", Type::Vec2, false, false,
          "walking families: member n is moved by n * offset (turned with it); default (0, 0)"},
         {"turn", Type::Angle, false, false, "walking families: member n is turned by n * turn; default 0deg"},
+        {"field", Type::Num, false, false,
+         "a scalar field encoded into the phase: the fringes against a twin are its contours"},
+        {"gain", Type::Num, false, false, "how strongly the field is encoded: contours every 1 / gain; default 1"},
     };
     return props;
 }
@@ -366,6 +371,13 @@ void Checker::checkLayer(Decl& d) {
         if (fam && !(layer.family && layer.family->facets))
             diags_.error(p->nameRange, Msg::NotWalkable, walk,
                          familyDecl ? fmt::format("'{}'", familyDecl->name) : std::string("this layer's family"));
+    }
+    // A field is encoded into the phase (phi - gain s f), which distance and builtin
+    // families do not have.
+    if (const Property* p = d.prop("field")) {
+        layer.encoded = true;
+        if (layer.family && layer.family->kind != FamilyKind::Phase)
+            diags_.error(p->nameRange, Msg::NotEncodable, familyDecl->name);
     }
     if (familyDecl) {
         for (size_t i = 0; i < familyDecl->params.size(); ++i)

@@ -37,6 +37,7 @@ struct CheckedLayer {
     const CheckedFamily* family = nullptr;     // a named family, or null
     const ast::Expr* anonymousPhase = nullptr; // `family = <expression>`
     bool walking = false; // sets offset or turn: its members are found by the walking solver
+    bool encoded = false; // carries a field in its phase (`field`, `gain`)
     // One entry per parameter of the family: the layer's value, or null for the default.
     std::vector<const ast::Expr*> args;
     const ast::Expr* prop(std::string_view name) const {

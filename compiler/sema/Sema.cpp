@@ -8,6 +8,7 @@
 #include <cmath>
 #include <fmt/format.h>
 #include <functional>
+#include <unordered_set>
 
 namespace moire::sema {
 
@@ -86,8 +87,11 @@ bool Checker::reserved(const std::string& name, SourceRange at) {
 }
 
 void Checker::collect(const std::vector<Module*>& modules) {
-    for (Module* m : modules) {
-        for (DeclPtr& dp : m->decls) {
+    // The scene's own module comes last; the standard library's before it.
+    std::unordered_set<const Decl*> library;
+    for (size_t mi = 0; mi < modules.size(); ++mi) {
+        const bool user = mi + 1 == modules.size();
+        for (DeclPtr& dp : modules[mi]->decls) {
             Decl& d = *dp;
             switch (d.kind) {
             case DeclKind::Scene:
@@ -105,6 +109,13 @@ void Checker::collect(const std::vector<Module*>& modules) {
             case DeclKind::Family: {
                 if (reserved(d.name, d.nameRange)) break;
                 auto known = globals_.find(d.name);
+                // A scene may reuse a library name (its own `field ripple`): its declaration
+                // hides the library's wherever the scene names it.
+                if (known != globals_.end() && user && library.count(known->second)) {
+                    globals_[d.name] = &d;
+                    (d.kind == DeclKind::Field ? fields_ : familyDecls_).push_back(&d);
+                    break;
+                }
                 if (known != globals_.end()) {
                     diags_.error(d.nameRange, Msg::DuplicateDecl, declKindName(known->second->kind),
                                  d.name);
@@ -112,6 +123,7 @@ void Checker::collect(const std::vector<Module*>& modules) {
                     break;
                 }
                 globals_[d.name] = &d;
+                if (!user) library.insert(&d);
                 (d.kind == DeclKind::Field ? fields_ : familyDecls_).push_back(&d);
                 break;
             }

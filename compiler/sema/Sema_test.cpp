@@ -252,8 +252,10 @@ TEST_CASE("sema: duplicates are reported with a note at the first") {
     Checked fields = check("field f = 1\nfield f = 2");
     CHECK(fields.msgs() == std::vector<Msg>{Msg::DuplicateDecl, Msg::FirstDefinedHere});
     CHECK(fields.firstText() == "there is already a field named 'f'");
-    Checked stdlib = check("family circles = r * 2");
-    CHECK(stdlib.firstText() == "there is already a family named 'circles'");
+    // A scene's own declaration hides the library's of the same name, rather than clashing.
+    CHECK(check("family circles = r * 2\nfield ripple = x\nlayer { family = circles; field = ripple }")
+              .msgs()
+              .empty());
     CHECK(check("layer a { family = circles }\nlayer a { family = circles }").firstText() ==
           "there is already a layer named 'a'");
     Checked scenes = check("scene { }\nscene { }");

@@ -62,7 +62,7 @@ TEST_CASE("moire check: a valid scene exits 0 and says so") {
     CHECK(quiet.err.empty());
 }
 
-TEST_CASE("moire check: several scenes are all checked; any error makes the status 1") {
+TEST_CASE("moire check: several scenes are all checked, and any error makes the status 1") {
     TempScene good("layer { family = circles }\n");
     test::CommandResult r =
         check("'" + good.scene + "' tests/errors/missing_family.moire '" + good.scene + "'");

@@ -109,7 +109,7 @@ TEST_CASE("parser: literals keep their units and colours") {
     CHECK(col.expr->rgba == std::array<double, 4>{0, 1, 0, 1});
 }
 
-TEST_CASE("parser: ranges cover whole expressions; opRange is the operator or name") {
+TEST_CASE("parser: ranges cover whole expressions, and opRange is the operator or name") {
     Parsed p = parseExpr("a + sin(x) * 2");
     REQUIRE_FALSE(p.diags->hasErrors());
     CHECK(covered(p, p.expr->range) == "a + sin(x) * 2");
@@ -248,7 +248,7 @@ TEST_CASE("parser: a missing value is one error, not two") {
     }
 }
 
-TEST_CASE("parser: never crashes on a runaway nesting; one TooDeep error") {
+TEST_CASE("parser: never crashes on a runaway nesting, and reports one TooDeep error") {
     // Each would overflow the stack of a recursive parser (or of a later stage walking the
     // tree) without the limit.
     std::vector<std::string> deep = {
@@ -274,7 +274,7 @@ TEST_CASE("parser: never crashes on a runaway nesting; one TooDeep error") {
     CHECK_FALSE(parseModule(sum).diags->hasErrors());
 }
 
-TEST_CASE("parser: user literals get slots in order; a colour takes four") {
+TEST_CASE("parser: user literals get slots in order, and a colour takes four") {
     Parsed p = parseModule("scene { background = #336699 }\n"
                            "layer { family = circles; spacing = 7; rotation = -90deg }\n");
     REQUIRE_FALSE(p.diags->hasErrors());

@@ -8,19 +8,18 @@
 // megapixel, on the JIT (best of N) and on the interpreter (once), with the instructions the
 // field adds to the kernel. Last, a layer with no field costs the same kernel (same
 // structural hash) whether or not the scene declares fields it does not use.
-#include <fmt/format.h>
+#include "compiler/backend/interp/Interpreter.h"
+#include "compiler/backend/llvm/LlvmJit.h"
+#include "compiler/Compile.h"
+#include "runtime/FrameEval.h"
+#include "runtime/TileExecutor.h"
 
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
+#include <fmt/format.h>
 #include <string>
 #include <vector>
-
-#include "compiler/Compile.h"
-#include "compiler/backend/interp/Interpreter.h"
-#include "compiler/backend/llvm/LlvmJit.h"
-#include "runtime/FrameEval.h"
-#include "runtime/TileExecutor.h"
 
 using namespace moire;
 using Clock = std::chrono::steady_clock;
@@ -64,7 +63,8 @@ double msPerMpx(Backend& backend, const Compiled& c, int repeat) {
 }
 
 std::string layer(const std::string& field) {
-    std::string s = "scene { size = (1200, 800) }\nlayer { family = lines; spacing = 5.8; stroke = 1.5";
+    std::string s =
+        "scene { size = (1200, 800) }\nlayer { family = lines; spacing = 5.8; stroke = 1.5";
     if (!field.empty()) s += "; field = " + field;
     return s + " }\n";
 }
@@ -75,8 +75,10 @@ int main(int argc, char** argv) {
     int w = 1920, h = 1080, repeat = 5;
     for (int i = 1; i + 1 < argc; ++i) {
         std::string a = argv[i];
-        if (a == "--size") std::sscanf(argv[++i], "%dx%d", &w, &h);
-        else if (a == "--repeat") repeat = std::max(1, std::atoi(argv[++i]));
+        if (a == "--size")
+            std::sscanf(argv[++i], "%dx%d", &w, &h);
+        else if (a == "--repeat")
+            repeat = std::max(1, std::atoi(argv[++i]));
     }
     LlvmJitBackend jit;
     InterpBackend interp;
@@ -84,31 +86,37 @@ int main(int argc, char** argv) {
     // The interpreter renders a smaller frame (its cost per pixel does not depend on size).
     const int iw = std::max(1, w / 4), ih = std::max(1, h / 4);
     Compiled plain = compile(layer(""), w, h), plainSmall = compile(layer(""), iw, ih);
-    const double jitBase = msPerMpx(jit, plain, repeat), interpBase = msPerMpx(interp, plainSmall, 1);
+    const double jitBase = msPerMpx(jit, plain, repeat),
+                 interpBase = msPerMpx(interp, plainSmall, 1);
     const size_t baseInsts = plain.program->kernel.instCount();
 
-    fmt::print("Cost of one encoded field per pixel, {}x{} (JIT best of {}), in ms per megapixel\n\n", w, h,
-               repeat);
-    fmt::print("{:<16} {:>7} {:>12} {:>12} {:>9}   {:>12} {:>12}\n", "preset", "+instr", "interp", "JIT",
-               "int/JIT", "layer (JIT)", "layer (int)");
+    fmt::print(
+        "Cost of one encoded field per pixel, {}x{} (JIT best of {}), in ms per megapixel\n\n", w,
+        h, repeat);
+    fmt::print("{:<16} {:>7} {:>12} {:>12} {:>9}   {:>12} {:>12}\n", "preset", "+instr", "interp",
+               "JIT", "int/JIT", "layer (JIT)", "layer (int)");
     for (const char* preset : {"saddle", "dipole", "bumps", "swirl", "ripple", "terrain"}) {
         Compiled c = compile(layer(preset), w, h), small = compile(layer(preset), iw, ih);
         const double j = msPerMpx(jit, c, repeat), i = msPerMpx(interp, small, 1);
-        const long added = static_cast<long>(c.program->kernel.instCount()) - static_cast<long>(baseInsts);
+        const long added =
+            static_cast<long>(c.program->kernel.instCount()) - static_cast<long>(baseInsts);
         // The field's own cost is what it adds to the same layer; timing noise can make a
         // cheap field read as slightly negative, which is shown as it was measured.
-        fmt::print("{:<16} {:>7} {:>12.3f} {:>12.3f} {:>8.0f}x   {:>12.3f} {:>12.1f}\n", preset, added,
-                   i - interpBase, j - jitBase, (i - interpBase) / std::max(1e-9, j - jitBase), j, i);
+        fmt::print("{:<16} {:>7} {:>12.3f} {:>12.3f} {:>8.0f}x   {:>12.3f} {:>12.1f}\n", preset,
+                   added, i - interpBase, j - jitBase,
+                   (i - interpBase) / std::max(1e-9, j - jitBase), j, i);
     }
-    fmt::print("{:<16} {:>7} {:>12} {:>12} {:>9}   {:>12.3f} {:>12.1f}\n", "no field", 0, "-", "-", "-", jitBase,
-               interpBase);
+    fmt::print("{:<16} {:>7} {:>12} {:>12} {:>9}   {:>12.3f} {:>12.1f}\n", "no field", 0, "-", "-",
+               "-", jitBase, interpBase);
 
     // A field declared but not used by a layer costs that layer nothing: its kernel is the
     // same program, not merely a similar one.
     Compiled declared = compile("field unused = saddle + terrain * dipole\n" + layer(""), w, h);
-    const bool same = ir::structuralHash(declared.program->kernel) == ir::structuralHash(plain.program->kernel);
-    fmt::print("\nA layer with no field: {} kernel instructions; the same kernel when the scene declares\n"
-               "fields it does not use: {}\n",
-               baseInsts, same ? "yes (identical structural hash)" : "NO");
+    const bool same =
+        ir::structuralHash(declared.program->kernel) == ir::structuralHash(plain.program->kernel);
+    fmt::print(
+        "\nA layer with no field: {} kernel instructions; the same kernel when the scene declares\n"
+        "fields it does not use: {}\n",
+        baseInsts, same ? "yes (identical structural hash)" : "NO");
     return same ? 0 : 1;
 }

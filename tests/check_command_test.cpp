@@ -35,7 +35,8 @@ struct TempScene : test::TempDir {
 
 TEST_CASE("moire check: a scene with errors exits 1 with exactly the catalogue's diagnostics") {
     // One lexer case, one with a note, and one found only when the frame is evaluated.
-    for (const char* name : {"unknown_unit", "duplicate_property", "bad_size", "unknown_property_family"}) {
+    for (const char* name :
+         {"unknown_unit", "duplicate_property", "bad_size", "unknown_property_family"}) {
         CAPTURE(name);
         std::string scene = std::string("tests/errors/") + name + ".moire";
         test::CommandResult r = check(scene);

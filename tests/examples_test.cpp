@@ -30,8 +30,9 @@ std::vector<Scene> allScenes() {
 
 // Parity size: large enough that every example shows its strokes at a few pixels a member.
 constexpr int kParityW = 480, kParityH = 320;
-// Golden size: half the scenes' own, so strokes still stand a few pixels apart.
-constexpr int kGoldenW = 480, kGoldenH = 320;
+// Golden window: the middle 400 x 300 pixels of each scene at its own size, so the strokes
+// are compared at the resolution they were designed for.
+constexpr int kGoldenW = 400, kGoldenH = 300;
 
 } // namespace
 
@@ -67,17 +68,21 @@ TEST_CASE("every backend agrees with the interpreter on every example") {
     }
 }
 
-// Golden images: the interpreter's render, quantised to 8 bits, against a reviewed PNG in
-// tests/golden/. Tolerance: at most 0.5% of samples off by more than 2/255 and a mean
-// difference under 0.5/255 (room for libm differences between machines, none for a change
-// in what is drawn). MOIRE_UPDATE_GOLDEN=1 rewrites the references.
+// Golden images: the interpreter's render of the middle window, quantised to 8 bits, against
+// a reviewed PNG in tests/golden/. Tolerance: at most 0.5% of samples off by more than 2/255 and a
+// mean difference under 0.5/255 (room for libm differences between machines, none for a change in
+// what is drawn). MOIRE_UPDATE_GOLDEN=1 rewrites the references.
 TEST_CASE("examples match their golden images") {
     const bool update = std::getenv("MOIRE_UPDATE_GOLDEN") != nullptr;
     auto interp = makeBackend("interp");
     for (const Scene& s : allScenes()) {
         CAPTURE(s.name);
         auto program = test::compileOk(s.text, {}, s.path);
-        Image img = test::renderScene(*program, *interp, kGoldenW, kGoldenH);
+        FrameValues fv;
+        std::string diags;
+        REQUIRE(evaluateFrame(*program, FrameRequest{}, fv, diags));
+        Image img = test::renderWindow(*program, *interp, (fv.width - kGoldenW) / 2,
+                                       (fv.height - kGoldenH) / 2, kGoldenW, kGoldenH);
         std::string golden = test::sourcePath("tests/golden/" + s.name + ".png");
         if (update) {
             writeImage(golden, img);

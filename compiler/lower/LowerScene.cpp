@@ -96,7 +96,8 @@ class SceneLowering {
         if (unresolved != zero) {
             Vals tint = settingOr(scene_.scene, "unresolved", {zero, zero, zero, zero});
             ValueId mark = b_.smoothstep(b_.constF(0.30), b_.constF(0.37), unresolved);
-            acc = inkOver(b_, acc, tint[0], tint[1], tint[2], b_.mul(mark, b_.clamp(tint[3], zero, b_.constF(1.0))));
+            acc = inkOver(b_, acc, tint[0], tint[1], tint[2],
+                          b_.mul(mark, b_.clamp(tint[3], zero, b_.constF(1.0))));
         }
         Ink out = unpremultiply(b_, acc);
         b_.output(0, out.r);
@@ -138,13 +139,14 @@ class SceneLowering {
     // fringes are legible while it stays under about 1/3 (c / |grad f| >= 3 s, Eq. 38).
     ValueId sampling(const sema::CheckedLayer& layer, const Encoding& enc) {
         ValueId spacing = prop(layer, "spacing", {b_.constF(10.0)})[0];
-        ValueId slope = b_.hypot(b_.emit(Op::DerivX, {enc.field}), b_.emit(Op::DerivY, {enc.field}));
+        ValueId slope =
+            b_.hypot(b_.emit(Op::DerivX, {enc.field}), b_.emit(Op::DerivY, {enc.field}));
         return b_.mul(b_.abs(b_.mul(enc.gain, spacing)), slope);
     }
 
     // The fields of one layer, by the kind of its family.
-    LayerFields layerFields(const sema::CheckedLayer& layer, const StrokeBand& band, const Encoding& enc,
-                            bool wantIndex) {
+    LayerFields layerFields(const sema::CheckedLayer& layer, const StrokeBand& band,
+                            const Encoding& enc, bool wantIndex) {
         b_.setLoc(layer.decl->range.begin);
         ValueId spacing = prop(layer, "spacing", {b_.constF(10.0)})[0];
         ValueId phase = prop(layer, "phase", {b_.constF(0.0)})[0];

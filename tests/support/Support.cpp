@@ -88,6 +88,22 @@ Image renderScene(const SceneProgram& program, Backend& backend, int width, int 
     return renderFrame(program, backend, fv);
 }
 
+Image renderWindow(const SceneProgram& program, Backend& backend, int x0, int y0, int width,
+                   int height, double t) {
+    FrameRequest req;
+    req.time = t;
+    FrameValues fv;
+    std::string diags;
+    INFO(diags);
+    REQUIRE(evaluateFrame(program, req, fv, diags));
+    auto kernel = backend.compile(program.kernel);
+    Image img(width, height, kernel->numOutputs());
+    KernelFrame frame{fv.uniforms.data(), fv.width, fv.height};
+    kernel->runTile(frame, TileRect{x0, y0, x0 + width, y0 + height}, img.pixels.data(),
+                    static_cast<size_t>(width) * kernel->numOutputs());
+    return img;
+}
+
 ImageDiff compareImages(const Image& a, const Image& b, double tolerance, int channels) {
     REQUIRE(a.width == b.width);
     REQUIRE(a.height == b.height);

@@ -33,6 +33,11 @@ std::unique_ptr<Backend> makeBackendOrSkip(const std::string& name);
 Image renderScene(const SceneProgram& program, Backend& backend, int width = 0, int height = 0,
                   double t = 0.0);
 
+// The pixels [x0, x0 + width) x [y0, y0 + height) of frame `t` rendered at the scene's own
+// size: a window at full resolution, without rendering the rest.
+Image renderWindow(const SceneProgram& program, Backend& backend, int x0, int y0, int width,
+                   int height, double t = 0.0);
+
 // Per-channel comparison of two images of the same size.
 struct ImageDiff {
     size_t samples = 0; // pixels x channels compared

@@ -1,5 +1,6 @@
 #include "runtime/cli/Commands.h"
 
+#include "compiler/backend/glsl/GlslKernel.h"
 #include "compiler/backend/llvm/LlvmJit.h"
 #include "compiler/Compile.h"
 #include "runtime/ImageIO.h"
@@ -194,11 +195,11 @@ int check(const std::vector<std::string>& scenes, bool quiet) {
 }
 
 int compile(const CompileArgs& args) {
-    static const char* kDumps[] = {"ast", "ir", "ir-ad", "frame", "kernel", "llvm"};
+    static const char* kDumps[] = {"ast", "ir", "ir-ad", "frame", "kernel", "llvm", "glsl", "spirv"};
     if (std::find(std::begin(kDumps), std::end(kDumps), args.dump) == std::end(kDumps)) {
         fmt::print(
             stderr,
-            "moire: error: --dump must be one of ast, ir, ir-ad, frame, kernel, llvm; not '{}'\n",
+            "moire: error: --dump must be one of ast, ir, ir-ad, frame, kernel, llvm, glsl, spirv; not '{}'\n",
             args.dump);
         return kExitUsage;
     }
@@ -218,6 +219,10 @@ int compile(const CompileArgs& args) {
         fmt::print("{}", ir::print(program->frame));
     else if (args.dump == "kernel")
         fmt::print("{}", ir::print(program->kernel));
+    else if (args.dump == "glsl")
+        fmt::print("{}", glsl::emitGlsl(program->kernel));
+    else if (args.dump == "spirv")
+        fmt::print("{}", glsl::disassembleSpirv(glsl::compileSpirv(program->kernel)));
     else if (args.dump == "llvm")
         fmt::print("{}", LlvmJitBackend().dumpLlvm(program->kernel));
     return kExitOk;

@@ -41,7 +41,7 @@ int main(int argc, char** argv) {
     compileCmd->add_option("scene", compileArgs.scene,
                            "The .moire scene (default: the embedded default scene)");
     compileCmd->add_option("--dump", compileArgs.dump,
-                           "ast, ir, ir-ad, frame, kernel or llvm (default ir)");
+                           "ast, ir, ir-ad, frame, kernel, llvm, glsl or spirv (default ir)");
     compileCmd->add_flag("--fields", compileArgs.layerFields,
                          "Also output each layer's index and distance");
 

@@ -1,0 +1,330 @@
+// IR -> GLSL 4.50 compute shader. Every value becomes a local variable named after its id;
+// regions become GLSL blocks; a loop becomes `while (true)` over its carried variables.
+// Pure ops are spelled from one table (kForms), whose entries follow Ops.def: the semantics
+// of Semantics.h, including the clamps at singular points, are written out in the prelude's
+// helper functions, since GLSL's built-ins leave some of those cases undefined.
+#include "compiler/backend/glsl/GlslKernel.h"
+#include "compiler/diag/Diagnostics.h"
+#include "compiler/ir/Semantics.h"
+
+#include <cmath>
+#include <cstring>
+#include <fmt/format.h>
+
+namespace moire::glsl {
+
+using ir::Op;
+using ir::ValueId;
+
+namespace {
+
+// The GLSL form of every op: "$0", "$1", "$2" are its operands, "$i" its integer immediate.
+// An empty form means the emitter writes the op by hand (leaves, control flow, sinks).
+struct Form {
+    Op op;
+    const char* glsl;
+};
+constexpr Form kForms[] = {
+    {Op::ConstF, ""},
+    {Op::ConstI, ""},
+    {Op::ConstB, ""},
+    {Op::PixelX, "pixelX"},
+    {Op::PixelY, "pixelY"},
+    {Op::ImageW, "imageW"},
+    {Op::ImageH, "imageH"},
+    {Op::Time, ""},
+    {Op::Param, ""},
+    {Op::Uniform, "U.u[$i]"},
+    {Op::Indep, "$0"},
+    {Op::DerivX, ""},
+    {Op::DerivY, ""},
+    {Op::Add, "($0 + $1)"},
+    {Op::Sub, "($0 - $1)"},
+    {Op::Mul, "($0 * $1)"},
+    {Op::MulZ, "m_mulz($0, $1)"},
+    {Op::Div, "($0 / $1)"},
+    {Op::Neg, "(-$0)"},
+    {Op::Abs, "abs($0)"},
+    {Op::Sign, "m_sign($0)"},
+    {Op::Floor, "floor($0)"},
+    {Op::Round, "floor($0 + 0.5)"},
+    {Op::Fract, "($0 - floor($0))"},
+    {Op::Mod, "($0 - $1 * floor($0 / $1))"},
+    {Op::Min, "m_min($0, $1)"},
+    {Op::Max, "m_max($0, $1)"},
+    {Op::Sqrt, "sqrt(m_max($0, 0.0))"},
+    {Op::Exp, "exp($0)"},
+    {Op::Log, "log(m_max($0, 1e-30))"},
+    {Op::Pow, "m_pow($0, $1)"},
+    {Op::PowI, ""},
+    {Op::Sin, "sin($0)"},
+    {Op::Cos, "cos($0)"},
+    {Op::Tan, "tan($0)"},
+    {Op::Asin, "asin(m_min(m_max($0, -1.0), 1.0))"},
+    {Op::Acos, "acos(m_min(m_max($0, -1.0), 1.0))"},
+    {Op::Atan, "atan($0)"},
+    {Op::Atan2, "m_atan2($0, $1)"},
+    {Op::Hypot, "m_hypot($0, $1)"},
+    {Op::Select, "($0 ? $1 : $2)"},
+    {Op::Lt, "($0 < $1)"},
+    {Op::Le, "($0 <= $1)"},
+    {Op::Gt, "($0 > $1)"},
+    {Op::Ge, "($0 >= $1)"},
+    {Op::Eq, "($0 == $1)"},
+    {Op::Ne, "m_ne($0, $1)"},
+    {Op::And, "($0 && $1)"},
+    {Op::Or, "($0 || $1)"},
+    {Op::Not, "(!$0)"},
+    {Op::IAdd, "($0 + $1)"},
+    {Op::ISub, "($0 - $1)"},
+    {Op::IMul, "($0 * $1)"},
+    {Op::ILt, "($0 < $1)"},
+    {Op::ILe, "($0 <= $1)"},
+    {Op::IEq, "($0 == $1)"},
+    {Op::FToI, "m_ftoi($0)"},
+    {Op::IToF, "float($0)"},
+    {Op::If, ""},
+    {Op::Loop, ""},
+    {Op::Yield, ""},
+    {Op::Output, ""},
+    {Op::Tally, ""},
+};
+static_assert(sizeof(kForms) / sizeof(kForms[0]) == ir::kNumOps, "every op needs a GLSL form");
+constexpr bool formsInOrder() {
+    for (int i = 0; i < ir::kNumOps; ++i)
+        if (static_cast<int>(kForms[i].op) != i) return false;
+    return true;
+}
+static_assert(formsInOrder(), "kForms follows the order of Ops.def");
+
+// Semantics.h, in GLSL. NaN and infinity come from bit patterns: GLSL has no literal for them.
+constexpr const char* kPrelude = R"(#define m_nan uintBitsToFloat(0x7fc00000u)
+#define m_inf uintBitsToFloat(0x7f800000u)
+float m_min(float a, float b) { return b < a ? b : a; }
+float m_max(float a, float b) { return b > a ? b : a; }
+float m_mulz(float a, float b) { return (a == 0.0 || b == 0.0) ? 0.0 : a * b; }
+float m_sign(float a) { return a > 0.0 ? 1.0 : (a < 0.0 ? -1.0 : 0.0); }
+bool m_ne(float a, float b) { return isnan(a) || isnan(b) || a != b; }
+float m_atan2(float y, float x) { return (x == 0.0 && y == 0.0) ? 0.0 : atan(y, x); }
+float m_hypot(float a, float b) {
+    float x = abs(a), y = abs(b);
+    if (isinf(x) || isinf(y)) return m_inf;
+    if (isnan(x) || isnan(y)) return m_nan;
+    float big = max(x, y), small = min(x, y);
+    if (big == 0.0) return 0.0;
+    float q = small / big;
+    return big * sqrt(1.0 + q * q);
+}
+float m_pow(float x, float y) {
+    if (y == 0.0 || x == 1.0) return 1.0;
+    if (isnan(x) || isnan(y)) return m_nan;
+    if (x == 0.0) return y > 0.0 ? 0.0 : m_inf;
+    float r = pow(abs(x), y);
+    if (x > 0.0) return r;
+    if (floor(y) != y) return m_nan;
+    return mod(y, 2.0) == 1.0 ? -r : r;
+}
+int m_ftoi(float a) {
+    if (isnan(a)) return 0;
+    return int(clamp(floor(a), -1073741824.0, 1073741824.0));
+}
+)";
+
+std::string typeName(ir::Type t) {
+    switch (t) {
+    case ir::Type::F:
+        return "float";
+    case ir::Type::I:
+        return "int";
+    case ir::Type::B:
+        return "bool";
+    default:
+        MOIRE_ICE("GLSL: no type for {}", ir::typeSpelling(t));
+    }
+}
+
+std::string floatLiteral(double v) {
+    float f = static_cast<float>(v);
+    if (std::isnan(f)) return "m_nan";
+    if (std::isinf(f)) return f > 0 ? "m_inf" : "(-m_inf)";
+    // Nine significant digits round-trip a float; make sure the literal reads as a float.
+    std::string s = fmt::format("{:.9g}", f);
+    if (s.find_first_of(".eE") == std::string::npos) s += ".0";
+    return f < 0 || std::signbit(f) ? "(" + s + ")" : s;
+}
+
+class Emitter {
+  public:
+    explicit Emitter(const ir::Function& f) : f_(f) {}
+
+    std::string run() {
+        out_ = fmt::format(
+            "#version 450\n"
+            "// Generated by moire from the kernel IR ({} outputs).\n"
+            "layout(local_size_x = {}, local_size_y = {}, local_size_z = 1) in;\n"
+            "layout(std430, set = 0, binding = 0) readonly buffer Uniforms {{ float u[]; }} U;\n"
+            "layout(std430, set = 0, binding = 1) writeonly buffer Outputs {{ float o[]; }} O;\n"
+            "layout(push_constant) uniform Frame {{ int imageW; int imageH; int x0; int y0; int w; "
+            "int h; }} F;\n"
+            "{}\n"
+            "void main() {{\n"
+            "    int gx = int(gl_GlobalInvocationID.x), gy = int(gl_GlobalInvocationID.y);\n"
+            "    if (gx >= F.w || gy >= F.h) return;\n"
+            "    float pixelX = float(F.x0 + gx) + 0.5, pixelY = float(F.y0 + gy) + 0.5;\n"
+            "    float imageW = float(F.imageW), imageH = float(F.imageH);\n"
+            "    int base = (gy * F.w + gx) * {};\n",
+            f_.numOutputs, kLocalSizeX, kLocalSizeY, kPrelude, f_.numOutputs);
+        block(0, 1);
+        out_ += "}\n";
+        return out_;
+    }
+
+  private:
+    std::string v(ValueId id) const { return fmt::format("v{}", id); }
+    void line(int depth, const std::string& text) {
+        out_ += std::string(4 * depth, ' ') + text + "\n";
+    }
+    void define(int depth, ValueId id, const std::string& expr) {
+        line(depth, fmt::format("{} {} = {};", typeName(f_.type(id)), v(id), expr));
+    }
+
+    std::string expression(const ir::Inst& inst) {
+        const char* form = kForms[static_cast<int>(inst.op)].glsl;
+        // NaN tests: x != x is the IR's NaN check, and isnan says so to every driver.
+        if (inst.op == Op::Ne && inst.args[0] == inst.args[1])
+            return fmt::format("isnan({})", v(inst.args[0]));
+        std::string s;
+        for (const char* p = form; *p; ++p) {
+            if (*p == '$' && p[1] >= '0' && p[1] <= '2') {
+                s += v(inst.args.at(p[1] - '0'));
+                ++p;
+            } else if (*p == '$' && p[1] == 'i') {
+                s += std::to_string(inst.iimm);
+                ++p;
+            } else {
+                s += *p;
+            }
+        }
+        return s;
+    }
+
+    // x^n by the same binary exponentiation as Semantics.h's semPowI.
+    std::string powi(const ir::Inst& inst, int depth) {
+        int64_t n = inst.iimm;
+        std::string base = n < 0 ? fmt::format("(1.0 / {})", v(inst.args[0])) : v(inst.args[0]);
+        uint64_t e = static_cast<uint64_t>(n < 0 ? -n : n);
+        if (e == 0) return "1.0";
+        std::string acc;
+        std::string cur = fmt::format("p{}", inst.results[0]);
+        line(depth, fmt::format("float {} = {};", cur, base));
+        int step = 0;
+        while (e) {
+            if (e & 1) acc = acc.empty() ? cur : fmt::format("({} * {})", acc, cur);
+            e >>= 1;
+            if (e) {
+                std::string next = fmt::format("p{}_{}", inst.results[0], ++step);
+                line(depth, fmt::format("float {} = {} * {};", next, cur, cur));
+                cur = next;
+            }
+        }
+        return acc;
+    }
+
+    std::vector<ValueId> yields(ir::BlockId b) const { return f_.blocks[b].insts.back().args; }
+
+    void block(ir::BlockId id, int depth) {
+        for (const ir::Inst& inst : f_.blocks[id].insts) {
+            if (inst.op == Op::Yield) break;
+            instruction(inst, depth);
+        }
+    }
+
+    void instruction(const ir::Inst& inst, int depth) {
+        switch (inst.op) {
+        case Op::ConstF:
+            define(depth, inst.results[0], floatLiteral(inst.imm));
+            return;
+        case Op::ConstI:
+            define(depth, inst.results[0], fmt::format("int({})", inst.iimm));
+            return;
+        case Op::ConstB:
+            define(depth, inst.results[0], inst.iimm ? "true" : "false");
+            return;
+        case Op::Time:
+        case Op::Param:
+            MOIRE_ICE("'{}' belongs to the frame program, not the kernel", ir::spelling(inst.op));
+        case Op::DerivX:
+        case Op::DerivY:
+            MOIRE_ICE("derivative markers must be removed by the AD pass");
+        case Op::PowI:
+            define(depth, inst.results[0], powi(inst, depth));
+            return;
+        case Op::Output:
+            line(depth, fmt::format("O.o[base + {}] = {};", inst.iimm, v(inst.args[0])));
+            return;
+        case Op::Tally:
+            return; // counted by the interpreter only
+        case Op::If: {
+            for (ValueId r : inst.results)
+                line(depth, fmt::format("{} {};", typeName(f_.type(r)), v(r)));
+            line(depth, fmt::format("if ({}) {{", v(inst.args[0])));
+            branch(inst, inst.regions[0], depth + 1);
+            line(depth, "} else {");
+            branch(inst, inst.regions[1], depth + 1);
+            line(depth, "}");
+            return;
+        }
+        case Op::Loop:
+            loop(inst, depth);
+            return;
+        case Op::Yield:
+            MOIRE_ICE("stray yield");
+        default:
+            define(depth, inst.results[0], expression(inst));
+            return;
+        }
+    }
+
+    void branch(const ir::Inst& inst, ir::BlockId region, int depth) {
+        block(region, depth);
+        std::vector<ValueId> y = yields(region);
+        for (size_t i = 0; i < y.size(); ++i)
+            line(depth, fmt::format("{} = {};", v(inst.results[i]), v(y[i])));
+    }
+
+    void loop(const ir::Inst& inst, int depth) {
+        const int id = loops_++;
+        auto carried = [&](size_t i) { return fmt::format("l{}_{}", id, i); };
+        for (size_t i = 0; i < inst.args.size(); ++i)
+            line(depth, fmt::format("{} {} = {};", typeName(f_.type(inst.args[i])), carried(i),
+                                    v(inst.args[i])));
+        line(depth, "while (true) {");
+        const ir::Block& cond = f_.blocks[inst.regions[0]];
+        const ir::Block& body = f_.blocks[inst.regions[1]];
+        for (size_t i = 0; i < cond.params.size(); ++i)
+            define(depth + 1, cond.params[i], carried(i));
+        block(inst.regions[0], depth + 1);
+        line(depth + 1, fmt::format("if (!{}) break;", v(yields(inst.regions[0])[0])));
+        for (size_t i = 0; i < body.params.size(); ++i)
+            define(depth + 1, body.params[i], carried(i));
+        block(inst.regions[1], depth + 1);
+        // The next values are all read before any carried variable is written.
+        std::vector<ValueId> next = yields(inst.regions[1]);
+        for (size_t i = 0; i < next.size(); ++i)
+            line(depth + 1, fmt::format("{} = {};", carried(i), v(next[i])));
+        line(depth, "}");
+        for (size_t i = 0; i < inst.results.size(); ++i) define(depth, inst.results[i], carried(i));
+    }
+
+    const ir::Function& f_;
+    std::string out_;
+    int loops_ = 0;
+};
+
+} // namespace
+
+std::string emitGlsl(const ir::Function& kernel) {
+    return Emitter(kernel).run();
+}
+
+} // namespace moire::glsl

@@ -1,0 +1,42 @@
+// The GPU backend's compiler half: the IR translated op by op to a GLSL 4.50 compute shader,
+// then to SPIR-V by glslang, for the Vulkan executor (runtime/vulkan). The same IR the
+// interpreter and the LLVM JIT run, so no per-pixel maths is written again for the GPU.
+//
+// The shader's interface, shared with the executor:
+//   set 0, binding 0: readonly storage buffer, float uniforms[] (the frame program's outputs)
+//   set 0, binding 1: writeonly storage buffer, float outputs[]: numOutputs floats per pixel,
+//                     row-major over the dispatched rectangle of w x h pixels
+//   push constants:   PushConstants below (std430, 24 bytes)
+//   local size:       kLocalSizeX x kLocalSizeY x 1; dispatch ceil(w / 8) x ceil(h / 8)
+#pragma once
+
+#include "compiler/ir/IR.h"
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace moire::glsl {
+
+constexpr uint32_t kLocalSizeX = 8, kLocalSizeY = 8;
+
+struct PushConstants {
+    int32_t imageW, imageH; // the whole frame, in pixels
+    int32_t x0, y0;         // the rectangle's first pixel
+    int32_t w, h;           // the rectangle's size
+};
+
+// The compute shader's source.
+std::string emitGlsl(const ir::Function& kernel);
+
+// SPIR-V for Vulkan 1.2 (glslang). A shader glslang rejects is a bug in the emitter: it
+// raises an internal error carrying the source and glslang's log.
+std::vector<uint32_t> compileSpirv(const ir::Function& kernel);
+
+// spirv-val for the Vulkan 1.2 environment: true when valid; otherwise `message` says why.
+bool validateSpirv(const std::vector<uint32_t>& spirv, std::string* message);
+
+// Human-readable SPIR-V (`moire compile --dump=spirv`).
+std::string disassembleSpirv(const std::vector<uint32_t>& spirv);
+
+} // namespace moire::glsl

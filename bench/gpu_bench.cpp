@@ -10,26 +10,27 @@
 //    reuse the compiled kernel;
 //  - throughput in Mpx/s, best of N frames, and milliseconds per megapixel.
 // Without a Vulkan device the Vulkan columns say why and the JIT's are still printed.
-#include <fmt/format.h>
+#include "compiler/backend/glsl/GlslKernel.h"
+#include "compiler/Compile.h"
+#include "runtime/Render.h"
 
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
+#include <fmt/format.h>
 #include <fstream>
 #include <regex>
 #include <sstream>
-
-#include "compiler/Compile.h"
-#include "compiler/backend/glsl/GlslKernel.h"
-#include "runtime/Render.h"
 
 using namespace moire;
 using Clock = std::chrono::steady_clock;
 
 namespace {
 
-double ms(Clock::time_point t0) { return std::chrono::duration<double, std::milli>(Clock::now() - t0).count(); }
+double ms(Clock::time_point t0) {
+    return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+}
 
 struct Scene {
     std::string name, path, text;
@@ -67,11 +68,14 @@ struct Timing {
     std::string error;
 };
 
-Timing measure(const std::string& backendName, const Scene& s, int w, int h, int repeat) {
+Timing measure(const std::string& backendName, const Scene& s, int w, int h, int repeat,
+               int device) {
     Timing t;
     std::unique_ptr<Backend> backend;
     try {
-        backend = makeBackend(backendName);
+        BackendOptions options;
+        if (backendName == "vulkan") options.device = device;
+        backend = makeBackend(backendName, options);
     } catch (const std::exception& e) {
         t.error = e.what();
         return t;
@@ -128,12 +132,16 @@ Timing measure(const std::string& backendName, const Scene& s, int w, int h, int
 } // namespace
 
 int main(int argc, char** argv) {
-    int w = 1920, h = 1080, repeat = 3;
+    int w = 1920, h = 1080, repeat = 3, device = -1;
     std::vector<Scene> scenes;
     for (int i = 1; i < argc; ++i) {
         std::string a = argv[i];
-        if (a == "--size" && i + 1 < argc) std::sscanf(argv[++i], "%dx%d", &w, &h);
-        else if (a == "--repeat" && i + 1 < argc) repeat = std::max(1, std::atoi(argv[++i]));
+        if (a == "--size" && i + 1 < argc)
+            std::sscanf(argv[++i], "%dx%d", &w, &h);
+        else if (a == "--repeat" && i + 1 < argc)
+            repeat = std::max(1, std::atoi(argv[++i]));
+        else if (a == "--device" && i + 1 < argc)
+            device = std::atoi(argv[++i]);
         else {
             std::ifstream in(a);
             std::stringstream ss;
@@ -144,24 +152,29 @@ int main(int argc, char** argv) {
     if (scenes.empty()) scenes = defaultScenes();
 
     fmt::print("JIT and Vulkan side by side: {}x{}, best of {} frames\n", w, h, repeat);
-    fmt::print("times in ms; 'to pixels' = front end + code generation and pipeline + first frame\n\n");
-    fmt::print("{:<20} {:<7} {:>7} {:>8} {:>9} {:>9} {:>10} {:>9} {:>9} {:>9}\n", "scene", "backend", "front",
-               "codegen", "compile", "1st frame", "to pixels", "rebuild", "Mpx/s", "ms/Mpx");
+    fmt::print(
+        "times in ms; 'to pixels' = front end + code generation and pipeline + first frame\n\n");
+    fmt::print("{:<20} {:<7} {:>7} {:>8} {:>9} {:>9} {:>10} {:>9} {:>9} {:>9}\n", "scene",
+               "backend", "front", "codegen", "compile", "1st frame", "to pixels", "rebuild",
+               "Mpx/s", "ms/Mpx");
     for (const Scene& s : scenes) {
         for (const char* name : {"jit", "vulkan"}) {
-            Timing t = measure(name, s, w, h, repeat);
+            Timing t = measure(name, s, w, h, repeat, device);
             if (!t.error.empty()) {
                 fmt::print("{:<20} {:<7} unavailable: {}\n", s.name, name, t.error);
                 continue;
             }
-            fmt::print("{:<20} {:<7} {:>7.1f} {:>8.1f} {:>9.1f} {:>9.1f} {:>10.1f} {:>8.1f}{} {:>9.1f} {:>9.2f}\n",
-                       s.name, name, t.front, t.codegen, t.compile, t.firstFrame, t.front + t.compile + t.firstFrame,
-                       t.rebuild, t.rebuildHit ? " " : "!", t.mpxPerS, 1e3 / t.mpxPerS);
+            fmt::print("{:<20} {:<7} {:>7.1f} {:>8.1f} {:>9.1f} {:>9.1f} {:>10.1f} {:>8.1f}{} "
+                       "{:>9.1f} {:>9.2f}\n",
+                       s.name, name, t.front, t.codegen, t.compile, t.firstFrame,
+                       t.front + t.compile + t.firstFrame, t.rebuild, t.rebuildHit ? " " : "!",
+                       t.mpxPerS, 1e3 / t.mpxPerS);
         }
     }
-    fmt::print("\ncodegen: GLSL and glslang (Vulkan only; the JIT's LLVM work is all in 'compile').\n"
-               "compile: the backend's compile call (LLVM -O2 and machine code; or SPIR-V and the Vulkan\n"
-               "pipeline). rebuild: the scene with a number changed, front end included, kernel from the\n"
-               "cache ('!' marks a rebuild that missed it).\n");
+    fmt::print(
+        "\ncodegen: GLSL and glslang (Vulkan only; the JIT's LLVM work is all in 'compile').\n"
+        "compile: the backend's compile call (LLVM -O2 and machine code; or SPIR-V and the Vulkan\n"
+        "pipeline). rebuild: the scene with a number changed, front end included, kernel from the\n"
+        "cache ('!' marks a rebuild that missed it).\n");
     return 0;
 }

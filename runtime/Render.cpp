@@ -2,17 +2,20 @@
 
 #include "compiler/backend/interp/Interpreter.h"
 #include "compiler/backend/llvm/LlvmJit.h"
+#include "runtime/vulkan/VulkanBackend.h"
 
 namespace moire {
 
 const std::vector<std::string>& backendNames() {
-    static const std::vector<std::string> names = {"jit", "interp"};
+    static const std::vector<std::string> names = {"jit", "interp", "vulkan"};
     return names;
 }
 
-std::unique_ptr<Backend> makeBackend(const std::string& name) {
+std::unique_ptr<Backend> makeBackend(const std::string& name, const BackendOptions& options) {
     if (name == "interp") return std::make_unique<InterpBackend>();
     if (name == "jit") return std::make_unique<LlvmJitBackend>();
+    if (name == "vulkan")
+        return std::make_unique<VulkanBackend>(VulkanBackend::Options{.device = options.device});
     return nullptr;
 }
 

@@ -15,8 +15,13 @@ namespace moire {
 
 // Names accepted by --backend, in order of preference.
 const std::vector<std::string>& backendNames();
-// Creates a backend by name; returns null for an unknown name.
-std::unique_ptr<Backend> makeBackend(const std::string& name);
+
+struct BackendOptions {
+    int device = -1; // vulkan: the physical device (-1: the first discrete GPU, else the first)
+};
+// Creates a backend by name; returns null for an unknown name. Throws BackendError when the
+// backend cannot run here (vulkan: no driver, no usable device, no device `options.device`).
+std::unique_ptr<Backend> makeBackend(const std::string& name, const BackendOptions& options = {});
 
 // Renders one frame of `program` whose frame values are `frame`; the image has the kernel's
 // outputs as channels (RGBA first).

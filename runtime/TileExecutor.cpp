@@ -1,17 +1,44 @@
 #include "runtime/TileExecutor.h"
 
+#include <algorithm>
 #include <atomic>
 #include <chrono>
+#include <cstdint>
 #include <exception>
 #include <mutex>
 #include <thread>
 
 namespace moire {
 
+namespace {
+
+// A GPU kernel takes the frame whole, from this thread: it splits it to its device's limits
+// and keeps its own pipeline of chunks busy. Without a progress callback that is one call;
+// with one, sixteen horizontal bands, reported as each comes back, so the progress line
+// moves (a band boundary costs one round trip to the device, nothing next to the band).
+void runWholeFrame(const CompiledKernel& kernel, const KernelFrame& frame,
+                   const ExecOptions& options, Image& img) {
+    const size_t rowStride = static_cast<size_t>(frame.imageW) * img.channels;
+    const int bands = options.progress ? std::min(frame.imageH, 16) : 1;
+    for (int b = 0; b < bands; ++b) {
+        const int y0 = static_cast<int>(static_cast<int64_t>(frame.imageH) * b / bands);
+        const int y1 = static_cast<int>(static_cast<int64_t>(frame.imageH) * (b + 1) / bands);
+        if (y1 > y0)
+            kernel.runTile(frame, TileRect{0, y0, frame.imageW, y1}, img.row(y0), rowStride);
+        if (options.progress) options.progress(static_cast<double>(y1) / frame.imageH);
+    }
+}
+
+} // namespace
+
 Image runKernel(const CompiledKernel& kernel, const KernelFrame& frame,
                 const ExecOptions& options) {
     const int n = kernel.numOutputs();
     Image img(frame.imageW, frame.imageH, n);
+    if (kernel.wholeFrame()) {
+        runWholeFrame(kernel, frame, options, img);
+        return img;
+    }
     const int ts = std::max(8, options.tileSize);
     const int tilesX = (frame.imageW + ts - 1) / ts;
     const int tilesY = (frame.imageH + ts - 1) / ts;

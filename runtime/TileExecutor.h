@@ -1,4 +1,6 @@
-// The CPU tile executor: runs a compiled kernel over an image in square tiles on every core.
+// The executor: runs a compiled kernel over an image, in square tiles on every core for a CPU
+// kernel, or in a few whole-width bands from the calling thread for a GPU kernel
+// (CompiledKernel::wholeFrame).
 #pragma once
 
 #include "compiler/backend/Backend.h"
@@ -9,9 +11,10 @@
 namespace moire {
 
 struct ExecOptions {
-    int threads = 0; // 0: one per hardware thread
-    int tileSize = 64;
-    // Called from the calling thread with the fraction of tiles done, about ten times a second.
+    int threads = 0;   // 0: one per hardware thread (CPU kernels)
+    int tileSize = 64; // CPU kernels
+    // Called from the calling thread with the fraction done: about ten times a second for a
+    // CPU kernel, after each of sixteen bands for a GPU kernel; 1.0 at the end.
     std::function<void(double)> progress;
 };
 

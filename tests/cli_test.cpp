@@ -3,9 +3,11 @@
 #include "runtime/ImageIO.h"
 #include "tests/support/Support.h"
 
+#include <algorithm>
 #include <doctest/doctest.h>
 #include <filesystem>
 #include <fstream>
+#include <sstream>
 #include <unistd.h>
 
 namespace fs = std::filesystem;
@@ -156,4 +158,119 @@ TEST_CASE("check reports ok scenes and fails on bad ones") {
     auto bad = w.moire("check good.moire bad.moire");
     CHECK(bad.status == 1);
     CHECK(bad.err.find("bad.moire:1:16: error: image size") != std::string::npos);
+}
+
+namespace {
+
+// Splits text into its lines (without the newlines).
+std::vector<std::string> lines(const std::string& text) {
+    std::vector<std::string> out;
+    std::istringstream in(text);
+    for (std::string line; std::getline(in, line);) out.push_back(line);
+    return out;
+}
+
+// A user-facing failure: exactly one line on stderr, "moire: error: ...".
+bool oneLineError(const std::string& err) {
+    return err.rfind("moire: error: ", 0) == 0 && err.find('\n') == err.size() - 1;
+}
+
+// No Vulkan driver for the command: the loader finds none through either variable (the
+// loader of Vulkan 1.3.234 on reads VK_DRIVER_FILES, older ones VK_ICD_FILENAMES).
+const char* kNoDriver = "VK_ICD_FILENAMES=/nonexistent VK_DRIVER_FILES=/nonexistent ";
+
+} // namespace
+
+TEST_CASE("devices lists the Vulkan devices, one a line, or says there are none") {
+    Workdir w;
+    CHECK(w.moire("--help").out.find("devices") != std::string::npos);
+    auto r = w.moire("devices");
+    if (r.status != 0) {
+        CHECK(r.status == 1);
+        CHECK(oneLineError(r.err));
+        MESSAGE("no Vulkan device here: ", r.err);
+        return;
+    }
+    // "INDEX  TYPE  Vulkan X.Y.Z  NAME[  (default)]", indices from 0 in order.
+    std::vector<std::string> names;
+    int defaults = 0;
+    for (const std::string& line : lines(r.out)) {
+        CAPTURE(line);
+        std::istringstream in(line);
+        int index = -1;
+        std::string type, api, version;
+        in >> index >> type >> api >> version;
+        CHECK(index == static_cast<int>(names.size()));
+        CHECK((type == "discrete" || type == "integrated" || type == "virtual" || type == "cpu" ||
+               type == "other"));
+        CHECK(api == "Vulkan");
+        CHECK(std::count(version.begin(), version.end(), '.') == 2);
+        std::string name;
+        std::getline(in >> std::ws, name);
+        const std::string mark = "  (default)";
+        if (name.size() > mark.size() && name.compare(name.size() - mark.size(), mark.size(), mark) == 0) {
+            ++defaults;
+            name.resize(name.size() - mark.size());
+        }
+        names.push_back(name.substr(0, name.find("  (unusable")));
+    }
+    REQUIRE_FALSE(names.empty());
+    CHECK(defaults == 1);
+    // The same devices as Vulkan's own tool lists, where it is installed.
+    auto info = test::runCommand("vulkaninfo --summary");
+    if (info.status == 0) {
+        std::vector<std::string> theirs;
+        for (const std::string& line : lines(info.out))
+            if (auto at = line.find("deviceName"); at != std::string::npos)
+                theirs.push_back(line.substr(line.find("= ", at) + 2));
+        CHECK(names == theirs);
+    }
+}
+
+TEST_CASE("--backend vulkan draws what the JIT draws") {
+    Workdir w;
+    w.write("s.moire", kSmall);
+    if (w.moire("devices").status != 0) {
+        MESSAGE("skipping: no Vulkan device here");
+        return;
+    }
+    auto v = w.moire("render s.moire -o vk.exr --depth float --backend vulkan --device 0");
+    INFO(v.err);
+    REQUIRE(v.status == 0);
+    CHECK(v.err.find("wrote vk.exr (64x40, vulkan") != std::string::npos);
+    REQUIRE(w.moire("render s.moire -q -o jit.exr --depth float --backend jit").status == 0);
+    // examples_test.cpp's criteria for Vulkan against the interpreter.
+    test::ImageDiff d = test::compareImages(readImage(w.file("jit.exr")),
+                                            readImage(w.file("vk.exr")), 2.0 / 255);
+    INFO("max ", d.maxAbs * 255, "/255, mean ", d.meanAbs * 255, "/255");
+    CHECK(d.fractionWithin() >= 0.999);
+    CHECK(d.meanAbs < 0.5 / 255);
+}
+
+TEST_CASE("no Vulkan device: one line, status 1, and no image written") {
+    Workdir w;
+    w.write("s.moire", kSmall);
+    w.write("kept.png", "previous");
+    for (const std::string& args :
+         {std::string("render s.moire -o out.png --backend vulkan --device 99"),
+          std::string("render s.moire -o kept.png --backend vulkan --device 99"),
+          std::string(kNoDriver) + test::moireBinary() + " render s.moire -o out.png --backend vulkan",
+          std::string(kNoDriver) + test::moireBinary() + " devices"}) {
+        CAPTURE(args);
+        // The driverless runs name the binary themselves, after the variables.
+        auto r = args.rfind("VK_", 0) == 0
+                     ? test::runCommand("cd '" + w.path() + "' && " + args)
+                     : w.moire(args);
+        CHECK(r.status == 1);
+        CHECK(oneLineError(r.err));
+        CHECK(r.out.empty());
+    }
+    auto bad = w.moire("render s.moire -o out.png --backend vulkan --device 99");
+    CHECK((bad.err.find("device 99") != std::string::npos ||
+           bad.err.find("no Vulkan") != std::string::npos));
+    CHECK(test::readFile(w.file("kept.png")) == "previous");
+    // --device is for Vulkan only, and an index is never negative: command-line errors.
+    CHECK(w.moire("render s.moire -o out.png --device 0").status == 2);
+    CHECK(w.moire("render s.moire -o out.png --backend vulkan --device -1").status == 2);
+    CHECK(w.names() == std::vector<std::string>{"kept.png", "s.moire"});
 }

@@ -46,8 +46,13 @@ TEST_CASE("there are examples, and each says what it shows") {
     }
 }
 
-// Every backend against the interpreter: coverage within 1/255 on at least 99.9% of the
-// samples (RGBA), as the interpreter computes in double and the JIT in single precision.
+// Every backend against the interpreter, which computes in double. The JIT computes in
+// single precision with libm: coverage within 1/255 on at least 99.9% of the samples (RGBA).
+// Vulkan computes in single precision too, but with the GPU's own sin, cos, atan, exp, pow,
+// which the Vulkan spec lets be far less exact than libm's (atan to 4096 ulp; sin and cos to
+// 2^-11 absolute): within 2/255 on at least 99.9% of the samples, and a mean difference
+// under 0.5/255, so that a systematic shift (a wrong op, a half-pixel slip) fails even where
+// it stays under 2/255. MOIRE_PARITY_REPORT=1 prints the figures.
 TEST_CASE("every backend agrees with the interpreter on every example") {
     auto oracle = makeBackend("interp");
     for (const Scene& s : allScenes()) {
@@ -60,10 +65,16 @@ TEST_CASE("every backend agrees with the interpreter on every example") {
             auto backend = test::makeBackendOrSkip(name);
             if (!backend) continue;
             Image got = test::renderScene(*program, *backend, kParityW, kParityH);
-            test::ImageDiff d = test::compareImages(expected, got, 1.0 / 255.0);
+            const bool gpu = name == "vulkan";
+            test::ImageDiff d = test::compareImages(expected, got, (gpu ? 2.0 : 1.0) / 255.0);
             INFO("max ", d.maxAbs * 255, "/255, mean ", d.meanAbs * 255, "/255, within ",
                  d.fractionWithin());
+            if (std::getenv("MOIRE_PARITY_REPORT"))
+                MESSAGE(s.name, " on ", name, ": max ", d.maxAbs * 255, "/255, mean ",
+                        d.meanAbs * 255, "/255, within ", (gpu ? 2 : 1), "/255: ",
+                        d.fractionWithin());
             CHECK(d.fractionWithin() >= 0.999);
+            if (gpu) CHECK(d.meanAbs < 0.5 / 255.0);
         }
     }
 }

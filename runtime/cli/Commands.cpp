@@ -5,12 +5,16 @@
 #include "compiler/Compile.h"
 #include "runtime/ImageIO.h"
 #include "runtime/Render.h"
+#include "runtime/vulkan/VulkanBackend.h"
+#include "runtime/vulkan/VulkanContext.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 #include <fstream>
 #include <sstream>
 #include <unistd.h>
@@ -80,6 +84,13 @@ bool parseDepth(const std::string& s, PixelDepth& d) {
     return true;
 }
 
+// The backend as the closing line names it: Vulkan says which device drew the image.
+std::string describe(const Backend& backend) {
+    if (auto* vk = dynamic_cast<const VulkanBackend*>(&backend))
+        return "vulkan on " + vk->deviceName();
+    return backend.name();
+}
+
 double secondsSince(std::chrono::steady_clock::time_point t0) {
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
@@ -112,11 +123,25 @@ int render(const RenderArgs& args) {
             output);
         return kExitUsage;
     }
-    std::unique_ptr<Backend> backend = makeBackend(args.backend);
-    if (!backend) {
-        fmt::print(stderr, "moire: error: unknown backend '{}'; the backends are jit and interp\n",
-                   args.backend);
+    const std::vector<std::string>& names = backendNames();
+    if (std::find(names.begin(), names.end(), args.backend) == names.end()) {
+        fmt::print(stderr, "moire: error: unknown backend '{}'; the backends are {}\n",
+                   args.backend, fmt::join(names, ", "));
         return kExitUsage;
+    }
+    if (args.device >= 0 && args.backend != "vulkan") {
+        fmt::print(stderr, "moire: error: --device chooses a Vulkan device; it needs --backend "
+                           "vulkan\n");
+        return kExitUsage;
+    }
+    // A backend that cannot run here (no Vulkan driver or device, a bad --device) is the
+    // user's to fix: one line, status 1, nothing written.
+    std::unique_ptr<Backend> backend;
+    try {
+        backend = makeBackend(args.backend, BackendOptions{.device = args.device});
+    } catch (const BackendError& e) {
+        fmt::print(stderr, "moire: error: {}\n", e.what());
+        return kExitUserError;
     }
 
     auto t0 = std::chrono::steady_clock::now();
@@ -150,7 +175,14 @@ int render(const RenderArgs& args) {
             shown = true;
         };
     }
-    Image img = renderFrame(*program, *backend, frame, exec);
+    Image img;
+    try {
+        img = renderFrame(*program, *backend, frame, exec);
+    } catch (const BackendError& e) { // the device lost, or out of memory
+        if (shown) fmt::print(stderr, "\n");
+        fmt::print(stderr, "moire: error: {}\n", e.what());
+        return kExitUserError;
+    }
     if (shown) fmt::print(stderr, "\n");
 
     WriteOptions wo;
@@ -165,7 +197,7 @@ int render(const RenderArgs& args) {
     double seconds = secondsSince(t0);
     if (!args.quiet)
         fmt::print(stderr, "moire: wrote {} ({}x{}, {}, {:.0f} ms)\n", output, frame.width,
-                   frame.height, backend->name(), seconds * 1000.0);
+                   frame.height, describe(*backend), seconds * 1000.0);
     return kExitOk;
 }
 
@@ -192,6 +224,29 @@ int check(const std::vector<std::string>& scenes, bool quiet) {
         if (!quiet) fmt::print("{}: ok\n", path);
     }
     return status;
+}
+
+int devices() {
+    std::vector<vk::DeviceInfo> list;
+    try {
+        list = vk::listDevices();
+    } catch (const BackendError& e) {
+        fmt::print(stderr, "moire: error: {}\n", e.what());
+        return kExitUserError;
+    }
+    if (list.empty()) {
+        fmt::print(stderr, "moire: error: no Vulkan device found (the driver lists none)\n");
+        return kExitUserError;
+    }
+    // One line a device: index, type, API version, name, and which one --device defaults to.
+    const int chosen = vk::defaultDevice(list);
+    for (const vk::DeviceInfo& d : list)
+        fmt::print("{:<3}{:<11}Vulkan {:<10}{}{}\n", d.index, d.type,
+                   vk::versionString(d.apiVersion), d.name,
+                   d.index == chosen ? "  (default)"
+                   : d.usable        ? ""
+                                     : fmt::format("  (unusable: {})", d.whyNot));
+    return kExitOk;
 }
 
 int compile(const CompileArgs& args) {

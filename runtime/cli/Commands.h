@@ -19,6 +19,7 @@ struct RenderArgs {
     std::string size;   // "WxH", empty: the scene's
     double time = 0.0;
     std::string backend = "jit";
+    int device = -1;   // --device (vulkan): -1 the first discrete GPU, else the first device
     std::string depth; // 8, 16, half, float
     double dpi = 0.0;
     int threads = 0;
@@ -27,6 +28,9 @@ struct RenderArgs {
 int render(const RenderArgs& args);
 
 int check(const std::vector<std::string>& scenes, bool quiet);
+
+// Lists the Vulkan devices --device can name.
+int devices();
 
 struct CompileArgs {
     std::string scene;

@@ -24,7 +24,12 @@ int main(int argc, char** argv) {
     renderCmd->add_option("--size", renderArgs.size,
                           "Image size WIDTHxHEIGHT, replacing the scene's");
     renderCmd->add_option("--time", renderArgs.time, "Clock time t in seconds (default 0)");
-    renderCmd->add_option("--backend", renderArgs.backend, "jit (default) or interp");
+    renderCmd->add_option("--backend", renderArgs.backend, "jit (default), interp or vulkan");
+    renderCmd
+        ->add_option("--device", renderArgs.device,
+                     "Vulkan device index for --backend vulkan (see 'moire devices'; default: "
+                     "the first discrete GPU, else the first device)")
+        ->check(CLI::NonNegativeNumber);
     renderCmd->add_option("--depth", renderArgs.depth, "Bits per channel: 8, 16, half or float");
     renderCmd->add_option("--dpi", renderArgs.dpi, "Print resolution to record in the file");
     renderCmd->add_option("--threads", renderArgs.threads, "Worker threads (default: all cores)");
@@ -35,6 +40,8 @@ int main(int argc, char** argv) {
     CLI::App* checkCmd = app.add_subcommand("check", "Check scenes for errors without rendering");
     checkCmd->add_option("scenes", checkScenes, "The .moire scenes")->required();
     checkCmd->add_flag("-q,--quiet", checkQuiet, "Print nothing but errors");
+
+    CLI::App* devicesCmd = app.add_subcommand("devices", "List the Vulkan devices");
 
     cli::CompileArgs compileArgs;
     CLI::App* compileCmd = app.add_subcommand("compile", "Show a stage of the compiler");
@@ -55,6 +62,7 @@ int main(int argc, char** argv) {
         if (*renderCmd) return cli::render(renderArgs);
         if (*checkCmd) return cli::check(checkScenes, checkQuiet);
         if (*compileCmd) return cli::compile(compileArgs);
+        if (*devicesCmd) return cli::devices();
         fmt::print("{}", app.help());
         return 0;
     } catch (const InternalError& e) {

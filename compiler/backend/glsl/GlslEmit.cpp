@@ -8,6 +8,7 @@
 #include "compiler/ir/Semantics.h"
 
 #include <cmath>
+#include <cstdint>
 #include <cstring>
 #include <fmt/format.h>
 
@@ -49,7 +50,7 @@ constexpr Form kForms[] = {
     {Op::Floor, "floor($0)"},
     {Op::Round, "floor($0 + 0.5)"},
     {Op::Fract, "($0 - floor($0))"},
-    {Op::Mod, "($0 - $1 * floor($0 / $1))"},
+    {Op::Mod, "m_mod($0, $1)"},
     {Op::Min, "m_min($0, $1)"},
     {Op::Max, "m_max($0, $1)"},
     {Op::Sqrt, "sqrt(m_max($0, 0.0))"},
@@ -57,12 +58,12 @@ constexpr Form kForms[] = {
     {Op::Log, "log(m_max($0, 1e-30))"},
     {Op::Pow, "m_pow($0, $1)"},
     {Op::PowI, ""},
-    {Op::Sin, "sin($0)"},
-    {Op::Cos, "cos($0)"},
-    {Op::Tan, "tan($0)"},
+    {Op::Sin, "sin(m_turns($0))"},
+    {Op::Cos, "cos(m_turns($0))"},
+    {Op::Tan, "tan(m_turns($0))"},
     {Op::Asin, "asin(m_min(m_max($0, -1.0), 1.0))"},
     {Op::Acos, "acos(m_min(m_max($0, -1.0), 1.0))"},
-    {Op::Atan, "atan($0)"},
+    {Op::Atan, "m_atan($0)"},
     {Op::Atan2, "m_atan2($0, $1)"},
     {Op::Hypot, "m_hypot($0, $1)"},
     {Op::Select, "($0 ? $1 : $2)"},
@@ -97,15 +98,58 @@ constexpr bool formsInOrder() {
 }
 static_assert(formsInOrder(), "kForms follows the order of Ops.def");
 
+// Without this execution mode Vulkan lets the driver assume that no value is NaN or infinite
+// and ignore the sign of zero (and drivers do: without it lavapipe's atan(NaN) is 0).
+// Semantics.h defines all three, so the shader asks for them to be kept:
+// SignedZeroInfNanPreserve for 32-bit floats (SPIR-V 1.4 core, Vulkan 1.2 float controls),
+// spelled in GLSL through GL_EXT_spirv_intrinsics; 4466 is the capability, 4461 the
+// execution mode. A device must report shaderSignedZeroInfNanPreserveFloat32 to run it.
+constexpr const char* kFloatControls =
+    "#extension GL_EXT_spirv_intrinsics : require\n"
+    "spirv_execution_mode(capabilities = [4466], 4461, 32); // SignedZeroInfNanPreserve\n";
+
 // Semantics.h, in GLSL. NaN and infinity come from bit patterns: GLSL has no literal for them.
+// Each helper spells out the cases where GLSL's built-in is undefined or differs from C
+// (IEEE 754): min/max and comparisons with NaN, atan2 on the axes and at infinity, pow with
+// a negative or zero base or an infinite exponent, float-to-int of NaN and out of range. The
+// sign bit is read from the bits (m_neg), since -0.0 < 0.0 is false.
 constexpr const char* kPrelude = R"(#define m_nan uintBitsToFloat(0x7fc00000u)
 #define m_inf uintBitsToFloat(0x7f800000u)
+#define m_pi 3.14159274
+bool m_neg(float a) { return floatBitsToInt(a) < 0; }
+float m_copysign(float mag, float s) { return m_neg(s) ? -mag : mag; }
 float m_min(float a, float b) { return b < a ? b : a; }
 float m_max(float a, float b) { return b > a ? b : a; }
 float m_mulz(float a, float b) { return (a == 0.0 || b == 0.0) ? 0.0 : a * b; }
-float m_sign(float a) { return a > 0.0 ? 1.0 : (a < 0.0 ? -1.0 : 0.0); }
+// Through integers: written with selects (a > 0 ? 1 : a < 0 ? -1 : 0), it gave -0 at 0 and
+// at NaN on lavapipe (Mesa 22.3), with SignedZeroInfNanPreserve or without.
+float m_sign(float a) { return float(int(a > 0.0) - int(a < 0.0)); }
+// No fused multiply-add: the product is rounded before the subtraction, as in C.
+float m_mod(float a, float b) { precise float p = b * floor(a / b); precise float r = a - p; return r; }
 bool m_ne(float a, float b) { return isnan(a) || isnan(b) || a != b; }
-float m_atan2(float y, float x) { return (x == 0.0 && y == 0.0) ? 0.0 : atan(y, x); }
+// Vulkan bounds the error of sin and cos only on [-pi, pi] (absolute, 2^-11); outside it a
+// driver owes nothing. So arguments are first reduced by whole turns, Cody-Waite style: 2 pi
+// is split into four 7-bit parts and a float, so that k times each part is exact and only
+// the last two subtractions round (2^-22 in all), for |k| < 2^17 turns (|x| < about 800000).
+// Within [-pi, pi] (k = 0) the argument is passed on unchanged, sign of zero included.
+float m_turns(float x) {
+    float k = floor(x * 0.159154937 + 0.5);
+    if (k == 0.0) return x;
+    return ((((x - k * 6.25) - k * 0.03271484375) - k * 0.000469207763671875) -
+            k * 1.2516975402832031e-06) - k * 3.96837452e-09;
+}
+// lavapipe's atan(-0.0) is +0.0.
+float m_atan(float a) { return a == 0.0 ? a : atan(a); }
+float m_atan2(float y, float x) {
+    if (isnan(x) || isnan(y)) return m_nan;
+    if (y == 0.0) return m_neg(x) ? m_copysign(m_pi, y) : y;
+    if (isinf(x)) {
+        if (isinf(y)) return m_copysign(m_neg(x) ? 2.3561945 : 0.785398185, y);
+        return m_neg(x) ? m_copysign(m_pi, y) : m_copysign(0.0, y);
+    }
+    if (isinf(y) || x == 0.0) return m_copysign(1.57079637, y);
+    return atan(y, x);
+}
 float m_hypot(float a, float b) {
     float x = abs(a), y = abs(b);
     if (isinf(x) || isinf(y)) return m_inf;
@@ -118,11 +162,18 @@ float m_hypot(float a, float b) {
 float m_pow(float x, float y) {
     if (y == 0.0 || x == 1.0) return 1.0;
     if (isnan(x) || isnan(y)) return m_nan;
-    if (x == 0.0) return y > 0.0 ? 0.0 : m_inf;
-    float r = pow(abs(x), y);
-    if (x > 0.0) return r;
-    if (floor(y) != y) return m_nan;
-    return mod(y, 2.0) == 1.0 ? -r : r;
+    float ax = abs(x);
+    if (isinf(y)) return ax == 1.0 ? 1.0 : ((ax < 1.0) == (y < 0.0) ? m_inf : 0.0);
+    bool integer = floor(y) == y;
+    bool odd = integer && floor(y * 0.5) != y * 0.5;
+    float r;
+    if (ax == 0.0) r = y < 0.0 ? m_inf : 0.0;
+    else if (isinf(ax)) r = y < 0.0 ? 0.0 : m_inf;
+    else if (ax == 1.0) r = 1.0;
+    else r = pow(ax, y);
+    if (!m_neg(x)) return r;
+    if (!integer) return (ax == 0.0 || isinf(ax)) ? r : m_nan;
+    return odd ? -r : r;
 }
 int m_ftoi(float a) {
     if (isnan(a)) return 0;
@@ -153,6 +204,13 @@ std::string floatLiteral(double v) {
     return f < 0 || std::signbit(f) ? "(" + s + ")" : s;
 }
 
+// The IR's integers are 32-bit: the immediate's low 32 bits, as the JIT takes them. The most
+// negative one has no literal in GLSL (2147483648 does not fit an int before the minus).
+std::string intLiteral(int64_t v) {
+    const int32_t i = static_cast<int32_t>(static_cast<uint32_t>(v));
+    return i == INT32_MIN ? "(-2147483647 - 1)" : fmt::format("{}", i);
+}
+
 class Emitter {
   public:
     explicit Emitter(const ir::Function& f) : f_(f) {}
@@ -161,6 +219,7 @@ class Emitter {
         out_ = fmt::format(
             "#version 450\n"
             "// Generated by moire from the kernel IR ({} outputs).\n"
+            "{}"
             "layout(local_size_x = {}, local_size_y = {}, local_size_z = 1) in;\n"
             "layout(std430, set = 0, binding = 0) readonly buffer Uniforms {{ float u[]; }} U;\n"
             "layout(std430, set = 0, binding = 1) writeonly buffer Outputs {{ float o[]; }} O;\n"
@@ -173,7 +232,7 @@ class Emitter {
             "    float pixelX = float(F.x0 + gx) + 0.5, pixelY = float(F.y0 + gy) + 0.5;\n"
             "    float imageW = float(F.imageW), imageH = float(F.imageH);\n"
             "    int base = (gy * F.w + gx) * {};\n",
-            f_.numOutputs, kLocalSizeX, kLocalSizeY, kPrelude, f_.numOutputs);
+            f_.numOutputs, kFloatControls, kLocalSizeX, kLocalSizeY, kPrelude, f_.numOutputs);
         block(0, 1);
         out_ += "}\n";
         return out_;
@@ -245,7 +304,7 @@ class Emitter {
             define(depth, inst.results[0], floatLiteral(inst.imm));
             return;
         case Op::ConstI:
-            define(depth, inst.results[0], fmt::format("int({})", inst.iimm));
+            define(depth, inst.results[0], intLiteral(inst.iimm));
             return;
         case Op::ConstB:
             define(depth, inst.results[0], inst.iimm ? "true" : "false");

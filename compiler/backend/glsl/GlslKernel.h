@@ -8,6 +8,9 @@
 //                     row-major over the dispatched rectangle of w x h pixels
 //   push constants:   PushConstants below (std430, 24 bytes)
 //   local size:       kLocalSizeX x kLocalSizeY x 1; dispatch ceil(w / 8) x ceil(h / 8)
+//   execution mode:   SignedZeroInfNanPreserve for 32-bit floats (Semantics.h defines NaN,
+//                     infinities and -0): the device must report
+//                     shaderSignedZeroInfNanPreserveFloat32 (Vulkan 1.2 float controls)
 #pragma once
 
 #include "compiler/ir/IR.h"

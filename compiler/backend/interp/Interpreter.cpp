@@ -75,7 +75,9 @@ void Interpreter::runBlock(uint32_t id, const InterpEnv& env, double* r) const {
         case Op::ConstF:
             r[p.result] = p.imm;
             break;
-        case Op::ConstI:
+        case Op::ConstI: // int32, as on every other backend: the immediate's low 32 bits
+            r[p.result] = static_cast<double>(static_cast<int32_t>(static_cast<uint32_t>(p.iimm)));
+            break;
         case Op::ConstB:
             r[p.result] = static_cast<double>(p.iimm);
             break;

@@ -48,6 +48,19 @@ bool evaluateFrame(const SceneProgram& program, const FrameRequest& request, Fra
     }
     if (!(std::isfinite(out.zoom) && out.zoom > 0))
         diags.error(propRange(program.checked.camera, "zoom"), Msg::BadZoom, out.zoom);
+    const lower::OutputLayout& layout = program.layout;
+    out.timings.clear();
+    for (size_t i = 0; i < layout.timings.size(); ++i) {
+        const double* v = &outputs[u + layout.timingSetting(static_cast<int>(i))];
+        TimingValues tv;
+        tv.name = layout.timings[i];
+        tv.period = v[0];
+        tv.delay = v[1];
+        tv.mode = static_cast<TimingValues::Mode>(static_cast<int>(v[2]));
+        if (!(std::isfinite(tv.period) && tv.period > 0))
+            diags.error(layout.timingPeriods[i], Msg::BadPeriod, tv.period);
+        out.timings.push_back(tv);
+    }
     diagnostics = diags.render();
     return !diags.hasErrors();
 }

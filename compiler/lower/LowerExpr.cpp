@@ -96,6 +96,11 @@ Vals ExprLowering::name(const Expr& e, Frame& frame) {
     case RefKind::Spacing:
         MOIRE_CHECK(frame.spacing != ir::kNoValue, "spacing outside a family");
         return {frame.spacing};
+    case RefKind::EasingVar:
+        MOIRE_CHECK(frame.u != ir::kNoValue, "u outside an easing");
+        return {frame.u};
+    case RefKind::Timing:
+        MOIRE_ICE("a timing's name reached lowering as a value");
     case RefKind::Unresolved:
         break;
     }
@@ -149,7 +154,9 @@ Vals ExprLowering::binary(const Expr& e, Frame& frame) {
 
 Vals ExprLowering::call(const Expr& e, Frame& frame) {
     std::vector<Vals> a;
-    for (const ExprPtr& arg : e.args) a.push_back(lower(*arg, frame));
+    for (const ExprPtr& arg : e.args)
+        // A timing's name is not a value: ramp and progress look the timing up instead.
+        a.push_back(arg->ref == RefKind::Timing ? Vals{} : lower(*arg, frame));
     b_.setLoc(e.range.begin);
     auto s = [&](int i) { return a[i][0]; };
     auto unary = [&](Op op) { return Vals{b_.emit(op, {s(0)})}; };
@@ -210,6 +217,17 @@ Vals ExprLowering::call(const Expr& e, Frame& frame) {
         return {s(0), s(1), s(2), b_.constF(1.0)};
     case sema::Fn::Rgba:
         return {s(0), s(1), s(2), s(3)};
+    case sema::Fn::Step: // step(edge, v): 1 from the edge on
+        return {b_.select(b_.emit(Op::Ge, {s(1), s(0)}), b_.constF(1.0), b_.constF(0.0))};
+    case sema::Fn::Progress:
+    case sema::Fn::Ramp: {
+        MOIRE_CHECK(progress_, "no timings to lower '{}' with", e.name);
+        ValueId p = progress_(e.args[0]->refDecl).eased;
+        if (e.args.size() == 1) return {p};
+        Vals out; // from a[1] to a[2], component by component (colours too)
+        for (size_t i = 0; i < a[1].size(); ++i) out.push_back(b_.mix(a[1][i], a[2][i], p));
+        return out;
+    }
     }
     MOIRE_ICE("unhandled function '{}'", e.name);
 }

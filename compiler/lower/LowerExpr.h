@@ -8,6 +8,7 @@
 #include "compiler/parse/Ast.h"
 #include "compiler/sema/Sema.h"
 
+#include <functional>
 #include <unordered_map>
 #include <vector>
 
@@ -23,12 +24,21 @@ struct Frame {
     std::vector<Vals> params; // the layer's argument values
     std::vector<Vals> lets;   // lowered in order
     ir::ValueId spacing = ir::kNoValue;
+    ir::ValueId u = ir::kNoValue; // inside an easing: the progress it shapes
     std::unordered_map<const ast::Decl*, Vals> fields; // fields already lowered here
+};
+
+// A timing's progress at the frame's clock: raw (linear, 0 to 1) and shaped by its easing.
+struct Progress {
+    ir::ValueId raw, eased;
 };
 
 class ExprLowering {
   public:
     explicit ExprLowering(ir::Builder& b) : b_(b) {}
+
+    // How `ramp` and `progress` reach a timing's progress (set by the scene's lowering).
+    void setTimings(std::function<Progress(const ast::Decl*)> progress) { progress_ = std::move(progress); }
 
     Vals lower(const ast::Expr& e, Frame& frame);
     ir::ValueId scalar(const ast::Expr& e, Frame& frame);
@@ -40,6 +50,7 @@ class ExprLowering {
     ir::ValueId literal(double value, int slot);
 
     ir::Builder& b_;
+    std::function<Progress(const ast::Decl*)> progress_;
 };
 
 } // namespace moire::lower

@@ -1,11 +1,14 @@
 #include "compiler/lower/LowerScene.h"
 
 #include "compiler/diag/Diagnostics.h"
+
+#include <tuple>
 #include "compiler/ir/Builder.h"
 #include "compiler/ir/Semantics.h"
 #include "compiler/lower/LatticeFamily.h"
 #include "compiler/lower/LayerPipeline.h"
 #include "compiler/lower/LowerExpr.h"
+#include "compiler/lower/Timings.h"
 #include "compiler/lower/WalkingFamily.h"
 
 namespace moire::lower {
@@ -19,9 +22,11 @@ namespace {
 class SceneLowering {
   public:
     SceneLowering(const sema::CheckedScene& scene, ir::Function& f, const LowerOptions& options)
-        : scene_(scene), options_(options), b_(f), exprs_(b_) {}
+        : scene_(scene), options_(options), b_(f), exprs_(b_), timings_(b_, exprs_, scene) {
+        exprs_.setTimings([this](const Decl* timing) { return timings_.progress(timing); });
+    }
 
-    void run(const OutputLayout& layout) {
+    void run(OutputLayout& layout) {
         // Frame settings.
         Vals size =
             settingOr(scene_.scene, "size", {b_.constF(kDefaultWidth), b_.constF(kDefaultHeight)});
@@ -104,6 +109,9 @@ class SceneLowering {
         b_.output(1, out.g);
         b_.output(2, out.b);
         b_.output(3, out.a);
+        // The timings used, for clips (loop lengths) and for the frame's checks.
+        timings_.outputSettings(layout, layout.numKernelOutputs + OutputLayout::kNumSettings);
+        b_.function().numOutputs = layout.numKernelOutputs + layout.numSettings();
     }
 
   private:
@@ -144,66 +152,106 @@ class SceneLowering {
         return b_.mul(b_.abs(b_.mul(enc.gain, spacing)), slope);
     }
 
-    // The fields of one layer, by the kind of its family.
+    // Where a layer's family is evaluated: its own frame, q = Rot(-rotation) (p - origin).
+    struct LayerFrame {
+        ValueId qx, qy; // the point in the layer's frame
+        ValueId dx, dy; // p - origin, in world axes
+        ValueId spacing, phase;
+    };
+
+    // The fields of one layer: its family's, or a morph's blend of its families'.
     LayerFields layerFields(const sema::CheckedLayer& layer, const StrokeBand& band,
                             const Encoding& enc, bool wantIndex) {
         b_.setLoc(layer.decl->range.begin);
-        ValueId spacing = prop(layer, "spacing", {b_.constF(10.0)})[0];
-        ValueId phase = prop(layer, "phase", {b_.constF(0.0)})[0];
+        LayerFrame lf;
+        lf.spacing = prop(layer, "spacing", {b_.constF(10.0)})[0];
+        lf.phase = prop(layer, "phase", {b_.constF(0.0)})[0];
         Vals origin = prop(layer, "origin", {b_.constF(0.0), b_.constF(0.0)});
         const Expr* turn = layer.prop("rotation");
+        lf.dx = b_.sub(world_.x, origin[0]);
+        lf.dy = b_.sub(world_.y, origin[1]);
+        std::tie(lf.qx, lf.qy) =
+            turn ? rotate(lf.dx, lf.dy, b_.neg(exprs_.scalar(*turn, world_))) : std::pair{lf.dx, lf.dy};
+        if (layer.morph.empty())
+            return familyFields(layer, lf, layer.family, layer.args, band, enc, wantIndex);
 
-        // The layer's own frame: q = Rot(-rotation) (p - origin).
-        Frame local;
-        ValueId dx = b_.sub(world_.x, origin[0]), dy = b_.sub(world_.y, origin[1]);
-        auto [qx, qy] =
-            turn ? rotate(dx, dy, b_.neg(exprs_.scalar(*turn, world_))) : std::pair{dx, dy};
-        local.x = qx;
-        local.y = qy;
-        local.spacing = spacing;
+        // A morph (§8.3): the timing walks through the families, one segment each; each
+        // segment opens with the stroke travelling from the previous family's geometry to
+        // its own (the two distances interpolated, eased cubic over morph_time seconds), then
+        // holds. A looping morph comes back round from its last family to its first.
+        std::vector<LayerFields> fields;
+        for (const sema::CheckedLayer::Member& m : layer.morph)
+            fields.push_back(familyFields(layer, lf, m.family, m.args, band, enc, wantIndex));
+        b_.setLoc(layer.decl->range.begin);
+        const double count = static_cast<double>(fields.size());
+        const sema::TimingMode mode = scene_.timings.at(layer.morphTiming).mode;
+        ValueId raw = timings_.progress(layer.morphTiming).raw;
+        ValueId along = b_.mul(raw, b_.constF(count));
+        ValueId k = b_.min(b_.floor(along), b_.constF(count - 1.0));
+        ValueId seconds = b_.mul(b_.sub(along, k), b_.div(timings_.period(layer.morphTiming), b_.constF(count)));
+        ValueId length = b_.max(prop(layer, "morph_time", {b_.constF(0.28)})[0], b_.constF(1e-6));
+        ValueId w = timings_.ease("cubic_in_out", b_.clamp(b_.div(seconds, length), b_.constF(0.0), b_.constF(1.0)));
+        ValueId previous = mode == sema::TimingMode::Loop
+                               ? b_.emit(Op::Mod, {b_.add(k, b_.constF(count - 1.0)), b_.constF(count)})
+                               : b_.max(b_.sub(k, b_.constF(1.0)), b_.constF(0.0));
+        auto pick = [&](ValueId which, ValueId LayerFields::*field) {
+            ValueId v = fields.back().*field;
+            for (size_t i = fields.size() - 1; i-- > 0;)
+                v = b_.select(b_.emit(Op::Eq, {which, b_.constF(static_cast<double>(i))}), fields[i].*field, v);
+            return v;
+        };
+        LayerFields out;
+        out.distance = b_.mix(pick(previous, &LayerFields::distance), pick(k, &LayerFields::distance), w);
+        out.index = pick(k, &LayerFields::index);
+        return out;
+    }
 
-        const sema::CheckedFamily* family = layer.family;
+    // The fields of one family in the layer's frame, by the kind of family.
+    LayerFields familyFields(const sema::CheckedLayer& layer, const LayerFrame& lf,
+                             const sema::CheckedFamily* family, const std::vector<const Expr*>& args,
+                             const StrokeBand& band, const Encoding& enc, bool wantIndex) {
+        b_.setLoc(layer.decl->range.begin);
+        std::vector<Vals> params;
         if (family) {
             const Decl& fam = *family->decl;
-            local.family = &fam;
             for (size_t i = 0; i < fam.params.size(); ++i) {
-                const Expr* value =
-                    layer.args[i] ? layer.args[i] : fam.params[i].defaultValue.get();
+                const Expr* value = args[i] ? args[i] : fam.params[i].defaultValue.get();
                 MOIRE_CHECK(value, "missing family argument survived checking");
-                local.params.push_back(exprs_.lower(*value, world_));
+                params.push_back(exprs_.lower(*value, world_));
             }
         }
-        // The family's expressions at another point of its frame: a fresh frame with the same
-        // parameters, its lets lowered anew (they may use x and y).
+        // The family's expressions at a point of its frame: a fresh frame with the layer's
+        // arguments, its lets lowered anew (they may use x and y).
         auto at = [&](ValueId x, ValueId y) {
             Frame f;
             f.x = x;
             f.y = y;
-            f.spacing = spacing;
-            f.family = local.family;
-            f.params = local.params;
+            f.spacing = lf.spacing;
+            f.family = family ? family->decl : nullptr;
+            f.params = params;
             if (family)
                 for (const Let& l : family->decl->lets) f.lets.push_back(exprs_.lower(*l.value, f));
             return f;
         };
 
         if (family && family->kind == sema::FamilyKind::Builtin) {
-            LatticeInputs in{qx, qy, spacing, local.params.at(0), local.params.at(1)[0]};
+            LatticeInputs in{lf.qx, lf.qy, lf.spacing, params.at(0), params.at(1)[0]};
             return latticeFields(b_, latticeKind(family->decl->name), in);
         }
-        Frame here = at(qx, qy);
+        Frame here = at(lf.qx, lf.qy);
         if (family && family->kind == sema::FamilyKind::Distance) {
             LayerFields out;
             out.distance = exprs_.scalar(*family->distance, here);
             out.index = family->index ? exprs_.scalar(*family->index, here) : b_.constF(0.0);
             return out;
         }
-        if (layer.walking) {
+        // Walking applies to the families that can walk; in a morph, the others ignore it.
+        if (layer.walking && family && family->facets) {
             WalkingInputs in;
-            in.px = qx;
-            in.py = qy;
-            in.spacing = spacing;
-            in.phase = phase;
+            in.px = lf.qx;
+            in.py = lf.qy;
+            in.spacing = lf.spacing;
+            in.phase = lf.phase;
             // Encoding shifts every member's residual by -gain s f(p): the same as moving
             // the phase by +gain s f. The residual is then divided by the carrier gradient,
             // taken as radial from the layer's origin (a first-order convenience, §10.1),
@@ -211,11 +259,11 @@ class SceneLowering {
             // scaled by that length and its distance divided by it.
             ValueId slope = ir::kNoValue;
             if (enc.field != ir::kNoValue) {
-                ValueId shift = b_.mul(b_.mul(enc.gain, spacing), enc.field);
-                in.phase = b_.add(phase, shift);
-                ValueId rr = b_.max(b_.hypot(dx, dy), b_.constF(ir::kTiny));
-                ValueId gx = b_.sub(b_.div(dx, rr), b_.emit(Op::DerivX, {shift}));
-                ValueId gy = b_.sub(b_.div(dy, rr), b_.emit(Op::DerivY, {shift}));
+                ValueId shift = b_.mul(b_.mul(enc.gain, lf.spacing), enc.field);
+                in.phase = b_.add(lf.phase, shift);
+                ValueId rr = b_.max(b_.hypot(lf.dx, lf.dy), b_.constF(ir::kTiny));
+                ValueId gx = b_.sub(b_.div(lf.dx, rr), b_.emit(Op::DerivX, {shift}));
+                ValueId gy = b_.sub(b_.div(lf.dy, rr), b_.emit(Op::DerivY, {shift}));
                 slope = b_.max(b_.hypot(gx, gy), b_.constF(ir::kTiny));
             }
             Vals offset = prop(layer, "offset", {b_.constF(0.0), b_.constF(0.0)});
@@ -241,14 +289,15 @@ class SceneLowering {
         b_.setLoc(layer.decl->range.begin);
         // Encoding (§10.1): phi - gain s f; forward-mode AD gives the gradient it divides by.
         if (enc.field != ir::kNoValue)
-            phi = b_.sub(phi, b_.mul(b_.mul(enc.gain, spacing), enc.field));
-        return phaseFamilyFields(b_, phi, phase, spacing, family ? family->first : std::nullopt);
+            phi = b_.sub(phi, b_.mul(b_.mul(enc.gain, lf.spacing), enc.field));
+        return phaseFamilyFields(b_, phi, lf.phase, lf.spacing, family ? family->first : std::nullopt);
     }
 
     const sema::CheckedScene& scene_;
     const LowerOptions& options_;
     ir::Builder b_;
     ExprLowering exprs_;
+    TimingLowering timings_;
     Frame world_;
     Frame constantFrame_; // scene settings cannot use x or y (checked)
 };
@@ -263,7 +312,6 @@ ir::Function lowerScene(const sema::CheckedScene& scene, const LowerOptions& opt
         4 + (options.layerFields ? OutputLayout::kFieldsPerLayer * layout.numLayers : 0);
     ir::Function f;
     f.name = "scene";
-    f.numOutputs = layout.numKernelOutputs + OutputLayout::kNumSettings;
     SceneLowering(scene, f, options).run(layout);
     ir::verify(f);
     return f;

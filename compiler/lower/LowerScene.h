@@ -1,10 +1,13 @@
 // Lowers a checked scene to one IR function evaluated per pixel: the camera, every layer's
 // fields and coverage, and the composite. Outputs: RGBA (slots 0-3), optionally each layer's
 // index, distance and index gradient, then the frame settings (image width and height, camera
-// zoom).
+// zoom, and each timing the scene uses: its period, delay and mode).
 #pragma once
 
 #include "compiler/ir/IR.h"
+
+#include <string>
+#include <vector>
 #include "compiler/sema/Sema.h"
 
 namespace moire::lower {
@@ -27,7 +30,12 @@ struct OutputLayout {
     static constexpr int kSettingWidth = 0; // settings are numbered from numKernelOutputs
     static constexpr int kSettingHeight = 1;
     static constexpr int kSettingZoom = 2;
-    static constexpr int kNumSettings = 3;
+    static constexpr int kNumSettings = 3; // and then kTimingSettings per timing used
+    static constexpr int kTimingSettings = 3; // period, delay, mode (0 once, 1 loop, 2 pingpong)
+    std::vector<std::string> timings;         // the timings the scene uses, in declaration order
+    std::vector<SourceRange> timingPeriods;   // where each one's period is written
+    int numSettings() const { return kNumSettings + kTimingSettings * static_cast<int>(timings.size()); }
+    int timingSetting(int timing) const { return kNumSettings + kTimingSettings * timing; }
     static constexpr int kFieldsPerLayer = 6;
     int indexSlot(int layer) const { return 4 + kFieldsPerLayer * layer; }
     int distanceSlot(int layer) const { return indexSlot(layer) + 1; }

@@ -48,6 +48,10 @@ const char* declKindName(DeclKind k) {
         return "family";
     case DeclKind::Layer:
         return "layer";
+    case DeclKind::Timing:
+        return "timing";
+    case DeclKind::Easing:
+        return "easing";
     }
     return "?";
 }

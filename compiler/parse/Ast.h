@@ -34,6 +34,8 @@ enum class RefKind : uint8_t {
     FamilyParam, // a parameter of the enclosing family
     Let,         // a let binding in the enclosing family
     Spacing,     // `spacing` inside a family body: the layer's spacing
+    Timing,      // a timing's name, as the first argument of ramp or progress
+    EasingVar,   // `u` inside an easing
 };
 
 struct Expr {
@@ -89,7 +91,7 @@ struct FamilyParam {
     Type type = Type::Num; // from the default value's type (Num when there is none)
 };
 
-enum class DeclKind : uint8_t { Scene, Camera, Field, Family, Layer };
+enum class DeclKind : uint8_t { Scene, Camera, Field, Family, Layer, Timing, Easing };
 const char* declKindName(DeclKind k);
 
 struct Decl {

@@ -15,7 +15,7 @@ struct DepthGuard {
     ~DepthGuard() { --depth; }
 };
 
-const std::vector<std::string> kDeclWords = {"scene", "camera", "layer", "field", "family"};
+const std::vector<std::string> kDeclWords = {"scene", "camera", "layer", "field", "family", "timing", "easing"};
 
 // Tokens that can begin a value but never a property or a declaration: met right after a
 // value, they mean a missing operator, as in `2 (x + 1)`.
@@ -194,18 +194,23 @@ DeclPtr Parser::parseDecl() {
         kind = DeclKind::Field;
     else if (word == "family")
         kind = DeclKind::Family;
+    else if (word == "timing")
+        kind = DeclKind::Timing;
+    else if (word == "easing")
+        kind = DeclKind::Easing;
     else {
         std::string found = describeCurrent();
         if (at(Tok::Ident)) found += didYouMean(word, kDeclWords);
         diags_.error(range(), Msg::Expected,
-                     "a declaration (scene, camera, layer, field or family)", found);
+                     "a declaration (scene, camera, layer, field, family, timing or easing)", found);
         advance();
         recoverTo(false);
         return nullptr;
     }
     advance();
     auto d = std::make_unique<Decl>(kind, kw);
-    bool named = kind == DeclKind::Field || kind == DeclKind::Family;
+    bool named = kind == DeclKind::Field || kind == DeclKind::Family || kind == DeclKind::Timing ||
+                 kind == DeclKind::Easing;
     if (named || (kind == DeclKind::Layer && at(Tok::Ident))) {
         d->nameRange = range();
         if (!at(Tok::Ident)) {
@@ -219,7 +224,8 @@ DeclPtr Parser::parseDecl() {
     }
     switch (kind) {
     case DeclKind::Field:
-        if (!expect(Tok::Assign, "'=' after the field's name")) {
+    case DeclKind::Easing:
+        if (!expect(Tok::Assign, fmt::format("'=' after the {}'s name", word).c_str())) {
             recoverTo(false);
             return nullptr;
         }

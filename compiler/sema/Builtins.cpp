@@ -44,6 +44,10 @@ constexpr FnInfo kFns[] = {
     {"length", 1, Signature::Length, "length of a 2-vector"},
     {"rgb", 3, Signature::Color, "colour from red, green, blue in 0..1"},
     {"rgba", 4, Signature::Color, "colour from red, green, blue, alpha in 0..1"},
+    {"step", 2, Signature::SameToNum, "step(edge, v): 0 below the edge, 1 from it on"},
+    {"ramp", 3, Signature::Timed,
+     "ramp(timing, from, to): from the first value to the second as the timing runs (eased)"},
+    {"progress", 1, Signature::Timed, "progress(timing): the timing's eased progress, 0 to 1"},
 };
 } // namespace
 

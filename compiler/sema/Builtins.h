@@ -48,6 +48,9 @@ enum class Fn {
     Length,
     Rgb,
     Rgba,
+    Step,
+    Ramp,
+    Progress,
 };
 // How a function's argument and result types relate.
 enum class Signature {
@@ -58,6 +61,7 @@ enum class Signature {
     Mix,       // (T, T, number) -> T, T any value type
     Length,    // vector -> number
     Color,     // numbers -> colour
+    Timed,     // (timing[, T, T]) -> number, or T between the two values: ramp, progress
 };
 struct FnInfo {
     const char* spelling;

@@ -48,8 +48,14 @@ void Checker::tooDeep(const Expr& e) {
 Type Checker::checkExpr(Expr& e, const Scope& scope) {
     DepthGuard guard(exprDepth_);
     int height = 0;
-    for (ExprPtr& a : e.args) {
-        checkExpr(*a, scope);
+    // ramp and progress take a timing's name first: it names a declaration, not a value.
+    const bool timed = e.kind == ExprKind::Call && (e.name == "ramp" || e.name == "progress") && !e.args.empty();
+    for (size_t i = 0; i < e.args.size(); ++i) {
+        if (timed && i == 0) {
+            if (!timingArgument(*e.args[0], e.name)) e.args[0]->type = Type::Error;
+            continue;
+        }
+        checkExpr(*e.args[i], scope);
         height = std::max(height, lastHeight_);
     }
     inherit(e);
@@ -157,7 +163,8 @@ Type Checker::callType(Expr& e) {
             diags_.error(e.opRange, Msg::NotAFunction, e.name, "a built-in value");
         else if (globals_.count(e.name))
             diags_.error(e.opRange, Msg::NotAFunction, e.name,
-                         globals_[e.name]->kind == DeclKind::Field ? "a field" : "a family");
+                         std::string(globals_[e.name]->kind == DeclKind::Easing ? "an " : "a ") +
+                             declKindName(globals_[e.name]->kind));
         else
             diags_.error(e.opRange, Msg::UnknownFunction, e.name,
                          didYouMean(e.name, builtinFunctions()));
@@ -208,6 +215,14 @@ Type Checker::callType(Expr& e) {
         }
         if (e.args[2]->type != Type::Num) return argFail(2, "a number");
         return e.args[0]->type;
+    case Signature::Timed:
+        if (given == 1) return Type::Num; // progress(timing)
+        if (e.args[1]->type != e.args[2]->type) {
+            diags_.error(e.args[2]->range, Msg::SameTypeArgs, e.name, typeName(e.args[1]->type),
+                         typeName(e.args[2]->type));
+            return Type::Error;
+        }
+        return e.args[1]->type;
     case Signature::Length:
         if (e.args[0]->type != Type::Vec2) return argFail(0, "a 2-vector");
         return Type::Num;
@@ -221,6 +236,10 @@ Type Checker::callType(Expr& e) {
 
 Type Checker::resolveName(Expr& e, const Scope& scope) {
     const std::string& n = e.name;
+    if (scope.easing && n == "u") { // the progress an easing shapes
+        e.ref = RefKind::EasingVar;
+        return Type::Num;
+    }
     if (scope.family) {
         for (size_t i = scope.visibleLets; i-- > 0;) {
             const Let& l = scope.family->lets[i];
@@ -291,6 +310,14 @@ Type Checker::resolveName(Expr& e, const Scope& scope) {
     }
     if (g != globals_.end() && g->second->kind == DeclKind::Family) {
         diags_.error(e.opRange, Msg::FamilyAsValue, n, n);
+        return Type::Error;
+    }
+    if (g != globals_.end() && g->second->kind == DeclKind::Timing) {
+        diags_.error(e.opRange, Msg::TimingAsValue, n, n, n);
+        return Type::Error;
+    }
+    if (g != globals_.end() && g->second->kind == DeclKind::Easing) {
+        diags_.error(e.opRange, Msg::EasingAsValue, n, n);
         return Type::Error;
     }
     if (lookupFn(n)) {

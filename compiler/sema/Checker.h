@@ -40,6 +40,7 @@ struct Scope {
     const Decl* family = nullptr; // inside a family body
     size_t visibleLets = 0;
     bool allowSpacing = false; // family bodies and anonymous phases
+    bool easing = false;       // an easing's body: `u` is its variable
 };
 
 class Checker {
@@ -58,6 +59,15 @@ class Checker {
     enum class State { Unvisited, InProgress, Done };
     void checkField(Decl& f);
     void checkFamily(Decl& f);
+    void checkEasing(Decl& e);
+    std::vector<Decl*>& declList(DeclKind k) {
+        return k == DeclKind::Field ? fields_ : k == DeclKind::Family ? familyDecls_ : k == DeclKind::Timing ? timings_ : easings_;
+    }
+    void checkTiming(Decl& t);
+    // The morph of a layer: `family = morph(timing, f0, f1, ...)`; false when it is not one.
+    bool checkMorph(const Property& fam, CheckedLayer& layer);
+    // `arg` names a timing (for ramp, progress, morph); reported and false otherwise.
+    bool timingArgument(Expr& arg, const std::string& fn);
     const PropertySpec* findSpec(const std::vector<PropertySpec>& specs, const std::string& name);
     void checkProperty(Property& p, const PropertySpec& spec, const Scope& scope);
     bool noDuplicates(Decl& d, const char* what);
@@ -82,7 +92,7 @@ class Checker {
     CheckedScene out_;
     std::unordered_map<std::string, const Decl*> globals_;
     std::unordered_map<std::string, const Decl*> layerNames_;
-    std::vector<Decl*> fields_, familyDecls_;
+    std::vector<Decl*> fields_, familyDecls_, timings_, easings_;
     std::unordered_map<const Decl*, State> fieldState_;
     std::vector<const Decl*> fieldStack_;
     // Heights with fields and lets filled in (see kMaxExpandedDepth).

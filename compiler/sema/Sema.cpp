@@ -52,6 +52,8 @@ const std::vector<PropertySpec>& layerProperties() {
         {"field", Type::Num, false, false,
          "a scalar field encoded into the phase: the fringes against a twin are its contours"},
         {"gain", Type::Num, false, false, "how strongly the field is encoded: contours every 1 / gain; default 1"},
+        {"morph_time", Type::Num, false, false,
+         "morphs: seconds each change of family takes (eased, cubic); default 0.28"},
     };
     return props;
 }
@@ -64,6 +66,8 @@ const std::vector<std::string> kKeywords = {"scene", "camera", "layer", "field",
 
 CheckedScene Checker::run(const std::vector<Module*>& modules) {
     collect(modules);
+    for (Decl* e : easings_) checkEasing(*e);
+    for (Decl* t : timings_) checkTiming(*t);
     for (Decl* f : fields_) checkField(*f);
     for (Decl* f : familyDecls_) checkFamily(*f);
     for (Module* m : modules)
@@ -106,14 +110,16 @@ void Checker::collect(const std::vector<Module*>& modules) {
                 break;
             }
             case DeclKind::Field:
-            case DeclKind::Family: {
+            case DeclKind::Family:
+            case DeclKind::Timing:
+            case DeclKind::Easing: {
                 if (reserved(d.name, d.nameRange)) break;
                 auto known = globals_.find(d.name);
                 // A scene may reuse a library name (its own `field ripple`): its declaration
                 // hides the library's wherever the scene names it.
                 if (known != globals_.end() && user && library.count(known->second)) {
                     globals_[d.name] = &d;
-                    (d.kind == DeclKind::Field ? fields_ : familyDecls_).push_back(&d);
+                    declList(d.kind).push_back(&d);
                     break;
                 }
                 if (known != globals_.end()) {
@@ -124,7 +130,7 @@ void Checker::collect(const std::vector<Module*>& modules) {
                 }
                 globals_[d.name] = &d;
                 if (!user) library.insert(&d);
-                (d.kind == DeclKind::Field ? fields_ : familyDecls_).push_back(&d);
+                declList(d.kind).push_back(&d);
                 break;
             }
             case DeclKind::Layer:
@@ -159,6 +165,98 @@ void Checker::checkField(Decl& f) {
     fieldHeight_[&f] = lastHeight_;
     fieldStack_.pop_back();
     fieldState_[&f] = State::Done;
+}
+
+void Checker::checkEasing(Decl& e) {
+    // An easing maps progress u in [0, 1] to [0, 1]; it may use u and constants only.
+    out_.easingByName[e.name] = &e;
+    Scope scope;
+    scope.easing = true;
+    checkExpr(*e.value, scope);
+    expectType(*e.value, Type::Num, fmt::format("easing '{}'", e.name));
+    if (e.value->dependsOnPosition)
+        diags_.error(e.value->range, Msg::MustBeConstant, fmt::format("easing '{}'", e.name),
+                     "the position (x, y, r or theta)");
+    if (e.value->dependsOnTime)
+        diags_.error(e.value->range, Msg::MustBeConstant, fmt::format("easing '{}'", e.name), "the clock t");
+}
+
+void Checker::checkTiming(Decl& t) {
+    noDuplicates(t, "timing");
+    CheckedTiming& ct = out_.timings[&t];
+    ct.decl = &t;
+    out_.timingOrder.push_back(&t);
+    for (Property& p : t.props) {
+        if (p.name == "period" || p.name == "delay") {
+            // Both set the clip's loop length, so neither may change with the clock.
+            PropertySpec spec{p.name.c_str(), Type::Num, true, true, ""};
+            checkProperty(p, spec, Scope{});
+            (p.name == "period" ? ct.period : ct.delay) = p.value.get();
+        } else if (p.name == "mode") {
+            const std::string word = p.value->kind == ExprKind::Name ? p.value->name : "";
+            if (word == "once") ct.mode = TimingMode::Once;
+            else if (word == "loop") ct.mode = TimingMode::Loop;
+            else if (word == "pingpong") ct.mode = TimingMode::PingPong;
+            else
+                diags_.error(p.value->range, Msg::BadMode,
+                             word.empty() ? std::string("this") : fmt::format("'{}'{}", word, didYouMean(word, {"once", "loop", "pingpong"})));
+        } else if (p.name == "easing") {
+            auto it = p.value->kind == ExprKind::Name ? globals_.find(p.value->name) : globals_.end();
+            if (it != globals_.end() && it->second->kind == DeclKind::Easing) {
+                ct.easing = it->second;
+            } else {
+                std::vector<std::string> names;
+                for (const Decl* e : easings_) names.push_back(e->name);
+                std::string what = p.value->kind == ExprKind::Name ? fmt::format("'{}'", p.value->name) : "this";
+                diags_.error(p.value->range, Msg::NotAnEasing, what,
+                             p.value->kind == ExprKind::Name ? didYouMean(p.value->name, names) : "");
+            }
+        } else {
+            diags_.error(p.nameRange, Msg::UnknownProperty, p.name,
+                         "a timing (its properties are period, delay, mode and easing)",
+                         didYouMean(p.name, {"period", "delay", "mode", "easing"}));
+        }
+    }
+    if (!ct.period)
+        diags_.error(t.nameRange, Msg::MissingProperty, "timing", t.name, "period", "period = 4");
+}
+
+bool Checker::timingArgument(Expr& arg, const std::string& fn) {
+    auto it = arg.kind == ExprKind::Name ? globals_.find(arg.name) : globals_.end();
+    if (it == globals_.end() || it->second->kind != DeclKind::Timing) {
+        diags_.error(arg.range, Msg::NotATiming, fmt::format("'{}'", fn), fn);
+        return false;
+    }
+    arg.ref = RefKind::Timing;
+    arg.refDecl = it->second;
+    arg.type = Type::Num;
+    arg.dependsOnTime = true;
+    return true;
+}
+
+bool Checker::checkMorph(const Property& fam, CheckedLayer& layer) {
+    Expr& call = *fam.value;
+    if (call.kind != ExprKind::Call || call.name != "morph") return false;
+    if (call.args.size() < 3) {
+        diags_.error(call.range, Msg::MorphArgs);
+        return true;
+    }
+    call.type = Type::Num;
+    if (timingArgument(*call.args[0], "morph")) layer.morphTiming = call.args[0]->refDecl;
+    for (size_t i = 1; i < call.args.size(); ++i) {
+        Expr& a = *call.args[i];
+        auto it = a.kind == ExprKind::Name ? globals_.find(a.name) : globals_.end();
+        if (it == globals_.end() || it->second->kind != DeclKind::Family) {
+            diags_.error(a.range, Msg::UnknownFamily, a.kind == ExprKind::Name ? a.name : "?",
+                         a.kind == ExprKind::Name ? didYouMean(a.name, globalNames(DeclKind::Family)) : "");
+            continue;
+        }
+        CheckedLayer::Member m;
+        m.family = &out_.families[it->second];
+        m.args.assign(it->second->params.size(), nullptr);
+        layer.morph.push_back(std::move(m));
+    }
+    return true;
 }
 
 void Checker::checkFamily(Decl& f) {
@@ -318,17 +416,23 @@ void Checker::checkLayer(Decl& d) {
     CheckedLayer layer;
     layer.decl = &d;
     const Property* fam = d.prop("family");
-    const Decl* familyDecl = nullptr;
+    // The layer's families: one, or the members of a morph. A phase written in the layer
+    // has none.
+    std::vector<CheckedLayer::Member> members;
     if (!fam) {
         diags_.error(d.range, Msg::MissingFamily);
+    } else if (checkMorph(*fam, layer)) {
+        members = layer.morph;
     } else if (fam->value->kind == ExprKind::Name && !lookupName(fam->value->name) &&
                fam->value->name != "spacing" && // a (constant) phase, like any built-in name
                !(globals_.count(fam->value->name) &&
                  globals_[fam->value->name]->kind == DeclKind::Field)) {
         auto it = globals_.find(fam->value->name);
         if (it != globals_.end() && it->second->kind == DeclKind::Family) {
-            familyDecl = it->second;
-            layer.family = &out_.families[familyDecl];
+            CheckedLayer::Member m;
+            m.family = &out_.families[it->second];
+            m.args.assign(it->second->params.size(), nullptr);
+            members.push_back(std::move(m));
         } else {
             diags_.error(fam->value->range, Msg::UnknownFamily, fam->value->name,
                          didYouMean(fam->value->name, globalNames(DeclKind::Family)));
@@ -346,57 +450,76 @@ void Checker::checkLayer(Decl& d) {
     }
     std::vector<std::string> allowed;
     for (const PropertySpec& s : layerProperties()) allowed.push_back(s.name);
-    if (familyDecl) {
-        layer.args.assign(familyDecl->params.size(), nullptr);
-        for (const FamilyParam& p : familyDecl->params) allowed.push_back(p.name);
-    }
+    for (const CheckedLayer::Member& m : members)
+        for (const FamilyParam& p : m.family->decl->params) allowed.push_back(p.name);
     for (Property& p : d.props) {
         if (p.name == "family") continue;
         if (const PropertySpec* spec = findSpec(layerProperties(), p.name)) {
             checkProperty(p, *spec, Scope{});
             continue;
         }
-        bool matched = false;
-        if (familyDecl) {
-            for (size_t i = 0; i < familyDecl->params.size(); ++i) {
-                const FamilyParam& fp = familyDecl->params[i];
+        // A family parameter; in a morph, every member with a parameter of that name takes it.
+        bool matched = false, checked = false;
+        for (CheckedLayer::Member& m : members) {
+            const Decl& fd = *m.family->decl;
+            for (size_t i = 0; i < fd.params.size(); ++i) {
+                const FamilyParam& fp = fd.params[i];
                 if (fp.name != p.name) continue;
-                PropertySpec spec{fp.name.c_str(), fp.type, false, false, ""};
-                checkProperty(p, spec, Scope{});
-                layer.args[i] = p.value.get();
+                if (!checked) {
+                    PropertySpec spec{fp.name.c_str(), fp.type, false, false, ""};
+                    checkProperty(p, spec, Scope{});
+                    checked = true;
+                } else {
+                    expectType(*p.value, fp.type, fmt::format("'{}'", p.name));
+                }
+                m.args[i] = p.value.get();
                 matched = true;
             }
         }
         if (!matched) {
-            std::string owner = familyDecl ? fmt::format("a layer of family '{}'", familyDecl->name)
-                                           : std::string("a layer");
-            diags_.error(p.nameRange, Msg::UnknownProperty, p.name, owner,
-                         didYouMean(p.name, allowed));
+            std::string owner = members.size() == 1
+                                    ? fmt::format("a layer of family '{}'", members[0].family->decl->name)
+                                    : std::string("a layer");
+            diags_.error(p.nameRange, Msg::UnknownProperty, p.name, owner, didYouMean(p.name, allowed));
         }
     }
-    // Walking moves each member in its own frame, which only a support-function phase
-    // (a family with facets) has.
+    auto named = [&]() {
+        return members.size() == 1 ? fmt::format("'{}'", members[0].family->decl->name)
+                                   : std::string("this layer's family");
+    };
+    // Walking moves each member in its own frame, which only a support-function phase (a
+    // family with facets) has. In a morph it applies to the members that can walk.
     for (const char* walk : {"offset", "turn"}) {
         const Property* p = d.prop(walk);
         if (!p) continue;
         layer.walking = true;
-        if (fam && !(layer.family && layer.family->facets))
-            diags_.error(p->nameRange, Msg::NotWalkable, walk,
-                         familyDecl ? fmt::format("'{}'", familyDecl->name) : std::string("this layer's family"));
+        bool any = false;
+        for (const CheckedLayer::Member& m : members) any |= m.family->facets != nullptr;
+        if (fam && !any) diags_.error(p->nameRange, Msg::NotWalkable, walk, named());
     }
     // A field is encoded into the phase (phi - gain s f), which distance and builtin
     // families do not have.
     if (const Property* p = d.prop("field")) {
         layer.encoded = true;
-        if (layer.family && layer.family->kind != FamilyKind::Phase)
-            diags_.error(p->nameRange, Msg::NotEncodable, familyDecl->name);
+        for (const CheckedLayer::Member& m : members)
+            if (m.family->kind != FamilyKind::Phase) {
+                diags_.error(p->nameRange, Msg::NotEncodable, m.family->decl->name);
+                break;
+            }
     }
-    if (familyDecl) {
-        for (size_t i = 0; i < familyDecl->params.size(); ++i)
-            if (!layer.args[i] && !familyDecl->params[i].defaultValue)
-                diags_.error(fam->value->range, Msg::MissingParam, familyDecl->name,
-                             familyDecl->params[i].name, familyDecl->params[i].name);
+    for (const CheckedLayer::Member& m : members) {
+        const Decl& fd = *m.family->decl;
+        for (size_t i = 0; i < fd.params.size(); ++i)
+            if (!m.args[i] && !fd.params[i].defaultValue)
+                diags_.error(fam->value->range, Msg::MissingParam, fd.name, fd.params[i].name,
+                             fd.params[i].name);
     }
+    if (!members.empty()) {
+        layer.family = members[0].family;
+        layer.args = members[0].args;
+    }
+    if (layer.morphTiming) layer.morph = std::move(members);
+    else layer.morph.clear();
     out_.layers.push_back(std::move(layer));
 }
 

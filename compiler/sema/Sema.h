@@ -32,12 +32,31 @@ struct CheckedFamily {
     const ast::Expr* index = nullptr;    // Distance families; null: 0
 };
 
+// A named timing: progress from 0 to 1 over `period` seconds after `delay`, then held
+// (once), repeated (loop) or reversed (pingpong), shaped by an easing.
+enum class TimingMode { Once, Loop, PingPong };
+struct CheckedTiming {
+    const ast::Decl* decl = nullptr;
+    const ast::Expr* period = nullptr;
+    const ast::Expr* delay = nullptr; // null: 0
+    TimingMode mode = TimingMode::Loop;
+    const ast::Decl* easing = nullptr; // an easing declaration; null: linear
+};
+
 struct CheckedLayer {
     const ast::Decl* decl = nullptr;
     const CheckedFamily* family = nullptr;     // a named family, or null
     const ast::Expr* anonymousPhase = nullptr; // `family = <expression>`
     bool walking = false; // sets offset or turn: its members are found by the walking solver
     bool encoded = false; // carries a field in its phase (`field`, `gain`)
+    // `family = morph(timing, f0, f1, ...)`: the families and each one's arguments (the first
+    // is also `family`/`args` above), and the timing that moves between them.
+    struct Member {
+        const CheckedFamily* family = nullptr;
+        std::vector<const ast::Expr*> args;
+    };
+    std::vector<Member> morph;
+    const ast::Decl* morphTiming = nullptr;
     // One entry per parameter of the family: the layer's value, or null for the default.
     std::vector<const ast::Expr*> args;
     const ast::Expr* prop(std::string_view name) const {
@@ -52,6 +71,9 @@ struct CheckedScene {
     std::vector<CheckedLayer> layers;
     std::unordered_map<const ast::Decl*, CheckedFamily> families;
     std::unordered_map<std::string, const ast::Decl*> familyByName;
+    std::unordered_map<const ast::Decl*, CheckedTiming> timings;
+    std::vector<const ast::Decl*> timingOrder; // declaration order
+    std::unordered_map<std::string, const ast::Decl*> easingByName;
 };
 
 // One property a block accepts.

@@ -160,11 +160,13 @@ Type Checker::callType(Expr& e) {
     auto fn = lookupFn(e.name);
     if (!fn) {
         if (lookupName(e.name))
-            diags_.error(e.opRange, Msg::NotAFunction, e.name, "a built-in value");
+            diags_.error(e.opRange, Msg::NotAFunction, e.name, "a built-in value", "");
         else if (globals_.count(e.name))
+            // `sine(x)` is more likely a slip for sin than a call of the easing.
             diags_.error(e.opRange, Msg::NotAFunction, e.name,
                          std::string(globals_[e.name]->kind == DeclKind::Easing ? "an " : "a ") +
-                             declKindName(globals_[e.name]->kind));
+                             declKindName(globals_[e.name]->kind),
+                         didYouMean(e.name, builtinFunctions()));
         else
             diags_.error(e.opRange, Msg::UnknownFunction, e.name,
                          didYouMean(e.name, builtinFunctions()));

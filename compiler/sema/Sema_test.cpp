@@ -123,8 +123,11 @@ TEST_CASE("sema: unknown names suggest only near candidates") {
           "unknown name 'thta'; did you mean 'theta'?");
     // Every one-letter name is one edit from every other: no suggestion for those.
     CHECK(error("field f = a", Msg::UnknownName) == "unknown name 'a'");
-    CHECK(error("field f = sine(x)", Msg::UnknownFunction) ==
-          "unknown function 'sine'; did you mean 'sin'?");
+    CHECK(error("field f = sinn(x)", Msg::UnknownFunction) ==
+          "unknown function 'sinn'; did you mean 'sin'?");
+    // An easing's name called like a function: more likely a slip for a function.
+    CHECK(error("field f = sine(x)", Msg::NotAFunction) ==
+          "'sine' is an easing, not a function; did you mean 'sin'?");
     CHECK(error("layer { family = circle }", Msg::UnknownFamily) ==
           "unknown family 'circle'; did you mean 'circles'?");
 }

@@ -31,7 +31,17 @@ std::string nearestName(std::string_view name, const std::vector<std::string>& c
         // A suggestion must keep something of what was written: 'e' for 'a' replaces it
         // whole, which is no hint at all (every one-letter name is that near).
         if (dist >= static_cast<int>(std::max(name.size(), c.size()))) continue;
-        if (dist < bestDistance || (dist == bestDistance && !best.empty() && c < best)) {
+        // Between equally near names, the one that agrees longest with the start of what was
+        // written wins ('sinn' reads as 'sin' rather than 'sign'), then the alphabetically first.
+        auto prefix = [&](const std::string& cand) {
+            size_t n = 0;
+            while (n < cand.size() && n < name.size() && cand[n] == name[n]) ++n;
+            return n;
+        };
+        bool better = dist < bestDistance ||
+                      (dist == bestDistance && !best.empty() &&
+                       (prefix(c) > prefix(best) || (prefix(c) == prefix(best) && c < best)));
+        if (better) {
             bestDistance = dist;
             best = c;
         }

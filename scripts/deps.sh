@@ -13,6 +13,7 @@ packages=(
   mesa-vulkan-drivers            # lavapipe: a software Vulkan device where there is no GPU
   libfmt-dev libcli11-dev        # formatting, the command line
   doctest-dev                    # the tests
+  ffmpeg                         # clips to mp4, webm and gif (moire clip)
 )
 
 missing=()

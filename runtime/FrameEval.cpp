@@ -59,6 +59,9 @@ bool evaluateFrame(const SceneProgram& program, const FrameRequest& request, Fra
         tv.mode = static_cast<TimingValues::Mode>(static_cast<int>(v[2]));
         if (!(std::isfinite(tv.period) && tv.period > 0))
             diags.error(layout.timingPeriods[i], Msg::BadPeriod, tv.period);
+        // A negative delay would start each pass part way through (or never end the cycle).
+        if (!(std::isfinite(tv.delay) && tv.delay >= 0))
+            diags.error(layout.timingDelays[i], Msg::BadDelay, tv.delay);
         out.timings.push_back(tv);
     }
     diagnostics = diags.render();

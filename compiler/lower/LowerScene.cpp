@@ -1,8 +1,6 @@
 #include "compiler/lower/LowerScene.h"
 
 #include "compiler/diag/Diagnostics.h"
-
-#include <tuple>
 #include "compiler/ir/Builder.h"
 #include "compiler/ir/Semantics.h"
 #include "compiler/lower/LatticeFamily.h"
@@ -10,6 +8,8 @@
 #include "compiler/lower/LowerExpr.h"
 #include "compiler/lower/Timings.h"
 #include "compiler/lower/WalkingFamily.h"
+
+#include <tuple>
 
 namespace moire::lower {
 
@@ -170,127 +170,234 @@ class SceneLowering {
         const Expr* turn = layer.prop("rotation");
         lf.dx = b_.sub(world_.x, origin[0]);
         lf.dy = b_.sub(world_.y, origin[1]);
-        std::tie(lf.qx, lf.qy) =
-            turn ? rotate(lf.dx, lf.dy, b_.neg(exprs_.scalar(*turn, world_))) : std::pair{lf.dx, lf.dy};
+        std::tie(lf.qx, lf.qy) = turn ? rotate(lf.dx, lf.dy, b_.neg(exprs_.scalar(*turn, world_)))
+                                      : std::pair{lf.dx, lf.dy};
         if (layer.morph.empty())
-            return familyFields(layer, lf, layer.family, layer.args, band, enc, wantIndex);
+            return familyFields(layer, lf, bind(layer.family, layer.args), band, enc, wantIndex);
+        return morphFields(layer, lf, band, enc, wantIndex);
+    }
 
-        // A morph (§8.3): the timing walks through the families, one segment each; each
-        // segment opens with the stroke travelling from the previous family's geometry to
-        // its own (the two distances interpolated, eased cubic over morph_time seconds), then
-        // holds. A looping morph comes back round from its last family to its first.
-        std::vector<LayerFields> fields;
-        for (const sema::CheckedLayer::Member& m : layer.morph)
-            fields.push_back(familyFields(layer, lf, m.family, m.args, band, enc, wantIndex));
-        b_.setLoc(layer.decl->range.begin);
-        const double count = static_cast<double>(fields.size());
-        const sema::TimingMode mode = scene_.timings.at(layer.morphTiming).mode;
-        ValueId raw = timings_.progress(layer.morphTiming).raw;
-        ValueId along = b_.mul(raw, b_.constF(count));
-        ValueId k = b_.min(b_.floor(along), b_.constF(count - 1.0));
-        ValueId seconds = b_.mul(b_.sub(along, k), b_.div(timings_.period(layer.morphTiming), b_.constF(count)));
-        ValueId length = b_.max(prop(layer, "morph_time", {b_.constF(0.28)})[0], b_.constF(1e-6));
-        ValueId w = timings_.ease("cubic_in_out", b_.clamp(b_.div(seconds, length), b_.constF(0.0), b_.constF(1.0)));
-        ValueId previous = mode == sema::TimingMode::Loop
-                               ? b_.emit(Op::Mod, {b_.add(k, b_.constF(count - 1.0)), b_.constF(count)})
-                               : b_.max(b_.sub(k, b_.constF(1.0)), b_.constF(0.0));
-        auto pick = [&](ValueId which, ValueId LayerFields::*field) {
-            ValueId v = fields.back().*field;
-            for (size_t i = fields.size() - 1; i-- > 0;)
-                v = b_.select(b_.emit(Op::Eq, {which, b_.constF(static_cast<double>(i))}), fields[i].*field, v);
-            return v;
-        };
-        LayerFields out;
-        out.distance = b_.mix(pick(previous, &LayerFields::distance), pick(k, &LayerFields::distance), w);
-        out.index = pick(k, &LayerFields::index);
-        return out;
+    // One family with a layer's arguments lowered, ready to be evaluated at any point of the
+    // layer's frame. Null for a layer that writes its phase itself.
+    struct BoundFamily {
+        const sema::CheckedFamily* family = nullptr;
+        std::vector<Vals> params;
+    };
+    BoundFamily bind(const sema::CheckedFamily* family, const std::vector<const Expr*>& args) {
+        BoundFamily bf{family, {}};
+        if (!family) return bf;
+        const Decl& fam = *family->decl;
+        for (size_t i = 0; i < fam.params.size(); ++i) {
+            const Expr* value = args[i] ? args[i] : fam.params[i].defaultValue.get();
+            MOIRE_CHECK(value, "missing family argument survived checking");
+            bf.params.push_back(exprs_.lower(*value, world_));
+        }
+        return bf;
+    }
+    // The family's expressions at a point of its frame: a fresh frame with the layer's
+    // arguments, its lets lowered anew (they may use x and y).
+    Frame frameAt(const BoundFamily& bf, const LayerFrame& lf, ValueId x, ValueId y) {
+        Frame f;
+        f.x = x;
+        f.y = y;
+        f.spacing = lf.spacing;
+        f.family = bf.family ? bf.family->decl : nullptr;
+        f.params = bf.params;
+        if (bf.family)
+            for (const Let& l : bf.family->decl->lets) f.lets.push_back(exprs_.lower(*l.value, f));
+        return f;
+    }
+    ValueId phaseAt(const sema::CheckedLayer& layer, const BoundFamily& bf, const LayerFrame& lf,
+                    ValueId x, ValueId y) {
+        const Expr* phase = bf.family ? bf.family->phase : layer.anonymousPhase;
+        MOIRE_CHECK(phase, "layer without a phase survived checking");
+        Frame f = frameAt(bf, lf, x, y);
+        return exprs_.scalar(*phase, f);
+    }
+    // Whether the layer draws this family by the walking solver (walking applies to the
+    // families that can walk; in a morph, the others ignore it).
+    static bool walks(const sema::CheckedLayer& layer, const sema::CheckedFamily* family) {
+        return layer.walking && family && family->facets;
     }
 
     // The fields of one family in the layer's frame, by the kind of family.
     LayerFields familyFields(const sema::CheckedLayer& layer, const LayerFrame& lf,
-                             const sema::CheckedFamily* family, const std::vector<const Expr*>& args,
-                             const StrokeBand& band, const Encoding& enc, bool wantIndex) {
+                             const BoundFamily& bf, const StrokeBand& band, const Encoding& enc,
+                             bool wantIndex) {
         b_.setLoc(layer.decl->range.begin);
-        std::vector<Vals> params;
-        if (family) {
-            const Decl& fam = *family->decl;
-            for (size_t i = 0; i < fam.params.size(); ++i) {
-                const Expr* value = args[i] ? args[i] : fam.params[i].defaultValue.get();
-                MOIRE_CHECK(value, "missing family argument survived checking");
-                params.push_back(exprs_.lower(*value, world_));
-            }
-        }
-        // The family's expressions at a point of its frame: a fresh frame with the layer's
-        // arguments, its lets lowered anew (they may use x and y).
-        auto at = [&](ValueId x, ValueId y) {
-            Frame f;
-            f.x = x;
-            f.y = y;
-            f.spacing = lf.spacing;
-            f.family = family ? family->decl : nullptr;
-            f.params = params;
-            if (family)
-                for (const Let& l : family->decl->lets) f.lets.push_back(exprs_.lower(*l.value, f));
-            return f;
-        };
-
+        const sema::CheckedFamily* family = bf.family;
         if (family && family->kind == sema::FamilyKind::Builtin) {
-            LatticeInputs in{lf.qx, lf.qy, lf.spacing, params.at(0), params.at(1)[0]};
+            LatticeInputs in{lf.qx, lf.qy, lf.spacing, bf.params.at(0), bf.params.at(1)[0]};
             return latticeFields(b_, latticeKind(family->decl->name), in);
         }
-        Frame here = at(lf.qx, lf.qy);
         if (family && family->kind == sema::FamilyKind::Distance) {
+            Frame here = frameAt(bf, lf, lf.qx, lf.qy);
             LayerFields out;
             out.distance = exprs_.scalar(*family->distance, here);
             out.index = family->index ? exprs_.scalar(*family->index, here) : b_.constF(0.0);
             return out;
         }
-        // Walking applies to the families that can walk; in a morph, the others ignore it.
-        if (layer.walking && family && family->facets) {
-            WalkingInputs in;
-            in.px = lf.qx;
-            in.py = lf.qy;
-            in.spacing = lf.spacing;
-            in.phase = lf.phase;
-            // Encoding shifts every member's residual by -gain s f(p): the same as moving
-            // the phase by +gain s f. The residual is then divided by the carrier gradient,
-            // taken as radial from the layer's origin (a first-order convenience, §10.1),
-            // minus gain s grad f; the solver works in residual units, so its stroke band is
-            // scaled by that length and its distance divided by it.
-            ValueId slope = ir::kNoValue;
-            if (enc.field != ir::kNoValue) {
-                ValueId shift = b_.mul(b_.mul(enc.gain, lf.spacing), enc.field);
-                in.phase = b_.add(lf.phase, shift);
-                ValueId rr = b_.max(b_.hypot(lf.dx, lf.dy), b_.constF(ir::kTiny));
-                ValueId gx = b_.sub(b_.div(lf.dx, rr), b_.emit(Op::DerivX, {shift}));
-                ValueId gy = b_.sub(b_.div(lf.dy, rr), b_.emit(Op::DerivY, {shift}));
-                slope = b_.max(b_.hypot(gx, gy), b_.constF(ir::kTiny));
-            }
-            Vals offset = prop(layer, "offset", {b_.constF(0.0), b_.constF(0.0)});
-            in.offsetX = offset[0];
-            in.offsetY = offset[1];
-            in.turn = prop(layer, "turn", {b_.constF(0.0)})[0];
-            in.facets = exprs_.scalar(*family->facets, here);
-            in.band = band;
-            if (slope != ir::kNoValue) in.band = {b_.mul(band.h, slope), b_.mul(band.a, slope)};
-            in.wantIndex = wantIndex;
-            in.tally = options_.tally;
+        if (walks(layer, family)) {
+            Frame here = frameAt(bf, lf, lf.qx, lf.qy);
+            ValueId facets = exprs_.scalar(*family->facets, here);
             RadiusFn rho = [&](ir::Builder&, ValueId x, ValueId y) {
-                Frame f = at(x, y);
-                return exprs_.scalar(*family->phase, f);
+                return phaseAt(layer, bf, lf, x, y);
             };
-            LayerFields out = walkingFamilyFields(b_, in, rho);
-            if (slope != ir::kNoValue) out.distance = b_.div(out.distance, slope);
-            return out;
+            return walkingFields(layer, lf, rho, facets, band, enc, wantIndex);
         }
-        const Expr* phaseExpr = family ? family->phase : layer.anonymousPhase;
-        MOIRE_CHECK(phaseExpr, "layer without a phase survived checking");
-        ValueId phi = exprs_.scalar(*phaseExpr, here);
+        ValueId phi = phaseAt(layer, bf, lf, lf.qx, lf.qy);
+        return phaseFields(layer, lf, phi, family ? family->first : std::nullopt, enc);
+    }
+
+    // A phase family (Eq. 5), with the encoded field subtracted first (§10.1): forward-mode
+    // AD gives the gradient of the whole phase, field included.
+    LayerFields phaseFields(const sema::CheckedLayer& layer, const LayerFrame& lf, ValueId phi,
+                            std::optional<int> first, const Encoding& enc) {
         b_.setLoc(layer.decl->range.begin);
-        // Encoding (§10.1): phi - gain s f; forward-mode AD gives the gradient it divides by.
         if (enc.field != ir::kNoValue)
             phi = b_.sub(phi, b_.mul(b_.mul(enc.gain, lf.spacing), enc.field));
-        return phaseFamilyFields(b_, phi, lf.phase, lf.spacing, family ? family->first : std::nullopt);
+        return phaseFamilyFields(b_, phi, lf.phase, lf.spacing, first);
+    }
+
+    // A walking family (§6-7) of radius rho, by the certified search.
+    LayerFields walkingFields(const sema::CheckedLayer& layer, const LayerFrame& lf,
+                              const RadiusFn& rho, ValueId facets, const StrokeBand& band,
+                              const Encoding& enc, bool wantIndex) {
+        WalkingInputs in;
+        in.px = lf.qx;
+        in.py = lf.qy;
+        in.spacing = lf.spacing;
+        in.phase = lf.phase;
+        // Encoding shifts every member's residual by -gain s f(p): the same as moving the
+        // phase by +gain s f. The residual is then divided by the carrier gradient, taken as
+        // radial from the layer's origin (a first-order convenience, §10.1), minus
+        // gain s grad f; the solver works in residual units, so its stroke band is scaled by
+        // that length and its distance divided by it.
+        ValueId slope = ir::kNoValue;
+        if (enc.field != ir::kNoValue) {
+            ValueId shift = b_.mul(b_.mul(enc.gain, lf.spacing), enc.field);
+            in.phase = b_.add(lf.phase, shift);
+            ValueId rr = b_.max(b_.hypot(lf.dx, lf.dy), b_.constF(ir::kTiny));
+            ValueId gx = b_.sub(b_.div(lf.dx, rr), b_.emit(Op::DerivX, {shift}));
+            ValueId gy = b_.sub(b_.div(lf.dy, rr), b_.emit(Op::DerivY, {shift}));
+            slope = b_.max(b_.hypot(gx, gy), b_.constF(ir::kTiny));
+        }
+        Vals offset = prop(layer, "offset", {b_.constF(0.0), b_.constF(0.0)});
+        in.offsetX = offset[0];
+        in.offsetY = offset[1];
+        in.turn = prop(layer, "turn", {b_.constF(0.0)})[0];
+        in.facets = facets;
+        in.band = band;
+        if (slope != ir::kNoValue) in.band = {b_.mul(band.h, slope), b_.mul(band.a, slope)};
+        in.wantIndex = wantIndex;
+        in.tally = options_.tally;
+        LayerFields out = walkingFamilyFields(b_, in, rho);
+        if (slope != ir::kNoValue) out.distance = b_.div(out.distance, slope);
+        return out;
+    }
+
+    // A morph (§8.3). The timing's pass is cut into one equal share per family: family k
+    // holds through its share and, in the share's last morph_time seconds, travels to the
+    // next (eased cubic in and out). A looping timing travels from the last family back to
+    // the first, so the cycle closes; once and pingpong hold the last.
+    //
+    // What travels is the geometry, not the ink: where every family has a phase, the two
+    // phases are interpolated and the blend is drawn as a family of its own (Eq. 5 on the
+    // blend), so each member is one stroke moving from one shape to the other. For the
+    // concentric families, whose phases have unit gradient, that is exactly the signed
+    // distances to the member interpolated. Walking families interpolate their radii the
+    // same way inside the search. Unsigned distances to the nearest member would not do:
+    // half-way, a point on a member of one family but between members of the other is at
+    // half a gap from both, and the strokes break up instead of travelling. Only a morph that
+    // mixes kinds (a lattice, a pencil, a walking family with one that cannot walk) falls
+    // back to interpolating the two distances.
+    LayerFields morphFields(const sema::CheckedLayer& layer, const LayerFrame& lf,
+                            const StrokeBand& band, const Encoding& enc, bool wantIndex) {
+        std::vector<BoundFamily> members;
+        for (const sema::CheckedLayer::Member& m : layer.morph)
+            members.push_back(bind(m.family, m.args));
+        b_.setLoc(layer.decl->range.begin);
+        const double count = static_cast<double>(members.size());
+        const sema::TimingMode mode = scene_.timings.at(layer.morphTiming).mode;
+        ValueId raw = timings_.progress(layer.morphTiming).raw;
+        ValueId along = b_.mul(raw, b_.constF(count));
+        ValueId k = b_.min(b_.floor(along), b_.constF(count - 1.0));
+        ValueId share = b_.div(timings_.period(layer.morphTiming), b_.constF(count));
+        ValueId seconds = b_.mul(b_.sub(along, k), share);
+        // A change longer than a share would still be under way when the next one starts.
+        ValueId length =
+            b_.clamp(prop(layer, "morph_time", {b_.constF(0.28)})[0], b_.constF(1e-6), share);
+        ValueId u = b_.clamp(b_.div(b_.sub(seconds, b_.sub(share, length)), length), b_.constF(0.0),
+                             b_.constF(1.0));
+        ValueId w = timings_.ease("cubic_in_out", u);
+        ValueId next = mode == sema::TimingMode::Loop
+                           ? b_.emit(Op::Mod, {b_.add(k, b_.constF(1.0)), b_.constF(count)})
+                           : b_.min(b_.add(k, b_.constF(1.0)), b_.constF(count - 1.0));
+        auto pick = [&](ValueId which, const Vals& values) {
+            ValueId v = values.back();
+            for (size_t i = values.size() - 1; i-- > 0;)
+                v = b_.select(b_.emit(Op::Eq, {which, b_.constF(static_cast<double>(i))}),
+                              values[i], v);
+            return v;
+        };
+        auto blend = [&](const Vals& values) {
+            return b_.mix(pick(k, values), pick(next, values), w);
+        };
+
+        bool allPhases = true, allWalk = true;
+        std::optional<int> first = members[0].family->first;
+        for (const BoundFamily& m : members) {
+            allPhases &= m.family->kind == sema::FamilyKind::Phase && !walks(layer, m.family);
+            allWalk &= walks(layer, m.family);
+            if (m.family->first != first) first.reset();
+        }
+        if (allPhases) {
+            Vals phis;
+            for (const BoundFamily& m : members)
+                phis.push_back(phaseAt(layer, m, lf, lf.qx, lf.qy));
+            return phaseFields(layer, lf, blend(phis), first, enc);
+        }
+        if (allWalk) {
+            RadiusFn rho = [&](ir::Builder&, ValueId x, ValueId y) {
+                Vals radii;
+                for (const BoundFamily& m : members) radii.push_back(phaseAt(layer, m, lf, x, y));
+                return blend(radii);
+            };
+            Vals sides;
+            for (const BoundFamily& m : members) {
+                Frame here = frameAt(m, lf, lf.qx, lf.qy);
+                sides.push_back(exprs_.scalar(*m.family->facets, here));
+            }
+            ValueId from = pick(k, sides), to = pick(next, sides);
+            // Between two shapes the blend is neither a circle nor a regular polygon, so the
+            // solver must take its general scan; its interval needs the blend's least ratio of
+            // inradius to radius, which is at least the smaller of the two shapes' cos(pi/N)
+            // (a circle counting as infinitely many sides). A side count just below the
+            // smaller one gives a slightly smaller ratio and is not whole: the scan, safely.
+            auto asSides = [&](ValueId n) {
+                return b_.select(b_.emit(Op::Eq, {n, b_.constF(0.0)}), b_.constF(1e9), n);
+            };
+            ValueId fewer = b_.sub(b_.min(asSides(from), asSides(to)), b_.constF(0.5));
+            ValueId bothRound = b_.emit(Op::And, {b_.emit(Op::Eq, {from, b_.constF(0.0)}),
+                                                  b_.emit(Op::Eq, {to, b_.constF(0.0)})});
+            ValueId between = b_.select(bothRound, b_.constF(0.0), fewer);
+            ValueId facets =
+                b_.select(b_.le(w, b_.constF(0.0)), from,
+                          b_.select(b_.emit(Op::Ge, {w, b_.constF(1.0)}), to, between));
+            return walkingFields(layer, lf, rho, facets, band, enc, wantIndex);
+        }
+        std::vector<LayerFields> fields;
+        Vals distances, indices;
+        for (const BoundFamily& m : members) {
+            LayerFields f = familyFields(layer, lf, m, band, enc, wantIndex);
+            distances.push_back(f.distance);
+            indices.push_back(f.index);
+        }
+        b_.setLoc(layer.decl->range.begin);
+        LayerFields out;
+        out.distance = blend(distances);
+        out.index = pick(b_.select(b_.lt(w, b_.constF(0.5)), k, next), indices);
+        return out;
     }
 
     const sema::CheckedScene& scene_;

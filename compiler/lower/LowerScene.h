@@ -34,6 +34,7 @@ struct OutputLayout {
     static constexpr int kTimingSettings = 3; // period, delay, mode (0 once, 1 loop, 2 pingpong)
     std::vector<std::string> timings;         // the timings the scene uses, in declaration order
     std::vector<SourceRange> timingPeriods;   // where each one's period is written
+    std::vector<SourceRange> timingDelays;    // and its delay (the name, when it has none)
     int numSettings() const { return kNumSettings + kTimingSettings * static_cast<int>(timings.size()); }
     int timingSetting(int timing) const { return kNumSettings + kTimingSettings * timing; }
     static constexpr int kFieldsPerLayer = 6;

@@ -21,7 +21,7 @@ const TimingLowering::Lowered& TimingLowering::lowered(const ast::Decl* timing) 
     ValueId delay = ct.delay ? exprs_.scalar(*ct.delay, constants) : b_.constF(0.0);
     ValueId t = b_.leaf(Op::Time);
     ValueId zero = b_.constF(0.0), one = b_.constF(1.0);
-    ValueId raw;
+    ValueId raw = zero;
     switch (ct.mode) {
     case sema::TimingMode::Once: // 0 until the delay, 0 to 1 over the period, then 1
         raw = b_.clamp(b_.div(b_.sub(t, delay), period), zero, one);
@@ -50,9 +50,13 @@ const TimingLowering::Lowered& TimingLowering::lowered(const ast::Decl* timing) 
     return done_.emplace(timing, Lowered{period, delay, {raw, eased}}).first->second;
 }
 
-Progress TimingLowering::progress(const ast::Decl* timing) { return lowered(timing).progress; }
+Progress TimingLowering::progress(const ast::Decl* timing) {
+    return lowered(timing).progress;
+}
 
-ValueId TimingLowering::period(const ast::Decl* timing) { return lowered(timing).period; }
+ValueId TimingLowering::period(const ast::Decl* timing) {
+    return lowered(timing).period;
+}
 
 ValueId TimingLowering::ease(const std::string& easing, ValueId u) {
     auto it = scene_.easingByName.find(easing);
@@ -68,7 +72,9 @@ void TimingLowering::outputSettings(OutputLayout& layout, int firstSlot) {
         auto it = done_.find(timing);
         if (it == done_.end()) continue; // declared but never used: no part of the clip
         const sema::CheckedTiming& ct = scene_.timings.at(timing);
-        const double mode = ct.mode == sema::TimingMode::Once ? 0 : ct.mode == sema::TimingMode::Loop ? 1 : 2;
+        const double mode = ct.mode == sema::TimingMode::Once   ? 0
+                            : ct.mode == sema::TimingMode::Loop ? 1
+                                                                : 2;
         // The period as written (not floored), so that the frame's checks can report it.
         Frame constants;
         b_.output(slot++, exprs_.scalar(*ct.period, constants));
@@ -76,6 +82,7 @@ void TimingLowering::outputSettings(OutputLayout& layout, int firstSlot) {
         b_.output(slot++, b_.constF(mode));
         layout.timings.push_back(timing->name);
         layout.timingPeriods.push_back(ct.period->range);
+        layout.timingDelays.push_back(ct.delay ? ct.delay->range : timing->nameRange);
     }
 }
 

@@ -48,10 +48,12 @@ const std::vector<PropertySpec>& layerProperties() {
          "turn of the family about its origin; default 0deg"},
         {"offset", Type::Vec2, false, false,
          "walking families: member n is moved by n * offset (turned with it); default (0, 0)"},
-        {"turn", Type::Angle, false, false, "walking families: member n is turned by n * turn; default 0deg"},
+        {"turn", Type::Angle, false, false,
+         "walking families: member n is turned by n * turn; default 0deg"},
         {"field", Type::Num, false, false,
          "a scalar field encoded into the phase: the fringes against a twin are its contours"},
-        {"gain", Type::Num, false, false, "how strongly the field is encoded: contours every 1 / gain; default 1"},
+        {"gain", Type::Num, false, false,
+         "how strongly the field is encoded: contours every 1 / gain; default 1"},
         {"morph_time", Type::Num, false, false,
          "morphs: seconds each change of family takes (eased, cubic); default 0.28"},
     };
@@ -169,7 +171,11 @@ void Checker::checkField(Decl& f) {
 
 void Checker::checkEasing(Decl& e) {
     // An easing maps progress u in [0, 1] to [0, 1]; it may use u and constants only.
-    out_.easingByName[e.name] = &e;
+    // The first declaration of a name wins, and the standard library's are checked first:
+    // the compiler looks easings up here for its own use (a morph's cubic_in_out, §8.3),
+    // which a scene's easing of the same name must not reshape. The scene's timings find
+    // its own easing through the names in scope.
+    out_.easingByName.emplace(e.name, &e);
     Scope scope;
     scope.easing = true;
     checkExpr(*e.value, scope);
@@ -178,7 +184,8 @@ void Checker::checkEasing(Decl& e) {
         diags_.error(e.value->range, Msg::MustBeConstant, fmt::format("easing '{}'", e.name),
                      "the position (x, y, r or theta)");
     if (e.value->dependsOnTime)
-        diags_.error(e.value->range, Msg::MustBeConstant, fmt::format("easing '{}'", e.name), "the clock t");
+        diags_.error(e.value->range, Msg::MustBeConstant, fmt::format("easing '{}'", e.name),
+                     "the clock t");
 }
 
 void Checker::checkTiming(Decl& t) {
@@ -194,22 +201,31 @@ void Checker::checkTiming(Decl& t) {
             (p.name == "period" ? ct.period : ct.delay) = p.value.get();
         } else if (p.name == "mode") {
             const std::string word = p.value->kind == ExprKind::Name ? p.value->name : "";
-            if (word == "once") ct.mode = TimingMode::Once;
-            else if (word == "loop") ct.mode = TimingMode::Loop;
-            else if (word == "pingpong") ct.mode = TimingMode::PingPong;
+            if (word == "once")
+                ct.mode = TimingMode::Once;
+            else if (word == "loop")
+                ct.mode = TimingMode::Loop;
+            else if (word == "pingpong")
+                ct.mode = TimingMode::PingPong;
             else
                 diags_.error(p.value->range, Msg::BadMode,
-                             word.empty() ? std::string("this") : fmt::format("'{}'{}", word, didYouMean(word, {"once", "loop", "pingpong"})));
+                             word.empty()
+                                 ? std::string("this")
+                                 : fmt::format("'{}'{}", word,
+                                               didYouMean(word, {"once", "loop", "pingpong"})));
         } else if (p.name == "easing") {
-            auto it = p.value->kind == ExprKind::Name ? globals_.find(p.value->name) : globals_.end();
+            auto it =
+                p.value->kind == ExprKind::Name ? globals_.find(p.value->name) : globals_.end();
             if (it != globals_.end() && it->second->kind == DeclKind::Easing) {
                 ct.easing = it->second;
             } else {
                 std::vector<std::string> names;
                 for (const Decl* e : easings_) names.push_back(e->name);
-                std::string what = p.value->kind == ExprKind::Name ? fmt::format("'{}'", p.value->name) : "this";
+                std::string what =
+                    p.value->kind == ExprKind::Name ? fmt::format("'{}'", p.value->name) : "this";
                 diags_.error(p.value->range, Msg::NotAnEasing, what,
-                             p.value->kind == ExprKind::Name ? didYouMean(p.value->name, names) : "");
+                             p.value->kind == ExprKind::Name ? didYouMean(p.value->name, names)
+                                                             : "");
             }
         } else {
             diags_.error(p.nameRange, Msg::UnknownProperty, p.name,
@@ -224,7 +240,10 @@ void Checker::checkTiming(Decl& t) {
 bool Checker::timingArgument(Expr& arg, const std::string& fn) {
     auto it = arg.kind == ExprKind::Name ? globals_.find(arg.name) : globals_.end();
     if (it == globals_.end() || it->second->kind != DeclKind::Timing) {
-        diags_.error(arg.range, Msg::NotATiming, fmt::format("'{}'", fn), fn);
+        const char* example = fn == "ramp"       ? "ramp(drift, 0, 1)"
+                              : fn == "progress" ? "progress(drift)"
+                                                 : "morph(drift, circles, hexagons)";
+        diags_.error(arg.range, Msg::NotATiming, fmt::format("'{}'", fn), example);
         return false;
     }
     arg.ref = RefKind::Timing;
@@ -247,8 +266,9 @@ bool Checker::checkMorph(const Property& fam, CheckedLayer& layer) {
         Expr& a = *call.args[i];
         auto it = a.kind == ExprKind::Name ? globals_.find(a.name) : globals_.end();
         if (it == globals_.end() || it->second->kind != DeclKind::Family) {
-            diags_.error(a.range, Msg::UnknownFamily, a.kind == ExprKind::Name ? a.name : "?",
-                         a.kind == ExprKind::Name ? didYouMean(a.name, globalNames(DeclKind::Family)) : "");
+            diags_.error(
+                a.range, Msg::UnknownFamily, a.kind == ExprKind::Name ? a.name : "?",
+                a.kind == ExprKind::Name ? didYouMean(a.name, globalNames(DeclKind::Family)) : "");
             continue;
         }
         CheckedLayer::Member m;
@@ -312,7 +332,9 @@ void Checker::checkFamily(Decl& f) {
         if (p.name == "phase" || p.name == "distance" || p.name == "index") {
             checkExpr(*p.value, scope);
             expectType(*p.value, Type::Num, p.name == "phase" ? "the phase" : "the " + p.name);
-            (p.name == "phase" ? cf.phase : p.name == "distance" ? cf.distance : cf.index) = p.value.get();
+            (p.name == "phase"      ? cf.phase
+             : p.name == "distance" ? cf.distance
+                                    : cf.index) = p.value.get();
         } else if (p.name == "facets") {
             // Usually a whole number from the family's parameters; the walking solver copes
             // with any value (fractional counts fall through to its scan).
@@ -335,7 +357,8 @@ void Checker::checkFamily(Decl& f) {
             }
         } else {
             // `w = 2` in a family body is most likely a value meant to be named.
-            std::string hint = didYouMean(p.name, {"phase", "first", "facets", "distance", "index"});
+            std::string hint =
+                didYouMean(p.name, {"phase", "first", "facets", "distance", "index"});
             if (hint.empty()) hint = fmt::format("; to name a value, write: let {} = ...", p.name);
             diags_.error(p.nameRange, Msg::UnknownProperty, p.name,
                          "a family (its properties are phase, first, facets, distance and index)",
@@ -353,7 +376,8 @@ void Checker::checkFamily(Decl& f) {
         cf.kind = FamilyKind::Distance;
         for (const char* phaseOnly : {"first", "facets"})
             if (props.count(phaseOnly))
-                diags_.error(props[phaseOnly]->nameRange, Msg::PropertyNeedsKind, phaseOnly, "phase");
+                diags_.error(props[phaseOnly]->nameRange, Msg::PropertyNeedsKind, phaseOnly,
+                             "phase");
     } else if (cf.phase) {
         if (props.count("index"))
             diags_.error(props["index"]->nameRange, Msg::PropertyNeedsKind, "index", "distance");
@@ -477,10 +501,11 @@ void Checker::checkLayer(Decl& d) {
             }
         }
         if (!matched) {
-            std::string owner = members.size() == 1
-                                    ? fmt::format("a layer of family '{}'", members[0].family->decl->name)
-                                    : std::string("a layer");
-            diags_.error(p.nameRange, Msg::UnknownProperty, p.name, owner, didYouMean(p.name, allowed));
+            std::string owner = members.size() == 1 ? fmt::format("a layer of family '{}'",
+                                                                  members[0].family->decl->name)
+                                                    : std::string("a layer");
+            diags_.error(p.nameRange, Msg::UnknownProperty, p.name, owner,
+                         didYouMean(p.name, allowed));
         }
     }
     auto named = [&]() {
@@ -518,8 +543,10 @@ void Checker::checkLayer(Decl& d) {
         layer.family = members[0].family;
         layer.args = members[0].args;
     }
-    if (layer.morphTiming) layer.morph = std::move(members);
-    else layer.morph.clear();
+    if (layer.morphTiming)
+        layer.morph = std::move(members);
+    else
+        layer.morph.clear();
     out_.layers.push_back(std::move(layer));
 }
 

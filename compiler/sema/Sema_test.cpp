@@ -344,3 +344,145 @@ TEST_CASE("sema: a chain of fields too deep to inline is an error, not a stack o
     Checked c = check(chain(100000, true));
     CHECK(c.msgs() == std::vector<Msg>{Msg::FieldsTooDeep});
 }
+
+// Animation: easings, timings, ramp/progress and morphs (spec §8.3, §8.5).
+
+TEST_CASE("sema: u is the progress inside an easing and nowhere else") {
+    Checked c = ok("field k = 2\neasing w = u ^ k * (3 - 2 * u)");
+    const Expr& value = *c.decl("w").value; // (u ^ k) * (3 - 2 * u)
+    CHECK(value.args[0]->args[0]->ref == RefKind::EasingVar);
+    CHECK(value.args[0]->args[1]->ref == RefKind::Field); // a constant field is fine
+    CHECK(value.type == Type::Num);
+    CHECK(error("field f = u", Msg::UnknownName) == "unknown name 'u'");
+    error("layer { family = circles; spacing = 10 * u }", Msg::UnknownName);
+    // A field is checked in its own scope, even when an easing uses it.
+    error("field g = u\neasing w = g", Msg::UnknownName);
+    // An easing is a function of u alone.
+    CHECK(error("easing w = u * x", Msg::MustBeConstant) ==
+          "easing 'w' cannot depend on the position (x, y, r or theta)");
+    CHECK(error("easing w = u + t", Msg::MustBeConstant) == "easing 'w' cannot depend on the clock t");
+    CHECK(error("easing w = (u, u)", Msg::TypeMismatch) ==
+          "easing 'w' expects a number, but this is a 2-vector");
+}
+
+TEST_CASE("sema: timings: their properties, modes and easings") {
+    Checked c = ok("timing a { period = 2 }\n"
+                   "timing b { period = 1.5; delay = 0.5; mode = pingpong; easing = sine }\n"
+                   "easing mine = u\ntiming d { period = 1; mode = once; easing = mine }\n");
+    const sema::CheckedTiming& a = c.scene.timings.at(&c.decl("a"));
+    CHECK(a.mode == sema::TimingMode::Loop); // the default
+    CHECK(a.easing == nullptr);             // linear
+    CHECK(a.delay == nullptr);
+    const sema::CheckedTiming& b = c.scene.timings.at(&c.decl("b"));
+    CHECK(b.mode == sema::TimingMode::PingPong);
+    REQUIRE(b.easing);
+    CHECK(b.easing->name == "sine");
+    CHECK(c.scene.timings.at(&c.decl("d")).easing == &c.decl("mine"));
+    CHECK(c.scene.timingOrder == std::vector<const Decl*>{&c.decl("a"), &c.decl("b"), &c.decl("d")});
+    CHECK(error("timing a { delay = 1 }", Msg::MissingProperty) ==
+          "timing 'a' needs its period; add one, as in: period = 4");
+    CHECK(error("timing a { period = 1; mode = forever }", Msg::BadMode) ==
+          "a timing's mode is once, loop or pingpong, not 'forever'");
+    CHECK(error("timing a { period = 1; mode = 2 }", Msg::BadMode) ==
+          "a timing's mode is once, loop or pingpong, not this");
+    CHECK(error("timing a { period = 1; easing = sin }", Msg::NotAnEasing) ==
+          "'sin' is not an easing; did you mean 'sine'?");
+    CHECK(error("timing a { period = 1; easing = circles }", Msg::NotAnEasing) ==
+          "'circles' is not an easing");
+    CHECK(error("timing a { period = 1; speed = 2 }", Msg::UnknownProperty) ==
+          "'speed' is not a property of a timing (its properties are period, delay, mode and easing)");
+    // The period and delay set the clip's length: fixed for the whole animation.
+    CHECK(error("timing a { period = 1 + t }", Msg::MustBeConstant) ==
+          "'period' cannot depend on the clock t");
+    error("timing a { period = 1; delay = x }", Msg::MustBeConstant);
+    error("timing a { period = 1 }\ntiming b { period = 1 + progress(a) }", Msg::MustBeConstant);
+    Checked twice = check("timing a { period = 1; period = 2 }");
+    CHECK(twice.msgs() == std::vector<Msg>{Msg::DuplicateProperty, Msg::FirstSeenHere});
+    CHECK(error("field a = 1\ntiming a { period = 1 }", Msg::DuplicateDecl) ==
+          "there is already a field named 'a'");
+    error("timing t { period = 1 }", Msg::ReservedName);
+}
+
+TEST_CASE("sema: a timing's or an easing's name is not a value") {
+    CHECK(error("timing drift { period = 1 }\nfield f = drift * 2", Msg::TimingAsValue) ==
+          "'drift' is a timing; use it as in ramp(drift, from, to) or progress(drift)");
+    error("timing drift { period = 1 }\ncamera { zoom = drift }", Msg::TimingAsValue);
+    CHECK(error("field f = cubic_out", Msg::EasingAsValue) ==
+          "'cubic_out' is an easing; name it in a timing, as in: easing = cubic_out");
+}
+
+TEST_CASE("sema: ramp and progress take a timing and values of one type") {
+    Checked c = ok("timing tm { period = 1 }\n"
+                   "field n = ramp(tm, 1, 2)\nfield a = ramp(tm, 0deg, 30deg)\n"
+                   "field v = ramp(tm, (0, 0), (1, 2))\nfield col = ramp(tm, #000000, #ffffff)\n"
+                   "field p = progress(tm)\n");
+    CHECK(fieldValue(c, "n").type == Type::Num);
+    CHECK(fieldValue(c, "a").type == Type::Angle);
+    CHECK(fieldValue(c, "v").type == Type::Vec2);
+    CHECK(fieldValue(c, "col").type == Type::Color);
+    CHECK(fieldValue(c, "p").type == Type::Num);
+    CHECK(fieldValue(c, "p").args[0]->ref == RefKind::Timing);
+    CHECK(fieldValue(c, "p").args[0]->refDecl == &c.decl("tm"));
+    // Both follow the clock, and nothing else.
+    CHECK(fieldValue(c, "n").dependsOnTime);
+    CHECK_FALSE(fieldValue(c, "n").dependsOnPosition);
+    CHECK(fieldValue(c, "p").dependsOnTime);
+    const std::string tm = "timing tm { period = 1 }\n";
+    CHECK(error(tm + "field f = ramp(tm, 1, 30deg)", Msg::SameTypeArgs) ==
+          "the arguments of 'ramp' must have the same type, but they are a number and an angle");
+    error(tm + "field f = ramp(tm, (1, 2), #ffffff)", Msg::SameTypeArgs);
+    CHECK(error(tm + "field f = ramp(tm, 1)", Msg::Arity) ==
+          "'ramp' takes 3 arguments, but 2 were given");
+    CHECK(error(tm + "field f = progress(tm, 1)", Msg::Arity) ==
+          "'progress' takes 1 argument, but 2 were given");
+    CHECK(error("field f = ramp(1, 2, 3)", Msg::NotATiming) ==
+          "'ramp' takes a timing's name first, as in ramp(drift, 0, 1)");
+    CHECK(error("field g = 1\nfield f = progress(g)", Msg::NotATiming) ==
+          "'progress' takes a timing's name first, as in progress(drift)");
+    CHECK(error(tm + "scene { size = ramp(tm, (100, 100), (200, 200)) }", Msg::MustBeConstant) ==
+          "'size' cannot depend on the clock t");
+    ok(tm + "camera { zoom = 1 + progress(tm); rotation = ramp(tm, 0deg, 90deg) }");
+}
+
+TEST_CASE("sema: a morph: a timing and two or more families, which share the layer's parameters") {
+    const std::string tm = "timing tm { period = 3 }\n";
+    Checked c = ok(tm + "layer { family = morph(tm, lines, wave, circles); angle = 30deg; amplitude = 4 }");
+    const sema::CheckedLayer& layer = c.scene.layers.at(0);
+    CHECK(layer.morphTiming == &c.decl("tm"));
+    REQUIRE(layer.morph.size() == 3);
+    CHECK(layer.morph[0].family->decl->name == "lines");
+    CHECK(layer.morph[1].family->decl->name == "wave");
+    CHECK(layer.family == layer.morph[0].family); // the first member is the layer's family
+    CHECK(layer.morph[0].args[0] != nullptr);    // lines' angle
+    CHECK(layer.morph[1].args[0] != nullptr);    // wave's amplitude
+    CHECK(layer.morph[1].args[1] == nullptr);    // wave's frequency: its default
+    // A parameter of the same name in two members is one setting, checked against both.
+    const std::string two = "family a(k = 1) = x * k\nfamily b(k = 0deg) = r * cos(k)\n";
+    Checked shared = ok(tm + "family a2(k = 1) = x * k\nfamily b2(k = 2) = y * k\n"
+                             "layer { family = morph(tm, a2, b2); k = 3 }");
+    const sema::CheckedLayer& sl = shared.scene.layers.at(0);
+    CHECK(sl.morph[0].args[0] == sl.morph[1].args[0]);
+    CHECK(sl.morph[0].args[0] != nullptr);
+    CHECK(error(tm + two + "layer { family = morph(tm, a, b); k = 3 }", Msg::AngleNeedsUnit) ==
+          "'k' is an angle: write the number with a unit, as in 3deg or 3rad");
+    error(tm + "family ring(radius) = abs(r - radius)\nlayer { family = morph(tm, circles, ring) }",
+          Msg::MissingParam);
+    CHECK(error(tm + "layer { family = morph(tm, lines, wave); amplitud = 4 }", Msg::UnknownProperty) ==
+          "'amplitud' is not a property of a layer; did you mean 'amplitude'?");
+    // The arguments.
+    CHECK(error(tm + "layer { family = morph(tm, circles) }", Msg::MorphArgs) ==
+          "morph takes a timing and then two or more families, as in: family = morph(cycle, "
+          "circles, hexagons)");
+    error(tm + "layer { family = morph(tm) }", Msg::MorphArgs);
+    CHECK(error("layer { family = morph(circles, squares, hexagons) }", Msg::NotATiming) ==
+          "'morph' takes a timing's name first, as in morph(drift, circles, hexagons)");
+    CHECK(error(tm + "layer { family = morph(tm, circles, hexagon) }", Msg::UnknownFamily) ==
+          "unknown family 'hexagon'; did you mean 'hexagons'?");
+    // Walking needs one member that can walk; the others ignore it.
+    Checked walks = ok(tm + "layer { family = morph(tm, lines, circles); offset = (1, 0) }");
+    CHECK(walks.scene.layers.at(0).walking);
+    CHECK(error(tm + "layer { family = morph(tm, lines, wave); turn = 2deg }", Msg::NotWalkable) ==
+          "'turn' moves the members of a family whose phase is a support function (circles, "
+          "squares, triangles, hexagons, ngon); this layer's family is not one");
+    ok(tm + "layer { family = morph(tm, circles, squares); morph_time = 0.5 }");
+}

@@ -3,6 +3,7 @@
 #include "compiler/backend/glsl/GlslKernel.h"
 #include "compiler/backend/llvm/LlvmJit.h"
 #include "compiler/Compile.h"
+#include "runtime/cli/Shared.h"
 #include "runtime/ImageIO.h"
 #include "runtime/Render.h"
 #include "runtime/vulkan/VulkanBackend.h"
@@ -23,15 +24,8 @@ namespace moire::cli {
 
 namespace fs = std::filesystem;
 
-namespace {
+// The helpers every command shares: Shared.h.
 
-struct Source {
-    std::string path;
-    std::string text;
-};
-
-// Reads a scene, or the embedded default when `path` is empty. Prints the reason and returns
-// false when the file cannot be read.
 bool readScene(const std::string& path, Source& out) {
     if (path.empty()) {
         EmbeddedScene d = defaultScene();
@@ -54,8 +48,7 @@ bool readScene(const std::string& path, Source& out) {
     return true;
 }
 
-std::unique_ptr<SceneProgram> compileOrReport(const Source& src,
-                                              const CompileOptions& options = {}) {
+std::unique_ptr<SceneProgram> compileOrReport(const Source& src, const CompileOptions& options) {
     CompileResult r = compileScene(src.path, src.text, options);
     if (!r.diagnostics.empty()) fmt::print(stderr, "{}", r.diagnostics);
     return std::move(r.program);
@@ -84,7 +77,6 @@ bool parseDepth(const std::string& s, PixelDepth& d) {
     return true;
 }
 
-// The backend as the closing line names it: Vulkan says which device drew the image.
 std::string describe(const Backend& backend) {
     if (auto* vk = dynamic_cast<const VulkanBackend*>(&backend))
         return "vulkan on " + vk->deviceName();
@@ -95,7 +87,14 @@ double secondsSince(std::chrono::steady_clock::time_point t0) {
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
 
-} // namespace
+std::unique_ptr<Backend> openBackend(const std::string& name, int device) {
+    try {
+        return makeBackend(name, BackendOptions{.device = device});
+    } catch (const BackendError& e) {
+        fmt::print(stderr, "moire: error: {}\n", e.what());
+        return nullptr;
+    }
+}
 
 int render(const RenderArgs& args) {
     int w = 0, h = 0;
@@ -134,15 +133,8 @@ int render(const RenderArgs& args) {
                            "vulkan\n");
         return kExitUsage;
     }
-    // A backend that cannot run here (no Vulkan driver or device, a bad --device) is the
-    // user's to fix: one line, status 1, nothing written.
-    std::unique_ptr<Backend> backend;
-    try {
-        backend = makeBackend(args.backend, BackendOptions{.device = args.device});
-    } catch (const BackendError& e) {
-        fmt::print(stderr, "moire: error: {}\n", e.what());
-        return kExitUserError;
-    }
+    std::unique_ptr<Backend> backend = openBackend(args.backend, args.device);
+    if (!backend) return kExitUserError;
 
     auto t0 = std::chrono::steady_clock::now();
     Source src;
@@ -250,12 +242,13 @@ int devices() {
 }
 
 int compile(const CompileArgs& args) {
-    static const char* kDumps[] = {"ast", "ir", "ir-ad", "frame", "kernel", "llvm", "glsl", "spirv"};
+    static const char* kDumps[] = {"ast",    "ir",   "ir-ad", "frame",
+                                   "kernel", "llvm", "glsl",  "spirv"};
     if (std::find(std::begin(kDumps), std::end(kDumps), args.dump) == std::end(kDumps)) {
-        fmt::print(
-            stderr,
-            "moire: error: --dump must be one of ast, ir, ir-ad, frame, kernel, llvm, glsl, spirv; not '{}'\n",
-            args.dump);
+        fmt::print(stderr,
+                   "moire: error: --dump must be one of ast, ir, ir-ad, frame, kernel, llvm, glsl, "
+                   "spirv; not '{}'\n",
+                   args.dump);
         return kExitUsage;
     }
     Source src;

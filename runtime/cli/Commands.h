@@ -27,6 +27,26 @@ struct RenderArgs {
 };
 int render(const RenderArgs& args);
 
+// `moire clip`: frame n at exactly t = from + n / fps, to numbered images or a video.
+// Exits 130 (143 for SIGTERM) when interrupted, after the frame in hand.
+struct ClipArgs {
+    std::string scene;  // empty: the embedded default scene
+    std::string output; // image pattern (frame_%04d.png) or video (.mp4, .webm, .gif)
+    double fps = 0.0;
+    std::string size; // "WxH", empty: the scene's
+    double from = 0.0;
+    double to = 0.0; // with hasTo: frames before this time
+    bool hasTo = false;
+    std::string frames; // "N" or "A..B"; empty: --to, or the timings' loop
+    std::string backend = "jit";
+    int device = -1;
+    std::string depth; // image frames only
+    int threads = 0;
+    bool plan = false; // print the schedule, render nothing
+    bool quiet = false;
+};
+int clip(const ClipArgs& args);
+
 int check(const std::vector<std::string>& scenes, bool quiet);
 
 // Lists the Vulkan devices --device can name.

@@ -35,6 +35,45 @@ int main(int argc, char** argv) {
     renderCmd->add_option("--threads", renderArgs.threads, "Worker threads (default: all cores)");
     renderCmd->add_flag("-q,--quiet", renderArgs.quiet, "Print nothing but errors");
 
+    cli::ClipArgs clipArgs;
+    CLI::App* clipCmd = app.add_subcommand(
+        "clip", "Render an animation: numbered images or a video (.mp4, .webm, .gif)");
+    clipCmd->add_option("scene", clipArgs.scene,
+                        "The .moire scene (default: the embedded default scene)");
+    clipCmd->add_option("-o,--output", clipArgs.output,
+                        "Frames as a numbered image name (frame_%04d.png; .png, .tif, .exr, .jpg) "
+                        "or one video file (.mp4, .webm, .gif; needs ffmpeg)");
+    clipCmd->add_option("--fps", clipArgs.fps, "Frames per second")->required();
+    clipCmd->add_option("--size", clipArgs.size, "Frame size WIDTHxHEIGHT, replacing the scene's");
+    clipCmd->add_option("--from", clipArgs.from, "Clock time of frame 0 in seconds (default 0)");
+    CLI::Option* toOpt = clipCmd->add_option(
+        "--to", clipArgs.to,
+        "End time in seconds, not included (default: the timings' loop length)");
+    CLI::Option* framesOpt =
+        clipCmd->add_option("--frames", clipArgs.frames,
+                            "N frames, or frames A..B (inclusive) numbered as in the whole clip");
+    toOpt->excludes(framesOpt);
+    clipCmd->add_option("--backend", clipArgs.backend, "jit (default), interp or vulkan");
+    clipCmd
+        ->add_option("--device", clipArgs.device,
+                     "Vulkan device index for --backend vulkan (see 'moire devices')")
+        ->check(CLI::NonNegativeNumber);
+    clipCmd->add_option("--depth", clipArgs.depth,
+                        "Bits per channel of image frames: 8, 16, half or float");
+    clipCmd->add_option("--threads", clipArgs.threads, "Worker threads (default: all cores)");
+    clipCmd->add_flag("--plan", clipArgs.plan,
+                      "Print the frames the clip would have and why; render nothing");
+    clipCmd->add_flag("-q,--quiet", clipArgs.quiet, "Print nothing but errors");
+    clipCmd->footer(
+        "Frame n is drawn at exactly t = FROM + n / FPS, so any range can be rendered apart\n"
+        "(--frames A..B keeps the whole clip's numbering) and the same range twice gives the\n"
+        "same files. Without --to or --frames the clip is one loop: the least common multiple\n"
+        "of the cycles (delay + period, twice the period for pingpong) of the timings it uses,\n"
+        "at most 10 minutes. Timings that run once extend it until they are at rest, and the\n"
+        "clip then does not join seamlessly. A scene that does not move gives one frame.\n"
+        "A missing output directory is created. Ctrl-C stops after the frame in hand: the\n"
+        "frames written are complete, a video is not written; the exit status is 130.");
+
     std::vector<std::string> checkScenes;
     bool checkQuiet = false;
     CLI::App* checkCmd = app.add_subcommand("check", "Check scenes for errors without rendering");
@@ -60,6 +99,10 @@ int main(int argc, char** argv) {
     }
     try {
         if (*renderCmd) return cli::render(renderArgs);
+        if (*clipCmd) {
+            clipArgs.hasTo = toOpt->count() > 0;
+            return cli::clip(clipArgs);
+        }
         if (*checkCmd) return cli::check(checkScenes, checkQuiet);
         if (*compileCmd) return cli::compile(compileArgs);
         if (*devicesCmd) return cli::devices();

@@ -1,0 +1,110 @@
+// Writing a video by piping raw 8-bit RGBA frames to an installed ffmpeg:
+//   .mp4   H.264 (libx264), yuv420p: even width and height only
+//   .webm  VP9 (libvpx-vp9), yuv420p, constant quality
+//   .gif   a palette computed over the whole clip (palettegen, then paletteuse)
+// ffmpeg writes to a temporary name beside the target, renamed into place only when it has
+// finished successfully: a reader never sees half a video, and a clip that fails or is
+// interrupted leaves any earlier file of that name untouched. Video carries no alpha.
+#pragma once
+
+#include "runtime/Clip.h"
+#include "runtime/Image.h"
+#include "runtime/ImageIO.h"
+
+#include <deque>
+#include <future>
+#include <memory>
+#include <optional>
+#include <string>
+#include <sys/types.h>
+#include <thread>
+#include <vector>
+
+namespace moire {
+
+enum class VideoFormat { Mp4, WebM, Gif };
+
+// The video format named by a path's extension, if it names one.
+std::optional<VideoFormat> videoFormatOf(const std::string& path);
+const char* extensionOf(VideoFormat format); // ".mp4", ".webm", ".gif"
+
+// `name` found on $PATH as an executable file, or "" when it is not there.
+std::string findOnPath(const std::string& name);
+
+// Why `format` cannot hold a width x height picture, or "" when it can.
+std::string videoSizeProblem(VideoFormat format, int width, int height);
+
+// ffmpeg's arguments (after the program name) for raw RGBA frames on stdin to `output`.
+std::vector<std::string> ffmpegArguments(VideoFormat format, int width, int height, double fps,
+                                         const std::string& output);
+
+class VideoWriter {
+  public:
+    // Starts `ffmpeg` (a path) writing to a temporary beside `path`. Throws IoError.
+    VideoWriter(const std::string& ffmpeg, const std::string& path, VideoFormat format, int width,
+                int height, double fps);
+    // Discards the video unless finish() succeeded.
+    ~VideoWriter();
+    VideoWriter(const VideoWriter&) = delete;
+    VideoWriter& operator=(const VideoWriter&) = delete;
+
+    // Sends one frame (straight sRGB RGBA, the writer's size). Throws IoError if ffmpeg has
+    // failed, with the end of what it printed.
+    void write(const Image& image);
+    // Ends the stream, waits for ffmpeg and moves the video into place. Throws IoError.
+    void finish();
+    // Stops ffmpeg and removes the temporary; the target is not touched. Never throws.
+    void discard();
+
+  private:
+    // Waits for ffmpeg; returns its exit status, or -signal.
+    int wait();
+    std::string failure(const std::string& what);
+
+    std::string path_, temp_;
+    int width_, height_;
+    pid_t pid_ = -1;
+    int stdin_ = -1, stderr_ = -1;
+    std::thread errReader_;
+    std::string errTail_; // the end of ffmpeg's stderr, filled by errReader_
+    std::vector<unsigned char> buffer_;
+    bool done_ = false;
+};
+
+// Where a clip's frames go, written in the background while later frames render: numbered
+// images, several at once (PNG compression is single-threaded and, on many cores, slower
+// than rendering a frame), or one video, fed in order. Every image is complete once written
+// (writeImage renames it into place).
+class ClipOutput {
+  public:
+    // Numbered images, at most `inFlight` being written at any time.
+    ClipOutput(clip::NamePattern pattern, WriteOptions options, int inFlight);
+    explicit ClipOutput(std::unique_ptr<VideoWriter> video);
+    // Waits for writes in progress; discards a video that was not finished.
+    ~ClipOutput();
+    ClipOutput(const ClipOutput&) = delete;
+    ClipOutput& operator=(const ClipOutput&) = delete;
+
+    // Queues frame n; first waits for the oldest write when `inFlight` are going. Throws
+    // the IoError of any earlier write that failed.
+    void add(int64_t n, Image image);
+    // Waits for every write and moves a video into place. Throws IoError.
+    void finish();
+    // Stops: lets the image writes in progress complete, discards a video. Never throws;
+    // returns the first write's error, or "" when every frame queued was written.
+    std::string abandon();
+
+    // Image writes in flight by default: enough to keep up with rendering on every core.
+    static int defaultInFlight();
+
+  private:
+    void waitOldest();
+
+    clip::NamePattern pattern_;
+    WriteOptions options_;
+    size_t inFlight_ = 1;
+    std::unique_ptr<VideoWriter> video_;
+    std::deque<std::future<void>> pending_;
+};
+
+} // namespace moire

@@ -64,6 +64,15 @@ CompileResult compileScene(const std::string& path, std::string text,
         program->literals.push_back(0.0);
         program->literals.push_back(0.0);
     }
+    if (options.interactive) {
+        // The identity view: no pan, zoom factor 1, no layer moved or turned.
+        program->viewSlot = lowerOptions.viewSlot = static_cast<int>(program->literals.size());
+        program->literals.resize(
+            program->literals.size() +
+                lower::ViewSlots::count(static_cast<int>(program->checked.layers.size())),
+            0.0);
+        program->literals[program->viewSlot + lower::ViewSlots::kZoomFactor] = 1.0;
+    }
     ir::Function scene = lower::lowerScene(program->checked, lowerOptions, program->layout);
     program->lowered = passes::simplify(scene);                              // fold, CSE, DCE
     program->derived = passes::simplify(passes::autoDiff(program->lowered)); // forward-mode AD

@@ -18,6 +18,7 @@ struct CompileOptions {
     bool layerFields = false; // the kernel also outputs each layer's index, distance and gradient
     bool probe = false;       // camera centre from literal slots probeSlot, probeSlot + 1
     bool tally = false;       // count the walking solver's radius evaluations (interpreter)
+    bool interactive = false; // the viewer's pan, zoom and layer motions from literal slots
 };
 
 // A compiled scene, with every intermediate stage kept for `moire compile --dump`.
@@ -35,6 +36,7 @@ struct SceneProgram {
     int numUniforms = 0;
     uint64_t kernelHash = 0; // structure only: unchanged when only numbers change
     int probeSlot = -1;      // with CompileOptions::probe: the literal slots of the probe point
+    int viewSlot = -1; // with CompileOptions::interactive: the first of lower::ViewSlots' slots
 
     const ast::Module& userModule() const { return *modules.back(); }
 };

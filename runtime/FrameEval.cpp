@@ -21,8 +21,9 @@ bool evaluateFrame(const SceneProgram& program, const FrameRequest& request, Fra
     std::vector<double> regs;
     InterpEnv env;
     env.time = request.time;
-    env.params = program.literals.data();
-    env.numParams = program.literals.size();
+    const std::vector<double>& literals = request.literals ? *request.literals : program.literals;
+    env.params = literals.data();
+    env.numParams = literals.size();
     env.outputs = outputs.data();
     interp.run(env, regs);
 
@@ -31,11 +32,16 @@ bool evaluateFrame(const SceneProgram& program, const FrameRequest& request, Fra
     double w = outputs[u + lower::OutputLayout::kSettingWidth];
     double h = outputs[u + lower::OutputLayout::kSettingHeight];
     out.zoom = outputs[u + lower::OutputLayout::kSettingZoom];
+    out.centerX = outputs[u + lower::OutputLayout::kSettingCenterX];
+    out.centerY = outputs[u + lower::OutputLayout::kSettingCenterY];
+    out.turn = outputs[u + lower::OutputLayout::kSettingTurn];
 
     DiagEngine diags(*program.sources);
     auto whole = [](double v) {
         return std::isfinite(v) && v == std::floor(v) && v >= 1 && v <= kMaxImageSide;
     };
+    out.sceneWidth = w;
+    out.sceneHeight = h;
     if (request.width > 0 && request.height > 0) {
         w = request.width;
         h = request.height;

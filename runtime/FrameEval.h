@@ -25,6 +25,11 @@ struct FrameValues {
     std::vector<double> uniforms;
     int width = 0, height = 0;
     double zoom = 1.0;
+    double centerX = 0.0, centerY = 0.0, turn = 0.0; // the scene's camera (turn in radians)
+    // The scene's own `size`: the frame it shows. An image of another size shows the same
+    // frame, fitted: one pixel is max(sceneWidth / width, sceneHeight / height) / zoom
+    // world units.
+    double sceneWidth = 0.0, sceneHeight = 0.0;
     std::vector<TimingValues> timings;
 };
 
@@ -33,6 +38,8 @@ constexpr int kMaxImageSide = 32768;
 struct FrameRequest {
     double time = 0.0;
     int width = 0, height = 0; // when non-zero, replaces the scene's size
+    // When set, replaces the program's literal table (same length): the viewer's adjustments.
+    const std::vector<double>* literals = nullptr;
 };
 
 // Evaluates the frame at `request.time`. A value that cannot be rendered (an image size out

@@ -14,6 +14,8 @@ packages=(
   libfmt-dev libcli11-dev        # formatting, the command line
   doctest-dev                    # the tests
   ffmpeg                         # clips to mp4, webm and gif (moire clip)
+  libglfw3-dev libgl-dev libgl1-mesa-dri  # the viewer (moire view): a window, OpenGL 2.1
+  xvfb xauth xdotool             # the viewer's tests: a virtual X server, and input for it
 )
 
 missing=()

@@ -41,7 +41,18 @@ class SceneLowering {
         const Expr* turn = scene_.camera && scene_.camera->prop("rotation")
                                ? scene_.camera->prop("rotation")->value.get()
                                : nullptr;
-        b_.output(layout.numKernelOutputs + OutputLayout::kSettingZoom, zoom);
+        const int settings = layout.numKernelOutputs;
+        b_.output(settings + OutputLayout::kSettingZoom, zoom);
+        b_.output(settings + OutputLayout::kSettingCenterX, center[0]);
+        b_.output(settings + OutputLayout::kSettingCenterY, center[1]);
+        b_.output(settings + OutputLayout::kSettingTurn,
+                  turn ? exprs_.scalar(*turn, constantFrame_) : b_.constF(0.0));
+        const bool view = options_.viewSlot >= 0;
+        if (view) {
+            center = {b_.add(center[0], viewParam(ViewSlots::kPanX)),
+                      b_.add(center[1], viewParam(ViewSlots::kPanY))};
+            zoom = b_.mul(zoom, viewParam(ViewSlots::kZoomFactor));
+        }
         b_.setLoc({});
         ValueId sx = b_.sub(b_.leaf(Op::PixelX), b_.mul(b_.leaf(Op::ImageW), b_.constF(0.5)));
         ValueId sy = b_.sub(b_.mul(b_.leaf(Op::ImageH), b_.constF(0.5)), b_.leaf(Op::PixelY));
@@ -58,7 +69,7 @@ class SceneLowering {
         // Everything downstream is differentiated with respect to these two values.
         ValueId wx = b_.mul(rx, pixel), wy = b_.mul(ry, pixel);
         // The default centre is the origin; adding 0 would cost two ops per pixel.
-        if (options_.probeSlot >= 0 || (scene_.camera && scene_.camera->prop("center"))) {
+        if (view || options_.probeSlot >= 0 || (scene_.camera && scene_.camera->prop("center"))) {
             wx = b_.add(center[0], wx);
             wy = b_.add(center[1], wy);
         }
@@ -115,6 +126,8 @@ class SceneLowering {
     }
 
   private:
+    ValueId viewParam(int slot) { return b_.param(options_.viewSlot + slot); }
+
     std::pair<ValueId, ValueId> rotate(ValueId x, ValueId y, ValueId angle) {
         ValueId c = b_.cos(angle), s = b_.sin(angle);
         return {b_.sub(b_.mul(c, x), b_.mul(s, y)), b_.add(b_.mul(s, x), b_.mul(c, y))};
@@ -168,8 +181,18 @@ class SceneLowering {
         lf.phase = prop(layer, "phase", {b_.constF(0.0)})[0];
         Vals origin = prop(layer, "origin", {b_.constF(0.0), b_.constF(0.0)});
         const Expr* turn = layer.prop("rotation");
-        lf.dx = b_.sub(world_.x, origin[0]);
-        lf.dy = b_.sub(world_.y, origin[1]);
+        ValueId px = world_.x, py = world_.y;
+        if (options_.viewSlot >= 0) {
+            // The viewer's rigid motion M(p) = Rot(a) p + d carries the layer: evaluate it at
+            // M^-1(p) = Rot(-a) (p - d).
+            const int i = static_cast<int>(&layer - scene_.layers.data());
+            std::tie(px, py) =
+                rotate(b_.sub(px, viewParam(ViewSlots::layer(i, ViewSlots::kLayerDx))),
+                       b_.sub(py, viewParam(ViewSlots::layer(i, ViewSlots::kLayerDy))),
+                       b_.neg(viewParam(ViewSlots::layer(i, ViewSlots::kLayerTurn))));
+        }
+        lf.dx = b_.sub(px, origin[0]);
+        lf.dy = b_.sub(py, origin[1]);
         std::tie(lf.qx, lf.qy) = turn ? rotate(lf.dx, lf.dy, b_.neg(exprs_.scalar(*turn, world_)))
                                       : std::pair{lf.dx, lf.dy};
         if (layer.morph.empty())

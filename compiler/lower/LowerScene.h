@@ -20,6 +20,20 @@ struct LowerOptions {
     // Count the walking solver's radius evaluations with `tally` (the interpreter's
     // counting mode, for benchmarks).
     bool tally = false;
+    // Interactive mode (the viewer): the view's own adjustments are read from literal slots
+    // appended to the table from `viewSlot` (see ViewSlots), so panning, zooming or dragging a
+    // layer changes uniforms, never the kernel.
+    int viewSlot = -1;
+};
+
+// The literal slots of interactive mode, counted from LowerOptions::viewSlot. The camera's
+// centre gains (panX, panY) and its zoom is multiplied by zoomFactor; layer i is carried by a
+// rigid motion of the world: turned by `turn` about the world origin, then moved by (dx, dy).
+struct ViewSlots {
+    static constexpr int kPanX = 0, kPanY = 1, kZoomFactor = 2, kCamera = 3;
+    static constexpr int kLayerDx = 0, kLayerDy = 1, kLayerTurn = 2, kPerLayer = 3;
+    static int layer(int i, int field) { return kCamera + kPerLayer * i + field; }
+    static int count(int numLayers) { return kCamera + kPerLayer * numLayers; }
 };
 
 // Where things are in the scene function's outputs.
@@ -30,7 +44,10 @@ struct OutputLayout {
     static constexpr int kSettingWidth = 0; // settings are numbered from numKernelOutputs
     static constexpr int kSettingHeight = 1;
     static constexpr int kSettingZoom = 2;
-    static constexpr int kNumSettings = 3; // and then kTimingSettings per timing used
+    static constexpr int kSettingCenterX = 3; // the camera as the scene sets it (before the view)
+    static constexpr int kSettingCenterY = 4;
+    static constexpr int kSettingTurn = 5;
+    static constexpr int kNumSettings = 6; // and then kTimingSettings per timing used
     static constexpr int kTimingSettings = 3; // period, delay, mode (0 once, 1 loop, 2 pingpong)
     std::vector<std::string> timings;         // the timings the scene uses, in declaration order
     std::vector<SourceRange> timingPeriods;   // where each one's period is written

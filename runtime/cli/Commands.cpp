@@ -96,43 +96,52 @@ std::unique_ptr<Backend> openBackend(const std::string& name, int device) {
     }
 }
 
-int render(const RenderArgs& args) {
-    int w = 0, h = 0;
-    if (!args.size.empty() && !parseSize(args.size, w, h)) {
+bool checkImageOptions(const ImageArgs& args, ImageOptions& out) {
+    if (!args.size.empty() && !parseSize(args.size, out.width, out.height)) {
         fmt::print(stderr,
                    "moire: error: --size must be WIDTHxHEIGHT in pixels (1 to {}), not '{}'\n",
                    kMaxImageSide, args.size);
-        return kExitUsage;
+        return false;
     }
-    PixelDepth depth;
-    if (!parseDepth(args.depth, depth)) {
+    if (!parseDepth(args.depth, out.depth)) {
         fmt::print(stderr, "moire: error: --depth must be 8, 16, half or float, not '{}'\n",
                    args.depth);
-        return kExitUsage;
+        return false;
     }
-    std::string output = args.output;
-    if (output.empty())
-        output =
+    out.output = args.output;
+    if (out.output.empty())
+        out.output =
             (args.scene.empty() ? std::string("default") : fs::path(args.scene).stem().string()) +
             ".png";
-    if (imageFormatOf(output).empty()) {
+    if (imageFormatOf(out.output).empty()) {
         fmt::print(
             stderr,
             "moire: error: cannot write '{}': unknown image format; use .png, .tif, .exr or .jpg\n",
-            output);
-        return kExitUsage;
+            out.output);
+        return false;
     }
     const std::vector<std::string>& names = backendNames();
     if (std::find(names.begin(), names.end(), args.backend) == names.end()) {
         fmt::print(stderr, "moire: error: unknown backend '{}'; the backends are {}\n",
                    args.backend, fmt::join(names, ", "));
-        return kExitUsage;
+        return false;
     }
     if (args.device >= 0 && args.backend != "vulkan") {
         fmt::print(stderr, "moire: error: --device chooses a Vulkan device; it needs --backend "
                            "vulkan\n");
-        return kExitUsage;
+        return false;
     }
+    return true;
+}
+
+int render(const RenderArgs& args) {
+    ImageOptions image;
+    if (!checkImageOptions(
+            {args.scene, args.output, args.size, args.depth, args.backend, args.device}, image))
+        return kExitUsage;
+    const int w = image.width, h = image.height;
+    const PixelDepth depth = image.depth;
+    const std::string& output = image.output;
     std::unique_ptr<Backend> backend = openBackend(args.backend, args.device);
     if (!backend) return kExitUserError;
 

@@ -47,6 +47,37 @@ struct ClipArgs {
 };
 int clip(const ClipArgs& args);
 
+// `moire watch`: re-renders `output` (atomically replaced) on every good save of the scene and
+// prints diagnostics for bad ones, until interrupted (exit 0).
+struct WatchArgs {
+    std::string scene;
+    std::string output; // empty: <scene stem>.png
+    std::string size;   // "WxH", empty: the scene's
+    double time = 0.0;
+    std::string backend = "jit";
+    int device = -1;
+    std::string depth;
+    int threads = 0;
+    int debounceMs = 30;
+    bool once = false; // render the current file and exit (no watching)
+    bool quiet = false;
+};
+int watch(const WatchArgs& args);
+
+// `moire view`: the interactive window (runtime/view/), reloading as the scene is edited.
+struct ViewArgs {
+    std::string scene;   // empty: the embedded default scene (no reload)
+    std::string backend; // empty: vulkan on a hardware GPU, else jit
+    int device = -1;
+    std::string size; // initial window size "WxH" in screen coordinates; empty: the scene's
+    double time = 0.0;
+    bool paused = false;
+    int threads = 0;
+    int debounceMs = 30;
+    bool trace = false; // hidden: a line per frame shown, and after `p` a marker (tests)
+};
+int view(const ViewArgs& args);
+
 int check(const std::vector<std::string>& scenes, bool quiet);
 
 // Lists the Vulkan devices --device can name.

@@ -22,6 +22,23 @@ bool readScene(const std::string& path, Source& out);
 // Compiles, printing any diagnostics; null when the scene has errors.
 std::unique_ptr<SceneProgram> compileOrReport(const Source& src,
                                               const CompileOptions& options = {});
+// The options of the commands that write one image (render, watch), and what they mean.
+struct ImageArgs {
+    const std::string& scene;  // empty: the embedded default scene
+    const std::string& output; // empty: <scene stem>.png
+    const std::string& size;
+    const std::string& depth;
+    const std::string& backend;
+    int device;
+};
+struct ImageOptions {
+    int width = 0, height = 0; // 0: the scene's size
+    PixelDepth depth = PixelDepth::Default;
+    std::string output;
+};
+// Checks --size, --depth, the output's format, the backend's name and --device, printing
+// the reason for the first that is wrong.
+bool checkImageOptions(const ImageArgs& args, ImageOptions& out);
 // "WIDTHxHEIGHT", each side 1 to kMaxImageSide.
 bool parseSize(const std::string& s, int& w, int& h);
 // --depth: "" (the format's default), 8, 16, half, float.

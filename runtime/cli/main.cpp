@@ -74,6 +74,60 @@ int main(int argc, char** argv) {
         "A missing output directory is created. Ctrl-C stops after the frame in hand: the\n"
         "frames written are complete, a video is not written; the exit status is 130.");
 
+    cli::WatchArgs watchArgs;
+    CLI::App* watchCmd = app.add_subcommand(
+        "watch", "Re-render an image each time the scene is saved (headless live coding)");
+    watchCmd->add_option("scene", watchArgs.scene, "The .moire scene")->required();
+    watchCmd->add_option("-o,--output", watchArgs.output,
+                         "Image to keep up to date (default: <scene>.png); replaced atomically");
+    watchCmd->add_option("--size", watchArgs.size,
+                         "Image size WIDTHxHEIGHT, replacing the scene's");
+    watchCmd->add_option("--time", watchArgs.time, "Clock time t in seconds (default 0)");
+    watchCmd->add_option("--backend", watchArgs.backend, "jit (default), interp or vulkan");
+    watchCmd->add_option("--device", watchArgs.device, "Vulkan device index for --backend vulkan")
+        ->check(CLI::NonNegativeNumber);
+    watchCmd->add_option("--depth", watchArgs.depth, "Bits per channel: 8, 16, half or float");
+    watchCmd->add_option("--threads", watchArgs.threads, "Worker threads (default: all cores)");
+    watchCmd
+        ->add_option("--debounce", watchArgs.debounceMs,
+                     "Milliseconds of quiet after a change before rebuilding (default 30)")
+        ->check(CLI::Range(0, 10000));
+    watchCmd->add_flag("--once", watchArgs.once, "Render the scene as it is now and exit");
+    watchCmd->add_flag("-q,--quiet", watchArgs.quiet, "Print nothing but diagnostics");
+    watchCmd->footer(
+        "Each good save re-renders the image (written beside it, then renamed over it, so an\n"
+        "image viewer never reads half a file); a save with errors prints them and leaves the\n"
+        "last good image. Saves that change only numbers reuse the compiled kernel. Ctrl-C\n"
+        "stops (exit 0).");
+
+    cli::ViewArgs viewArgs;
+    CLI::App* viewCmd =
+        app.add_subcommand("view", "Open a window on a scene that reloads as the file is saved");
+    viewCmd->add_option("scene", viewArgs.scene,
+                        "The .moire scene (default: the embedded default scene)");
+    viewCmd->add_option("--backend", viewArgs.backend,
+                        "vulkan or jit (default: vulkan on a GPU, else jit), or interp");
+    viewCmd->add_option("--device", viewArgs.device, "Vulkan device index for --backend vulkan")
+        ->check(CLI::NonNegativeNumber);
+    viewCmd->add_option("--size", viewArgs.size,
+                        "Window size WIDTHxHEIGHT in screen units (default: the scene's)");
+    viewCmd->add_option("--time", viewArgs.time, "Clock time t to start at (default 0)");
+    viewCmd->add_flag("--paused", viewArgs.paused, "Start with the clock stopped");
+    viewCmd->add_option("--threads", viewArgs.threads, "Worker threads (default: all cores)");
+    viewCmd
+        ->add_option("--debounce", viewArgs.debounceMs,
+                     "Milliseconds of quiet after a change before rebuilding (default 30)")
+        ->check(CLI::Range(0, 10000));
+    viewCmd->add_flag("--trace", viewArgs.trace, "Print a line per frame shown")->group("");
+    viewCmd->footer(
+        "Mouse: the wheel zooms about the cursor; a drag pans, or moves the selected layer;\n"
+        "alt-drag (or ctrl-drag) turns the selected layer about the world origin; a click on a\n"
+        "stroke selects its layer. Keys: 1-9 select a layer, 0 or Esc none; space pauses and\n"
+        "plays; . and , step a frame; the arrows move the clock 1 s (shift: 0.1 s); r resets\n"
+        "the view; s saves a still beside the scene; p prints the placement as .moire text;\n"
+        "h hides the status line; q quits. Saves reload; a save with errors keeps the last\n"
+        "good picture under the diagnostics.");
+
     std::vector<std::string> checkScenes;
     bool checkQuiet = false;
     CLI::App* checkCmd = app.add_subcommand("check", "Check scenes for errors without rendering");
@@ -103,6 +157,8 @@ int main(int argc, char** argv) {
             clipArgs.hasTo = toOpt->count() > 0;
             return cli::clip(clipArgs);
         }
+        if (*watchCmd) return cli::watch(watchArgs);
+        if (*viewCmd) return cli::view(viewArgs);
         if (*checkCmd) return cli::check(checkScenes, checkQuiet);
         if (*compileCmd) return cli::compile(compileArgs);
         if (*devicesCmd) return cli::devices();

@@ -1,0 +1,92 @@
+// `moire view`: picks the backend (Vulkan on a hardware GPU, else the JIT) and opens the
+// viewer (runtime/view/Viewer.h).
+#include "runtime/cli/Commands.h"
+#include "runtime/cli/Shared.h"
+#include "runtime/FrameEval.h"
+#include "runtime/Render.h"
+#include "runtime/view/Viewer.h"
+#include "runtime/vulkan/VulkanBackend.h"
+#include "runtime/vulkan/VulkanContext.h"
+
+#include <algorithm>
+#include <fmt/format.h>
+#include <fmt/ranges.h>
+
+namespace moire::cli {
+
+namespace {
+
+// The first usable hardware GPU: discrete, then integrated, then a virtual one (a VM's GPU).
+// Lavapipe (type "cpu") is Vulkan on the CPU, which the JIT beats on the same cores. -1 when
+// there is none, or no Vulkan at all.
+int hardwareGpu() {
+    try {
+        const std::vector<vk::DeviceInfo> devices = vk::listDevices();
+        for (const char* type : {"discrete", "integrated", "virtual"})
+            for (const vk::DeviceInfo& d : devices)
+                if (d.usable && d.type == type) return d.index;
+    } catch (const BackendError&) {
+    }
+    return -1;
+}
+
+} // namespace
+
+int view(const ViewArgs& args) {
+    int w = 0, h = 0;
+    if (!args.size.empty() && !parseSize(args.size, w, h)) {
+        fmt::print(stderr,
+                   "moire: error: --size must be WIDTHxHEIGHT in screen units (1 to {}), not "
+                   "'{}'\n",
+                   kMaxImageSide, args.size);
+        return kExitUsage;
+    }
+    const std::vector<std::string>& names = backendNames();
+    if (!args.backend.empty() &&
+        std::find(names.begin(), names.end(), args.backend) == names.end()) {
+        fmt::print(stderr, "moire: error: unknown backend '{}'; the backends are {}\n",
+                   args.backend, fmt::join(names, ", "));
+        return kExitUsage;
+    }
+    if (args.device >= 0 && !args.backend.empty() && args.backend != "vulkan") {
+        fmt::print(stderr, "moire: error: --device chooses a Vulkan device; it needs --backend "
+                           "vulkan\n");
+        return kExitUsage;
+    }
+
+    std::unique_ptr<Backend> backend;
+    if (args.backend.empty() && args.device < 0) {
+        if (int gpu = hardwareGpu(); gpu >= 0) {
+            try {
+                backend = makeBackend("vulkan", BackendOptions{.device = gpu});
+            } catch (const BackendError& e) {
+                fmt::print(stderr, "moire: note: {}; drawing with the JIT\n", e.what());
+            }
+        }
+        if (!backend) backend = openBackend("jit", -1);
+    } else {
+        backend = openBackend(args.backend.empty() ? "vulkan" : args.backend, args.device);
+    }
+    if (!backend) return kExitUserError;
+
+    view::ViewerOptions options;
+    options.scenePath = args.scene;
+    options.width = w;
+    options.height = h;
+    options.time = args.time;
+    options.paused = args.paused;
+    options.threads = args.threads;
+    options.debounceMs = args.debounceMs;
+    options.trace = args.trace;
+    options.backendLabel = backend->name();
+    if (auto* vk = dynamic_cast<VulkanBackend*>(backend.get())) {
+        // "device N: name" -> "vulkan: name"
+        std::string device = vk->deviceName();
+        size_t colon = device.find(": ");
+        options.backendLabel +=
+            ": " + (colon == std::string::npos ? device : device.substr(colon + 2));
+    }
+    return view::runViewer(*backend, options);
+}
+
+} // namespace moire::cli

@@ -1,0 +1,95 @@
+// `moire watch`: headless live coding. The file's directory is watched; every good save
+// re-renders the image (replaced atomically, so an editor's image preview never reads half a
+// file) and every bad save prints its diagnostics while the last good image stays.
+#include "runtime/cli/Commands.h"
+#include "runtime/cli/Shared.h"
+#include "runtime/live/WatchSession.h"
+#include "runtime/Render.h"
+
+#include <csignal>
+#include <cstdio>
+#include <fmt/format.h>
+#include <mutex>
+#include <pthread.h>
+
+namespace moire::cli {
+
+
+namespace {
+
+// One line per state of the file, so an editor integration can follow along.
+void printReport(const WatchReport& r, const WatchArgs& args, const Backend& backend,
+                 const std::string& output) {
+    if (!r.good()) {
+        fmt::print(stderr, "{}", r.diagnostics);
+        if (!args.quiet)
+            fmt::print(stderr, "moire: watch: kept {} (the last good render)\n", output);
+    } else if (!args.quiet) {
+        const BuildResult& b = r.event.result;
+        std::string how = b.kind == BuildResult::Kind::Numbers
+                              ? "numbers changed, kernel reused"
+                              : fmt::format("kernel compiled in {:.0f} ms", b.kernelMs);
+        fmt::print(stderr, "moire: watch: wrote {} ({}x{}, {}, {}, rendered in {:.0f} ms)\n",
+                   output, r.width, r.height, describe(backend), how, r.renderMs);
+    }
+    std::fflush(stderr);
+}
+
+} // namespace
+
+int watch(const WatchArgs& args) {
+    ImageOptions image;
+    if (!checkImageOptions(
+            {args.scene, args.output, args.size, args.depth, args.backend, args.device}, image))
+        return kExitUsage;
+    const std::string& output = image.output;
+    std::unique_ptr<Backend> backend = openBackend(args.backend, args.device);
+    if (!backend) return kExitUserError;
+
+    WatchOptions options;
+    options.scene = args.scene;
+    options.output = output;
+    options.request.time = args.time;
+    options.request.width = image.width;
+    options.request.height = image.height;
+    options.write.depth = image.depth;
+    options.exec.threads = args.threads;
+    options.watch.debounce = std::chrono::milliseconds(args.debounceMs);
+
+    // SIGINT and SIGTERM are taken by sigwait below, on this thread only: block them before
+    // the watch thread starts, so that it inherits the mask and a signal never lands on it in
+    // the middle of writing an image.
+    sigset_t stopSignals;
+    sigemptyset(&stopSignals);
+    sigaddset(&stopSignals, SIGINT);
+    sigaddset(&stopSignals, SIGTERM);
+    if (!args.once) pthread_sigmask(SIG_BLOCK, &stopSignals, nullptr);
+
+    std::unique_ptr<WatchSession> session;
+    try {
+        session = std::make_unique<WatchSession>(*backend, options);
+    } catch (const std::runtime_error& e) {
+        fmt::print(stderr, "moire: error: {}\n", e.what());
+        return kExitUserError;
+    }
+    std::mutex printing;
+    WatchReport first = session->processNow();
+    printReport(first, args, *backend, output);
+    if (args.once) return first.good() ? kExitOk : kExitUserError;
+
+    if (!args.quiet) {
+        fmt::print(stderr, "moire: watch: watching {} (Ctrl-C stops)\n", args.scene);
+        std::fflush(stderr);
+    }
+    session->start([&](const WatchReport& r) {
+        std::lock_guard<std::mutex> lock(printing);
+        printReport(r, args, *backend, output);
+    });
+    int sig = 0;
+    sigwait(&stopSignals, &sig);
+    session->stop(); // finishes the state in hand: the image on disk is always whole
+    pthread_sigmask(SIG_UNBLOCK, &stopSignals, nullptr);
+    return kExitOk;
+}
+
+} // namespace moire::cli

@@ -1,0 +1,79 @@
+#include "runtime/live/WatchSession.h"
+
+#include "compiler/backend/Backend.h"
+
+#include <fmt/format.h>
+
+namespace moire {
+
+namespace {
+double msSince(std::chrono::steady_clock::time_point t0) {
+    return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+}
+
+SceneReloader::Options reloaderOptions(const WatchOptions& o) {
+    SceneReloader::Options r;
+    r.watch = o.watch;
+    return r;
+}
+} // namespace
+
+WatchSession::WatchSession(Backend& backend, WatchOptions options)
+    : backend_(backend), options_(std::move(options)),
+      reloader_(options_.scene, backend, reloaderOptions(options_)) {}
+
+WatchSession::~WatchSession() {
+    stop();
+}
+
+WatchReport WatchSession::processNow() {
+    return handle(reloader_.loadNow());
+}
+
+void WatchSession::start(std::function<void(const WatchReport&)> onReport) {
+    reloader_.start([this, onReport = std::move(onReport)](const ReloadEvent& ev) {
+        WatchReport r = handle(ev);
+        if (onReport) onReport(r);
+    });
+}
+
+void WatchSession::stop() {
+    reloader_.stop();
+}
+
+WatchReport WatchSession::handle(const ReloadEvent& ev) {
+    WatchReport r;
+    r.event = ev;
+    const BuildResult& b = ev.result;
+    if (!b.good()) {
+        r.diagnostics = b.diagnostics;
+        return r;
+    }
+    // A good build can still describe a frame that cannot be drawn (a zero zoom, a size out of
+    // range): that is a bad state too, and the last image stays.
+    FrameRequest req = options_.request;
+    req.literals = nullptr;
+    FrameValues frame;
+    if (!evaluateFrame(*b.build->program, req, frame, r.diagnostics)) return r;
+    auto t0 = std::chrono::steady_clock::now();
+    Image img;
+    try {
+        KernelFrame kf;
+        kf.uniforms = frame.uniforms.data();
+        kf.imageW = frame.width;
+        kf.imageH = frame.height;
+        img = runKernel(*b.build->kernel, kf, options_.exec);
+        r.renderMs = msSince(t0);
+        writeImage(options_.output, img, options_.write);
+    } catch (const std::exception& e) { // a lost device, a full disk, a vanished directory
+        r.diagnostics = fmt::format("moire: error: {}\n", e.what());
+        return r;
+    }
+    r.wrote = true;
+    r.width = frame.width;
+    r.height = frame.height;
+    r.latencyMs = msSince(ev.changedAt);
+    return r;
+}
+
+} // namespace moire

@@ -1,0 +1,61 @@
+// Headless live coding (`moire watch`): each good state of the scene file is rendered and the
+// image replaced atomically; each bad state is reported and the last good image stays. The
+// command line prints the reports; tests and benchmarks read them.
+#pragma once
+
+#include "runtime/FrameEval.h"
+#include "runtime/ImageIO.h"
+#include "runtime/live/SceneReloader.h"
+#include "runtime/TileExecutor.h"
+
+#include <chrono>
+#include <functional>
+#include <memory>
+#include <string>
+
+namespace moire {
+
+struct WatchOptions {
+    std::string scene;
+    std::string output;   // the image kept up to date
+    FrameRequest request; // the instant and size rendered (request.literals is ignored)
+    WriteOptions write;
+    ExecOptions exec;
+    FileWatch::Options watch;
+};
+
+// What happened to one state of the file.
+struct WatchReport {
+    ReloadEvent event;
+    bool wrote = false;      // the output now holds this state's render
+    std::string diagnostics; // bad states: `file:line:col: error:` lines (or an I/O error)
+    int width = 0, height = 0;
+    double renderMs = 0.0;
+    // From the file's change to the image being in place (event.changedAt to now).
+    double latencyMs = 0.0;
+    bool good() const { return wrote; }
+};
+
+class WatchSession {
+  public:
+    // Throws std::runtime_error (one line) when the scene's directory cannot be watched.
+    WatchSession(Backend& backend, WatchOptions options);
+    ~WatchSession();
+
+    // Builds and renders the file as it is now, on the calling thread.
+    WatchReport processNow();
+    // Watches on a thread; `onReport` runs there after each new state is handled.
+    void start(std::function<void(const WatchReport&)> onReport);
+    void stop();
+
+    SceneBuilder& builder() { return reloader_.builder(); }
+
+  private:
+    WatchReport handle(const ReloadEvent& ev);
+
+    Backend& backend_;
+    WatchOptions options_;
+    SceneReloader reloader_;
+};
+
+} // namespace moire

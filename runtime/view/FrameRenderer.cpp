@@ -1,0 +1,303 @@
+#include "runtime/view/FrameRenderer.h"
+
+#include "runtime/FrameEval.h"
+#include "runtime/ImageIO.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <exception>
+#include <filesystem>
+#include <fmt/format.h>
+#include <utility>
+
+namespace moire::view {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double msSince(Clock::time_point t0) {
+    return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+}
+
+// The tile executor's job, abandoned between tiles once `cancelled` says so (TileExecutor
+// runs every frame to the end). A GPU kernel gets whole-width bands from this thread.
+bool runTiles(const CompiledKernel& kernel, const KernelFrame& frame, int threads,
+              const std::function<bool()>& cancelled, Image& img) {
+    const size_t rowStride = static_cast<size_t>(frame.imageW) * img.channels;
+    if (kernel.wholeFrame()) {
+        const int bands = std::min(frame.imageH, 8);
+        for (int b = 0; b < bands; ++b) {
+            if (cancelled()) return false;
+            const int y0 = frame.imageH * b / bands, y1 = frame.imageH * (b + 1) / bands;
+            if (y1 > y0)
+                kernel.runTile(frame, TileRect{0, y0, frame.imageW, y1}, img.row(y0), rowStride);
+        }
+        return true;
+    }
+    constexpr int ts = 64;
+    const int tilesX = (frame.imageW + ts - 1) / ts, tilesY = (frame.imageH + ts - 1) / ts;
+    const int total = tilesX * tilesY;
+    if (threads <= 0) threads = static_cast<int>(std::thread::hardware_concurrency());
+    threads = std::clamp(threads, 1, total);
+    std::atomic<int> next{0};
+    std::atomic<bool> stopped{false};
+    std::exception_ptr failure;
+    std::mutex failureMutex;
+    auto worker = [&] {
+        try {
+            for (int t; (t = next.fetch_add(1)) < total;) {
+                if (stopped.load() || cancelled()) {
+                    stopped.store(true);
+                    return;
+                }
+                TileRect r{(t % tilesX) * ts, (t / tilesX) * ts, 0, 0};
+                r.x1 = std::min(r.x0 + ts, frame.imageW);
+                r.y1 = std::min(r.y0 + ts, frame.imageH);
+                kernel.runTile(frame, r, img.row(r.y0) + static_cast<size_t>(r.x0) * img.channels,
+                               rowStride);
+            }
+        } catch (...) {
+            std::lock_guard<std::mutex> lock(failureMutex);
+            if (!failure) failure = std::current_exception();
+            stopped.store(true);
+        }
+    };
+    std::vector<std::thread> pool;
+    for (int i = 1; i < threads; ++i) pool.emplace_back(worker);
+    worker();
+    for (std::thread& t : pool) t.join();
+    if (failure) std::rethrow_exception(failure);
+    return !stopped.load();
+}
+
+// <dir>/<stem>-still-NNN.png, the first NNN from 001 that names no file.
+std::string stillPath(const std::string& scenePath) {
+    fs::path dir = scenePath.empty() ? fs::path(".") : fs::path(scenePath).parent_path();
+    std::string stem = scenePath.empty() ? "default" : fs::path(scenePath).stem().string();
+    for (int n = 1;; ++n) {
+        fs::path p = dir / fmt::format("{}-still-{:03}.png", stem, n);
+        std::error_code ec;
+        if (!fs::exists(p, ec) && !ec) return p.lexically_normal().string();
+        if (n > 99999) return {};
+    }
+}
+
+} // namespace
+
+void toRgba8(const float* rgba, int channels, size_t pixels, uint8_t* out) {
+    for (size_t i = 0; i < pixels; ++i)
+        for (int c = 0; c < 4; ++c) {
+            // OpenImageIO's float to uint8: scale by 255 and round to nearest, in float.
+            const float v = std::clamp(rgba[i * channels + c], 0.0f, 1.0f);
+            out[i * 4 + c] = static_cast<uint8_t>(std::nearbyint(v * 255.0f));
+        }
+}
+
+FrameRenderer::FrameRenderer(int threads, std::function<void()> notify)
+    : threads_(threads), notify_(std::move(notify)) {
+    thread_ = std::thread([this] { run(); });
+}
+
+FrameRenderer::~FrameRenderer() {
+    {
+        std::lock_guard<std::mutex> lock(mutex_);
+        stop_ = true;
+        newest_.store(UINT64_MAX); // abandons the frame in hand
+    }
+    wake_.notify_all();
+    thread_.join();
+}
+
+void FrameRenderer::submit(RenderJob job) {
+    {
+        std::lock_guard<std::mutex> lock(mutex_);
+        newest_.store(std::max(newest_.load(), job.version));
+        pending_ = std::move(job);
+    }
+    wake_.notify_all();
+}
+
+void FrameRenderer::saveStill(RenderJob job, std::string scenePath) {
+    {
+        std::lock_guard<std::mutex> lock(mutex_);
+        still_ = StillJob{std::move(job), std::move(scenePath)};
+    }
+    wake_.notify_all();
+}
+
+std::optional<RenderedFrame> FrameRenderer::takeFrame() {
+    std::lock_guard<std::mutex> lock(mutex_);
+    std::optional<RenderedFrame> f = std::move(done_);
+    done_.reset();
+    return f;
+}
+
+std::vector<std::string> FrameRenderer::takeMessages() {
+    std::lock_guard<std::mutex> lock(mutex_);
+    return std::exchange(messages_, {});
+}
+
+bool FrameRenderer::busy() const {
+    std::lock_guard<std::mutex> lock(mutex_);
+    return inHand_ || pending_.has_value();
+}
+
+void FrameRenderer::run() {
+    for (;;) {
+        std::optional<RenderJob> job;
+        std::optional<StillJob> still;
+        {
+            std::unique_lock<std::mutex> lock(mutex_);
+            wake_.wait(lock, [&] { return stop_ || pending_ || still_; });
+            if (stop_) return;
+            if (still_) {
+                still = std::move(still_);
+                still_.reset();
+            } else {
+                job = std::move(pending_);
+                pending_.reset();
+            }
+            inHand_ = true;
+        }
+        if (still) renderStill(*still);
+        if (job) renderJob(*job);
+        {
+            std::lock_guard<std::mutex> lock(mutex_);
+            inHand_ = false;
+        }
+        if (notify_) notify_();
+    }
+}
+
+int FrameRenderer::previewDivisor(const RenderJob& job) const {
+    const double estimate = msPerPixel_ * job.width * job.height;
+    if (!job.interactive || estimate <= 50.0) return 1;
+    // Coarse enough that the preview keeps up with the hand (about 30 ms), at most 1/8.
+    int d = 2;
+    while (d < 8 && estimate / (d * d) > 30.0) d *= 2;
+    return d;
+}
+
+void FrameRenderer::renderJob(const RenderJob& job) {
+    if (!job.build || job.width <= 0 || job.height <= 0) return;
+    auto publish = [&](RenderedFrame&& f) {
+        {
+            std::lock_guard<std::mutex> lock(mutex_);
+            done_ = std::move(f);
+        }
+        if (notify_) notify_();
+    };
+    try {
+        if (int d = previewDivisor(job); d > 1) {
+            RenderedFrame preview;
+            render(job, d, false, preview, nullptr);
+            publish(std::move(preview));
+            // A newer job already waiting makes this one's full frame moot.
+            if (newest_.load() > job.version) return;
+        }
+        RenderedFrame full;
+        if (!render(job, 1, true, full, nullptr)) return;
+        publish(std::move(full));
+    } catch (const std::exception& e) {
+        RenderedFrame failed;
+        failed.version = job.version;
+        failed.time = job.time;
+        failed.error = std::string("moire: error: ") + e.what();
+        publish(std::move(failed));
+    }
+}
+
+void FrameRenderer::renderStill(const StillJob& still) {
+    std::string message;
+    try {
+        RenderedFrame frame;
+        Image image;
+        render(still.job, 1, false, frame, &image);
+        if (!frame.error.empty()) {
+            message = frame.error;
+        } else {
+            std::string path = stillPath(still.scenePath);
+            if (path.empty()) throw IoError("no free still name beside the scene");
+            writeImage(path, image);
+            message = fmt::format("moire: saved {} ({}x{})", path, image.width, image.height);
+        }
+    } catch (const std::exception& e) {
+        message = std::string("moire: error: cannot save a still: ") + e.what();
+    }
+    std::lock_guard<std::mutex> lock(mutex_);
+    messages_.push_back(message);
+}
+
+bool FrameRenderer::render(const RenderJob& job, int divisor, bool cancellable, RenderedFrame& out,
+                           Image* full) {
+    const auto t0 = Clock::now();
+    out.version = job.version;
+    out.time = job.time;
+    out.fullWidth = job.width;
+    out.fullHeight = job.height;
+    out.divisor = divisor;
+    const SceneProgram& program = *job.build->program;
+    const int numLayers = static_cast<int>(program.checked.layers.size());
+    std::vector<double> literals = program.literals;
+    job.view.write(literals, program.viewSlot, numLayers);
+    FrameRequest req;
+    req.time = job.time;
+    req.width = job.width;
+    req.height = job.height;
+    req.literals = &literals;
+    FrameValues frame;
+    std::string diags;
+    if (!evaluateFrame(program, req, frame, diags)) {
+        out.error = diags;
+        return true;
+    }
+    if (divisor > 1) {
+        // The preview's own camera, whose pixels are blocks of the full frame's.
+        Preview p = previewOf(SceneCamera::from(frame), job.view, job.width, job.height, divisor);
+        literals = program.literals;
+        p.view.write(literals, program.viewSlot, numLayers);
+        req.width = p.width;
+        req.height = p.height;
+        if (!evaluateFrame(program, req, frame, diags)) {
+            out.error = diags;
+            return true;
+        }
+    }
+    const CompiledKernel& kernel = *job.build->kernel;
+    const bool same = divisor == 1 && !full && last_.kernel == &kernel &&
+                      last_.width == frame.width && last_.height == frame.height &&
+                      last_.uniforms == frame.uniforms;
+    if (same) {
+        out.width = frame.width;
+        out.height = frame.height;
+        out.rgba = last_.rgba;
+        out.ms = last_.ms;
+        return true;
+    }
+    KernelFrame kf;
+    kf.uniforms = frame.uniforms.data();
+    kf.imageW = frame.width;
+    kf.imageH = frame.height;
+    Image img(frame.width, frame.height, kernel.numOutputs());
+    auto cancelled = [&] { return cancellable && newest_.load() > job.version; };
+    if (!runTiles(kernel, kf, threads_, cancelled, img)) return false;
+
+    out.width = img.width;
+    out.height = img.height;
+    out.rgba.resize(static_cast<size_t>(img.width) * img.height * 4);
+    toRgba8(img.pixels.data(), img.channels, static_cast<size_t>(img.width) * img.height,
+            out.rgba.data());
+    out.ms = msSince(t0);
+    if (divisor == 1) {
+        msPerPixel_ = out.ms / (static_cast<double>(img.width) * img.height);
+        last_ = Last{&kernel, job.build, frame.uniforms, img.width, img.height, out.rgba, out.ms};
+    }
+    if (full) *full = std::move(img);
+    return true;
+}
+
+} // namespace moire::view

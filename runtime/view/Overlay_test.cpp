@@ -1,0 +1,49 @@
+// The viewer's overlay: which lines of a diagnostic make the error box, and where the status
+// line and the box are drawn.
+#include "runtime/view/Overlay.h"
+
+#include <doctest/doctest.h>
+#include <vector>
+
+using namespace moire::view;
+
+TEST_CASE("overlay: the error box shows each diagnostic's headline") {
+    const std::string diags = "s.moire:2:43: error: expected an expression, found '}'\n"
+                              "    2 | layer b { spacing = 5 + }\n"
+                              "      |                       ^\n"
+                              "s.moire:3:1: error: unknown family 'circels'\n"
+                              "    3 | layer { family = circels }\n"
+                              "s.moire:3:1: note: did you mean 'circles'?\n";
+    std::vector<std::string> lines = errorHeadlines(diags);
+    REQUIRE(lines.size() == 3);
+    CHECK(lines[0] == "s.moire:2:43: error: expected an expression, found '}'");
+    CHECK(lines[2] == "s.moire:3:1: note: did you mean 'circles'?");
+    // Capped, saying how many more there were.
+    lines = errorHeadlines(diags, 2);
+    REQUIRE(lines.size() == 2);
+    CHECK(lines[1] == "(and 2 more)");
+    // Something that is not a diagnostic (a backend's failure) is shown as it is.
+    lines = errorHeadlines("moire: error: device lost\n");
+    REQUIRE(lines.size() == 1);
+    CHECK(lines[0] == "moire: error: device lost");
+    CHECK(errorHeadlines("").empty());
+}
+
+TEST_CASE("overlay: the status line sits along the bottom, the error box along the top") {
+    const int w = 200, h = 100;
+    std::vector<uint8_t> px(w * h * 4, 255);
+    Canvas canvas{px.data(), w, h};
+    OverlayText text;
+    text.status = "t=1.000  paused";
+    text.errorLines = {"a.moire:1:1: error: something"};
+    drawOverlay(canvas, text, 1);
+    auto pixel = [&](int x, int y) { return &px[(y * w + x) * 4]; };
+    // Darkened behind the status line, reddened behind the errors, untouched between.
+    CHECK(pixel(w - 1, h - 1)[0] < 100);
+    CHECK(pixel(w - 1, 1)[0] > pixel(w - 1, 1)[2] + 20);
+    CHECK(pixel(w / 2, h / 2)[0] == 255);
+    CHECK(h - statusHeight(1) > 20);
+    // A line too long for the window is cut, not drawn past its edge.
+    text.status = std::string(500, 'x');
+    drawOverlay(canvas, text, 2);
+}

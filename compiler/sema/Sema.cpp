@@ -520,7 +520,10 @@ void Checker::checkLayer(Decl& d) {
         layer.walking = true;
         bool any = false;
         for (const CheckedLayer::Member& m : members) any |= m.family->facets != nullptr;
-        if (fam && !any) diags_.error(p->nameRange, Msg::NotWalkable, walk, named());
+        // A family that did not resolve was reported already; saying it cannot walk as well
+        // would only bury that error.
+        if (fam && !members.empty() && !any)
+            diags_.error(p->nameRange, Msg::NotWalkable, walk, named());
     }
     // A field is encoded into the phase (phi - gain s f), which distance and builtin
     // families do not have.

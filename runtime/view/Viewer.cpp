@@ -143,7 +143,10 @@ class Viewer {
     bool openWindow() {
         glfwSetErrorCallback(onGlfwError);
         if (!glfwInit()) {
-            fmt::print(stderr, "moire: error: cannot open a window: {}\n",
+            fmt::print(stderr,
+                       "moire: error: cannot open a window: {}\n"
+                       "moire: note: without a display, 'moire watch SCENE -o IMAGE' keeps an "
+                       "image up to date instead\n",
                        glfwLastError.empty() ? "no display" : glfwLastError);
             return false;
         }

@@ -13,6 +13,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <csignal>
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
@@ -36,6 +37,30 @@ constexpr double kPickTolerance = 4.0;       // pixels from a stroke's centre li
 constexpr double kPlayInterval = 1.0 / 60.0; // the fastest the clock's frames are asked for
 
 std::string glfwLastError;
+
+// Ctrl-C in the terminal closes the window as `q` does: the handler only records the signal,
+// the loop (which wakes at least twice a second) sees it, and the render thread finishes the
+// still it may be writing before the process ends.
+class StopSignals {
+  public:
+    static inline volatile std::sig_atomic_t requested = 0;
+    StopSignals() {
+        struct sigaction sa {};
+        sa.sa_handler = [](int) { requested = 1; };
+        sigemptyset(&sa.sa_mask);
+        for (int i = 0; i < 2; ++i) {
+            sigaction(kSignals[i], nullptr, &old_[i]);
+            if (old_[i].sa_handler != SIG_IGN) sigaction(kSignals[i], &sa, nullptr);
+        }
+    }
+    ~StopSignals() {
+        for (int i = 0; i < 2; ++i) sigaction(kSignals[i], &old_[i], nullptr);
+    }
+
+  private:
+    static constexpr int kSignals[2] = {SIGINT, SIGTERM};
+    struct sigaction old_[2];
+};
 
 void onGlfwError(int, const char* description) {
     glfwLastError = description ? description : "";
@@ -80,7 +105,8 @@ class Viewer {
             });
         // The clock starts with the window, not with the compile before it.
         playStart_ = Clock::now();
-        while (!glfwWindowShouldClose(window_)) {
+        StopSignals signals;
+        while (!glfwWindowShouldClose(window_) && !StopSignals::requested) {
             guard([&] { step(); });
             glfwWaitEventsTimeout(playing_ ? kPlayInterval : 0.5);
         }

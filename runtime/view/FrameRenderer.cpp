@@ -276,6 +276,7 @@ bool FrameRenderer::render(const RenderJob& job, int divisor, bool cancellable, 
         out.height = frame.height;
         out.rgba = last_.rgba;
         out.ms = last_.ms;
+        out.reused = true;
         return true;
     }
     KernelFrame kf;

@@ -43,7 +43,8 @@ struct RenderedFrame {
     double ms = 0.0;                   // from the job to the pixels
     double time = 0.0;
     uint64_t version = 0;
-    std::string error; // no pixels: the frame could not be evaluated or rendered
+    bool reused = false; // the uniforms were the last full frame's: its pixels, not rendered
+    std::string error;   // no pixels: the frame could not be evaluated or rendered
 };
 
 // Float RGBA (sRGB-encoded, straight alpha) to 8 bits the way the PNG writer rounds, so the

@@ -35,6 +35,9 @@ constexpr double kWheelZoom = 1.1;           // per wheel notch
 constexpr double kDragThreshold = 3.0;       // screen pixels before a press becomes a drag
 constexpr double kPickTolerance = 4.0;       // pixels from a stroke's centre line that pick it
 constexpr double kPlayInterval = 1.0 / 60.0; // the fastest the clock's frames are asked for
+// While the clock plays over a picture that does not move (its uniforms came back the same),
+// only the status line's t changes: ten frames a second are enough for that.
+constexpr double kStillInterval = 1.0 / 10.0;
 
 std::string glfwLastError;
 
@@ -108,7 +111,7 @@ class Viewer {
         StopSignals signals;
         while (!glfwWindowShouldClose(window_) && !StopSignals::requested) {
             guard([&] { step(); });
-            glfwWaitEventsTimeout(playing_ ? kPlayInterval : 0.5);
+            glfwWaitEventsTimeout(playing_ ? playInterval() : 0.5);
         }
         return 0;
     }
@@ -323,10 +326,12 @@ class Viewer {
 
     // Asks for a frame when the picture changed, or when the clock runs and the last frame
     // is done (never more often than kPlayInterval).
+    double playInterval() const { return still_ ? kStillInterval : kPlayInterval; }
+
     void schedule() {
         if (!build_) return;
         if (playing_ && version_ == submitted_ && !renderer_->busy() &&
-            Clock::now() - lastSubmit_ >= std::chrono::duration<double>(kPlayInterval))
+            Clock::now() - lastSubmit_ >= std::chrono::duration<double>(playInterval()))
             ++version_;
         if (version_ == submitted_) return;
         renderer_->submit(job());
@@ -355,6 +360,7 @@ class Viewer {
         }
         frameError_.clear();
         if (f.divisor == 1) lastFullMs_ = f.ms;
+        still_ = f.reused;
         shown_ = std::move(f);
     }
 
@@ -706,6 +712,7 @@ class Viewer {
     int fbW_ = 0, fbH_ = 0;
     std::optional<RenderedFrame> shown_;
     double lastFullMs_ = 0.0;
+    bool still_ = false; // the last frame was the one before it (nothing moved)
     bool redraw_ = false;
     int presented_ = 0;
 

@@ -10,6 +10,7 @@
 //    reuse the compiled kernel;
 //  - throughput in Mpx/s, best of N frames, and milliseconds per megapixel.
 // Without a Vulkan device the Vulkan columns say why and the JIT's are still printed.
+#include "bench/BenchScenes.h"
 #include "compiler/backend/glsl/GlslKernel.h"
 #include "compiler/Compile.h"
 #include "runtime/Render.h"
@@ -19,38 +20,17 @@
 #include <cstdio>
 #include <filesystem>
 #include <fmt/format.h>
-#include <fstream>
 #include <regex>
-#include <sstream>
 
 using namespace moire;
+using bench::Scene;
+using bench::defaultScenes;
 using Clock = std::chrono::steady_clock;
 
 namespace {
 
 double ms(Clock::time_point t0) {
     return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
-}
-
-struct Scene {
-    std::string name, path, text;
-};
-
-std::vector<Scene> defaultScenes() {
-    std::vector<Scene> out;
-    EmbeddedScene d = defaultScene();
-    out.push_back({"default", d.path, d.text});
-    std::vector<std::string> paths;
-    for (auto& e : std::filesystem::directory_iterator(MOIRE_SOURCE_DIR "/examples"))
-        if (e.path().extension() == ".moire") paths.push_back(e.path().string());
-    std::sort(paths.begin(), paths.end());
-    for (const std::string& p : paths) {
-        std::ifstream in(p);
-        std::stringstream ss;
-        ss << in.rdbuf();
-        out.push_back({std::filesystem::path(p).stem().string(), p, ss.str()});
-    }
-    return out;
 }
 
 // The scene with its first number nudged: a number-only edit.
@@ -142,12 +122,8 @@ int main(int argc, char** argv) {
             repeat = std::max(1, std::atoi(argv[++i]));
         else if (a == "--device" && i + 1 < argc)
             device = std::atoi(argv[++i]);
-        else {
-            std::ifstream in(a);
-            std::stringstream ss;
-            ss << in.rdbuf();
-            scenes.push_back({std::filesystem::path(a).stem().string(), a, ss.str()});
-        }
+        else
+            scenes.push_back(bench::sceneFile(a));
     }
     if (scenes.empty()) scenes = defaultScenes();
 

@@ -12,6 +12,7 @@
 // resolution preview the viewer shows first while a full frame is slower than ~50 ms.
 // Structural edits raise one layer's phase term to a new whole power each time, so every one
 // of them is a kernel the backend has never seen (no cache hit).
+#include "bench/BenchScenes.h"
 #include "compiler/Compile.h"
 #include "runtime/FrameEval.h"
 #include "runtime/live/SceneReloader.h"
@@ -26,7 +27,6 @@
 #include <fcntl.h>
 #include <filesystem>
 #include <fmt/format.h>
-#include <fstream>
 #include <mutex>
 #include <sstream>
 #include <thread>
@@ -222,10 +222,7 @@ int main(int argc, char** argv) {
     if (scenePath.empty()) {
         sceneText = defaultScene().text;
     } else {
-        std::ifstream in(scenePath);
-        std::stringstream ss;
-        ss << in.rdbuf();
-        sceneText = ss.str();
+        sceneText = bench::sceneFile(scenePath).text;
     }
 
     fmt::print("edit-to-pixels, {} scene at {}x{}, {} edits of each kind, debounce {} ms, "

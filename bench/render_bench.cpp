@@ -6,6 +6,7 @@
 // to callable JIT code, then Mpx/s of the reference interpreter and of the JIT at 1920x1080,
 // and their ratio. Each render is repeated and the fastest run kept (other work on the
 // machine can only add time).
+#include "bench/BenchScenes.h"
 #include "compiler/backend/interp/Interpreter.h"
 #include "compiler/backend/llvm/LlvmJit.h"
 #include "compiler/Compile.h"
@@ -17,38 +18,17 @@
 #include <cstdio>
 #include <filesystem>
 #include <fmt/format.h>
-#include <fstream>
-#include <sstream>
 #include <thread>
 
 using namespace moire;
+using bench::Scene;
+using bench::defaultScenes;
 using Clock = std::chrono::steady_clock;
 
 namespace {
 
 double seconds(Clock::time_point t0) {
     return std::chrono::duration<double>(Clock::now() - t0).count();
-}
-
-struct Scene {
-    std::string name, path, text;
-};
-
-std::vector<Scene> defaultScenes() {
-    std::vector<Scene> out;
-    EmbeddedScene d = defaultScene();
-    out.push_back({"default", d.path, d.text});
-    std::vector<std::string> paths;
-    for (auto& e : std::filesystem::directory_iterator(MOIRE_SOURCE_DIR "/examples"))
-        if (e.path().extension() == ".moire") paths.push_back(e.path().string());
-    std::sort(paths.begin(), paths.end());
-    for (const std::string& p : paths) {
-        std::ifstream in(p);
-        std::stringstream ss;
-        ss << in.rdbuf();
-        out.push_back({std::filesystem::path(p).stem().string(), p, ss.str()});
-    }
-    return out;
 }
 
 // Fastest of `repeat` renders, in seconds.
@@ -73,12 +53,8 @@ int main(int argc, char** argv) {
             std::sscanf(argv[++i], "%dx%d", &width, &height);
         else if (a == "--repeat" && i + 1 < argc)
             repeat = std::max(1, std::atoi(argv[++i]));
-        else {
-            std::ifstream in(a);
-            std::stringstream ss;
-            ss << in.rdbuf();
-            scenes.push_back({std::filesystem::path(a).stem().string(), a, ss.str()});
-        }
+        else
+            scenes.push_back(bench::sceneFile(a));
     }
     if (scenes.empty()) scenes = defaultScenes();
 

@@ -6,18 +6,16 @@
 #include "runtime/cli/Shared.h"
 #include "runtime/ImageIO.h"
 #include "runtime/Render.h"
+#include "runtime/TextFile.h"
 #include "runtime/vulkan/VulkanBackend.h"
 #include "runtime/vulkan/VulkanContext.h"
 
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
-#include <cstring>
 #include <filesystem>
 #include <fmt/format.h>
 #include <fmt/ranges.h>
-#include <fstream>
-#include <sstream>
 #include <unistd.h>
 
 namespace moire::cli {
@@ -32,20 +30,11 @@ bool readScene(const std::string& path, Source& out) {
         out = {d.path, d.text};
         return true;
     }
-    std::error_code ec;
-    if (fs::is_directory(path, ec)) {
-        fmt::print(stderr, "moire: error: cannot read '{}': it is a directory\n", path);
-        return false;
-    }
-    std::ifstream in(path, std::ios::binary);
-    if (!in) {
-        fmt::print(stderr, "moire: error: cannot read '{}': {}\n", path, std::strerror(errno));
-        return false;
-    }
-    std::ostringstream ss;
-    ss << in.rdbuf();
-    out = {path, ss.str()};
-    return true;
+    std::string reason;
+    out.path = path;
+    if (readWholeFile(path, out.text, reason)) return true;
+    fmt::print(stderr, "moire: error: cannot read '{}': {}\n", path, reason);
+    return false;
 }
 
 std::unique_ptr<SceneProgram> compileOrReport(const Source& src, const CompileOptions& options) {

@@ -1,34 +1,10 @@
 #include "runtime/live/SceneReloader.h"
 
-#include <cerrno>
-#include <cstring>
+#include "runtime/TextFile.h"
+
 #include <fmt/format.h>
-#include <fstream>
-#include <sstream>
-#include <sys/stat.h>
 
 namespace moire {
-
-bool readWholeFile(const std::string& path, std::string& text, std::string& reason) {
-    struct stat st {};
-    if (::stat(path.c_str(), &st) == 0 && S_ISDIR(st.st_mode)) {
-        reason = "it is a directory";
-        return false;
-    }
-    std::ifstream in(path, std::ios::binary);
-    if (!in) {
-        reason = std::strerror(errno);
-        return false;
-    }
-    std::ostringstream ss;
-    ss << in.rdbuf();
-    if (in.bad()) {
-        reason = "read failed";
-        return false;
-    }
-    text = ss.str();
-    return true;
-}
 
 SceneReloader::SceneReloader(std::string path, Backend& backend, Options options)
     : path_(path), builder_(backend, options.compile), watch_(std::move(path), options.watch) {}

@@ -59,7 +59,4 @@ class SceneReloader {
     int generation_ = 0;
 };
 
-// Reads a whole file; false with a one-line reason when it cannot be read.
-bool readWholeFile(const std::string& path, std::string& text, std::string& reason);
-
 } // namespace moire

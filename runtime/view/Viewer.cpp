@@ -4,6 +4,7 @@
 #include "compiler/Compile.h"
 #include "runtime/FrameEval.h"
 #include "runtime/live/SceneReloader.h"
+#include "runtime/TextFile.h"
 #include "runtime/view/FrameRenderer.h"
 #include "runtime/view/Overlay.h"
 #include "runtime/view/Placement.h"

@@ -1,0 +1,45 @@
+// The scenes the benchmarks measure: the embedded default scene and every example, or the
+// files named on the command line.
+#pragma once
+
+#include "compiler/Compile.h"
+#include "runtime/TextFile.h"
+
+#include <algorithm>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+namespace moire::bench {
+
+struct Scene {
+    std::string name, path, text;
+};
+
+// A scene file named by the user; exits with a message when it cannot be read.
+inline Scene sceneFile(const std::string& path) {
+    Scene s{std::filesystem::path(path).stem().string(), path, {}};
+    std::string reason;
+    if (!readWholeFile(path, s.text, reason)) {
+        std::fprintf(stderr, "cannot read %s: %s\n", path.c_str(), reason.c_str());
+        std::exit(2);
+    }
+    return s;
+}
+
+// The default scene, then examples/*.moire in name order.
+inline std::vector<Scene> defaultScenes() {
+    std::vector<Scene> out;
+    EmbeddedScene d = defaultScene();
+    out.push_back({"default", d.path, d.text});
+    std::vector<std::string> paths;
+    for (auto& e : std::filesystem::directory_iterator(MOIRE_SOURCE_DIR "/examples"))
+        if (e.path().extension() == ".moire") paths.push_back(e.path().string());
+    std::sort(paths.begin(), paths.end());
+    for (const std::string& p : paths) out.push_back(sceneFile(p));
+    return out;
+}
+
+} // namespace moire::bench

@@ -297,13 +297,10 @@ TEST_CASE("vulkan: the walking families against the brute-force reference (reduc
                         const double extent = 650.0 / zoom; // the frame of a 1200 x 800 view
                         for (int i = 0; i < kPoints; ++i) {
                             double x, y; // half uniform over the frame, half on or near members
-                            if (i % 2 == 0) {
-                                double r = extent * std::sqrt(unit(rng)), a = 2 * kPi * unit(rng);
-                                x = r * std::cos(a), y = r * std::sin(a);
-                            } else {
-                                onMember(st.w, static_cast<int64_t>(unit(rng) * extent / s),
-                                         2 * kPi * unit(rng), (unit(rng) - 0.5) * st.guard(), x, y);
-                            }
+                            if (i % 2 == 0)
+                                inDisc(extent, rng, x, y);
+                            else
+                                nearMember(st, extent, rng, x, y);
                             ++points;
                             const Out g = solveOn(gw->gpu, gw->exact, st, x, y);
                             INFO(describe(st));

@@ -84,14 +84,10 @@ TEST_CASE(
                         bool out = false, stridedOut = false;
                         for (int i = 0; i < kPoints; ++i) {
                             double x, y; // half uniform over the frame, half on or near members
-                            if (i % 2 == 0) {
-                                double r = extent * std::sqrt(unit(rng)), a = 2 * kPi * unit(rng);
-                                x = r * std::cos(a), y = r * std::sin(a);
-                            } else {
-                                int64_t n = static_cast<int64_t>(unit(rng) * extent / s);
-                                onMember(st.w, n, 2 * kPi * unit(rng),
-                                         (unit(rng) - 0.5) * st.guard(), x, y);
-                            }
+                            if (i % 2 == 0)
+                                inDisc(extent, rng, x, y);
+                            else
+                                nearMember(st, extent, rng, x, y);
                             Out o = solve(st, x, y);
                             ++t.points;
                             REQUIRE(std::isfinite(o.distance));

@@ -40,13 +40,10 @@ TEST_CASE("walking: the nearest member lies inside the certified interval (Theor
         const double extent = 600.0 / st.zoom;
         for (int j = 0; j < 64; ++j) {
             double x, y;
-            if (j % 3 == 0) {
-                double r = extent * std::sqrt(unit(rng)), a = 2 * kPi * unit(rng);
-                x = r * std::cos(a), y = r * std::sin(a);
-            } else {
-                onMember(st.w, static_cast<int64_t>(unit(rng) * extent / st.w.spacing),
-                         2 * kPi * unit(rng), (unit(rng) - 0.5) * st.guard(), x, y);
-            }
+            if (j % 3 == 0)
+                inDisc(extent, rng, x, y);
+            else
+                nearMember(st, extent, rng, x, y);
             reference::Nearest ref = reference::nearest(st.w, x, y, st.guard(), 100000);
             if (!ref.complete || ref.argmin < 0) continue; // nothing within the guard
             Out o = solve(st, x, y);
@@ -154,17 +151,13 @@ namespace {
 // counts seen. Every point must agree where the reference is complete.
 std::set<uint64_t> dispatchRun(const Setting& st, double extent, int count, std::mt19937_64& rng,
                                long* noRealRoot = nullptr) {
-    std::uniform_real_distribution<double> unit(0.0, 1.0);
     std::set<uint64_t> evaluations;
     for (int j = 0; j < count; ++j) {
         double x, y;
-        if (j % 3 == 0) {
-            onMember(st.w, static_cast<int64_t>(unit(rng) * extent / st.w.spacing),
-                     2 * kPi * unit(rng), (unit(rng) - 0.5) * st.guard(), x, y);
-        } else {
-            double r = extent * std::sqrt(unit(rng)), a = 2 * kPi * unit(rng);
-            x = r * std::cos(a), y = r * std::sin(a);
-        }
+        if (j % 3 == 0)
+            nearMember(st, extent, rng, x, y);
+        else
+            inDisc(extent, rng, x, y);
         Out o = solve(st, x, y);
         evaluations.insert(o.evaluations);
         reference::Nearest ref = reference::nearest(st.w, x, y, st.guard(), 200000);

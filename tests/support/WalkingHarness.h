@@ -153,6 +153,24 @@ inline void onMember(const Walking& w, int64_t n, double angle, double jitter, d
     y = s * qx + c * qy;
 }
 
+// A point uniform in the disc of radius `extent` about the origin.
+inline void inDisc(double extent, std::mt19937_64& rng, double& x, double& y) {
+    std::uniform_real_distribution<double> unit(0.0, 1.0);
+    double r = extent * std::sqrt(unit(rng)), a = 2 * kPi * unit(rng);
+    x = r * std::cos(a), y = r * std::sin(a);
+}
+
+// A point on or near a random member reaching `extent`: the member, the direction and a
+// jitter within the setting's guard band drawn from `rng`.
+inline void nearMember(const Setting& st, double extent, std::mt19937_64& rng, double& x,
+                       double& y) {
+    std::uniform_real_distribution<double> unit(0.0, 1.0);
+    const double jitter = (unit(rng) - 0.5) * st.guard();
+    const double angle = 2 * kPi * unit(rng);
+    const auto n = static_cast<int64_t>(unit(rng) * extent / st.w.spacing);
+    onMember(st.w, n, angle, jitter, x, y);
+}
+
 // The solver's clamped distance agrees with an expected one: equal to rounding, or both
 // inside the band that is inked solid (the solver may stop early there, §7.1).
 inline bool agrees(const Setting& st, double got, double want, double x, double y) {

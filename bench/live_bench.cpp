@@ -101,7 +101,7 @@ Run measure(const std::string& backendName, const std::string& sceneText, int w,
     options.compile.interactive = true; // as the viewer compiles
     options.watch.debounce = std::chrono::milliseconds(debounceMs);
     SceneReloader reloader(path, *backend, options);
-    if (!reloader.loadNow().result.good()) {
+    if (!reloader.loadNow().good()) {
         fmt::print(stderr, "the scene does not compile\n");
         std::exit(1);
     }
@@ -111,14 +111,14 @@ Run measure(const std::string& backendName, const std::string& sceneText, int w,
     bool ready = false;
     Sample current;
     Clock::time_point written;
-    reloader.start([&](const ReloadEvent& ev) {
+    reloader.start([&](const BuildResult& ev) {
         Clock::time_point got = Clock::now();
         Sample s;
-        s.detect = ms(written, got) - ev.result.frontEndMs - ev.result.kernelMs;
-        s.build = ev.result.frontEndMs + ev.result.kernelMs;
-        s.compiled = ev.result.kind == BuildResult::Kind::Structure;
-        if (ev.result.good()) {
-            const SceneProgram& p = *ev.result.build->program;
+        s.detect = ms(written, got) - ev.frontEndMs - ev.kernelMs;
+        s.build = ev.frontEndMs + ev.kernelMs;
+        s.compiled = ev.kind == BuildResult::Kind::Structure;
+        if (ev.good()) {
+            const SceneProgram& p = *ev.build->program;
             auto render = [&](int rw, int rh) {
                 FrameRequest req;
                 req.width = rw;
@@ -127,7 +127,7 @@ Run measure(const std::string& backendName, const std::string& sceneText, int w,
                 std::string diags;
                 evaluateFrame(p, req, frame, diags);
                 KernelFrame kf{frame.uniforms.data(), frame.width, frame.height};
-                runKernel(*ev.result.build->kernel, kf);
+                runKernel(*ev.build->kernel, kf);
             };
             Clock::time_point t0 = Clock::now();
             render(std::max(1, w / 4), std::max(1, h / 4));

@@ -45,7 +45,7 @@ class Recorder {
         const WatchReport* found = nullptr;
         cv_.wait_for(lock, std::chrono::seconds(10), [&] {
             for (size_t i = from; i < reports_.size() && !found; ++i) {
-                const BuildResult& b = reports_[i].event.result;
+                const BuildResult& b = reports_[i].result;
                 bool unreadable = b.kind == BuildResult::Kind::Failed && b.contentHash == 0 &&
                                   b.diagnostics.find("cannot read") != std::string::npos;
                 if (missing ? unreadable : (!unreadable && b.contentHash == hash))

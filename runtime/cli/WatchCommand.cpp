@@ -14,7 +14,6 @@
 
 namespace moire::cli {
 
-
 namespace {
 
 // One line per state of the file, so an editor integration can follow along.
@@ -25,7 +24,7 @@ void printReport(const WatchReport& r, const WatchArgs& args, const Backend& bac
         if (!args.quiet)
             fmt::print(stderr, "moire: watch: kept {} (the last good render)\n", output);
     } else if (!args.quiet) {
-        const BuildResult& b = r.event.result;
+        const BuildResult& b = r.result;
         std::string how = b.kind == BuildResult::Kind::Numbers
                               ? "numbers changed, kernel reused"
                               : fmt::format("kernel compiled in {:.0f} ms", b.kernelMs);

@@ -4,8 +4,8 @@
 
 #include <chrono>
 #include <exception>
-#include <vector>
 #include <fmt/format.h>
+#include <vector>
 
 namespace moire {
 
@@ -14,20 +14,6 @@ double msSince(std::chrono::steady_clock::time_point t0) {
     return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
 }
 } // namespace
-
-const char* kindName(BuildResult::Kind kind) {
-    switch (kind) {
-    case BuildResult::Kind::Unchanged:
-        return "unchanged";
-    case BuildResult::Kind::Failed:
-        return "failed";
-    case BuildResult::Kind::Numbers:
-        return "numbers";
-    case BuildResult::Kind::Structure:
-        return "structure";
-    }
-    return "?";
-}
 
 uint64_t contentHash(const std::string& bytes) {
     uint64_t h = 0xcbf29ce484222325ull;

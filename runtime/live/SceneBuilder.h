@@ -36,8 +36,6 @@ struct BuildResult {
     bool good() const { return kind == Kind::Numbers || kind == Kind::Structure; }
 };
 
-const char* kindName(BuildResult::Kind kind);
-
 // A 64-bit FNV-1a hash of the bytes.
 uint64_t contentHash(const std::string& bytes);
 
@@ -56,7 +54,6 @@ class SceneBuilder {
 
     // The last good build, or null before the first.
     std::shared_ptr<const LiveProgram> current() const { return current_; }
-    Backend& backend() const { return backend_; }
 
     // Counters, for tests and benchmarks: front-end compilations, and kernels this builder
     // asked the backend to compile because the structure changed.

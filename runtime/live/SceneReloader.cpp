@@ -13,24 +13,14 @@ SceneReloader::~SceneReloader() {
     stop();
 }
 
-ReloadEvent SceneReloader::readAndBuild(std::chrono::steady_clock::time_point changedAt) {
-    ReloadEvent ev;
-    ev.changedAt = changedAt;
+BuildResult SceneReloader::loadNow() {
     std::string text, reason;
-    if (readWholeFile(path_, text, reason))
-        ev.result = builder_.build(path_, text);
-    else
-        ev.result = builder_.unreadable(
-            fmt::format("{}: error: cannot read the scene: {}\n", path_, reason));
-    if (ev.result.kind != BuildResult::Kind::Unchanged) ev.generation = ++generation_;
-    return ev;
+    if (readWholeFile(path_, text, reason)) return builder_.build(path_, text);
+    return builder_.unreadable(
+        fmt::format("{}: error: cannot read the scene: {}\n", path_, reason));
 }
 
-ReloadEvent SceneReloader::loadNow() {
-    return readAndBuild(std::chrono::steady_clock::now());
-}
-
-void SceneReloader::start(std::function<void(const ReloadEvent&)> onEvent) {
+void SceneReloader::start(std::function<void(const BuildResult&)> onEvent) {
     stop();
     onEvent_ = std::move(onEvent);
     stopping_ = false;
@@ -49,8 +39,8 @@ void SceneReloader::run() {
         FileWatch::Wait w = watch_.wait(std::chrono::milliseconds(1000));
         if (w == FileWatch::Wait::Interrupted || stopping_) break;
         if (w != FileWatch::Wait::Changed) continue;
-        ReloadEvent ev = readAndBuild(watch_.firstEvent());
-        if (ev.result.kind == BuildResult::Kind::Unchanged) continue;
+        BuildResult ev = loadNow();
+        if (ev.kind == BuildResult::Kind::Unchanged) continue;
         if (onEvent_) onEvent_(ev);
     }
 }

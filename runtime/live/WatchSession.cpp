@@ -31,7 +31,7 @@ WatchReport WatchSession::processNow() {
 }
 
 void WatchSession::start(std::function<void(const WatchReport&)> onReport) {
-    reloader_.start([this, onReport = std::move(onReport)](const ReloadEvent& ev) {
+    reloader_.start([this, onReport = std::move(onReport)](const BuildResult& ev) {
         WatchReport r = handle(ev);
         if (onReport) onReport(r);
     });
@@ -41,10 +41,9 @@ void WatchSession::stop() {
     reloader_.stop();
 }
 
-WatchReport WatchSession::handle(const ReloadEvent& ev) {
+WatchReport WatchSession::handle(const BuildResult& b) {
     WatchReport r;
-    r.event = ev;
-    const BuildResult& b = ev.result;
+    r.result = b;
     if (!b.good()) {
         r.diagnostics = b.diagnostics;
         return r;
@@ -72,7 +71,6 @@ WatchReport WatchSession::handle(const ReloadEvent& ev) {
     r.wrote = true;
     r.width = frame.width;
     r.height = frame.height;
-    r.latencyMs = msSince(ev.changedAt);
     return r;
 }
 

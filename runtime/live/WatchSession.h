@@ -26,13 +26,11 @@ struct WatchOptions {
 
 // What happened to one state of the file.
 struct WatchReport {
-    ReloadEvent event;
+    BuildResult result;      // what the build of this state gave
     bool wrote = false;      // the output now holds this state's render
     std::string diagnostics; // bad states: `file:line:col: error:` lines (or an I/O error)
     int width = 0, height = 0;
     double renderMs = 0.0;
-    // From the file's change to the image being in place (event.changedAt to now).
-    double latencyMs = 0.0;
     bool good() const { return wrote; }
 };
 
@@ -51,7 +49,7 @@ class WatchSession {
     SceneBuilder& builder() { return reloader_.builder(); }
 
   private:
-    WatchReport handle(const ReloadEvent& ev);
+    WatchReport handle(const BuildResult& ev);
 
     Backend& backend_;
     WatchOptions options_;

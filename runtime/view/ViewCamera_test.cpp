@@ -230,18 +230,9 @@ TEST_CASE("view camera: the compiled kernel places the world and the layers the 
     CHECK(c.sceneWidth == 300);
 
     Interpreter kernel(program->kernel);
-    std::vector<double> out(program->kernel.numOutputs), regs;
     const lower::OutputLayout& layout = program->layout;
     for (Vec2 p : {Vec2{0.5, 0.5}, Vec2{120.5, 90.5}, Vec2{17.5, 160.5}, Vec2{230.5, 4.5}}) {
-        InterpEnv env;
-        env.pixelX = p.x;
-        env.pixelY = p.y;
-        env.imageW = w;
-        env.imageH = h;
-        env.uniforms = frame.uniforms.data();
-        env.numUniforms = frame.uniforms.size();
-        env.outputs = out.data();
-        kernel.run(env, regs);
+        const std::vector<double> out = kernel.atPixel(frame.uniforms, p.x, p.y, w, h);
         Vec2 world = ViewCamera(c, v, w, h).toWorld(p);
         Vec2 qa = unmove(v.layer(0), world), qb = unmove(v.layer(1), world);
         CHECK(std::fabs(out[layout.distanceSlot(0)]) == doctest::Approx(std::fabs(qa.x)));

@@ -100,7 +100,7 @@ class Viewer {
         if (!openWindow()) return 1;
         renderer_ = std::make_unique<FrameRenderer>(options_.threads, [] { glfwPostEmptyEvent(); });
         if (reloader_)
-            reloader_->start([this](const ReloadEvent& ev) {
+            reloader_->start([this](const BuildResult& ev) {
                 {
                     std::lock_guard<std::mutex> lock(reloadMutex_);
                     reloads_.push_back(ev);
@@ -158,7 +158,7 @@ class Viewer {
                 fmt::print(stderr, "moire: error: {}\n", e.what());
                 return false;
             }
-            first = reloader_->loadNow().result;
+            first = reloader_->loadNow();
         }
         if (first.good()) {
             adopt(first.build);
@@ -279,23 +279,22 @@ class Viewer {
     }
 
     void applyReloads() {
-        std::vector<ReloadEvent> events;
+        std::vector<BuildResult> events;
         {
             std::lock_guard<std::mutex> lock(reloadMutex_);
             events.swap(reloads_);
         }
-        for (const ReloadEvent& ev : events) {
-            if (ev.result.good()) {
-                adopt(ev.result.build);
+        for (const BuildResult& ev : events) {
+            if (ev.good()) {
+                adopt(ev.build);
                 buildError_.clear();
-                const bool numbers = ev.result.kind == BuildResult::Kind::Numbers;
+                const bool numbers = ev.kind == BuildResult::Kind::Numbers;
                 fmt::print(stderr, "moire: reloaded ({}, {:.0f} ms)\n",
-                           numbers ? "numbers only" : "recompiled",
-                           ev.result.frontEndMs + ev.result.kernelMs);
+                           numbers ? "numbers only" : "recompiled", ev.frontEndMs + ev.kernelMs);
             } else {
                 // The last good build stays on screen under the errors.
-                buildError_ = ev.result.diagnostics;
-                fmt::print(stderr, "{}", ev.result.diagnostics);
+                buildError_ = ev.diagnostics;
+                fmt::print(stderr, "{}", ev.diagnostics);
             }
             redraw_ = true;
         }
@@ -649,16 +648,7 @@ class Viewer {
         FrameValues fv;
         std::string diags;
         if (!evaluateFrame(*probe_, req, fv, diags)) return;
-        std::vector<double> out(probe_->kernel.numOutputs), regs;
-        InterpEnv env;
-        env.pixelX = at.x;
-        env.pixelY = at.y;
-        env.imageW = fbW_;
-        env.imageH = fbH_;
-        env.uniforms = fv.uniforms.data();
-        env.numUniforms = fv.uniforms.size();
-        env.outputs = out.data();
-        probeKernel_->run(env, regs);
+        const std::vector<double> out = probeKernel_->atPixel(fv.uniforms, at.x, at.y, fbW_, fbH_);
         const double pixel = ViewCamera(SceneCamera::from(fv), view_, fbW_, fbH_).pixelSize();
         int best = -1;
         double bestDistance = kPickTolerance;
@@ -690,7 +680,7 @@ class Viewer {
     std::unique_ptr<FrameRenderer> renderer_;
 
     std::mutex reloadMutex_; // guards reloads_, filled on the reloader's thread
-    std::vector<ReloadEvent> reloads_;
+    std::vector<BuildResult> reloads_;
 
     // Everything below belongs to the window's thread.
     std::shared_ptr<const LiveProgram> build_;

@@ -13,7 +13,7 @@ using ir::Op;
 namespace {
 thread_local uint64_t tOpCount = 0;
 thread_local uint64_t tTallies[ir::kMaxTallies] = {};
-}
+} // namespace
 
 uint64_t Interpreter::lastOpCount() {
     return tOpCount;
@@ -58,6 +58,21 @@ Interpreter::Interpreter(const ir::Function& f)
             pb.insts.push_back(p);
         }
     }
+}
+
+std::vector<double> Interpreter::atPixel(const std::vector<double>& uniforms, double px, double py,
+                                         int w, int h) const {
+    std::vector<double> out(static_cast<size_t>(numOutputs_)), regs;
+    InterpEnv env;
+    env.pixelX = px;
+    env.pixelY = py;
+    env.imageW = w;
+    env.imageH = h;
+    env.uniforms = uniforms.data();
+    env.numUniforms = uniforms.size();
+    env.outputs = out.data();
+    run(env, regs);
+    return out;
 }
 
 void Interpreter::run(const InterpEnv& env, std::vector<double>& regs) const {

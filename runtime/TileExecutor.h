@@ -16,6 +16,10 @@ struct ExecOptions {
     // Called from the calling thread with the fraction done: about ten times a second for a
     // CPU kernel, after each of sixteen bands for a GPU kernel; 1.0 at the end.
     std::function<void(double)> progress;
+    // Asked between tiles (between bands for a GPU kernel), from any worker thread: once it
+    // says true the frame is abandoned and runKernel returns an empty image (width 0). The
+    // viewer drops a frame this way when a newer one is wanted.
+    std::function<bool()> cancelled;
 };
 
 // Evaluates `kernel` at every pixel of a width x height image.

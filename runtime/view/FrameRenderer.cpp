@@ -2,6 +2,7 @@
 
 #include "runtime/FrameEval.h"
 #include "runtime/ImageIO.h"
+#include "runtime/TileExecutor.h"
 
 #include <algorithm>
 #include <chrono>
@@ -21,57 +22,6 @@ using Clock = std::chrono::steady_clock;
 
 double msSince(Clock::time_point t0) {
     return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
-}
-
-// The tile executor's job, abandoned between tiles once `cancelled` says so (TileExecutor
-// runs every frame to the end). A GPU kernel gets whole-width bands from this thread.
-bool runTiles(const CompiledKernel& kernel, const KernelFrame& frame, int threads,
-              const std::function<bool()>& cancelled, Image& img) {
-    const size_t rowStride = static_cast<size_t>(frame.imageW) * img.channels;
-    if (kernel.wholeFrame()) {
-        const int bands = std::min(frame.imageH, 8);
-        for (int b = 0; b < bands; ++b) {
-            if (cancelled()) return false;
-            const int y0 = frame.imageH * b / bands, y1 = frame.imageH * (b + 1) / bands;
-            if (y1 > y0)
-                kernel.runTile(frame, TileRect{0, y0, frame.imageW, y1}, img.row(y0), rowStride);
-        }
-        return true;
-    }
-    constexpr int ts = 64;
-    const int tilesX = (frame.imageW + ts - 1) / ts, tilesY = (frame.imageH + ts - 1) / ts;
-    const int total = tilesX * tilesY;
-    if (threads <= 0) threads = static_cast<int>(std::thread::hardware_concurrency());
-    threads = std::clamp(threads, 1, total);
-    std::atomic<int> next{0};
-    std::atomic<bool> stopped{false};
-    std::exception_ptr failure;
-    std::mutex failureMutex;
-    auto worker = [&] {
-        try {
-            for (int t; (t = next.fetch_add(1)) < total;) {
-                if (stopped.load() || cancelled()) {
-                    stopped.store(true);
-                    return;
-                }
-                TileRect r{(t % tilesX) * ts, (t / tilesX) * ts, 0, 0};
-                r.x1 = std::min(r.x0 + ts, frame.imageW);
-                r.y1 = std::min(r.y0 + ts, frame.imageH);
-                kernel.runTile(frame, r, img.row(r.y0) + static_cast<size_t>(r.x0) * img.channels,
-                               rowStride);
-            }
-        } catch (...) {
-            std::lock_guard<std::mutex> lock(failureMutex);
-            if (!failure) failure = std::current_exception();
-            stopped.store(true);
-        }
-    };
-    std::vector<std::thread> pool;
-    for (int i = 1; i < threads; ++i) pool.emplace_back(worker);
-    worker();
-    for (std::thread& t : pool) t.join();
-    if (failure) std::rethrow_exception(failure);
-    return !stopped.load();
 }
 
 // <dir>/<stem>-still-NNN.png, the first NNN from 001 that names no file.
@@ -283,9 +233,11 @@ bool FrameRenderer::render(const RenderJob& job, int divisor, bool cancellable, 
     kf.uniforms = frame.uniforms.data();
     kf.imageW = frame.width;
     kf.imageH = frame.height;
-    Image img(frame.width, frame.height, kernel.numOutputs());
-    auto cancelled = [&] { return cancellable && newest_.load() > job.version; };
-    if (!runTiles(kernel, kf, threads_, cancelled, img)) return false;
+    ExecOptions exec;
+    exec.threads = threads_;
+    if (cancellable) exec.cancelled = [&] { return newest_.load() > job.version; };
+    Image img = runKernel(kernel, kf, exec);
+    if (img.width == 0) return false; // a newer job came in
 
     out.width = img.width;
     out.height = img.height;

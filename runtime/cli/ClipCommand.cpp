@@ -107,12 +107,7 @@ int clip(const ClipArgs& args) {
     std::string why;
     std::optional<clip::FrameRange> given;
     if (!args.frames.empty() && !(given = clip::parseFrames(args.frames, why))) return usage(why);
-    const std::vector<std::string>& names = backendNames();
-    if (std::find(names.begin(), names.end(), args.backend) == names.end())
-        return usage(fmt::format("unknown backend '{}'; the backends are {}", args.backend,
-                                 fmt::join(names, ", ")));
-    if (args.device >= 0 && args.backend != "vulkan")
-        return usage("--device chooses a Vulkan device; it needs --backend vulkan");
+    if (!checkBackendArgs(args.backend, args.device)) return kExitUsage;
     if (args.output.empty() && !args.plan)
         return usage("clip needs -o: a numbered image name like frames/f_%04d.png, or a video "
                      "(.mp4, .webm, .gif)");

@@ -109,13 +109,17 @@ bool checkImageOptions(const ImageArgs& args, ImageOptions& out) {
             out.output);
         return false;
     }
+    return checkBackendArgs(args.backend, args.device);
+}
+
+bool checkBackendArgs(const std::string& backend, int device) {
     const std::vector<std::string>& names = backendNames();
-    if (std::find(names.begin(), names.end(), args.backend) == names.end()) {
-        fmt::print(stderr, "moire: error: unknown backend '{}'; the backends are {}\n",
-                   args.backend, fmt::join(names, ", "));
+    if (!backend.empty() && std::find(names.begin(), names.end(), backend) == names.end()) {
+        fmt::print(stderr, "moire: error: unknown backend '{}'; the backends are {}\n", backend,
+                   fmt::join(names, ", "));
         return false;
     }
-    if (args.device >= 0 && args.backend != "vulkan") {
+    if (device >= 0 && !backend.empty() && backend != "vulkan") {
         fmt::print(stderr, "moire: error: --device chooses a Vulkan device; it needs --backend "
                            "vulkan\n");
         return false;

@@ -36,6 +36,9 @@ struct ImageOptions {
     PixelDepth depth = PixelDepth::Default;
     std::string output;
 };
+// Checks --backend (a known name; empty: chosen by the command) and --device (Vulkan only),
+// printing the reason when one is wrong.
+bool checkBackendArgs(const std::string& backend, int device);
 // Checks --size, --depth, the output's format, the backend's name and --device, printing
 // the reason for the first that is wrong.
 bool checkImageOptions(const ImageArgs& args, ImageOptions& out);

@@ -41,18 +41,7 @@ int view(const ViewArgs& args) {
                    kMaxImageSide, args.size);
         return kExitUsage;
     }
-    const std::vector<std::string>& names = backendNames();
-    if (!args.backend.empty() &&
-        std::find(names.begin(), names.end(), args.backend) == names.end()) {
-        fmt::print(stderr, "moire: error: unknown backend '{}'; the backends are {}\n",
-                   args.backend, fmt::join(names, ", "));
-        return kExitUsage;
-    }
-    if (args.device >= 0 && !args.backend.empty() && args.backend != "vulkan") {
-        fmt::print(stderr, "moire: error: --device chooses a Vulkan device; it needs --backend "
-                           "vulkan\n");
-        return kExitUsage;
-    }
+    if (!checkBackendArgs(args.backend, args.device)) return kExitUsage;
 
     std::unique_ptr<Backend> backend;
     if (args.backend.empty() && args.device < 0) {

@@ -414,24 +414,44 @@ bool started(Viewer& viewer) {
     return false;
 }
 
+// A viewer on kScene in an X server of its own, showing its first frame with the status line
+// hidden (so that the window is the picture alone).
+struct Session {
+    test::TempDir dir{"view"};
+    VirtualScreen screen{dir.path()};
+    std::optional<Viewer> viewer;
+    std::pair<int, int> origin;
+
+    // False (with a message) when this machine cannot open a window.
+    bool start() {
+        REQUIRE_MESSAGE(screen.ok(), "Xvfb did not start");
+        dir.write("s.moire", kScene);
+        viewer.emplace(dir, screen, dir.file("s.moire"));
+        if (!started(*viewer)) return false;
+        origin = windowOrigin(screen);
+        screen.xdo("key h");
+        REQUIRE(viewer->nextFrame());
+        return true;
+    }
+    // Window pixel (x, y) as screen coordinates for xdotool.
+    std::string at(double x, double y) const {
+        return std::to_string(origin.first + int(x)) + " " + std::to_string(origin.second + int(y));
+    }
+};
+
 } // namespace
 
 TEST_CASE("view: the window shows what render writes, and follows the wheel and drags") {
     SKIP_WITHOUT_X();
-    test::TempDir dir("view");
-    VirtualScreen screen(dir.path());
-    REQUIRE_MESSAGE(screen.ok(), "Xvfb did not start");
-    dir.write("s.moire", kScene);
-    Viewer viewer(dir, screen, dir.file("s.moire"));
-    if (!started(viewer)) return;
-    const auto origin = windowOrigin(screen);
-    auto at = [&](double x, double y) {
-        return std::to_string(origin.first + int(x)) + " " + std::to_string(origin.second + int(y));
-    };
+    Session session;
+    if (!session.start()) return;
+    test::TempDir& dir = session.dir;
+    VirtualScreen& screen = session.screen;
+    Viewer& viewer = *session.viewer;
+    const auto origin = session.origin;
+    auto at = [&](double x, double y) { return session.at(x, y); };
 
     // Without the status line, the window is the render, byte for byte (within rounding).
-    screen.xdo("key h");
-    REQUIRE(viewer.nextFrame());
     Rgb expect = offline(dir, kScene);
     CHECK(differing(windowMatching(screen, origin, expect), expect) == 0);
 
@@ -506,18 +526,13 @@ TEST_CASE("view: the window shows what render writes, and follows the wheel and 
 
 TEST_CASE("view: a save reloads, a broken save shows its errors, s saves a still") {
     SKIP_WITHOUT_X();
-    test::TempDir dir("view");
-    VirtualScreen screen(dir.path());
-    REQUIRE_MESSAGE(screen.ok(), "Xvfb did not start");
-    dir.write("s.moire", kScene);
-    Viewer viewer(dir, screen, dir.file("s.moire"));
-    if (!started(viewer)) return;
-    const auto origin = windowOrigin(screen);
-    auto at = [&](double x, double y) {
-        return std::to_string(origin.first + int(x)) + " " + std::to_string(origin.second + int(y));
-    };
-    screen.xdo("key h");
-    REQUIRE(viewer.nextFrame());
+    Session session;
+    if (!session.start()) return;
+    test::TempDir& dir = session.dir;
+    VirtualScreen& screen = session.screen;
+    Viewer& viewer = *session.viewer;
+    const auto origin = session.origin;
+    auto at = [&](double x, double y) { return session.at(x, y); };
 
     // Pan first: the view's adjustments outlive the reload.
     screen.xdo("mousemove " + at(100, 100) + " mousedown 1 mousemove " + at(120, 100) +

@@ -1,0 +1,169 @@
+#include "runtime/MemoryBudget.h"
+
+#include <algorithm>
+#include <cstdio>
+#include <fmt/format.h>
+#include <fstream>
+#include <sstream>
+#include <sys/resource.h>
+#include <vector>
+
+namespace moire {
+
+namespace {
+
+// The process before any frame: code, the JIT's LLVM, OpenImageIO and the compiled scene,
+// with room for the allocator's slack. Measured at 204 MB peak resident for a one-layer
+// scene rendered at 16x16 on the JIT (getrusage of the child, 2 cores).
+constexpr uint64_t kProcessBytes = 256ull << 20;
+// OpenImageIO writes a scanline file in chunks of about 64 MB of the caller's pixels, each
+// converted to the file's type in a buffer of its own; the codecs keep a few rows besides.
+constexpr uint64_t kWriterChunkBytes = 64ull << 20;
+// The Vulkan executor's two slots, each a device buffer and a host readback buffer of at most
+// 64 MiB (VulkanContext's budget); on a CPU device both live in host memory.
+constexpr uint64_t kVulkanStagingBytes = 4 * (64ull << 20);
+
+uint64_t pixelsOf(const FrameFootprint& f) {
+    return static_cast<uint64_t>(std::max(f.width, 0)) *
+           static_cast<uint64_t>(std::max(f.height, 0));
+}
+
+// What writeImage holds beside the frame: the clamped float copy in the file's channels
+// (RGB for JPEG), and OpenImageIO's chunk and its conversion.
+uint64_t imageWriterBytes(const FrameFootprint& f) {
+    const uint64_t channels = f.format == "jpeg" ? 3 : 4;
+    const uint64_t copy = pixelsOf(f) * channels * sizeof(float);
+    return copy + 2 * std::min(copy, kWriterChunkBytes);
+}
+
+uint64_t sinkBytes(const FrameFootprint& f) {
+    const uint64_t px = pixelsOf(f);
+    switch (f.sink) {
+    case FrameSink::ImageFile:
+        return imageWriterBytes(f);
+    case FrameSink::Video:
+        return px * 4; // the 8-bit RGBA frame written to ffmpeg's pipe
+    case FrameSink::Window:
+        // The frame in 8 bits as rendered, as shown and as kept for reuse, the window's
+        // canvas, the texture, and the GL drawable's front and back buffers (host memory on
+        // a software GL, and mapped into the process by the driver on most others).
+        return px * 4 * 7;
+    }
+    return 0;
+}
+
+uint64_t frameBytes(const FrameFootprint& f) {
+    return pixelsOf(f) * static_cast<uint64_t>(std::max(f.channels, 1)) * sizeof(float);
+}
+
+std::optional<uint64_t> readNumber(const std::string& path) {
+    std::ifstream in(path);
+    unsigned long long v = 0;
+    if (!(in >> v)) return std::nullopt; // missing, or "max"
+    return v;
+}
+
+// A field of /proc/meminfo or /proc/self/status ("MemAvailable:  1234 kB"), in bytes.
+std::optional<uint64_t> procField(const char* file, const std::string& key) {
+    std::ifstream in(file);
+    for (std::string line; std::getline(in, line);) {
+        if (line.compare(0, key.size(), key) != 0 || line.size() <= key.size() ||
+            line[key.size()] != ':')
+            continue;
+        std::istringstream fields(line.substr(key.size() + 1));
+        unsigned long long kb = 0;
+        if (fields >> kb) return static_cast<uint64_t>(kb) * 1024;
+    }
+    return std::nullopt;
+}
+
+void lower(std::optional<MemoryAvailable>& best, uint64_t bytes, const std::string& limit) {
+    if (!best || bytes < best->bytes) best = MemoryAvailable{bytes, limit};
+}
+
+// The headroom of a cgroup directory and every one above it up to `root`: the tightest of
+// limit - usage among those with a limit.
+void cgroupHeadroom(std::optional<MemoryAvailable>& best, const std::string& root, std::string path,
+                    const char* maxFile, const char* currentFile, const std::string& name) {
+    for (;;) {
+        const std::string dir = root + path;
+        std::optional<uint64_t> max = readNumber(dir + "/" + maxFile);
+        std::optional<uint64_t> current = readNumber(dir + "/" + currentFile);
+        // cgroup v1 says "no limit" with a number near 2^63.
+        if (max && current && *max < (1ull << 60))
+            lower(best, *max > *current ? *max - *current : 0, name);
+        if (path.empty() || path == "/") break;
+        const size_t slash = path.rfind('/');
+        path = slash == std::string::npos ? std::string() : path.substr(0, slash);
+    }
+}
+
+void cgroupLimits(std::optional<MemoryAvailable>& best) {
+    std::ifstream in("/proc/self/cgroup");
+    for (std::string line; std::getline(in, line);) {
+        // "0::/path" (v2) or "4:memory:/path" (v1). Inside a container the mount's root is
+        // the process's own group, so the path may not exist below it: the walk up reaches
+        // the mount's root, which then is the group.
+        const size_t a = line.find(':'), b = line.find(':', a + 1);
+        if (a == std::string::npos || b == std::string::npos) continue;
+        const std::string controllers = line.substr(a + 1, b - a - 1);
+        const std::string path = line.substr(b + 1);
+        if (line.compare(0, a, "0") == 0 && controllers.empty())
+            cgroupHeadroom(best, "/sys/fs/cgroup", path, "memory.max", "memory.current",
+                           "the cgroup's memory.max");
+        std::istringstream list(controllers);
+        for (std::string c; std::getline(list, c, ',');)
+            if (c == "memory")
+                cgroupHeadroom(best, "/sys/fs/cgroup/memory", path, "memory.limit_in_bytes",
+                               "memory.usage_in_bytes", "the cgroup's memory limit");
+    }
+}
+
+void rlimitHeadroom(std::optional<MemoryAvailable>& best, int resource, const char* statusKey,
+                    const std::string& name) {
+    rlimit rl{};
+    if (::getrlimit(resource, &rl) != 0 || rl.rlim_cur == RLIM_INFINITY) return;
+    const uint64_t used = procField("/proc/self/status", statusKey).value_or(0);
+    const uint64_t limit = rl.rlim_cur;
+    lower(best, limit > used ? limit - used : 0, name);
+}
+
+} // namespace
+
+uint64_t estimateFrameBytes(const FrameFootprint& f) {
+    uint64_t bytes = kProcessBytes + frameBytes(f) + sinkBytes(f);
+    // A queued frame is a whole picture waiting for (or in) its writer.
+    bytes += static_cast<uint64_t>(std::max(f.queued, 0)) * (frameBytes(f) + sinkBytes(f));
+    if (f.gpu) bytes += kVulkanStagingBytes;
+    return bytes;
+}
+
+std::optional<MemoryAvailable> availableMemory() {
+    std::optional<MemoryAvailable> best;
+    if (std::optional<uint64_t> avail = procField("/proc/meminfo", "MemAvailable"))
+        lower(best, *avail, "");
+    rlimitHeadroom(best, RLIMIT_AS, "VmSize", "the address space limit (ulimit -v)");
+    rlimitHeadroom(best, RLIMIT_DATA, "VmData", "the data size limit (ulimit -d)");
+    cgroupLimits(best);
+    return best;
+}
+
+std::string formatBytes(uint64_t bytes) {
+    const double b = static_cast<double>(bytes);
+    if (b >= 1e9) return fmt::format("{:.1f} GB", b / 1e9);
+    if (b >= 1e6) return fmt::format("{:.0f} MB", b / 1e6);
+    return fmt::format("{:.0f} kB", b / 1e3);
+}
+
+std::string memoryProblem(const FrameFootprint& frame) {
+    const uint64_t need = estimateFrameBytes(frame);
+    std::optional<MemoryAvailable> have = availableMemory();
+    if (!have || need <= have->bytes) return {};
+    return fmt::format("a {}x{} {} needs about {} of memory; {} {} available{}", frame.width,
+                       frame.height, frame.sink == FrameSink::Window ? "window" : "image",
+                       formatBytes(need), have->limit.empty() ? "this machine has" : "there is",
+                       formatBytes(have->bytes),
+                       have->limit.empty() ? "" : " under " + have->limit);
+}
+
+} // namespace moire

@@ -1,0 +1,93 @@
+// The memory estimate before a render and the memory the process may have: the figures
+// counted by hand from the buffers a render holds, and the limits read back as they were set.
+#include "runtime/MemoryBudget.h"
+
+#include <doctest/doctest.h>
+#include <fstream>
+#include <string>
+#include <sys/resource.h>
+
+using namespace moire;
+
+namespace {
+
+// VmSize of this process, in bytes, read independently of MemoryBudget.cpp.
+uint64_t mappedBytes() {
+    std::ifstream in("/proc/self/status");
+    for (std::string line; std::getline(in, line);)
+        if (line.rfind("VmSize:", 0) == 0) return std::stoull(line.substr(7)) * 1024;
+    return 0;
+}
+
+} // namespace
+
+TEST_CASE("memory budget: the estimate counts the frame and each copy of it") {
+    // 32768x32768: 2^30 pixels of four float channels is 16 GiB for the frame, and the
+    // writer's float copy as much again; the rest (the process, a 64 MB chunk) is under 1 GB.
+    FrameFootprint png;
+    png.width = png.height = 32768;
+    const double frame = double(uint64_t{1} << 30) * 16;
+    const double pngBytes = double(estimateFrameBytes(png));
+    CHECK(pngBytes >= 2 * frame);
+    CHECK(pngBytes <= 2 * frame + 1e9);
+    // JPEG keeps three channels in its copy.
+    FrameFootprint jpeg = png;
+    jpeg.format = "jpeg";
+    CHECK(double(estimateFrameBytes(jpeg)) == doctest::Approx(pngBytes - frame / 4).epsilon(1e-3));
+    // Layer fields are more channels of the frame.
+    FrameFootprint fields = png;
+    fields.channels = 10;
+    CHECK(double(estimateFrameBytes(fields)) == doctest::Approx(pngBytes + frame * 6 / 4));
+    // Each frame queued for writing is a frame and its writer's copy.
+    FrameFootprint clip = png;
+    clip.queued = 3;
+    CHECK(double(estimateFrameBytes(clip)) >= 8 * frame);
+    // A video frame goes out as 8-bit RGBA; a window keeps several 8-bit copies.
+    FrameFootprint video = png;
+    video.sink = FrameSink::Video;
+    CHECK(double(estimateFrameBytes(video)) >= frame + frame / 4);
+    CHECK(double(estimateFrameBytes(video)) < frame + frame / 4 + 1e9);
+    // A small frame costs about the process alone.
+    FrameFootprint small;
+    small.width = small.height = 16;
+    CHECK(estimateFrameBytes(small) < 400'000'000u);
+}
+
+TEST_CASE("memory budget: the address space limit lowers what is available") {
+    std::optional<MemoryAvailable> free = availableMemory();
+    REQUIRE(free); // /proc/meminfo is there on Linux
+    CHECK(free->bytes > 0);
+
+    rlimit saved{};
+    REQUIRE(getrlimit(RLIMIT_AS, &saved) == 0);
+    const uint64_t headroom = 48ull << 20;
+    const uint64_t mapped = mappedBytes();
+    REQUIRE(mapped > 0);
+    if (saved.rlim_max != RLIM_INFINITY && saved.rlim_max < mapped + headroom) {
+        MESSAGE("skipped: the hard address space limit is already below what the test sets");
+        return;
+    }
+    rlimit tight = saved;
+    tight.rlim_cur = mapped + headroom;
+    REQUIRE(setrlimit(RLIMIT_AS, &tight) == 0);
+    std::optional<MemoryAvailable> limited = availableMemory();
+    FrameFootprint frame;
+    frame.width = frame.height = 4096; // 268 MB of frame alone
+    const std::string problem = memoryProblem(frame);
+    REQUIRE(setrlimit(RLIMIT_AS, &saved) == 0);
+
+    REQUIRE(limited);
+    // What is left under the limit: the headroom, less what the calls above mapped.
+    CHECK(limited->bytes <= headroom);
+    CHECK(limited->bytes + (16u << 20) >= headroom);
+    CHECK(limited->limit.find("ulimit -v") != std::string::npos);
+    CHECK(problem.find("a 4096x4096 image needs about ") == 0);
+    CHECK(problem.find(" of memory; there is ") != std::string::npos);
+    CHECK(problem.find("available under the address space limit (ulimit -v)") != std::string::npos);
+}
+
+TEST_CASE("memory budget: figures as the system's tools print them") {
+    CHECK(formatBytes(21'500'000'000ull) == "21.5 GB");
+    CHECK(formatBytes(512'300'000ull) == "512 MB");
+    CHECK(formatBytes(4'000ull) == "4 kB");
+}

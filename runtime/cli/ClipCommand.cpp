@@ -201,6 +201,16 @@ int clip(const ClipArgs& args) {
             return kExitUserError;
         }
     }
+    FrameFootprint footprint;
+    footprint.width = first.width;
+    footprint.height = first.height;
+    footprint.channels = program->kernel.numOutputs;
+    footprint.sink = video ? FrameSink::Video : FrameSink::ImageFile;
+    footprint.format = video ? std::string() : imageFormatOf(args.output);
+    // While a frame renders, earlier ones are being written (ClipOutput's writes in flight).
+    footprint.queued = video ? 1 : ClipOutput::defaultInFlight();
+    footprint.gpu = args.backend == "vulkan";
+    if (!checkMemory(footprint)) return kExitUserError;
     // A missing output directory is created, as a shard of a longer clip is usually written
     // to a fresh one; something else in its place is an error.
     fs::path dir = fs::path(pattern.name(range.first)).parent_path();

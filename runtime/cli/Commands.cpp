@@ -5,13 +5,16 @@
 #include "compiler/Compile.h"
 #include "runtime/cli/Shared.h"
 #include "runtime/ImageIO.h"
+#include "runtime/MemoryBudget.h"
 #include "runtime/Render.h"
 #include "runtime/TextFile.h"
 #include "runtime/vulkan/VulkanBackend.h"
 #include "runtime/vulkan/VulkanContext.h"
 
 #include <algorithm>
+#include <charconv>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fmt/format.h>
@@ -31,6 +34,12 @@ bool readScene(const std::string& path, Source& out) {
         return true;
     }
     std::string reason;
+    if (path == kStdinPath) {
+        out.path = "<stdin>"; // as diagnostics name it
+        if (readStandardInput(out.text, reason)) return true;
+        fmt::print(stderr, "moire: error: cannot read the scene from standard input: {}\n", reason);
+        return false;
+    }
     out.path = path;
     if (readWholeFile(path, out.text, reason)) return true;
     fmt::print(stderr, "moire: error: cannot read '{}': {}\n", path, reason);
@@ -43,11 +52,55 @@ std::unique_ptr<SceneProgram> compileOrReport(const Source& src, const CompileOp
     return std::move(r.program);
 }
 
+namespace {
+
+// One side of a size: decimal digits only (no sign, space or exponent), 1 to kMaxImageSide.
+// from_chars reports a value past int's range instead of wrapping it, as sscanf's %d did
+// ("4294967297" read as 1).
+bool parseSide(std::string_view t, int& v) {
+    if (t.empty() || t.size() > 9 ||
+        !std::all_of(t.begin(), t.end(), [](char c) { return c >= '0' && c <= '9'; }))
+        return false;
+    int n = 0;
+    auto [end, ec] = std::from_chars(t.data(), t.data() + t.size(), n);
+    if (ec != std::errc() || end != t.data() + t.size() || n < 1 || n > kMaxImageSide) return false;
+    v = n;
+    return true;
+}
+
+} // namespace
+
 bool parseSize(const std::string& s, int& w, int& h) {
-    char x = 0;
-    char extra = 0;
-    return std::sscanf(s.c_str(), "%d%c%d%c", &w, &x, &h, &extra) == 3 && (x == 'x' || x == 'X') &&
-           w >= 1 && h >= 1 && w <= kMaxImageSide && h <= kMaxImageSide;
+    const size_t x = s.find_first_of("xX");
+    if (x == std::string::npos) return false;
+    const std::string_view all(s);
+    int pw = 0, ph = 0;
+    if (!parseSide(all.substr(0, x), pw) || !parseSide(all.substr(x + 1), ph)) return false;
+    w = pw, h = ph;
+    return true;
+}
+
+bool checkTime(double t, const char* option) {
+    if (std::isfinite(t)) return true;
+    fmt::print(stderr, "moire: error: {} must be a finite time in seconds, not {}\n", option, t);
+    return false;
+}
+
+bool checkDpi(double dpi) {
+    // 0 is the default: no resolution recorded. Stored as a 32-bit float in the file.
+    if (dpi == 0.0 || (std::isfinite(dpi) && dpi > 0.0 && dpi <= kMaxDpi)) return true;
+    fmt::print(stderr,
+               "moire: error: --dpi must be a number of dots per inch above 0 and at most {:.0f} "
+               "(or 0: none recorded), not {}\n",
+               kMaxDpi, dpi);
+    return false;
+}
+
+bool checkMemory(const FrameFootprint& frame) {
+    const std::string problem = memoryProblem(frame);
+    if (problem.empty()) return true;
+    fmt::print(stderr, "moire: error: {}\n", problem);
+    return false;
 }
 
 bool parseDepth(const std::string& s, PixelDepth& d) {
@@ -99,9 +152,10 @@ bool checkImageOptions(const ImageArgs& args, ImageOptions& out) {
     }
     out.output = args.output;
     if (out.output.empty())
-        out.output =
-            (args.scene.empty() ? std::string("default") : fs::path(args.scene).stem().string()) +
-            ".png";
+        out.output = (args.scene.empty()         ? std::string("default")
+                      : args.scene == kStdinPath ? std::string("stdin")
+                                                 : fs::path(args.scene).stem().string()) +
+                     ".png";
     if (imageFormatOf(out.output).empty()) {
         fmt::print(
             stderr,
@@ -128,6 +182,7 @@ bool checkBackendArgs(const std::string& backend, int device) {
 }
 
 int render(const RenderArgs& args) {
+    if (!checkTime(args.time, "--time") || !checkDpi(args.dpi)) return kExitUsage;
     ImageOptions image;
     if (!checkImageOptions(
             {args.scene, args.output, args.size, args.depth, args.backend, args.device}, image))
@@ -154,6 +209,13 @@ int render(const RenderArgs& args) {
         fmt::print(stderr, "{}", diags);
         return kExitUserError;
     }
+    FrameFootprint footprint;
+    footprint.width = frame.width;
+    footprint.height = frame.height;
+    footprint.channels = program->kernel.numOutputs;
+    footprint.format = imageFormatOf(output);
+    footprint.gpu = args.backend == "vulkan";
+    if (!checkMemory(footprint)) return kExitUserError;
 
     ExecOptions exec;
     exec.threads = args.threads;

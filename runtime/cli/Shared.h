@@ -4,6 +4,7 @@
 #include "compiler/backend/Backend.h"
 #include "compiler/Compile.h"
 #include "runtime/ImageIO.h"
+#include "runtime/MemoryBudget.h"
 
 #include <chrono>
 #include <memory>
@@ -16,8 +17,13 @@ struct Source {
     std::string text;
 };
 
-// Reads a scene, or the embedded default when `path` is empty. Prints the reason and returns
-// false when the file cannot be read.
+// The scene path that means standard input (render, clip, check, compile).
+inline constexpr const char* kStdinPath = "-";
+// The largest --dpi: a 32-bit float in the file, and far past any printer.
+constexpr double kMaxDpi = 1e6;
+
+// Reads a scene, or the embedded default when `path` is empty, or standard input when it is
+// "-". Prints the reason and returns false when the file cannot be read.
 bool readScene(const std::string& path, Source& out);
 // Compiles, printing any diagnostics; null when the scene has errors.
 std::unique_ptr<SceneProgram> compileOrReport(const Source& src,
@@ -44,6 +50,13 @@ bool checkBackendArgs(const std::string& backend, int device);
 bool checkImageOptions(const ImageArgs& args, ImageOptions& out);
 // "WIDTHxHEIGHT", each side 1 to kMaxImageSide.
 bool parseSize(const std::string& s, int& w, int& h);
+// --time, --from: a finite number of seconds; prints the reason when not.
+bool checkTime(double t, const char* option);
+// --dpi: 0 (none recorded) or finite, above 0 and at most kMaxDpi; prints the reason when not.
+bool checkDpi(double dpi);
+// Prints "moire: error: a WxH image needs about ..." and returns false when the frame will
+// not fit in the memory this process can have (MemoryBudget.h).
+bool checkMemory(const FrameFootprint& frame);
 // --depth: "" (the format's default), 8, 16, half, float.
 bool parseDepth(const std::string& s, PixelDepth& d);
 // The backend as a closing line names it: Vulkan says which device drew the image.

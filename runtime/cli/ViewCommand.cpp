@@ -33,6 +33,12 @@ int hardwareGpu() {
 } // namespace
 
 int view(const ViewArgs& args) {
+    if (args.scene == kStdinPath) {
+        fmt::print(stderr, "moire: error: view follows a scene file as it is saved; standard "
+                           "input ('-') cannot be watched\n");
+        return kExitUsage;
+    }
+    if (!checkTime(args.time, "--time")) return kExitUsage;
     int w = 0, h = 0;
     if (!args.size.empty() && !parseSize(args.size, w, h)) {
         fmt::print(stderr,
@@ -42,6 +48,14 @@ int view(const ViewArgs& args) {
         return kExitUsage;
     }
     if (!checkBackendArgs(args.backend, args.device)) return kExitUsage;
+    if (w > 0) {
+        // Without --size the window opens at most the screen's size.
+        FrameFootprint footprint;
+        footprint.width = w;
+        footprint.height = h;
+        footprint.sink = FrameSink::Window;
+        if (!checkMemory(footprint)) return kExitUserError;
+    }
 
     std::unique_ptr<Backend> backend;
     if (args.backend.empty() && args.device < 0) {

@@ -37,6 +37,12 @@ void printReport(const WatchReport& r, const WatchArgs& args, const Backend& bac
 } // namespace
 
 int watch(const WatchArgs& args) {
+    if (args.scene == kStdinPath) {
+        fmt::print(stderr, "moire: error: watch follows a scene file as it is saved; standard "
+                           "input ('-') cannot be watched (use 'moire render -')\n");
+        return kExitUsage;
+    }
+    if (!checkTime(args.time, "--time")) return kExitUsage;
     ImageOptions image;
     if (!checkImageOptions(
             {args.scene, args.output, args.size, args.depth, args.backend, args.device}, image))

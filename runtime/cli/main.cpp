@@ -4,6 +4,7 @@
 
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
+#include <new>
 
 int main(int argc, char** argv) {
     using namespace moire;
@@ -17,7 +18,8 @@ int main(int argc, char** argv) {
     cli::RenderArgs renderArgs;
     CLI::App* renderCmd = app.add_subcommand("render", "Render a scene to an image file");
     renderCmd->add_option("scene", renderArgs.scene,
-                          "The .moire scene (default: the embedded default scene)");
+                          "The .moire scene, - for standard input (default: the embedded "
+                          "default scene)");
     renderCmd->add_option(
         "-o,--output", renderArgs.output,
         "Image to write: .png (8/16-bit), .tif (16/8-bit), .exr (float/half), .jpg");
@@ -31,7 +33,9 @@ int main(int argc, char** argv) {
                      "the first discrete GPU, else the first device)")
         ->check(CLI::NonNegativeNumber);
     renderCmd->add_option("--depth", renderArgs.depth, "Bits per channel: 8, 16, half or float");
-    renderCmd->add_option("--dpi", renderArgs.dpi, "Print resolution to record in the file");
+    renderCmd->add_option("--dpi", renderArgs.dpi,
+                          "Print resolution to record in the file, in dots per inch (above 0, "
+                          "at most 1000000; default 0: none recorded)");
     renderCmd->add_option("--threads", renderArgs.threads, "Worker threads (default: all cores)");
     renderCmd->add_flag("-q,--quiet", renderArgs.quiet, "Print nothing but errors");
 
@@ -39,7 +43,8 @@ int main(int argc, char** argv) {
     CLI::App* clipCmd = app.add_subcommand(
         "clip", "Render an animation: numbered images or a video (.mp4, .webm, .gif)");
     clipCmd->add_option("scene", clipArgs.scene,
-                        "The .moire scene (default: the embedded default scene)");
+                        "The .moire scene, - for standard input (default: the embedded default "
+                        "scene)");
     clipCmd->add_option("-o,--output", clipArgs.output,
                         "Frames as a numbered image name (frame_%04d.png; .png, .tif, .exr, .jpg) "
                         "or one video file (.mp4, .webm, .gif; needs ffmpeg)");
@@ -124,14 +129,15 @@ int main(int argc, char** argv) {
         "alt-drag (or ctrl-drag) turns the selected layer about the world origin; a click on a\n"
         "stroke selects its layer. Keys: 1-9 select a layer, 0 or Esc none; space pauses and\n"
         "plays; . and , step a frame; the arrows move the clock 1 s (shift: 0.1 s); r resets\n"
-        "the view; s saves a still beside the scene; p prints the placement as .moire text;\n"
-        "h hides the status line; q quits. Saves reload; a save with errors keeps the last\n"
-        "good picture under the diagnostics.");
+        "the view; s saves a still beside the scene; p prints the placement; w writes it\n"
+        "into the scene file; h hides the status line; q quits. Saves reload; a save with\n"
+        "errors keeps the last good picture under the diagnostics.");
 
     std::vector<std::string> checkScenes;
     bool checkQuiet = false;
     CLI::App* checkCmd = app.add_subcommand("check", "Check scenes for errors without rendering");
-    checkCmd->add_option("scenes", checkScenes, "The .moire scenes")->required();
+    checkCmd->add_option("scenes", checkScenes, "The .moire scenes, - for standard input")
+        ->required();
     checkCmd->add_flag("-q,--quiet", checkQuiet, "Print nothing but errors");
 
     CLI::App* devicesCmd = app.add_subcommand("devices", "List the Vulkan devices");
@@ -139,7 +145,8 @@ int main(int argc, char** argv) {
     cli::CompileArgs compileArgs;
     CLI::App* compileCmd = app.add_subcommand("compile", "Show a stage of the compiler");
     compileCmd->add_option("scene", compileArgs.scene,
-                           "The .moire scene (default: the embedded default scene)");
+                           "The .moire scene, - for standard input (default: the embedded "
+                           "default scene)");
     compileCmd->add_option("--dump", compileArgs.dump,
                            "ast, ir, ir-ad, frame, kernel, llvm, glsl or spirv (default ir)");
     compileCmd->add_flag("--fields", compileArgs.layerFields,
@@ -164,6 +171,11 @@ int main(int argc, char** argv) {
         if (*devicesCmd) return cli::devices();
         fmt::print("{}", app.help());
         return 0;
+    } catch (const std::bad_alloc&) {
+        // The estimate before a render (MemoryBudget.h) catches the sizes known to be too
+        // large; this is whatever else runs out, said as the user's problem, not ours.
+        fmt::print(stderr, "moire: error: out of memory\n");
+        return cli::kExitUserError;
     } catch (const InternalError& e) {
         fmt::print(stderr, "moire: {}\nPlease report this with the scene that caused it.\n",
                    e.what());

@@ -1,8 +1,10 @@
 #include "runtime/live/WatchSession.h"
 
 #include "compiler/backend/Backend.h"
+#include "runtime/MemoryBudget.h"
 
 #include <fmt/format.h>
+#include <new>
 
 namespace moire {
 
@@ -54,6 +56,16 @@ WatchReport WatchSession::handle(const BuildResult& b) {
     req.literals = nullptr;
     FrameValues frame;
     if (!evaluateFrame(*b.build->program, req, frame, r.diagnostics)) return r;
+    FrameFootprint footprint;
+    footprint.width = frame.width;
+    footprint.height = frame.height;
+    footprint.channels = b.build->kernel->numOutputs();
+    footprint.format = imageFormatOf(options_.output);
+    footprint.gpu = b.build->kernel->wholeFrame();
+    if (std::string problem = memoryProblem(footprint); !problem.empty()) {
+        r.diagnostics = fmt::format("moire: error: {}\n", problem);
+        return r;
+    }
     auto t0 = std::chrono::steady_clock::now();
     Image img;
     try {
@@ -64,6 +76,10 @@ WatchReport WatchSession::handle(const BuildResult& b) {
         img = runKernel(*b.build->kernel, kf, options_.exec);
         r.renderMs = msSince(t0);
         writeImage(options_.output, img, options_.write);
+    } catch (const std::bad_alloc&) {
+        r.diagnostics = fmt::format("moire: error: out of memory rendering a {}x{} image\n",
+                                    frame.width, frame.height);
+        return r;
     } catch (const std::exception& e) { // a lost device, a full disk, a vanished directory
         r.diagnostics = fmt::format("moire: error: {}\n", e.what());
         return r;

@@ -5,9 +5,11 @@
 // last frame, and `s` writes the frame as a still. Skipped where Xvfb or xdotool is missing.
 #include "runtime/FrameEval.h"
 #include "runtime/ImageIO.h"
+#include "runtime/view/Placement.h"
 #include "runtime/view/ViewCamera.h"
 #include "tests/support/Support.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <csignal>
@@ -279,10 +281,11 @@ struct Placed {
 // A running `moire view --trace` and what its trace says.
 class Viewer {
   public:
-    Viewer(const test::TempDir& dir, const VirtualScreen& screen, const std::string& scene)
+    Viewer(const test::TempDir& dir, const VirtualScreen& screen, const std::string& scene,
+           bool paused = true)
         : dir_(dir), screen_(screen), errPath_(dir.file("view.err")),
-          process_({test::moireBinary(), "view", scene, "--size", "320x200", "--paused", "--trace",
-                    "--backend", "jit"},
+          process_({test::moireBinary(), "view", scene, "--size", "320x200",
+                    paused ? "--paused" : "--time=0", "--trace", "--backend", "jit"},
                    {"DISPLAY=" + screen.display()}, true, errPath_) {}
 
     std::string stderrText() const {
@@ -301,10 +304,11 @@ class Viewer {
             lines_.push_back(*line);
             std::smatch m;
             if (std::regex_match(*line, m,
-                                 std::regex(R"(frame (\d+) \d+x\d+ t=\S+ (\w+) v=(\d+))"))) {
+                                 std::regex(R"(frame (\d+) \d+x\d+ t=(\S+) (\w+) v=(\d+))"))) {
                 frames_ = std::stoi(m[1]);
-                if (m[2] == "full")
-                    fullVersion_ = std::max<uint64_t>(fullVersion_, std::stoull(m[3]));
+                time_ = std::stod(m[2]);
+                if (m[3] == "full")
+                    fullVersion_ = std::max<uint64_t>(fullVersion_, std::stoull(m[4]));
             }
             if (pred(*line)) return line;
         }
@@ -324,6 +328,9 @@ class Viewer {
         return waitLine([&](const std::string&) { return fullVersion_ > 0; }, 30.0).has_value();
     }
     uint64_t fullVersion() const { return fullVersion_; }
+    // The clock time of the last frame presented.
+    double shownTime() const { return time_; }
+    int frames() const { return frames_; }
 
     // Presses `p` and reads the placement up to its `placed` line.
     Placed place() {
@@ -351,6 +358,7 @@ class Viewer {
     Process process_;
     std::vector<std::string> lines_;
     int frames_ = 0;
+    double time_ = 0.0;
     uint64_t fullVersion_ = 0;
 };
 
@@ -423,10 +431,10 @@ struct Session {
     std::pair<int, int> origin;
 
     // False (with a message) when this machine cannot open a window.
-    bool start() {
+    bool start(const std::string& scene = kScene, bool paused = true) {
         REQUIRE_MESSAGE(screen.ok(), "Xvfb did not start");
-        dir.write("s.moire", kScene);
-        viewer.emplace(dir, screen, dir.file("s.moire"));
+        dir.write("s.moire", scene);
+        viewer.emplace(dir, screen, dir.file("s.moire"), paused);
         if (!started(*viewer)) return false;
         origin = windowOrigin(screen);
         screen.xdo("key h");
@@ -577,6 +585,120 @@ TEST_CASE("view: a save reloads, a broken save shows its errors, s saves a still
         Rgb still = toRgb(readImage(dir.file(name)));
         CHECK(differing(still, good) == 0);
     }
+
+    screen.xdo("key q");
+    CHECK(viewer.process().wait(5.0) == 0);
+}
+
+TEST_CASE("view: pausing stops at the frame on screen, and a step moves it by 1/30 s") {
+    SKIP_WITHOUT_X();
+    Session session;
+    if (!session.start(kScene, false)) return;
+    Viewer& viewer = *session.viewer;
+    // The clock runs over a still picture: a frame about ten times a second, t advancing.
+    const double first = viewer.shownTime();
+    const int seen = viewer.frames();
+    REQUIRE(viewer.waitLine([&](const std::string&) { return viewer.frames() >= seen + 4; }));
+    CHECK(viewer.shownTime() > first);
+
+    session.screen.xdo("key space");
+    // Whatever frames were on their way have arrived: the time on screen is the paused one.
+    viewer.waitLine([](const std::string&) { return false; }, 0.6);
+    const double paused = viewer.shownTime();
+    session.screen.xdo("key period");
+    REQUIRE(viewer.waitLine([&](const std::string&) { return viewer.shownTime() != paused; }));
+    // Exactly one step from the time shown (the trace prints four decimals); it was 1/30 s
+    // plus however long the clock had run since the last frame (up to 0.1 s).
+    CHECK(std::fabs(viewer.shownTime() - paused - 1.0 / 30.0) < 2e-4);
+
+    session.screen.xdo("key q");
+    CHECK(viewer.process().wait(5.0) == 0);
+}
+
+TEST_CASE("view: w writes the placement into the scene file, which draws what the window shows") {
+    SKIP_WITHOUT_X();
+    // Comments and layout the write must keep; layer a writes its origin, layer b's rotation
+    // only, and there is no camera block.
+    const std::string scene = R"(// two layers, placed by hand
+scene { size = (320, 200); background = #f6f3ec }
+layer a { family = circles; spacing = 6; stroke = 1.7; color = #18181c; origin = (-24, 0) }
+/* b turns */ layer b { family = squares; spacing = 7; stroke = 1.5; color = #203080
+          rotation = 15deg }
+)";
+    Session session;
+    if (!session.start(scene)) return;
+    test::TempDir& dir = session.dir;
+    VirtualScreen& screen = session.screen;
+    Viewer& viewer = *session.viewer;
+    auto at = [&](double x, double y) { return session.at(x, y); };
+
+    // Zoom, pan, move layer a, turn layer b.
+    screen.xdo("mousemove " + at(100, 80) + " click 4");
+    screen.xdo("mousemove " + at(150, 100) + " mousedown 1 mousemove " + at(170, 110) +
+               " mousemove " + at(190, 120) + " mouseup 1");
+    screen.xdo("key 1");
+    screen.xdo("mousemove " + at(60, 60) + " mousedown 1 mousemove " + at(75, 65) + " mousemove " +
+               at(90, 70) + " mouseup 1");
+    screen.xdo("key 2");
+    screen.xdo("keydown alt mousemove " + at(250, 60) + " mousedown 1 mousemove " + at(252, 90) +
+               " mousemove " + at(250, 120) + " mouseup 1 keyup alt");
+    Placed placed = viewer.place();
+    REQUIRE(viewer.settled(placed.version));
+    const auto shot =
+        readScreen(screen.fbFile(), session.origin.first, session.origin.second, 320, 200);
+    REQUIRE(shot);
+
+    screen.xdo("key w");
+    auto wrote = viewer.waitLine(
+        [](const std::string& l) { return l.rfind("moire: wrote the placement into ", 0) == 0; });
+    REQUIRE_MESSAGE(wrote, viewer.stderrText());
+    const std::string written = test::readFile(dir.file("s.moire"));
+    INFO("written:\n", written);
+    // Edited in place: the rest of the text as it was, one scene, one camera, one layer a.
+    CHECK(written.rfind("// two layers, placed by hand\nscene { size = (320, 200); background = "
+                        "#f6f3ec }\ncamera { center = (",
+                        0) == 0);
+    CHECK(written.find("/* b turns */ layer b { rotation = ") == std::string::npos);
+    CHECK(written.find("/* b turns */ layer b { origin = (") != std::string::npos);
+    CHECK(written.find("color = #203080\n          rotation = ") != std::string::npos);
+    CHECK(written.find("origin = (-24, 0)") == std::string::npos);
+    CHECK(std::count(written.begin(), written.end(), '{') == 4);
+    // No temporary left beside it.
+    for (const std::string& name : dir.names()) CHECK(name.find(".tmp") == std::string::npos);
+
+    // The written scene renders what the window showed.
+    Rgb expect = offline(dir, written);
+    CHECK(differing(*shot, expect) == 0);
+    // And after its reload the window still shows it, the view's adjustments now the
+    // scene's own: `p` prints the written camera, and no layer moved.
+    auto reloaded = [&] {
+        return viewer.stderrText().find("moire: reloaded") != std::string::npos;
+    };
+    REQUIRE(viewer.waitLine([&](const std::string&) { return reloaded(); }));
+    Placed after = viewer.place();
+    REQUIRE(viewer.settled(after.version));
+    CHECK(after.text.find("layer a") == std::string::npos);
+    CHECK(after.text.find("layer b") == std::string::npos);
+    CHECK(written.find("center = (" + view::formatNumber(after.cx) + ", " +
+                       view::formatNumber(after.cy) + ")") != std::string::npos);
+    CHECK(differing(windowMatching(screen, session.origin, expect), expect) == 0);
+
+    // A save with errors is newer work than the view: w leaves it alone.
+    dir.write("s.moire", "scene { size = (320, 200) }\nlayer a { family = circles; spacing = 6 +");
+    REQUIRE(viewer.nextFrame());
+    // The trace has nothing more to say (the clock is paused): watch stderr.
+    auto stderrSays = [&](const std::string& what) {
+        for (auto end = Clock::now() + std::chrono::seconds(10);
+             viewer.stderrText().find(what) == std::string::npos && Clock::now() < end;)
+            std::this_thread::sleep_for(std::chrono::milliseconds(20));
+        return viewer.stderrText().find(what) != std::string::npos;
+    };
+    REQUIRE(stderrSays("s.moire:2:"));
+    screen.xdo("key w");
+    REQUIRE(stderrSays("cannot write the placement"));
+    CHECK(viewer.stderrText().find("cannot write the placement: the file has errors") !=
+          std::string::npos);
+    CHECK(test::readFile(dir.file("s.moire")).find("spacing = 6 +") != std::string::npos);
 
     screen.xdo("key q");
     CHECK(viewer.process().wait(5.0) == 0);

@@ -10,6 +10,7 @@
 #include <exception>
 #include <filesystem>
 #include <fmt/format.h>
+#include <new>
 #include <utility>
 
 namespace moire::view {
@@ -156,7 +157,11 @@ void FrameRenderer::renderJob(const RenderJob& job) {
         RenderedFrame failed;
         failed.version = job.version;
         failed.time = job.time;
-        failed.error = std::string("moire: error: ") + e.what();
+        const bool memory = dynamic_cast<const std::bad_alloc*>(&e) != nullptr;
+        failed.error = fmt::format(
+            "moire: error: {}",
+            memory ? fmt::format("out of memory drawing a {}x{} frame", job.width, job.height)
+                   : std::string(e.what()));
         publish(std::move(failed));
     }
 }

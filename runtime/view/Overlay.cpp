@@ -16,24 +16,35 @@ std::string fitted(const std::string& line, int width, int scale) {
 
 } // namespace
 
-std::vector<std::string> errorHeadlines(const std::string& diagnostics, size_t max) {
-    std::vector<std::string> lines, headlines;
+std::vector<std::string> errorLines(const std::string& diagnostics, size_t max) {
+    // Each diagnostic: a headline at the margin, then its indented source and caret lines.
+    std::vector<std::vector<std::string>> groups;
     std::istringstream in(diagnostics);
     for (std::string line; std::getline(in, line);) {
         if (!line.empty() && line.back() == '\r') line.pop_back();
         if (line.empty()) continue;
-        lines.push_back(line);
-        // The quoted source and its caret are indented; a headline starts at the margin.
-        if (line[0] != ' ' && (line.find(": error: ") != std::string::npos ||
-                               line.find(": warning: ") != std::string::npos ||
-                               line.find(": note: ") != std::string::npos))
-            headlines.push_back(line);
+        const bool headline = line[0] != ' ';
+        if (headline || groups.empty()) groups.emplace_back();
+        groups.back().push_back(line);
     }
-    std::vector<std::string>& out = headlines.empty() ? lines : headlines;
-    if (out.size() > max) {
-        const size_t more = out.size() - (max - 1);
-        out.resize(max - 1);
-        out.push_back("(and " + std::to_string(more) + " more)");
+    max = std::max<size_t>(max, 2);
+    std::vector<std::string> out;
+    for (size_t g = 0; g < groups.size(); ++g) {
+        const size_t left = groups.size() - g;
+        // Room for this group, and for the "(and N more)" line if others follow it.
+        const size_t room = max - out.size() - (left > 1 ? 1 : 0);
+        if (groups[g].size() > room) {
+            if (out.empty()) { // the first diagnostic is shown, as much of it as fits
+                out.assign(groups[g].begin(),
+                           groups[g].begin() + static_cast<std::ptrdiff_t>(std::min(
+                                                   groups[g].size(), max - (left > 1 ? 1 : 0))));
+                if (left > 1) out.push_back("(and " + std::to_string(left - 1) + " more)");
+            } else {
+                out.push_back("(and " + std::to_string(left) + " more)");
+            }
+            return out;
+        }
+        out.insert(out.end(), groups[g].begin(), groups[g].end());
     }
     return out;
 }

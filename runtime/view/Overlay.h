@@ -15,10 +15,12 @@ struct OverlayText {
     std::vector<std::string> errorLines; // empty: no error box
 };
 
-// The headline of each diagnostic (`file:line:col: error: message`), without the quoted
-// source and caret lines, at most `max` of them; the first lines as they are when none looks
-// like a diagnostic.
-std::vector<std::string> errorHeadlines(const std::string& diagnostics, size_t max = 6);
+// The diagnostics as the terminal shows them, each whole: its headline
+// (`file:line:col: error: message`), the quoted source line and the caret under the value
+// (the font is fixed-width, so the caret stands under its column). As many whole diagnostics
+// as fit in `max` lines (the first always), then "(and N more)"; text that does not look like
+// diagnostics (a backend's failure) is shown as it is, up to `max` lines.
+std::vector<std::string> errorLines(const std::string& diagnostics, size_t max = 12);
 
 // The status line's height in pixels at `scale`.
 int statusHeight(int scale);

@@ -143,7 +143,12 @@ class Writer {
         }
     }
 
-    std::string camera(const ViewAdjust& view) const {
+    // The camera's center and zoom with the view's pan and zoom applied, and its rotation
+    // as the scene writes it (empty when it writes none: the viewer never turns the camera).
+    struct CameraValues {
+        std::string center, zoom, rotation;
+    };
+    CameraValues camera(const ViewAdjust& view) const {
         const ast::Decl* cam = program_.checked.camera;
         const Expr* center =
             cam && cam->prop("center") ? cam->prop("center")->value.get() : nullptr;
@@ -151,52 +156,55 @@ class Writer {
         const Expr* turn =
             cam && cam->prop("rotation") ? cam->prop("rotation")->value.get() : nullptr;
 
-        std::string out = "camera { center = ";
+        CameraValues out;
         if (!center || literalVec(center)) {
             Vec c = center ? *literalVec(center) : Vec{};
-            out += vec(c.x + view.panX, c.y + view.panY);
+            out.center = vec(c.x + view.panX, c.y + view.panY);
         } else {
-            out += text(*center);
-            if (view.panX != 0.0 || view.panY != 0.0) out += " + " + vec(view.panX, view.panY);
+            out.center = text(*center);
+            if (view.panX != 0.0 || view.panY != 0.0)
+                out.center += " + " + vec(view.panX, view.panY);
         }
-        out += "; zoom = ";
         if (!zoom || literal(zoom)) {
-            out += formatNumber((zoom ? *literal(zoom) : 1.0) * view.zoomFactor);
+            out.zoom = formatNumber((zoom ? *literal(zoom) : 1.0) * view.zoomFactor);
         } else {
             const bool sum = zoom->kind == ExprKind::Binary &&
                              (zoom->bin == ast::BinOp::Add || zoom->bin == ast::BinOp::Sub);
-            out += sum ? "(" + text(*zoom) + ")" : text(*zoom);
-            if (view.zoomFactor != 1.0) out += " * " + formatNumber(view.zoomFactor);
+            out.zoom = sum ? "(" + text(*zoom) + ")" : text(*zoom);
+            if (view.zoomFactor != 1.0) out.zoom += " * " + formatNumber(view.zoomFactor);
         }
-        if (turn) out += "; rotation = " + text(*turn); // the viewer never turns the camera
-        return out + "; }\n";
+        if (turn) out.rotation = text(*turn);
+        return out;
     }
 
     // Layer i moved by m: its points go from p to Rot(m.turn) p + d, so its origin o becomes
-    // Rot(m.turn) o + d and its rotation gains m.turn.
-    std::string layer(int i, const LayerMotion& m) const {
+    // Rot(m.turn) o + d and its rotation gains m.turn. `note` is set when the origin is an
+    // expression the language cannot turn: `origin` is then the scene's text, unturned.
+    struct LayerValues {
+        std::string origin, rotation, note;
+    };
+    LayerValues layer(int i, const LayerMotion& m) const {
         const sema::CheckedLayer& layer = program_.checked.layers[i];
         const Expr* origin = layer.prop("origin");
         const Expr* turn = layer.prop("rotation");
-        std::string note;
+        LayerValues out;
 
-        std::string o;
+        std::string& o = out.origin;
         if (!origin || literalVec(origin)) {
             Vec v = rotated(origin ? *literalVec(origin) : Vec{}, m.turn);
             o = vec(v.x + m.dx, v.y + m.dy);
         } else {
             o = m.turn == 0.0 ? text(*origin) : turned(*origin, m.turn);
             if (o.empty()) {
-                // Cannot be turned in the language: keep the scene's text and say what to do.
                 o = text(*origin);
-                note = fmt::format("  // turn the origin by {} about (0, 0), then add {}",
-                                   degrees(m.turn), vec(m.dx, m.dy));
+                out.note = fmt::format("turn the origin by {} about (0, 0), then add {}",
+                                       degrees(m.turn), vec(m.dx, m.dy));
             } else if (m.dx != 0.0 || m.dy != 0.0) {
                 o += " + " + vec(m.dx, m.dy);
             }
         }
 
-        std::string r;
+        std::string& r = out.rotation;
         if (!turn || literal(turn)) {
             r = degrees((turn ? *literal(turn) : 0.0) + m.turn);
         } else {
@@ -206,12 +214,7 @@ class Writer {
                 r += (deg < 0 ? " - " : " + ") + degrees(std::fabs(m.turn));
             }
         }
-
-        const std::string& name = layer.decl->name;
-        std::string head = name.empty() ? "layer" : "layer " + name;
-        std::string line = head + " { origin = " + o + "; rotation = " + r + " }";
-        if (name.empty()) line += fmt::format("  // layer {} (unnamed)", i + 1);
-        return line + note + "\n";
+        return out;
     }
 
   private:
@@ -222,11 +225,101 @@ class Writer {
 
 std::string placementText(const SceneProgram& program, const ViewAdjust& view) {
     Writer w(program);
-    std::string out = w.camera(view);
+    const Writer::CameraValues cam = w.camera(view);
+    std::string out = "camera { center = " + cam.center + "; zoom = " + cam.zoom;
+    if (!cam.rotation.empty()) out += "; rotation = " + cam.rotation;
+    out += "; }\n";
     const int n = static_cast<int>(program.checked.layers.size());
-    for (int i = 0; i < n; ++i)
-        if (!view.layer(i).identity()) out += w.layer(i, view.layer(i));
+    for (int i = 0; i < n; ++i) {
+        if (view.layer(i).identity()) continue;
+        const Writer::LayerValues l = w.layer(i, view.layer(i));
+        const std::string& name = program.checked.layers[i].decl->name;
+        out += (name.empty() ? std::string("layer") : "layer " + name) + " { origin = " + l.origin +
+               "; rotation = " + l.rotation + " }";
+        if (name.empty()) out += fmt::format("  // layer {} (unnamed)", i + 1);
+        if (!l.note.empty()) out += "  // " + l.note;
+        out += "\n";
+    }
     return out;
+}
+
+namespace {
+
+// A replacement of `length` bytes at `offset` of the scene's text.
+struct Edit {
+    size_t offset, length;
+    std::string text;
+    size_t order = 0; // insertions at one offset keep the order they were made in
+};
+
+// Sets property `name` of the block `decl` to `value`: the value's text replaced where the
+// block writes one, else the property added first in the block.
+void setProperty(const std::string& source, const ast::Decl& decl, const char* name,
+                 const std::string& value, std::vector<Edit>& edits) {
+    if (const ast::Property* p = decl.prop(name)) {
+        edits.push_back({p->value->range.begin.offset, p->value->range.length, value});
+        return;
+    }
+    const size_t open = source.find('{', decl.range.begin.offset);
+    if (open == std::string::npos) return;
+    edits.push_back({open + 1, 0, fmt::format(" {} = {};", name, value)});
+}
+
+} // namespace
+
+bool placedSource(const SceneProgram& program, const ViewAdjust& view, std::string& out,
+                  std::string& why) {
+    const SourceFile& file = program.sources->file(program.userModule().file);
+    const std::string& source = file.text();
+    Writer w(program);
+    std::vector<Edit> edits;
+
+    const bool moved = view.panX != 0.0 || view.panY != 0.0 || view.zoomFactor != 1.0;
+    if (moved) {
+        const Writer::CameraValues cam = w.camera(view);
+        if (const ast::Decl* decl = program.checked.camera) {
+            if (view.panX != 0.0 || view.panY != 0.0)
+                setProperty(source, *decl, "center", cam.center, edits);
+            if (view.zoomFactor != 1.0) setProperty(source, *decl, "zoom", cam.zoom, edits);
+        } else {
+            // A new block on its own line before the first layer (or at the end).
+            size_t at = source.size();
+            if (!program.checked.layers.empty()) {
+                at = program.checked.layers[0].decl->range.begin.offset;
+                const size_t nl = source.rfind('\n', at == 0 ? 0 : at - 1);
+                at = at == 0 || nl == std::string::npos ? 0 : nl + 1;
+            }
+            std::string block = "camera { center = " + cam.center + "; zoom = " + cam.zoom + " }\n";
+            if (at == source.size() && !source.empty() && source.back() != '\n')
+                block = "\n" + block;
+            edits.push_back({at, 0, block});
+        }
+    }
+    const int n = static_cast<int>(program.checked.layers.size());
+    for (int i = 0; i < n; ++i) {
+        const LayerMotion& m = view.layer(i);
+        if (m.identity()) continue;
+        const Writer::LayerValues l = w.layer(i, m);
+        const ast::Decl& decl = *program.checked.layers[i].decl;
+        if (!l.note.empty()) {
+            why = fmt::format("the origin of layer {} is an expression that cannot be turned in "
+                              "the language: {}",
+                              decl.name.empty() ? std::to_string(i + 1) : "'" + decl.name + "'",
+                              l.note);
+            return false;
+        }
+        if (m.dx != 0.0 || m.dy != 0.0 || m.turn != 0.0)
+            setProperty(source, decl, "origin", l.origin, edits);
+        if (m.turn != 0.0) setProperty(source, decl, "rotation", l.rotation, edits);
+    }
+    // From the end, so that each edit's offset still holds when it is made.
+    for (size_t i = 0; i < edits.size(); ++i) edits[i].order = i;
+    std::sort(edits.begin(), edits.end(), [](const Edit& a, const Edit& b) {
+        return a.offset != b.offset ? a.offset > b.offset : a.order > b.order;
+    });
+    out = source;
+    for (const Edit& e : edits) out.replace(e.offset, e.length, e.text);
+    return true;
 }
 
 } // namespace moire::view

@@ -26,7 +26,17 @@ std::string formatNumber(double v);
 // The placement as .moire text: a `camera { ... }` block, then `layer NAME { origin = ...;
 // rotation = ... }` for each layer the view moves or turns. `program` must be the program
 // the view adjusts (its checked AST points at the source the text is taken from).
+// These are the values to set in the scene's blocks, not blocks to paste beside them (a
+// second camera block, or a second layer of the same name, is an error).
 std::string placementText(const SceneProgram& program, const ViewAdjust& view);
+
+// The scene's own text with the placement written into it (the viewer's `w`): the camera
+// block's center and zoom, and each moved layer's origin and rotation, replaced where the
+// scene writes them and added to the block where it does not (a camera block is added when
+// there is none); every other byte, comments and layout included, is kept. False, with the
+// reason, when a layer's origin is an expression the language cannot turn.
+bool placedSource(const SceneProgram& program, const ViewAdjust& view, std::string& out,
+                  std::string& why);
 
 } // namespace view
 } // namespace moire

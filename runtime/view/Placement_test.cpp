@@ -173,3 +173,76 @@ TEST_CASE("placement: expressions keep the scene's text, the offset added on top
         CHECK(body(placement, "layer b").find("rotation = -40.10705deg") != std::string::npos);
     }
 }
+
+namespace {
+
+// Writes the placement into the scene's text and checks that the result compiles to one
+// scene that draws what the adjusted view drew, at several times.
+std::string checkPlaced(const std::string& text, const ViewAdjust& view) {
+    auto original = test::compileOk(text, {.interactive = true});
+    std::string placed, why;
+    REQUIRE_MESSAGE(placedSource(*original, view, placed, why), why);
+    INFO("placed scene:\n", placed);
+    auto back = test::compileOk(placed);
+    for (double t : {0.0, 1.3, 5.1}) {
+        CAPTURE(t);
+        test::ImageDiff d =
+            test::compareImages(drawAdjusted(*original, view, t), drawPlain(*back, t), 1e-3);
+        CHECK(d.maxAbs < 2e-3);
+    }
+    return placed;
+}
+
+} // namespace
+
+TEST_CASE("placement: written into the scene's text, in place, the rest kept") {
+    SUBCASE("literals and expressions replaced where the scene writes them") {
+        const std::string text =
+            scene("// the camera\ncamera { center = ramp(sway, (0, 0), (10, 5)); zoom = 1.5 }",
+                  "origin = (-10, 4); rotation = 15deg /* kept */",
+                  "origin = (5 * sin(tau * t / 4), 2)", "rotation = t * 20deg");
+        ViewAdjust view;
+        view.panX = 2;
+        view.zoomFactor = 2;
+        view.layerRef(0) = {4.0, -3.0, 30 * std::numbers::pi / 180};
+        view.layerRef(1) = {1.0, 0.5, 0.0};
+        view.layerRef(2) = {0.0, 2.0, 0.25};
+        const std::string placed = checkPlaced(text, view);
+        CHECK(placed.find("// the camera\ncamera { center = ramp(sway, (0, 0), (10, 5)) + (2, 0); "
+                          "zoom = 3 }") != std::string::npos);
+        CHECK(placed.find("rotation = 45deg /* kept */ }") != std::string::npos);
+        CHECK(placed.find("origin = (5 * sin(tau * t / 4), 2) + (1, 0.5) }") != std::string::npos);
+        // The unnamed layer had no origin: it is added at the start of its block.
+        CHECK(placed.find("layer { origin = (0, 2); family = lines;") != std::string::npos);
+        CHECK(placed.find("rotation = t * 20deg + 14.32394deg }") != std::string::npos);
+        // Nothing else changed: the text before the camera and after the last layer.
+        CHECK(placed.rfind(text.substr(0, text.find("// the camera")), 0) == 0);
+    }
+    SUBCASE("a camera block added when there is none, properties added where missing") {
+        const std::string text = scene("", "", "rotation = 10deg", "");
+        ViewAdjust view;
+        view.panY = -3;
+        view.layerRef(0) = {0.0, 0.0, 0.5};
+        const std::string placed = checkPlaced(text, view);
+        CHECK(placed.find("\ncamera { center = (0, -3); zoom = 1 }\nlayer a {") !=
+              std::string::npos);
+        // Both added to layer a, origin first.
+        CHECK(placed.find("layer a { origin = (0, 0); rotation = 28.64789deg; family = circles") !=
+              std::string::npos);
+    }
+    SUBCASE("no motion, no change") {
+        const std::string text = scene("camera { zoom = 2 }", "", "", "");
+        CHECK(checkPlaced(text, ViewAdjust{}) == text);
+    }
+    SUBCASE("an origin the language cannot turn is refused, saying why") {
+        const std::string text = "scene { size = (90, 60) }\n"
+                                 "field o = (3, 4)\n"
+                                 "layer a { family = circles; origin = o }\n";
+        auto program = test::compileOk(text, {.interactive = true});
+        ViewAdjust view;
+        view.layerRef(0) = {1.0, 0.0, 0.3};
+        std::string placed, why;
+        CHECK(!placedSource(*program, view, placed, why));
+        CHECK(why.find("the origin of layer 'a' is an expression that cannot be turned") == 0);
+    }
+}

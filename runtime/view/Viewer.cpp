@@ -9,6 +9,7 @@
 #include "runtime/view/Overlay.h"
 #include "runtime/view/Placement.h"
 #include "runtime/view/ViewCamera.h"
+#include "runtime/view/ViewClock.h"
 
 #define GLFW_INCLUDE_NONE
 #include <algorithm>
@@ -23,6 +24,7 @@
 #include <GLFW/glfw3.h>
 #include <memory>
 #include <mutex>
+#include <new>
 #include <optional>
 
 namespace moire::view {
@@ -80,8 +82,8 @@ std::vector<std::string> layerNames(const SceneProgram& program) {
 class Viewer {
   public:
     Viewer(Backend& backend, const ViewerOptions& options)
-        : backend_(backend), options_(options), playing_(!options.paused), timeBase_(options.time),
-          playStart_(Clock::now()) {}
+        : backend_(backend), options_(options),
+          clock_(options.time, !options.paused, Clock::now()) {}
 
     ~Viewer() {
         // The reloader's and the renderer's threads call back into this object: stop them
@@ -108,11 +110,11 @@ class Viewer {
                 glfwPostEmptyEvent();
             });
         // The clock starts with the window, not with the compile before it.
-        playStart_ = Clock::now();
+        clock_.restart(Clock::now());
         StopSignals signals;
         while (!glfwWindowShouldClose(window_) && !StopSignals::requested) {
             guard([&] { step(); });
-            glfwWaitEventsTimeout(playing_ ? playInterval() : 0.5);
+            glfwWaitEventsTimeout(clock_.playing() ? playInterval() : 0.5);
         }
         return 0;
     }
@@ -124,6 +126,10 @@ class Viewer {
     void guard(F&& f) {
         try {
             f();
+        } catch (const std::bad_alloc&) {
+            fmt::print(stderr, "moire: error: out of memory\n");
+            frameError_ = "moire: error: out of memory";
+            redraw_ = true;
         } catch (const std::exception& e) {
             fmt::print(stderr, "moire: error: {}\n", e.what());
             frameError_ = std::string("moire: error: ") + e.what();
@@ -286,6 +292,9 @@ class Viewer {
         }
         for (const BuildResult& ev : events) {
             if (ev.good()) {
+                // The text `w` wrote holds the view's adjustments: they are the scene's now.
+                if (placedText_ && sourceOf(*ev.build->program) == *placedText_) view_.reset();
+                placedText_.reset();
                 adopt(ev.build);
                 buildError_.clear();
                 const bool numbers = ev.kind == BuildResult::Kind::Numbers;
@@ -330,11 +339,13 @@ class Viewer {
 
     void schedule() {
         if (!build_) return;
-        if (playing_ && version_ == submitted_ && !renderer_->busy() &&
+        if (clock_.playing() && version_ == submitted_ && !renderer_->busy() &&
             Clock::now() - lastSubmit_ >= std::chrono::duration<double>(playInterval()))
             ++version_;
         if (version_ == submitted_) return;
-        renderer_->submit(job());
+        RenderJob j = job();
+        clock_.asked(j.time);
+        renderer_->submit(std::move(j));
         submitted_ = version_;
         interactive_ = false;
         lastSubmit_ = Clock::now();
@@ -381,7 +392,7 @@ class Viewer {
         OverlayText text;
         if (overlay_) text.status = statusLine();
         const std::string& errors = !buildError_.empty() ? buildError_ : frameError_;
-        if (!errors.empty()) text.errorLines = errorHeadlines(errors);
+        if (!errors.empty()) text.errorLines = errorLines(errors);
         Canvas canvas{canvas_.data(), w, h};
         drawOverlay(canvas, text, textScale());
 
@@ -453,7 +464,7 @@ class Viewer {
     // selection, then the frame time and the backend.
     std::string statusLine() const {
         std::string s = fmt::format("t={:.3f}", shown_ ? shown_->time : timeNow());
-        if (!playing_) s += "  paused";
+        if (!clock_.playing()) s += "  paused";
         if (selected_ >= 0) {
             s += fmt::format("  layer {}", selected_ + 1);
             if (!names_[selected_].empty()) s += " " + names_[selected_];
@@ -464,21 +475,18 @@ class Viewer {
 
     // --- The clock ----------------------------------------------------------------------
 
-    double timeNow() const {
-        if (!playing_) return timeBase_;
-        return timeBase_ + std::chrono::duration<double>(Clock::now() - playStart_).count();
-    }
+    double timeNow() const { return clock_.at(Clock::now()); }
 
     void setTime(double t, bool interactive) {
-        timeBase_ = t;
-        playStart_ = Clock::now();
+        clock_.set(t, Clock::now());
         changed(interactive);
     }
 
     void togglePlay() {
-        timeBase_ = timeNow();
-        playStart_ = Clock::now();
-        playing_ = !playing_;
+        if (clock_.playing())
+            clock_.pause(Clock::now());
+        else
+            clock_.play(Clock::now());
         redraw_ = true; // the status line says so
     }
 
@@ -536,8 +544,9 @@ class Viewer {
             return;
         case GLFW_KEY_PERIOD:
         case GLFW_KEY_COMMA:
-            if (playing_) togglePlay();
-            return setTime(timeNow() + (key == GLFW_KEY_PERIOD ? kStep : -kStep), true);
+            clock_.step(key == GLFW_KEY_PERIOD ? kStep : -kStep, Clock::now());
+            redraw_ = true;
+            return changed(true);
         case GLFW_KEY_RIGHT:
         case GLFW_KEY_LEFT:
             return setTime(timeNow() + (key == GLFW_KEY_RIGHT ? 1 : -1) * (shift ? 0.1 : 1.0),
@@ -554,6 +563,9 @@ class Viewer {
             return;
         case GLFW_KEY_P:
             if (!repeat) printPlacement();
+            return;
+        case GLFW_KEY_W:
+            if (!repeat) writePlacement();
             return;
         case GLFW_KEY_H:
             overlay_ = !overlay_;
@@ -661,9 +673,43 @@ class Viewer {
 
     void printPlacement() {
         if (!build_) return;
-        fmt::print("// placement at t = {:.3f} s\n{}", timeNow(),
-                   placementText(*build_->program, view_));
+        fmt::print("// placement at t = {:.3f} s: set these in the scene's blocks (w writes "
+                   "them into the file)\n{}",
+                   timeNow(), placementText(*build_->program, view_));
         if (options_.trace) fmt::print("placed v={}\n", version_);
+        std::fflush(stdout);
+    }
+
+    static const std::string& sourceOf(const SceneProgram& program) {
+        return program.sources->file(program.userModule().file).text();
+    }
+
+    // Writes the placement into the scene file (Placement.h: placedSource), atomically. The
+    // view keeps its adjustments until the reload of the written text, which then carries
+    // them itself: the picture never jumps.
+    void writePlacement() {
+        if (!build_) return;
+        auto fail = [](const std::string& why) {
+            fmt::print(stderr, "moire: error: cannot write the placement: {}\n", why);
+        };
+        if (options_.scenePath.empty())
+            return fail("the default scene has no file (p prints the placement)");
+        // The file must still be the text on screen: a save with errors, or one not yet
+        // reloaded, is the user's newer work, never to be replaced by an older text.
+        if (!buildError_.empty()) return fail("the file has errors; fix them first");
+        const std::string& loaded = sourceOf(*build_->program);
+        std::string now, why;
+        if (!readWholeFile(options_.scenePath, now, why)) return fail(why);
+        if (now != loaded) return fail("the file has changed since it was loaded; try again");
+        std::string placed;
+        if (!placedSource(*build_->program, view_, placed, why)) return fail(why);
+        if (placed == loaded) {
+            fmt::print("moire: the scene already has this placement\n");
+        } else {
+            if (!writeWholeFile(options_.scenePath, placed, why)) return fail(why);
+            placedText_ = placed;
+            fmt::print("moire: wrote the placement into {}\n", options_.scenePath);
+        }
         std::fflush(stdout);
     }
 
@@ -689,14 +735,14 @@ class Viewer {
     std::string frameError_;              // the last frame could not be drawn
     std::unique_ptr<SceneProgram> probe_; // build_ with layer fields, for picking
     std::unique_ptr<Interpreter> probeKernel_;
+    std::optional<std::string> placedText_; // what `w` last wrote, until its reload
     ViewAdjust view_;
     SceneCamera camera_;
     int selected_ = -1;
     bool overlay_ = true;
 
-    bool playing_;
-    double timeBase_;
-    Clock::time_point playStart_, lastSubmit_{};
+    ViewClock clock_;
+    Clock::time_point lastSubmit_{};
 
     uint64_t version_ = 1, submitted_ = 0;
     bool interactive_ = false;

@@ -3,10 +3,15 @@
 #include "runtime/cli/Commands.h"
 
 #include <CLI/CLI.hpp>
+#include <csignal>
 #include <fmt/format.h>
 
 int main(int argc, char** argv) {
     using namespace moire;
+    // A file size limit (ulimit -f) must fail the write that crosses it with EFBIG, reported
+    // as "cannot write 'x.png': File too large", not kill moire with nothing said; ffmpeg
+    // inherits the setting.
+    std::signal(SIGXFSZ, SIG_IGN);
     CLI::App app{"moire: a compiler and renderer for moire-pattern scenes (.moire files)", "moire"};
     app.set_version_flag("--version", "moire " MOIRE_VERSION);
     app.require_subcommand(0, 1);

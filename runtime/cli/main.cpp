@@ -39,6 +39,10 @@ int main(int argc, char** argv) {
     renderCmd->add_option("--dpi", renderArgs.dpi, "Print resolution to record in the file");
     renderCmd->add_option("--threads", renderArgs.threads, "Worker threads (default: all cores)");
     renderCmd->add_flag("-q,--quiet", renderArgs.quiet, "Print nothing but errors");
+    renderCmd->footer(
+        "The image is written beside its name and renamed into place when complete; a missing\n"
+        "directory is created. A write that fails (a full disk) is an error and leaves any\n"
+        "earlier file as it was. Ctrl-C stops the render with status 130 and writes nothing.");
 
     cli::ClipArgs clipArgs;
     CLI::App* clipCmd = app.add_subcommand(

@@ -47,8 +47,15 @@ unsigned long long startTimeOf(pid_t pid) {
     return std::strtoull(p, nullptr, 10);
 }
 
+// Kept with the pid it was read for: a child forked without exec has a start time of its own.
 unsigned long long ownStartTime() {
-    static const unsigned long long start = startTimeOf(::getpid());
+    static std::atomic<pid_t> pid{0};
+    static std::atomic<unsigned long long> start{0};
+    const pid_t me = ::getpid();
+    if (pid.load() != me) {
+        start = startTimeOf(me);
+        pid = me;
+    }
     return start;
 }
 

@@ -150,7 +150,7 @@ int main(int argc, char** argv) {
         {
             ClipOutput out =
                 format ? ClipOutput(std::make_unique<VideoWriter>(ffmpeg, video, *format, width,
-                                                                  height, fps))
+                                                                  height, fps, frames))
                        : ClipOutput(pattern, WriteOptions{}, ClipOutput::defaultInFlight());
             for (int n = 0; n < frames; ++n) out.add(n, render(n, &row.render));
             out.finish();

@@ -1,12 +1,19 @@
 #include "runtime/ImageIO.h"
 
+#include "runtime/OutputFile.h"
+
 #include <algorithm>
-#include <atomic>
+#include <cerrno>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <fmt/format.h>
+#include <OpenImageIO/filesystem.h>
 #include <OpenImageIO/imageio.h>
+#include <sys/mman.h>
+#include <sys/resource.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 namespace moire {
@@ -34,13 +41,79 @@ std::string imageFormatOf(const std::string& path) {
 
 namespace {
 
-// A temporary name beside the target, keeping its extension so the writer picks the format.
-fs::path temporaryBeside(const fs::path& target) {
-    static std::atomic<int> counter{0};
-    fs::path dir = target.has_parent_path() ? target.parent_path() : fs::path(".");
-    std::string name = fmt::format(".{}.{}-{}.tmp{}", target.stem().string(), getpid(), counter++,
-                                   target.extension().string());
-    return dir / name;
+IoError encodeFailure(const std::string& path, std::string why) {
+    if (why.empty()) why = "the image writer failed";
+    return IoError(fmt::format("cannot write '{}': {}", path, why));
+}
+
+// PNG, EXR and JPEG: OpenImageIO's writer encodes into a vector through an IOProxy, so no
+// library ever writes to the disk itself (libjpeg's stdio writer would exit(1) on a full
+// disk) and the bytes reach it through writeFileAtomically alone.
+std::vector<unsigned char> encodeInMemory(const std::string& path, const std::string& format,
+                                          const OIIO::ImageSpec& spec, const float* pixels) {
+    std::vector<unsigned char> bytes;
+    OIIO::Filesystem::IOVecOutput proxy(bytes);
+    auto out = OIIO::ImageOutput::create(format);
+    if (!out) throw encodeFailure(path, OIIO::geterror());
+    if (!out->supports("ioproxy") || !out->set_ioproxy(&proxy))
+        throw encodeFailure(path, fmt::format("the {} writer cannot write to memory", format));
+    if (!(out->open(path, spec) && out->write_image(OIIO::TypeDesc::FLOAT, pixels) && out->close()))
+        throw encodeFailure(path, out->geterror());
+    return bytes;
+}
+
+// TIFF: OpenImageIO 2.4's TIFF writer loses the image's directory when it writes through an
+// IOProxy and there is Exif data to add (the sRGB colour space is), because it reads the
+// directory back with a read callback that reads nothing. It writes correctly to a file
+// by name, so it is given a memory file (memfd) by name: the bytes still never touch the
+// disk until writeFileAtomically, and the result is read back to be sure it is whole.
+std::vector<unsigned char> encodeTiff(const std::string& path, const OIIO::ImageSpec& spec,
+                                      const float* pixels) {
+    int fd = ::memfd_create("moire-tiff", MFD_CLOEXEC);
+    if (fd < 0) throw encodeFailure(path, std::strerror(errno));
+    struct Closer {
+        int fd;
+        ~Closer() { ::close(fd); }
+    } closer{fd};
+    const std::string name = fmt::format("/proc/self/fd/{}", fd);
+    auto out = OIIO::ImageOutput::create("tiff");
+    if (!out) throw encodeFailure(path, OIIO::geterror());
+    const bool ok =
+        out->open(name, spec) && out->write_image(OIIO::TypeDesc::FLOAT, pixels) && out->close();
+    struct stat st {};
+    if (::fstat(fd, &st) != 0) throw encodeFailure(path, std::strerror(errno));
+    // A file size limit applies to the memory file too: when it was reached, that is the
+    // reason, whatever libtiff made of it.
+    auto failed = [&](std::string why) {
+        struct rlimit limit {};
+        if (::getrlimit(RLIMIT_FSIZE, &limit) == 0 && limit.rlim_cur != RLIM_INFINITY &&
+            static_cast<rlim_t>(st.st_size) >= limit.rlim_cur)
+            why = std::strerror(EFBIG);
+        return encodeFailure(path, why);
+    };
+    if (!ok) throw failed(out->geterror());
+    std::vector<unsigned char> bytes(static_cast<size_t>(st.st_size));
+    size_t got = 0;
+    while (got < bytes.size()) {
+        ssize_t n = ::pread(fd, bytes.data() + got, bytes.size() - got, static_cast<off_t>(got));
+        if (n < 0 && errno == EINTR) continue;
+        if (n <= 0) throw encodeFailure(path, n < 0 ? std::strerror(errno) : "short read");
+        got += static_cast<size_t>(n);
+    }
+    // libtiff writes the image's directory at TIFFClose, which reports no failure: read the
+    // directory back.
+    OIIO::Filesystem::IOMemReader reader(bytes.data(), bytes.size());
+    auto in = OIIO::ImageInput::open("memory.tif", nullptr, &reader);
+    if (!in || in->spec().width != spec.width || in->spec().height != spec.height ||
+        in->spec().nchannels != spec.nchannels)
+        throw failed("the TIFF writer left the file incomplete");
+    return bytes;
+}
+
+std::vector<unsigned char> encode(const std::string& path, const std::string& format,
+                                  const OIIO::ImageSpec& spec, const float* pixels) {
+    return format == "tiff" ? encodeTiff(path, spec, pixels)
+                            : encodeInMemory(path, format, spec, pixels);
 }
 
 } // namespace
@@ -117,25 +190,8 @@ void writeImage(const std::string& path, const Image& image, const WriteOptions&
     if (format == "tiff") spec.attribute("compression", "zip");
     if (format == "exr") spec.attribute("compression", "zip");
 
-    fs::path target(path);
-    fs::path temp = temporaryBeside(target);
-    auto out = OIIO::ImageOutput::create(format);
-    if (!out) throw IoError(fmt::format("cannot write '{}': {}", path, OIIO::geterror()));
-    bool ok = out->open(temp.string(), spec) &&
-              out->write_image(OIIO::TypeDesc::FLOAT, data.data()) && out->close();
-    if (!ok) {
-        std::string why = out->geterror();
-        std::error_code ec;
-        fs::remove(temp, ec);
-        if (why.empty()) why = "the image writer failed";
-        throw IoError(fmt::format("cannot write '{}': {}", path, why));
-    }
-    std::error_code ec;
-    fs::rename(temp, target, ec);
-    if (ec) {
-        fs::remove(temp, ec);
-        throw IoError(fmt::format("cannot write '{}': {}", path, ec.message()));
-    }
+    const std::vector<unsigned char> bytes = encode(path, format, spec, data.data());
+    writeFileAtomically(path, bytes.data(), bytes.size());
 }
 
 Image readImage(const std::string& path) {

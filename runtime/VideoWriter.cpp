@@ -1,9 +1,9 @@
 #include "runtime/VideoWriter.h"
 
 #include "runtime/Clip.h"
+#include "runtime/OutputFile.h"
 
 #include <algorithm>
-#include <atomic>
 #include <cerrno>
 #include <cmath>
 #include <csignal>
@@ -73,20 +73,51 @@ std::string videoSizeProblem(VideoFormat format, int width, int height) {
     return "";
 }
 
+int64_t gifFinalDelay(double fps, int64_t frames) {
+    // Frame k starts at round(100 k / fps) centiseconds, as ffmpeg rounds each frame's time
+    // into the GIF's time base (to nearest, halves away from zero); the last frame lasts until
+    // the clip's end, round(100 N / fps). Exact in integers when the rate is a fraction.
+    if (frames < 1) return 0;
+    clip::Rational r = clip::approximate(fps, 1001);
+    auto start = [&](int64_t k) -> int64_t {
+        if (std::fabs(r.value() - fps) <= 1e-12 * fps && r.num > 0) {
+            __int128 num = static_cast<__int128>(k) * 100 * r.den; // k / fps = k den / num
+            return static_cast<int64_t>((2 * num + r.num) / (2 * static_cast<__int128>(r.num)));
+        }
+        return std::llround(100.0 * static_cast<double>(k) / fps);
+    };
+    return start(frames) - start(frames - 1);
+}
+
 std::vector<std::string> ffmpegArguments(VideoFormat format, int width, int height, double fps,
-                                         const std::string& output) {
+                                         int64_t frames, const std::string& output) {
     // The rate as a fraction when it is one (24, 30000/1001), so the container's time base
     // is exact; otherwise every digit of the double.
     clip::Rational r = clip::approximate(fps, 1001);
     std::string rate = std::fabs(r.value() - fps) <= 1e-12 * fps
                            ? fmt::format("{}/{}", r.num, r.den)
                            : fmt::format("{:.17g}", fps);
-    std::vector<std::string> args = {
-        "-hide_banner", "-nostdin", "-nostats",    "-loglevel",
-        "error",        "-y",       "-f",          "rawvideo",
-        "-pix_fmt",     "rgba",     "-video_size", fmt::format("{}x{}", width, height),
-        "-framerate",   rate,       "-i",          "pipe:0",
-        "-an"};
+    // -xerror: ffmpeg 5 reports a failed write of the file ("Error writing trailer of
+    // v.mp4: No space left on device") and still exits 0 without it, leaving a truncated
+    // video that would be renamed into place.
+    std::vector<std::string> args = {"-hide_banner",
+                                     "-nostdin",
+                                     "-nostats",
+                                     "-loglevel",
+                                     "error",
+                                     "-xerror",
+                                     "-y",
+                                     "-f",
+                                     "rawvideo",
+                                     "-pix_fmt",
+                                     "rgba",
+                                     "-video_size",
+                                     fmt::format("{}x{}", width, height),
+                                     "-framerate",
+                                     rate,
+                                     "-i",
+                                     "pipe:0",
+                                     "-an"};
     // The frames are sRGB: convert with (and tag) BT.709 primaries and matrix, so players do
     // not assume the BT.601 matrix ffmpeg would otherwise use without saying so.
     const std::vector<std::string> colour = {
@@ -115,31 +146,30 @@ std::vector<std::string> ffmpegArguments(VideoFormat format, int width, int heig
     case VideoFormat::Gif:
         // One palette for the whole clip, so colours do not flicker from frame to frame;
         // ffmpeg holds the frames until the palette is known.
-        for (const char* a : {"-filter_complex",
-                              "[0:v]split[a][b];[a]palettegen=stats_mode=full[p];[b][p]paletteuse",
-                              "-loop", "0", "-f", "gif"})
+        for (const char* a :
+             {"-filter_complex",
+              "[0:v]split[a][b];[a]palettegen=stats_mode=full[p];[b][p]paletteuse", "-loop", "0"})
             args.push_back(a);
+        // Each frame's delay is the difference of its start and the next one's, so the
+        // delays add up to the clip's length exactly; but ffmpeg rounds the last frame's
+        // duration on its own (8.33 cs at 12 fps became 9, and an 8 s loop 8.01 s), so it
+        // is given here.
+        if (frames > 0) {
+            args.push_back("-final_delay");
+            args.push_back(fmt::format("{}", gifFinalDelay(fps, frames)));
+        }
+        args.push_back("-f");
+        args.push_back("gif");
         break;
     }
     args.push_back(output);
     return args;
 }
 
-namespace {
-
-fs::path temporaryBeside(const fs::path& target) {
-    static std::atomic<int> counter{0};
-    fs::path dir = target.has_parent_path() ? target.parent_path() : fs::path(".");
-    return dir / fmt::format(".{}.{}-{}.tmp{}", target.stem().string(), getpid(), counter++,
-                             target.extension().string());
-}
-
-} // namespace
-
 VideoWriter::VideoWriter(const std::string& ffmpeg, const std::string& path, VideoFormat format,
-                         int width, int height, double fps)
+                         int width, int height, double fps, int64_t frames)
     : path_(path), width_(width), height_(height) {
-    temp_ = temporaryBeside(fs::path(path)).string();
+    temp_ = temporaryBeside(path);
     int in[2], err[2];
     // Close-on-exec, so that no other child inherits a copy of the pipe (ffmpeg would then
     // never see the end of its input).
@@ -150,7 +180,7 @@ VideoWriter::VideoWriter(const std::string& ffmpeg, const std::string& path, Vid
         ::close(in[0]), ::close(in[1]);
         throw IoError(fmt::format("cannot start ffmpeg: {}", std::strerror(e)));
     }
-    std::vector<std::string> args = ffmpegArguments(format, width, height, fps, temp_);
+    std::vector<std::string> args = ffmpegArguments(format, width, height, fps, frames, temp_);
     std::vector<char*> argv;
     std::string program = ffmpeg;
     argv.push_back(program.data());
@@ -233,15 +263,22 @@ void VideoWriter::write(const Image& image) {
 
 int VideoWriter::wait() {
     if (stdin_ >= 0) ::close(stdin_), stdin_ = -1;
-    int status = 0;
+    // ffmpeg is waited for once; later calls (finish() reporting through failure()) read the
+    // status kept then, where a second waitpid would find no child and report success.
     if (pid_ > 0) {
-        while (::waitpid(pid_, &status, 0) < 0 && errno == EINTR) {
+        int status = 0;
+        pid_t got;
+        while ((got = ::waitpid(pid_, &status, 0)) < 0 && errno == EINTR) {
         }
         pid_ = -1;
+        if (got < 0)
+            status_ = -SIGKILL; // no child to ask: never read that as success
+        else
+            status_ = WIFEXITED(status) ? WEXITSTATUS(status) : -WTERMSIG(status);
     }
     if (errReader_.joinable()) errReader_.join();
     if (stderr_ >= 0) ::close(stderr_), stderr_ = -1;
-    return WIFEXITED(status) ? WEXITSTATUS(status) : -WTERMSIG(status);
+    return status_;
 }
 
 std::string VideoWriter::failure(const std::string& what) {
@@ -256,6 +293,9 @@ std::string VideoWriter::failure(const std::string& what) {
     for (int lines = 0; lines < 4 && from != std::string::npos && from > 0; ++lines)
         from = tail.rfind('\n', from - 1);
     if (from != std::string::npos && from < tail.size()) tail = tail.substr(from + 1);
+    // ffmpeg names the temporary it was writing: name the user's file instead.
+    for (size_t at; !temp_.empty() && (at = tail.find(temp_)) != std::string::npos;)
+        tail.replace(at, temp_.size(), path_);
     std::string how =
         status >= 0 ? fmt::format("exit status {}", status) : fmt::format("signal {}", -status);
     return fmt::format("cannot write '{}': {} ({}){}{}", path_, what, how,
@@ -266,14 +306,8 @@ void VideoWriter::finish() {
     if (done_) throw IoError("internal: finishing a finished video");
     int status = wait();
     if (status != 0) throw IoError(failure("ffmpeg failed"));
-    std::error_code ec;
-    fs::rename(temp_, path_, ec);
-    if (ec) {
-        fs::remove(temp_, ec);
-        done_ = true;
-        throw IoError(fmt::format("cannot write '{}': {}", path_, ec.message()));
-    }
     done_ = true;
+    commitTemporary(temp_, path_); // removes the temporary when it throws
 }
 
 void VideoWriter::discard() {

@@ -11,6 +11,8 @@
 #include "runtime/Image.h"
 #include "runtime/ImageIO.h"
 
+#include <csignal>
+#include <cstdint>
 #include <deque>
 #include <future>
 #include <memory>
@@ -34,15 +36,21 @@ std::string findOnPath(const std::string& name);
 // Why `format` cannot hold a width x height picture, or "" when it can.
 std::string videoSizeProblem(VideoFormat format, int width, int height);
 
-// ffmpeg's arguments (after the program name) for raw RGBA frames on stdin to `output`.
+// ffmpeg's arguments (after the program name) for `frames` raw RGBA frames on stdin to
+// `output` (frames < 1: a count not known in advance).
 std::vector<std::string> ffmpegArguments(VideoFormat format, int width, int height, double fps,
-                                         const std::string& output);
+                                         int64_t frames, const std::string& output);
+// The last frame's delay in a GIF of `frames` frames, in centiseconds: the clip's end less
+// the last frame's start, both rounded as ffmpeg rounds frame times, so that the delays of a
+// GIF add up to its length exactly.
+int64_t gifFinalDelay(double fps, int64_t frames);
 
 class VideoWriter {
   public:
-    // Starts `ffmpeg` (a path) writing to a temporary beside `path`. Throws IoError.
+    // Starts `ffmpeg` (a path) writing `frames` frames to a temporary beside `path` (frames
+    // < 1: not known in advance). Throws IoError.
     VideoWriter(const std::string& ffmpeg, const std::string& path, VideoFormat format, int width,
-                int height, double fps);
+                int height, double fps, int64_t frames = 0);
     // Discards the video unless finish() succeeded.
     ~VideoWriter();
     VideoWriter(const VideoWriter&) = delete;
@@ -57,13 +65,15 @@ class VideoWriter {
     void discard();
 
   private:
-    // Waits for ffmpeg; returns its exit status, or -signal.
+    // Waits for ffmpeg (once: later calls return the status kept); returns its exit status,
+    // or -signal.
     int wait();
     std::string failure(const std::string& what);
 
     std::string path_, temp_;
     int width_, height_;
     pid_t pid_ = -1;
+    int status_ = -SIGKILL; // ffmpeg's status once waited for
     int stdin_ = -1, stderr_ = -1;
     std::thread errReader_;
     std::string errTail_; // the end of ffmpeg's stderr, filled by errReader_

@@ -3,9 +3,11 @@
 // clock advance, so the same range recorded twice is the same files twice.
 #include "runtime/cli/Commands.h"
 #include "runtime/cli/Shared.h"
+#include "runtime/cli/StopSignals.h"
 #include "runtime/Clip.h"
 #include "runtime/FrameEval.h"
 #include "runtime/ImageIO.h"
+#include "runtime/OutputFile.h"
 #include "runtime/Render.h"
 #include "runtime/TileExecutor.h"
 #include "runtime/VideoWriter.h"
@@ -24,44 +26,6 @@ namespace moire::cli {
 namespace fs = std::filesystem;
 
 namespace {
-
-volatile std::sig_atomic_t gSignal = 0;
-extern "C" void onStopSignal(int s) {
-    gSignal = s;
-}
-
-// While a clip runs, SIGINT and SIGTERM ask it to stop after the frame in hand (the handler
-// only records the signal; the frame loop looks at it between frames), and SIGPIPE is
-// ignored so that ffmpeg dying shows up as a write error instead of killing moire.
-class StopSignals {
-  public:
-    StopSignals() {
-        gSignal = 0;
-        struct sigaction sa {};
-        sa.sa_handler = onStopSignal;
-        sigemptyset(&sa.sa_mask);
-        sa.sa_flags = SA_RESTART; // no EINTR inside the image writer or the JIT
-        for (int i = 0; i < 2; ++i) {
-            sigaction(kStop[i], nullptr, &old_[i]);
-            // A signal the parent chose to ignore (nohup, a background job) stays ignored.
-            if (old_[i].sa_handler != SIG_IGN) sigaction(kStop[i], &sa, nullptr);
-        }
-        struct sigaction ign {};
-        ign.sa_handler = SIG_IGN;
-        sigemptyset(&ign.sa_mask);
-        sigaction(SIGPIPE, &ign, &old_[2]);
-    }
-    ~StopSignals() {
-        for (int i = 0; i < 2; ++i) sigaction(kStop[i], &old_[i], nullptr);
-        sigaction(SIGPIPE, &old_[2], nullptr);
-    }
-    StopSignals(const StopSignals&) = delete;
-    StopSignals& operator=(const StopSignals&) = delete;
-
-  private:
-    static constexpr int kStop[2] = {SIGINT, SIGTERM};
-    struct sigaction old_[3];
-};
 
 std::string clockTime(double seconds) {
     long s = std::lround(std::max(0.0, seconds));
@@ -212,17 +176,15 @@ int clip(const ClipArgs& args) {
     footprint.gpu = args.backend == "vulkan";
     if (!checkMemory(footprint)) return kExitUserError;
     // A missing output directory is created, as a shard of a longer clip is usually written
-    // to a fresh one; something else in its place is an error.
-    fs::path dir = fs::path(pattern.name(range.first)).parent_path();
-    if (!dir.empty()) {
-        std::error_code ec;
-        fs::create_directories(dir, ec);
-        if (ec || !fs::is_directory(dir)) {
-            fmt::print(stderr, "moire: error: cannot write into '{}': {}\n", dir.string(),
-                       ec ? ec.message() : "it is not a directory");
-            return kExitUserError;
-        }
+    // to a fresh one; something else in its place is an error. Temporaries that clips killed
+    // there earlier left behind go.
+    try {
+        prepareOutputDirectory(pattern.name(range.first));
+    } catch (const IoError& e) {
+        fmt::print(stderr, "moire: error: {}\n", e.what());
+        return kExitUserError;
     }
+    removeStaleTemporaries(pattern.name(range.first));
 
     std::unique_ptr<CompiledKernel> kernel;
     std::unique_ptr<ClipOutput> output;
@@ -230,8 +192,9 @@ int clip(const ClipArgs& args) {
     wo.depth = depth;
     try {
         kernel = backend->compile(program->kernel);
-        output = video ? std::make_unique<ClipOutput>(std::make_unique<VideoWriter>(
-                             ffmpeg, args.output, *video, first.width, first.height, args.fps))
+        output = video ? std::make_unique<ClipOutput>(
+                             std::make_unique<VideoWriter>(ffmpeg, args.output, *video, first.width,
+                                                           first.height, args.fps, range.count()))
                        : std::make_unique<ClipOutput>(pattern, wo, ClipOutput::defaultInFlight());
     } catch (const BackendError& e) {
         fmt::print(stderr, "moire: error: {}\n", e.what());
@@ -259,7 +222,7 @@ int clip(const ClipArgs& args) {
         if (shown) fmt::print(stderr, "\n");
         shown = false;
     };
-    for (int64_t n = range.first; n <= range.last && gSignal == 0; ++n) {
+    for (int64_t n = range.first; n <= range.last && StopSignals::received() == 0; ++n) {
         FrameValues frame;
         if (!evaluateFrame(*program, FrameRequest{clip::frameTime(args.from, n, args.fps), w, h},
                            frame, diags)) {
@@ -288,8 +251,8 @@ int clip(const ClipArgs& args) {
     }
     endLine();
 
-    if (gSignal != 0) {
-        const int status = 128 + gSignal;
+    if (StopSignals::received() != 0) {
+        const int status = 128 + StopSignals::received();
         // The frames being written are completed, a video is discarded.
         std::string failed = output->abandon();
         if (!failed.empty()) {

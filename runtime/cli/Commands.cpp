@@ -4,8 +4,10 @@
 #include "compiler/backend/llvm/LlvmJit.h"
 #include "compiler/Compile.h"
 #include "runtime/cli/Shared.h"
+#include "runtime/cli/StopSignals.h"
 #include "runtime/ImageIO.h"
 #include "runtime/MemoryBudget.h"
+#include "runtime/OutputFile.h"
 #include "runtime/Render.h"
 #include "runtime/TextFile.h"
 #include "runtime/vulkan/VulkanBackend.h"
@@ -190,6 +192,13 @@ int render(const RenderArgs& args) {
     const int w = image.width, h = image.height;
     const PixelDepth depth = image.depth;
     const std::string& output = image.output;
+    // From here on SIGINT and SIGTERM stop the render between tiles: status 128 + the
+    // signal, a line saying so, and no file (and no temporary) written.
+    StopSignals signals;
+    auto interrupted = [&] {
+        fmt::print(stderr, "moire: interrupted: {} was not written\n", output);
+        return 128 + StopSignals::received();
+    };
     std::unique_ptr<Backend> backend = openBackend(args.backend, args.device);
     if (!backend) return kExitUserError;
 
@@ -198,6 +207,7 @@ int render(const RenderArgs& args) {
     if (!readScene(args.scene, src)) return kExitUserError;
     auto program = compileOrReport(src);
     if (!program) return kExitUserError;
+    if (StopSignals::received()) return interrupted();
 
     FrameRequest req;
     req.time = args.time;
@@ -219,6 +229,7 @@ int render(const RenderArgs& args) {
 
     ExecOptions exec;
     exec.threads = args.threads;
+    exec.cancelled = [] { return StopSignals::received() != 0; };
     bool tty = isatty(fileno(stderr));
     bool shown = false;
     if (!args.quiet) {
@@ -240,11 +251,16 @@ int render(const RenderArgs& args) {
         return kExitUserError;
     }
     if (shown) fmt::print(stderr, "\n");
+    if (StopSignals::received()) return interrupted();
 
     WriteOptions wo;
     wo.depth = depth;
     wo.dpi = args.dpi;
     try {
+        // A missing directory is created, as clip creates one; temporaries that renders
+        // killed there earlier left behind go.
+        prepareOutputDirectory(output);
+        removeStaleTemporaries(output);
         writeImage(output, img, wo);
     } catch (const IoError& e) {
         fmt::print(stderr, "moire: error: {}\n", e.what());

@@ -4,10 +4,12 @@
 #include "runtime/cli/Commands.h"
 #include "runtime/cli/Shared.h"
 #include "runtime/live/WatchSession.h"
+#include "runtime/OutputFile.h"
 #include "runtime/Render.h"
 
 #include <csignal>
 #include <cstdio>
+#include <filesystem>
 #include <fmt/format.h>
 #include <mutex>
 #include <pthread.h>
@@ -21,8 +23,12 @@ void printReport(const WatchReport& r, const WatchArgs& args, const Backend& bac
                  const std::string& output) {
     if (!r.good()) {
         fmt::print(stderr, "{}", r.diagnostics);
-        if (!args.quiet)
+        // "kept" only what is there: before the first good render there is no image.
+        std::error_code ec;
+        if (!args.quiet && std::filesystem::is_regular_file(output, ec))
             fmt::print(stderr, "moire: watch: kept {} (the last good render)\n", output);
+        else if (!args.quiet)
+            fmt::print(stderr, "moire: watch: {} not written (no good render yet)\n", output);
     } else if (!args.quiet) {
         const BuildResult& b = r.result;
         std::string how = b.kind == BuildResult::Kind::Numbers
@@ -50,6 +56,15 @@ int watch(const WatchArgs& args) {
     const std::string& output = image.output;
     std::unique_ptr<Backend> backend = openBackend(args.backend, args.device);
     if (!backend) return kExitUserError;
+    // The image's directory is created when missing, as render and clip do; temporaries
+    // that a killed watch left there go.
+    try {
+        prepareOutputDirectory(output);
+    } catch (const IoError& e) {
+        fmt::print(stderr, "moire: error: {}\n", e.what());
+        return kExitUserError;
+    }
+    removeStaleTemporaries(output);
 
     WatchOptions options;
     options.scene = args.scene;

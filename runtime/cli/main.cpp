@@ -3,11 +3,16 @@
 #include "runtime/cli/Commands.h"
 
 #include <CLI/CLI.hpp>
+#include <csignal>
 #include <fmt/format.h>
 #include <new>
 
 int main(int argc, char** argv) {
     using namespace moire;
+    // A file size limit (ulimit -f) must fail the write that crosses it with EFBIG, reported
+    // as "cannot write 'x.png': File too large", not kill moire with nothing said; ffmpeg
+    // inherits the setting.
+    std::signal(SIGXFSZ, SIG_IGN);
     CLI::App app{"moire: a compiler and renderer for moire-pattern scenes (.moire files)", "moire"};
     app.set_version_flag("--version", "moire " MOIRE_VERSION);
     app.require_subcommand(0, 1);
@@ -38,6 +43,10 @@ int main(int argc, char** argv) {
                           "at most 1000000; default 0: none recorded)");
     renderCmd->add_option("--threads", renderArgs.threads, "Worker threads (default: all cores)");
     renderCmd->add_flag("-q,--quiet", renderArgs.quiet, "Print nothing but errors");
+    renderCmd->footer(
+        "The image is written beside its name and renamed into place when complete; a missing\n"
+        "directory is created. A write that fails (a full disk) is an error and leaves any\n"
+        "earlier file as it was. Ctrl-C stops the render with status 130 and writes nothing.");
 
     cli::ClipArgs clipArgs;
     CLI::App* clipCmd = app.add_subcommand(

@@ -1,0 +1,180 @@
+#include "runtime/OutputFile.h"
+
+#include <atomic>
+#include <cerrno>
+#include <csignal>
+#include <cstring>
+#include <fcntl.h>
+#include <filesystem>
+#include <fmt/format.h>
+#include <regex>
+#include <sys/stat.h>
+#include <unistd.h>
+
+namespace moire {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+IoError cannotWrite(const std::string& path, int error) {
+    return IoError(fmt::format("cannot write '{}': {}", path, std::strerror(error)));
+}
+
+// When process `pid` started, in clock ticks after boot (field 22 of /proc/PID/stat), or 0
+// when that cannot be read. With the pid it names a process for good: a pid is reused, the
+// pair is not.
+unsigned long long startTimeOf(pid_t pid) {
+    char path[64];
+    std::snprintf(path, sizeof path, "/proc/%d/stat", static_cast<int>(pid));
+    int fd = ::open(path, O_RDONLY | O_CLOEXEC);
+    if (fd < 0) return 0;
+    char buf[1024];
+    ssize_t n;
+    while ((n = ::read(fd, buf, sizeof buf - 1)) < 0 && errno == EINTR) {
+    }
+    ::close(fd);
+    if (n <= 0) return 0;
+    buf[n] = '\0';
+    // The command name (field 2) is in parentheses and may hold spaces: count from after it.
+    const char* p = std::strrchr(buf, ')');
+    if (!p) return 0;
+    ++p;
+    for (int field = 3; field < 22 && *p; ++field) {
+        while (*p == ' ') ++p;
+        while (*p && *p != ' ') ++p;
+    }
+    return std::strtoull(p, nullptr, 10);
+}
+
+// Kept with the pid it was read for: a child forked without exec has a start time of its own.
+unsigned long long ownStartTime() {
+    static std::atomic<pid_t> pid{0};
+    static std::atomic<unsigned long long> start{0};
+    const pid_t me = ::getpid();
+    if (pid.load() != me) {
+        start = startTimeOf(me);
+        pid = me;
+    }
+    return start;
+}
+
+// Removes `temp` on the way out of a failed write, keeping errno for the message.
+void removeQuietly(const std::string& temp) {
+    int saved = errno;
+    ::unlink(temp.c_str());
+    errno = saved;
+}
+
+std::string directoryOf(const std::string& path) {
+    fs::path dir = fs::path(path).parent_path();
+    return dir.empty() ? "." : dir.string();
+}
+
+} // namespace
+
+std::string temporaryBeside(const std::string& target) {
+    static std::atomic<unsigned> counter{0};
+    const fs::path t(target);
+    const std::string name = fmt::format(".{}.{}-{}-{}.tmp{}", t.stem().string(), ::getpid(),
+                                         ownStartTime(), counter++, t.extension().string());
+    return t.has_parent_path() ? (t.parent_path() / name).string() : name;
+}
+
+void writeFileAtomically(const std::string& path, const void* data, size_t size) {
+    const std::string temp = temporaryBeside(path);
+    // O_EXCL: the name is ours alone; never follow a link someone left in its place.
+    int fd = ::open(temp.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
+    if (fd < 0) throw cannotWrite(path, errno);
+    auto fail = [&](int error) {
+        if (fd >= 0) ::close(fd);
+        removeQuietly(temp);
+        return cannotWrite(path, error);
+    };
+    const char* p = static_cast<const char*>(data);
+    size_t left = size;
+    while (left > 0) {
+        // A file size limit (RLIMIT_FSIZE) shows up here as EFBIG because main() ignores
+        // SIGXFSZ; a full disk as ENOSPC, possibly after a short write.
+        ssize_t n = ::write(fd, p, left);
+        if (n < 0 && errno == EINTR) continue;
+        if (n < 0) throw fail(errno);
+        if (n == 0) throw fail(EIO);
+        p += n;
+        left -= static_cast<size_t>(n);
+    }
+    // Delayed allocation can leave ENOSPC for fsync or close to report; and without the
+    // fsync a crash soon after the rename could leave an empty file under the final name.
+    if (::fsync(fd) != 0) throw fail(errno);
+    int rc = ::close(fd);
+    fd = -1;
+    // On Linux the descriptor is released even when close reports EINTR; nothing was lost.
+    if (rc != 0 && errno != EINTR) throw fail(errno);
+    if (::rename(temp.c_str(), path.c_str()) != 0) throw fail(errno);
+}
+
+void commitTemporary(const std::string& temp, const std::string& path) {
+    int fd = ::open(temp.c_str(), O_RDONLY | O_CLOEXEC);
+    if (fd < 0) {
+        int e = errno;
+        removeQuietly(temp);
+        throw cannotWrite(path, e);
+    }
+    if (::fsync(fd) != 0) {
+        int e = errno;
+        ::close(fd);
+        removeQuietly(temp);
+        throw cannotWrite(path, e);
+    }
+    ::close(fd);
+    if (::rename(temp.c_str(), path.c_str()) != 0) {
+        int e = errno;
+        removeQuietly(temp);
+        throw cannotWrite(path, e);
+    }
+}
+
+void prepareOutputDirectory(const std::string& path) {
+    fs::path dir = fs::path(path).parent_path();
+    if (dir.empty()) return;
+    std::error_code ec;
+    fs::create_directories(dir, ec);
+    if (ec || !fs::is_directory(dir))
+        throw IoError(fmt::format("cannot write into '{}': {}", dir.string(),
+                                  ec ? ec.message() : "it is not a directory"));
+}
+
+int removeStaleTemporaries(const std::string& path) {
+    // .<stem>.<pid>-<start>-<n>.tmp<ext>, and the names before the start time was recorded
+    // (.<stem>.<pid>-<n>.tmp<ext>), which only a vanished pid can clear.
+    static const std::regex pattern(
+        R"(^\..+\.([0-9]+)-(?:([0-9]+)-)?[0-9]+\.tmp(\.[A-Za-z0-9]+)?$)");
+    int removed = 0;
+    std::error_code ec;
+    fs::directory_iterator it(directoryOf(path), ec);
+    if (ec) return 0;
+    const uid_t me = ::geteuid();
+    for (const fs::directory_entry& entry : it) {
+        const std::string name = entry.path().filename().string();
+        std::smatch m;
+        if (name.empty() || name[0] != '.' || !std::regex_match(name, m, pattern)) continue;
+        struct stat st {};
+        if (::lstat(entry.path().c_str(), &st) != 0 || !S_ISREG(st.st_mode) || st.st_uid != me)
+            continue;
+        errno = 0;
+        const long long pid = std::strtoll(m[1].str().c_str(), nullptr, 10);
+        if (pid <= 0 || pid > 0x3fffffff) continue;
+        bool gone = ::kill(static_cast<pid_t>(pid), 0) != 0 && errno == ESRCH;
+        if (!gone && m[2].matched) {
+            // The number is in use: by the writer itself, or by a later process that was
+            // given the same number after the writer died.
+            unsigned long long recorded = std::strtoull(m[2].str().c_str(), nullptr, 10);
+            unsigned long long now = startTimeOf(static_cast<pid_t>(pid));
+            gone = now != 0 && recorded != 0 && now != recorded;
+        }
+        if (gone && ::unlink(entry.path().c_str()) == 0) ++removed;
+    }
+    return removed;
+}
+
+} // namespace moire

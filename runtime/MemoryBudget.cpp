@@ -29,11 +29,14 @@ uint64_t pixelsOf(const FrameFootprint& f) {
 }
 
 // What writeImage holds beside the frame: the clamped float copy in the file's channels
-// (RGB for JPEG), and OpenImageIO's chunk and its conversion.
+// (RGB for JPEG), OpenImageIO's chunk and its conversion, and the encoded file, which is
+// built in memory before it is written (at most the pixels at 4 bytes a channel, before
+// compression).
 uint64_t imageWriterBytes(const FrameFootprint& f) {
     const uint64_t channels = f.format == "jpeg" ? 3 : 4;
     const uint64_t copy = pixelsOf(f) * channels * sizeof(float);
-    return copy + 2 * std::min(copy, kWriterChunkBytes);
+    const uint64_t encoded = copy;
+    return copy + encoded + 2 * std::min(copy, kWriterChunkBytes);
 }
 
 uint64_t sinkBytes(const FrameFootprint& f) {

@@ -76,8 +76,11 @@ CompileResult compileScene(const std::string& path, std::string text,
     ir::Function scene = lower::lowerScene(program->checked, lowerOptions, program->layout);
     program->lowered = passes::simplify(scene);                              // fold, CSE, DCE
     program->derived = passes::simplify(passes::autoDiff(program->lowered)); // forward-mode AD
-    passes::FrameSplit split =
-        passes::splitFrame(program->derived, program->layout.numKernelOutputs);
+    passes::FrameSplit split = passes::splitFrame(
+        program->derived, program->layout.numKernelOutputs, program->layout.firstCheckSetting());
+    // A checked value that depends on the pixel cannot be checked per frame.
+    for (int s : split.perPixelSettings)
+        program->layout.checks.at(s - program->layout.firstCheckSetting()).perPixel = true;
     program->frame = std::move(split.frame);          // per-frame uniforms
     program->kernel = passes::simplify(split.kernel); // per-pixel kernel
     program->numUniforms = split.numUniforms;

@@ -3,6 +3,7 @@
 #include "compiler/backend/interp/Interpreter.h"
 
 #include <cmath>
+#include <fmt/format.h>
 
 namespace moire {
 
@@ -11,6 +12,30 @@ SourceRange propRange(const ast::Decl* block, const char* name) {
     if (!block) return {};
     const ast::Property* p = block->prop(name);
     return p ? p->value->range : SourceRange{};
+}
+
+// What `rule` asks of a value, or null when `v` meets it (lower::ValueCheck).
+const char* requirement(lower::ValueCheck::Rule rule, double v, bool angle) {
+    using R = lower::ValueCheck::Rule;
+    const double most = lower::kMaxMagnitude;
+    switch (rule) {
+    case R::Finite:
+        if (std::fabs(v) <= most) return nullptr;
+        return angle ? "between -1e12 and 1e12 radians" : "between -1e12 and 1e12";
+    case R::Positive:
+        if (v > 0 && v <= most) return nullptr;
+        return "more than 0 and at most 1e12 (to hide a layer, set its opacity to 0)";
+    case R::Spacing:
+        if (v >= lower::kMinSpacing && v <= most) return nullptr;
+        return "from 1e-6 to 1e12";
+    case R::Unit:
+        if (v >= 0 && v <= 1) return nullptr;
+        return "from 0 to 1";
+    case R::Sides:
+        if (v >= 3 && v <= most && v == std::floor(v)) return nullptr;
+        return "a whole number of sides, 3 or more";
+    }
+    return nullptr;
 }
 } // namespace
 
@@ -42,18 +67,36 @@ bool evaluateFrame(const SceneProgram& program, const FrameRequest& request, Fra
     };
     out.sceneWidth = w;
     out.sceneHeight = h;
+    // The scene's own size frames the picture even when the image has another size (the
+    // pixel is scaled by it), so it is checked either way.
+    if (!whole(w) || !whole(h))
+        diags.error(propRange(program.checked.scene, "size"), Msg::BadSize, kMaxImageSide, w, h);
     if (request.width > 0 && request.height > 0) {
         w = request.width;
         h = request.height;
+        if (!whole(w) || !whole(h)) diags.error(SourceRange{}, Msg::BadSize, kMaxImageSide, w, h);
     }
-    if (!whole(w) || !whole(h)) {
-        diags.error(propRange(program.checked.scene, "size"), Msg::BadSize, kMaxImageSide, w, h);
-    } else {
+    if (whole(w) && whole(h)) {
         out.width = static_cast<int>(w);
         out.height = static_cast<int>(h);
     }
+    auto outOfRange = [&](SourceRange at, const std::string& what, const char* need, double v,
+                          bool angle) {
+        diags.error(at, Msg::ValueOutOfRange, what, need,
+                    fmt::format("{:.6g}{}", v, angle ? "rad" : ""));
+    };
     if (!(std::isfinite(out.zoom) && out.zoom > 0))
         diags.error(propRange(program.checked.camera, "zoom"), Msg::BadZoom, out.zoom);
+    else if (out.zoom < lower::kMinZoom || out.zoom > lower::kMaxZoom)
+        outOfRange(propRange(program.checked.camera, "zoom"), "'zoom'", "from 1e-6 to 1e6",
+                   out.zoom, false);
+    for (auto [v, name] : {std::pair{out.centerX, "center"}, std::pair{out.centerY, "center"},
+                           std::pair{out.turn, "rotation"}}) {
+        const bool angle = std::string_view(name) == "rotation";
+        if (const char* need = requirement(lower::ValueCheck::Finite, v, angle))
+            outOfRange(propRange(program.checked.camera, name), fmt::format("'{}'", name), need, v,
+                       angle);
+    }
     const lower::OutputLayout& layout = program.layout;
     out.timings.clear();
     for (size_t i = 0; i < layout.timings.size(); ++i) {
@@ -69,6 +112,13 @@ bool evaluateFrame(const SceneProgram& program, const FrameRequest& request, Fra
         if (!(std::isfinite(tv.delay) && tv.delay >= 0))
             diags.error(layout.timingDelays[i], Msg::BadDelay, tv.delay);
         out.timings.push_back(tv);
+    }
+    for (size_t i = 0; i < layout.checks.size(); ++i) {
+        const lower::ValueCheck& c = layout.checks[i];
+        if (c.perPixel) continue;
+        const double v = outputs[u + layout.firstCheckSetting() + static_cast<int>(i)];
+        if (const char* need = requirement(c.rule, v, c.angle))
+            outOfRange(c.where, c.what, need, v, c.angle);
     }
     diagnostics = diags.render();
     return !diags.hasErrors();

@@ -8,7 +8,7 @@ using ir::Op;
 using ir::ValueId;
 
 LayerFields phaseFamilyFields(ir::Builder& b, ValueId phi, ValueId phase, ValueId spacing,
-                              std::optional<int> first) {
+                              std::optional<int> first, ValueId phiNear) {
     // A non-positive spacing has no members; it is held at a tiny positive pitch instead of
     // dividing by zero, so the layer degrades to solid ink rather than to NaN.
     ValueId s = b.max(spacing, b.constF(1e-6));
@@ -41,7 +41,21 @@ LayerFields phaseFamilyFields(ir::Builder& b, ValueId phi, ValueId phase, ValueI
         ValueId twoPhiGrad = b.mul(b.mul(b.constF(2.0), phi), b.mul(s, grad)); // |grad phi^2|
         ValueId fold =
             b.div(b.mul(b.sub(c, phi), b.add(c, phi)), b.max(twoPhiGrad, b.constF(ir::kTiny)));
-        ValueId inFold = b.select(b.gt(phi, b.constF(0.0)), b.max(distance, fold), distance);
+        // On the fold itself (phi exactly 0: a pixel centre on the hyperbola's asymptote, as
+        // along whole diagonals of a centred view of even size) phi grad(phi) is 0 * infinity,
+        // which AD reads as 0, so both estimates were infinite and a line of paper ran through
+        // the ink. There the estimate is c^2 / |grad phi^2|, and |grad phi^2| (the gradient of
+        // |x^2 - y^2| for the hyperbola) is continuous across the fold: it is read at a point a
+        // hair away, off the fold, where 2 phi |grad phi| is well defined.
+        ValueId onFold = distance;
+        if (phiNear != ir::kNoValue) {
+            ValueId gradNear =
+                b.hypot(b.emit(Op::DerivX, {phiNear}), b.emit(Op::DerivY, {phiNear}));
+            ValueId twoPhiGradNear = b.mul(b.mul(b.constF(2.0), phiNear), gradNear);
+            ValueId atFold = b.div(b.mul(c, c), b.max(twoPhiGradNear, b.constF(ir::kTiny)));
+            onFold = b.select(b.gt(phiNear, b.constF(0.0)), atFold, distance);
+        }
+        ValueId inFold = b.select(b.gt(phi, b.constF(0.0)), b.max(distance, fold), onFold);
         distance = b.select(b.lt(index, b.constF(*first)), inFold, distance);
     }
     return {index, distance, gx, gy};

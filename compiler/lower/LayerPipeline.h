@@ -31,8 +31,12 @@ StrokeBand strokeBand(ir::Builder& b, ir::ValueId stroke, ir::ValueId pixel);
 // distance is the index residual over the index gradient's length (Eq. 5); short of the
 // first member, where the excluded members' phase may be singular, Eq. 5 is applied to
 // phi^2 instead (see the .cpp).
+// `phiNear`, for a family with `first`, is the phase at a point a hair off this one (see the
+// .cpp): on the fold itself (phi exactly 0) AD's gradient says nothing, and the one the
+// distance needs there is read from that point.
 LayerFields phaseFamilyFields(ir::Builder& b, ir::ValueId phi, ir::ValueId phase,
-                              ir::ValueId spacing, std::optional<int> first);
+                              ir::ValueId spacing, std::optional<int> first,
+                              ir::ValueId phiNear = ir::kNoValue);
 
 // Coverage of the stroke at distance `d` (Eq. 4):
 // (1 - smoothstep(h - a, h + a, d)) * opacity * alpha, clamped to [0, 1], NaN read as 0.

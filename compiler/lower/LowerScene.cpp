@@ -9,6 +9,8 @@
 #include "compiler/lower/Timings.h"
 #include "compiler/lower/WalkingFamily.h"
 
+#include <numbers>
+#include <set>
 #include <tuple>
 
 namespace moire::lower {
@@ -88,6 +90,7 @@ class SceneLowering {
                 prop(layer, "color", {b_.constF(0), b_.constF(0), b_.constF(0), b_.constF(1)});
             ValueId stroke = prop(layer, "stroke", {b_.constF(1.0)})[0];
             ValueId opacity = prop(layer, "opacity", {b_.constF(1.0)})[0];
+            checkValues(layer);
             b_.setLoc(layer.decl->range.begin);
             StrokeBand band = strokeBand(b_, stroke, pixel);
             Encoding enc = encoding(layer);
@@ -122,11 +125,60 @@ class SceneLowering {
         b_.output(3, out.a);
         // The timings used, for clips (loop lengths) and for the frame's checks.
         timings_.outputSettings(layout, layout.numKernelOutputs + OutputLayout::kNumSettings);
+        // The values the frame checks before drawing them (ValueCheck).
+        for (auto& [value, check] : checks_) {
+            b_.output(layout.numKernelOutputs + layout.numSettings(), value);
+            layout.checks.push_back(std::move(check));
+        }
         b_.function().numOutputs = layout.numKernelOutputs + layout.numSettings();
     }
 
   private:
     ValueId viewParam(int slot) { return b_.param(options_.viewSlot + slot); }
+
+    // Records `e` (each component of a vector) for the frame to check against `rule`.
+    void check(const Expr& e, ValueCheck::Rule rule, const std::string& name) {
+        // A morph gives one property to every family with that parameter: checked once.
+        if (!checked_.insert({&e, rule}).second) return;
+        Vals v = exprs_.lower(e, world_);
+        for (size_t i = 0; i < v.size(); ++i) {
+            // A component of a vector written out is located by itself.
+            const bool written = e.kind == ExprKind::Vector && e.args.size() == v.size();
+            const Expr& at = written ? *e.args[i] : e;
+            checks_.push_back(
+                {v[i], ValueCheck{rule, "'" + name + "'", at.range, e.type == Type::Angle, false}});
+        }
+    }
+    // A layer's values that the float renderers could not draw (docs/language.md, "Limits").
+    void checkValues(const sema::CheckedLayer& layer) {
+        using R = ValueCheck::Rule;
+        static const std::pair<const char*, R> rules[] = {
+            {"spacing", R::Spacing},  {"phase", R::Finite},  {"stroke", R::Positive},
+            {"opacity", R::Unit},     {"origin", R::Finite}, {"rotation", R::Finite},
+            {"offset", R::Finite},    {"turn", R::Finite},   {"gain", R::Finite},
+            {"morph_time", R::Finite}};
+        for (const auto& [name, rule] : rules)
+            if (const Expr* e = layer.prop(name)) check(*e, rule, name);
+        std::vector<const sema::CheckedLayer::Member*> members;
+        sema::CheckedLayer::Member single{layer.family, layer.args};
+        if (layer.morph.empty() && layer.family) members.push_back(&single);
+        for (const sema::CheckedLayer::Member& m : layer.morph) members.push_back(&m);
+        for (const sema::CheckedLayer::Member* m : members) {
+            const Decl& fam = *m->family->decl;
+            for (size_t i = 0; i < fam.params.size(); ++i) {
+                if (!m->args[i] || fam.params[i].type == Type::Color) continue;
+                check(*m->args[i], R::Finite, fam.params[i].name);
+            }
+            // A polygon family's side count, when a parameter gives it (ngon's `sides`): a
+            // fraction or fewer than 3 is no polygon (its phase would not close up).
+            const Expr* facets = m->family->facets;
+            if (facets && facets->kind == ExprKind::Name && facets->ref == RefKind::FamilyParam) {
+                const int p = facets->refIndex;
+                const Expr* value = m->args[p] ? m->args[p] : fam.params[p].defaultValue.get();
+                if (value) check(*value, R::Sides, fam.params[p].name);
+            }
+        }
+    }
 
     std::pair<ValueId, ValueId> rotate(ValueId x, ValueId y, ValueId angle) {
         ValueId c = b_.cos(angle), s = b_.sin(angle);
@@ -269,17 +321,29 @@ class SceneLowering {
             return walkingFields(layer, lf, rho, facets, band, enc, wantIndex);
         }
         ValueId phi = phaseAt(layer, bf, lf, lf.qx, lf.qy);
-        return phaseFields(layer, lf, phi, family ? family->first : std::nullopt, enc);
+        std::optional<int> first = family ? family->first : std::nullopt;
+        ValueId near = ir::kNoValue;
+        if (first && enc.field == ir::kNoValue) {
+            // The phase a millionth of the radius away, off any fold through the centre (the
+            // direction is along no line a family would fold on): ample for float, whose
+            // resolution there is about 6e-8 of the radius, and the gradient it gives moves
+            // by about a millionth.
+            ValueId e = b_.mul(b_.hypot(lf.qx, lf.qy), b_.constF(1e-6));
+            near = phaseAt(layer, bf, lf, b_.add(lf.qx, e),
+                           b_.add(lf.qy, b_.mul(e, b_.constF(0.6180339887))));
+        }
+        return phaseFields(layer, lf, phi, first, enc, near);
     }
 
     // A phase family (Eq. 5), with the encoded field subtracted first (§10.1): forward-mode
     // AD gives the gradient of the whole phase, field included.
     LayerFields phaseFields(const sema::CheckedLayer& layer, const LayerFrame& lf, ValueId phi,
-                            std::optional<int> first, const Encoding& enc) {
+                            std::optional<int> first, const Encoding& enc,
+                            ValueId near = ir::kNoValue) {
         b_.setLoc(layer.decl->range.begin);
         if (enc.field != ir::kNoValue)
             phi = b_.sub(phi, b_.mul(b_.mul(enc.gain, lf.spacing), enc.field));
-        return phaseFamilyFields(b_, phi, lf.phase, lf.spacing, first);
+        return phaseFamilyFields(b_, phi, lf.phase, lf.spacing, first, near);
     }
 
     // A walking family (§6-7) of radius rho, by the certified search.
@@ -308,7 +372,13 @@ class SceneLowering {
         Vals offset = prop(layer, "offset", {b_.constF(0.0), b_.constF(0.0)});
         in.offsetX = offset[0];
         in.offsetY = offset[1];
-        in.turn = prop(layer, "turn", {b_.constF(0.0)})[0];
+        // Member n is turned by n * turn with n whole, so a turn is the same taken modulo a full
+        // turn; reduced to (-pi, pi] here (per frame, in double, when it does not depend on
+        // the pixel) so that n * turn stays small enough for the float renderers to resolve.
+        ValueId turn = prop(layer, "turn", {b_.constF(0.0)})[0];
+        ValueId turns = b_.round(b_.div(turn, b_.constF(2.0 * std::numbers::pi)));
+        ValueId reduced = b_.sub(turn, b_.mul(turns, b_.constF(2.0 * std::numbers::pi)));
+        in.turn = b_.select(b_.le(b_.abs(turn), b_.constF(std::numbers::pi)), turn, reduced);
         in.facets = facets;
         in.band = band;
         if (slope != ir::kNoValue) in.band = {b_.mul(band.h, slope), b_.mul(band.a, slope)};
@@ -430,6 +500,8 @@ class SceneLowering {
     TimingLowering timings_;
     Frame world_;
     Frame constantFrame_; // scene settings cannot use x or y (checked)
+    std::vector<std::pair<ValueId, ValueCheck>> checks_;
+    std::set<std::pair<const Expr*, ValueCheck::Rule>> checked_;
 };
 
 } // namespace

@@ -36,6 +36,36 @@ struct ViewSlots {
     static int count(int numLayers) { return kCamera + kPerLayer * numLayers; }
 };
 
+// The range of values the renderers draw (docs/language.md, "Limits"). The JIT and Vulkan
+// compute in single precision (largest float about 3.4e38), so a value that is finite in
+// double can overflow there, and so can products the kernel forms from it (x^2 in a phase,
+// stroke / 2 + the antialias band): past these limits the float backends would draw another
+// picture than the interpreter. Lengths stay within +-1e12 so that a world coordinate's
+// square stays far below the float range; the zoom keeps the view's extent (at most 32768
+// pixels times 1 / zoom) inside the same bound; a spacing finer than 1e-6 is solid ink at
+// any zoom allowed, and is the pitch the kernel holds a non-positive spacing at.
+constexpr double kMaxMagnitude = 1e12;
+constexpr double kMinSpacing = 1e-6;
+constexpr double kMinZoom = 1e-6, kMaxZoom = 1e6;
+
+// A value the frame checks before it is drawn, located at the property it comes from. Each
+// is one frame setting; one that depends on the pixel cannot be checked per frame (the
+// frame split drops it and sets `perPixel`).
+struct ValueCheck {
+    enum Rule {
+        Finite,   // within +-kMaxMagnitude
+        Positive, // more than 0, at most kMaxMagnitude (stroke)
+        Spacing,  // from kMinSpacing to kMaxMagnitude
+        Unit,     // from 0 to 1 (opacity)
+        Sides,    // a whole number of sides, 3 or more (a polygon family's facets)
+    };
+    Rule rule = Finite;
+    std::string what;  // as the message names it: 'stroke'
+    SourceRange where; // the value in the source
+    bool angle = false;
+    bool perPixel = false;
+};
+
 // Where things are in the scene function's outputs.
 struct OutputLayout {
     int numKernelOutputs = 4; // RGBA, then kFieldsPerLayer per layer when layerFields is set
@@ -52,7 +82,11 @@ struct OutputLayout {
     std::vector<std::string> timings;         // the timings the scene uses, in declaration order
     std::vector<SourceRange> timingPeriods;   // where each one's period is written
     std::vector<SourceRange> timingDelays;    // and its delay (the name, when it has none)
-    int numSettings() const { return kNumSettings + kTimingSettings * static_cast<int>(timings.size()); }
+    std::vector<ValueCheck> checks;           // one setting each, after the timings'
+    int firstCheckSetting() const {
+        return kNumSettings + kTimingSettings * static_cast<int>(timings.size());
+    }
+    int numSettings() const { return firstCheckSetting() + static_cast<int>(checks.size()); }
     int timingSetting(int timing) const { return kNumSettings + kTimingSettings * timing; }
     static constexpr int kFieldsPerLayer = 6;
     int indexSlot(int layer) const { return 4 + kFieldsPerLayer * layer; }

@@ -129,15 +129,16 @@ class KernelBuilder : public Rewriter {
 class FrameBuilder : public Rewriter {
   public:
     FrameBuilder(const Function& scene, const std::vector<bool>& varying, int numKernelOutputs,
-                 const std::vector<ValueId>& uniforms)
+                 const std::vector<ValueId>& uniforms, int firstOptional)
         : Rewriter(scene), varying_(varying), numKernelOutputs_(numKernelOutputs),
-          uniforms_(uniforms) {
+          uniforms_(uniforms), firstOptional_(firstOptional) {
         dst_.name = "frame";
         for (const Block& blk : scene.blocks)
             for (const Inst& inst : blk.insts)
                 if (isFrameLeaf(inst.op)) frameLeaves_[inst.results[0]] = &inst;
     }
     int numSettings = 0;
+    std::vector<int> perPixel;
 
   private:
     // A uniform read from a time or param leaf inside a varying region (skipped here with
@@ -168,28 +169,36 @@ class FrameBuilder : public Rewriter {
         dst_.numOutputs = static_cast<int>(uniforms_.size()) + numSettings;
         for (ValueId u : uniforms_) b_.output(slot++, asFloat(map(u)));
         for (const Inst* s : settings_) {
-            MOIRE_CHECK(!varying_[s->args[0]], "a scene setting depends on the pixel");
-            b_.output(static_cast<int>(uniforms_.size() + (s->iimm - numKernelOutputs_)),
-                      map(s->args[0]));
+            const int setting = s->iimm - numKernelOutputs_;
+            const int at = static_cast<int>(uniforms_.size()) + setting;
+            if (varying_[s->args[0]]) {
+                MOIRE_CHECK(setting >= firstOptional_, "a scene setting depends on the pixel");
+                perPixel.push_back(setting);
+                b_.output(at, b_.constF(0.0));
+                continue;
+            }
+            b_.output(at, map(s->args[0]));
         }
     }
 
     const std::vector<bool>& varying_;
     int numKernelOutputs_;
     const std::vector<ValueId>& uniforms_;
+    int firstOptional_;
     std::vector<const Inst*> settings_;
     std::unordered_map<ValueId, const Inst*> frameLeaves_;
 };
 
 } // namespace
 
-FrameSplit splitFrame(const Function& scene, int numKernelOutputs) {
+FrameSplit splitFrame(const Function& scene, int numKernelOutputs, int firstOptional) {
     std::vector<bool> varying = varyingValues(scene);
     KernelBuilder kb(scene, varying, numKernelOutputs);
     FrameSplit out;
     out.kernel = eliminateDeadCode(kb.run());
-    FrameBuilder fb(scene, varying, numKernelOutputs, kb.uniformSources);
+    FrameBuilder fb(scene, varying, numKernelOutputs, kb.uniformSources, firstOptional);
     out.frame = simplify(fb.run());
+    out.perPixelSettings = fb.perPixel;
     out.numUniforms = static_cast<int>(kb.uniformSources.size());
     out.numSettings = fb.numSettings;
     return out;

@@ -18,8 +18,13 @@ struct FrameSplit {
     ir::Function kernel; // outputs: the per-pixel slots
     int numUniforms = 0;
     int numSettings = 0;
+    // Optional settings that depend on the pixel, left out (the frame outputs 0 there).
+    std::vector<int> perPixelSettings;
 };
 
-FrameSplit splitFrame(const ir::Function& scene, int numKernelOutputs);
+// Settings from `firstOptional` on (the values the frame checks) may depend on the pixel:
+// such a value cannot be known per frame, and is left out. Any other setting that does is a
+// bug.
+FrameSplit splitFrame(const ir::Function& scene, int numKernelOutputs, int firstOptional = 1 << 30);
 
 } // namespace moire::passes

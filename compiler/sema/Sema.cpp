@@ -64,6 +64,32 @@ namespace detail {
 
 namespace {
 const std::vector<std::string> kKeywords = {"scene", "camera", "layer", "field", "family", "let"};
+
+// A hint for a word that is not a timing's mode: the mode meant by a word other tools use
+// for it, or a near spelling of one (at most one edit: 'bounce' is no misspelling of 'once').
+std::string modeHint(const std::string& word) {
+    static const std::pair<const char*, const char*> synonyms[] = {
+        {"bounce", "pingpong"},  {"yoyo", "pingpong"},   {"alternate", "pingpong"},
+        {"reverse", "pingpong"}, {"mirror", "pingpong"}, {"repeat", "loop"},
+        {"cycle", "loop"},       {"forever", "loop"},    {"infinite", "loop"},
+        {"single", "once"},      {"one", "once"},        {"hold", "once"}};
+    for (const auto& [other, mode] : synonyms)
+        if (word == other) return fmt::format("; did you mean '{}'?", mode);
+    std::string near = nearestName(word, {"once", "loop", "pingpong"}, 1);
+    return near.empty() ? std::string() : fmt::format("; did you mean '{}'?", near);
+}
+
+// `#rrggbb` for a colour's common name, as an example of how to write it.
+std::string colorExample(const std::string& name) {
+    static const std::pair<const char*, const char*> named[] = {
+        {"black", "#000000"}, {"white", "#ffffff"},  {"red", "#ff0000"},    {"green", "#00a000"},
+        {"blue", "#0000ff"},  {"yellow", "#ffff00"}, {"orange", "#ff8000"}, {"purple", "#800080"},
+        {"gray", "#808080"},  {"grey", "#808080"},   {"cyan", "#00ffff"},   {"magenta", "#ff00ff"},
+        {"pink", "#ffc0cb"},  {"brown", "#8b4513"}};
+    for (const auto& [n, hex] : named)
+        if (name == n) return fmt::format("{} for {}", hex, n);
+    return "#1a2b3c";
+}
 } // namespace
 
 CheckedScene Checker::run(const std::vector<Module*>& modules) {
@@ -209,10 +235,8 @@ void Checker::checkTiming(Decl& t) {
                 ct.mode = TimingMode::PingPong;
             else
                 diags_.error(p.value->range, Msg::BadMode,
-                             word.empty()
-                                 ? std::string("this")
-                                 : fmt::format("'{}'{}", word,
-                                               didYouMean(word, {"once", "loop", "pingpong"})));
+                             word.empty() ? std::string("this")
+                                          : fmt::format("'{}'{}", word, modeHint(word)));
         } else if (p.name == "easing") {
             auto it =
                 p.value->kind == ExprKind::Name ? globals_.find(p.value->name) : globals_.end();
@@ -223,9 +247,24 @@ void Checker::checkTiming(Decl& t) {
                 for (const Decl* e : easings_) names.push_back(e->name);
                 std::string what =
                     p.value->kind == ExprKind::Name ? fmt::format("'{}'", p.value->name) : "this";
-                diags_.error(p.value->range, Msg::NotAnEasing, what,
-                             p.value->kind == ExprKind::Name ? didYouMean(p.value->name, names)
-                                                             : "");
+                std::string hint =
+                    p.value->kind == ExprKind::Name ? didYouMean(p.value->name, names) : "";
+                // With nothing near, say what there is, and how to make one's own.
+                if (hint.empty()) {
+                    std::sort(names.begin(), names.end());
+                    names.erase(std::unique(names.begin(), names.end()), names.end());
+                    std::string list;
+                    for (size_t i = 0; i < names.size(); ++i)
+                        list += (i == 0 ? "" : i + 1 == names.size() ? " and " : ", ") + names[i];
+                    hint = fmt::format("; the easings are {}, or declare one, as in: easing {} = "
+                                       "u * u",
+                                       list,
+                                       p.value->kind == ExprKind::Name &&
+                                               !globals_.count(p.value->name)
+                                           ? p.value->name
+                                           : "mine");
+                }
+                diags_.error(p.value->range, Msg::NotAnEasing, what, hint);
             }
         } else {
             diags_.error(p.nameRange, Msg::UnknownProperty, p.name,
@@ -243,7 +282,9 @@ bool Checker::timingArgument(Expr& arg, const std::string& fn) {
         const char* example = fn == "ramp"       ? "ramp(drift, 0, 1)"
                               : fn == "progress" ? "progress(drift)"
                                                  : "morph(drift, circles, hexagons)";
-        diags_.error(arg.range, Msg::NotATiming, fmt::format("'{}'", fn), example);
+        diags_.error(
+            arg.range, Msg::NotATiming, fmt::format("'{}'", fn), example,
+            arg.kind == ExprKind::Name ? didYouMean(arg.name, globalNames(DeclKind::Timing)) : "");
         return false;
     }
     arg.ref = RefKind::Timing;
@@ -394,6 +435,14 @@ const PropertySpec* Checker::findSpec(const std::vector<PropertySpec>& specs,
 }
 
 void Checker::checkProperty(Property& p, const PropertySpec& spec, const Scope& scope) {
+    // `color = red`: a name where a colour is expected is most likely a colour's name, which
+    // the language does not have; say how colours are written.
+    if (spec.type == Type::Color && p.value->kind == ExprKind::Name && !lookupName(p.value->name) &&
+        !globals_.count(p.value->name)) {
+        diags_.error(p.value->range, Msg::ColorName, p.value->name, colorExample(p.value->name));
+        p.value->type = Type::Error;
+        return;
+    }
     checkExpr(*p.value, scope);
     expectType(*p.value, spec.type, fmt::format("'{}'", p.name));
     if (spec.positionFree && p.value->dependsOnPosition)
@@ -443,6 +492,7 @@ void Checker::checkLayer(Decl& d) {
     // The layer's families: one, or the members of a morph. A phase written in the layer
     // has none.
     std::vector<CheckedLayer::Member> members;
+    const int errorsBefore = diags_.errorCount();
     if (!fam) {
         diags_.error(d.range, Msg::MissingFamily);
     } else if (checkMorph(*fam, layer)) {
@@ -472,6 +522,9 @@ void Checker::checkLayer(Decl& d) {
                          "a family name or a number (a phase)", typeName(t));
         layer.anonymousPhase = fam->value.get();
     }
+    // A family that did not resolve (unknown, or a morph with an unknown member) leaves its
+    // parameters unknown too: they would only repeat that one mistake as more errors.
+    const bool familyUnknown = fam && !layer.anonymousPhase && diags_.errorCount() > errorsBefore;
     std::vector<std::string> allowed;
     for (const PropertySpec& s : layerProperties()) allowed.push_back(s.name);
     for (const CheckedLayer::Member& m : members)
@@ -500,6 +553,7 @@ void Checker::checkLayer(Decl& d) {
                 matched = true;
             }
         }
+        if (!matched && familyUnknown) continue;
         if (!matched) {
             std::string owner = members.size() == 1 ? fmt::format("a layer of family '{}'",
                                                                   members[0].family->decl->name)

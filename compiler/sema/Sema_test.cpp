@@ -382,13 +382,22 @@ TEST_CASE("sema: timings: their properties, modes and easings") {
     CHECK(error("timing a { delay = 1 }", Msg::MissingProperty) ==
           "timing 'a' needs its period; add one, as in: period = 4");
     CHECK(error("timing a { period = 1; mode = forever }", Msg::BadMode) ==
-          "a timing's mode is once, loop or pingpong, not 'forever'");
+          "a timing's mode is once, loop or pingpong, not 'forever'; did you mean 'loop'?");
+    // No guess from a poor spelling match: 'bounce' is two edits from 'once', and means pingpong.
+    CHECK(error("timing a { period = 1; mode = bounce }", Msg::BadMode) ==
+          "a timing's mode is once, loop or pingpong, not 'bounce'; did you mean 'pingpong'?");
+    CHECK(error("timing a { period = 1; mode = ponce }", Msg::BadMode) ==
+          "a timing's mode is once, loop or pingpong, not 'ponce'; did you mean 'once'?");
+    CHECK(error("timing a { period = 1; mode = bounced }", Msg::BadMode) ==
+          "a timing's mode is once, loop or pingpong, not 'bounced'");
     CHECK(error("timing a { period = 1; mode = 2 }", Msg::BadMode) ==
           "a timing's mode is once, loop or pingpong, not this");
     CHECK(error("timing a { period = 1; easing = sin }", Msg::NotAnEasing) ==
           "'sin' is not an easing; did you mean 'sine'?");
     CHECK(error("timing a { period = 1; easing = circles }", Msg::NotAnEasing) ==
-          "'circles' is not an easing");
+          "'circles' is not an easing; the easings are cubic_in, cubic_in_out, cubic_out, linear, "
+          "quad_in, quad_in_out, quad_out, sine, sine_in and sine_out, or declare one, as in: "
+          "easing mine = u * u");
     CHECK(error("timing a { period = 1; speed = 2 }", Msg::UnknownProperty) ==
           "'speed' is not a property of a timing (its properties are period, delay, mode and easing)");
     // The period and delay set the clip's length: fixed for the whole animation.

@@ -103,6 +103,12 @@ void writeFileAtomically(const std::string& path, const void* data, size_t size)
         p += n;
         left -= static_cast<size_t>(n);
     }
+    // A file that is replaced keeps its permissions (a scene the viewer writes the placement
+    // into, an image someone made read-only for others); a new one gets 0666 less the umask.
+    struct stat before {};
+    if (::stat(path.c_str(), &before) == 0 && S_ISREG(before.st_mode) &&
+        ::fchmod(fd, before.st_mode & 07777) != 0)
+        throw fail(errno);
     // Delayed allocation can leave ENOSPC for fsync or close to report; and without the
     // fsync a crash soon after the rename could leave an empty file under the final name.
     if (::fsync(fd) != 0) throw fail(errno);

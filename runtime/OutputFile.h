@@ -23,7 +23,8 @@
 
 namespace moire {
 
-// Writes `size` bytes to `path` through a temporary beside it. Throws IoError.
+// Writes `size` bytes to `path` through a temporary beside it; a file replaced keeps its
+// permissions. Throws IoError.
 void writeFileAtomically(const std::string& path, const void* data, size_t size);
 
 // A fresh temporary name beside `target`, keeping its extension (ffmpeg chooses the

@@ -6,6 +6,7 @@
 #include <doctest/doctest.h>
 #include <filesystem>
 #include <sys/resource.h>
+#include <sys/stat.h>
 #include <sys/wait.h>
 #include <unistd.h>
 #include <vector>
@@ -93,4 +94,16 @@ TEST_CASE("a temporary of this process is its own, and is kept until it is gone"
     CHECK(dir.names().size() == 2);
     CHECK(removeStaleTemporaries(dir.file("frame.png")) == 1);
     CHECK(dir.names() == std::vector<std::string>{fs::path(temp).filename().string()});
+}
+
+TEST_CASE("writeFileAtomically: a file replaced keeps its permissions") {
+    test::TempDir dir("outputfile-mode");
+    dir.write("s.moire", "old text, longer than the new\n");
+    REQUIRE(::chmod(dir.file("s.moire").c_str(), 0640) == 0);
+    writeFileAtomically(dir.file("s.moire"), "new\n", 4);
+    CHECK(test::readFile(dir.file("s.moire")) == "new\n");
+    struct stat st {};
+    REQUIRE(::stat(dir.file("s.moire").c_str(), &st) == 0);
+    CHECK((st.st_mode & 07777) == 0640);
+    CHECK(dir.names() == std::vector<std::string>{"s.moire"});
 }

@@ -89,44 +89,6 @@ bool readWholeFile(const std::string& path, std::string& text, std::string& reas
     return readBounded(fd.get(), text, reason);
 }
 
-bool writeWholeFile(const std::string& path, const std::string& text, std::string& reason) {
-    static std::atomic<int> counter{0};
-    const std::filesystem::path target(path);
-    const std::filesystem::path temp =
-        (target.has_parent_path() ? target.parent_path() : std::filesystem::path(".")) /
-        fmt::format(".{}.{}-{}.tmp", target.filename().string(), ::getpid(), counter++);
-    struct stat st {};
-    const mode_t mode = ::stat(path.c_str(), &st) == 0 ? (st.st_mode & 07777) : 0644;
-    const int fd = ::open(temp.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0600);
-    if (fd < 0) {
-        reason = std::strerror(errno);
-        return false;
-    }
-    auto failed = [&](int err) {
-        reason = std::strerror(err);
-        ::unlink(temp.c_str());
-        return false;
-    };
-    for (size_t off = 0; off < text.size();) {
-        const ssize_t n = ::write(fd, text.data() + off, text.size() - off);
-        if (n < 0 && errno == EINTR) continue;
-        if (n < 0) {
-            const int err = errno;
-            ::close(fd);
-            return failed(err);
-        }
-        off += static_cast<size_t>(n);
-    }
-    if (::fchmod(fd, mode) != 0 || ::fsync(fd) != 0) {
-        const int err = errno;
-        ::close(fd);
-        return failed(err);
-    }
-    if (::close(fd) != 0) return failed(errno);
-    if (::rename(temp.c_str(), path.c_str()) != 0) return failed(errno);
-    return true;
-}
-
 bool readStandardInput(std::string& text, std::string& reason) {
     return readBounded(STDIN_FILENO, text, reason);
 }

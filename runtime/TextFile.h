@@ -15,12 +15,6 @@ constexpr size_t kMaxSourceBytes = size_t{4} << 20;
 // file longer than kMaxSourceBytes. False, with the reason, when it cannot be read.
 bool readWholeFile(const std::string& path, std::string& text, std::string& reason);
 
-// Replaces `path` with `text` atomically: written to a temporary beside it
-// (.NAME.PID-N.tmp), flushed to disk, given the file's permissions, then renamed over it, so
-// that an editor or a reloader never reads half of it and a failure leaves the file as it
-// was. False, with the reason, on any failure (nothing is left behind).
-bool writeWholeFile(const std::string& path, const std::string& text, std::string& reason);
-
 // Reads standard input to its end (a pipe, a file or a terminal), at most kMaxSourceBytes.
 bool readStandardInput(std::string& text, std::string& reason);
 

@@ -39,19 +39,3 @@ TEST_CASE("text file: a scene is read whole, up to the limit, from a regular fil
     CHECK(why == "No such file or directory");
 }
 
-TEST_CASE("text file: a write replaces the file whole and keeps its permissions") {
-    test::TempDir dir("textfile");
-    dir.write("s.moire", "old text, longer than the new\n");
-    REQUIRE(::chmod(dir.file("s.moire").c_str(), 0640) == 0);
-    std::string why;
-    REQUIRE(writeWholeFile(dir.file("s.moire"), "new\n", why));
-    CHECK(test::readFile(dir.file("s.moire")) == "new\n");
-    struct stat st {};
-    REQUIRE(::stat(dir.file("s.moire").c_str(), &st) == 0);
-    CHECK((st.st_mode & 07777) == 0640);
-    CHECK(dir.names() == std::vector<std::string>{"s.moire"});
-    // Into a directory that is not there: the reason, and nothing written.
-    CHECK(!writeWholeFile(dir.file("no/s.moire"), "x", why));
-    CHECK(why == "No such file or directory");
-    CHECK(dir.names() == std::vector<std::string>{"s.moire"});
-}

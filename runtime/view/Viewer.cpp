@@ -4,6 +4,7 @@
 #include "compiler/Compile.h"
 #include "runtime/FrameEval.h"
 #include "runtime/live/SceneReloader.h"
+#include "runtime/OutputFile.h"
 #include "runtime/TextFile.h"
 #include "runtime/view/FrameRenderer.h"
 #include "runtime/view/Overlay.h"
@@ -706,7 +707,11 @@ class Viewer {
         if (placed == loaded) {
             fmt::print("moire: the scene already has this placement\n");
         } else {
-            if (!writeWholeFile(options_.scenePath, placed, why)) return fail(why);
+            try {
+                writeFileAtomically(options_.scenePath, placed.data(), placed.size());
+            } catch (const IoError& e) {
+                return fail(e.what());
+            }
             placedText_ = placed;
             fmt::print("moire: wrote the placement into {}\n", options_.scenePath);
         }

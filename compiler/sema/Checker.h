@@ -81,6 +81,7 @@ class Checker {
 
     // Checks `e` and leaves in lastHeight_ its height with fields and lets filled in.
     Type checkExpr(Expr& e, const Scope& scope);
+    Type finishExpr(Expr& e, const Scope& scope, int height);
 
     bool anyError(const Expr& e) const;
     Type typeOf(Expr& e, const Scope& scope);

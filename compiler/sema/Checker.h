@@ -93,6 +93,7 @@ class Checker {
     CheckedScene out_;
     std::unordered_map<std::string, const Decl*> globals_;
     std::unordered_map<std::string, const Decl*> layerNames_;
+    int userLayers_ = 0; // counted against kMaxLayers
     std::vector<Decl*> fields_, familyDecls_, timings_, easings_;
     std::unordered_map<const Decl*, State> fieldState_;
     std::vector<const Decl*> fieldStack_;

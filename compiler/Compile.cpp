@@ -7,9 +7,27 @@
 #include "compiler/passes/SplitFrame.h"
 #include "compiler/stdlib/Embedded.h"
 
+#include <chrono>
+
 namespace moire {
 
 namespace {
+// Times the stages for CompileOptions::stageSeconds; free when that is not set.
+class StageClock {
+  public:
+    explicit StageClock(std::vector<std::pair<std::string, double>>* out) : out_(out) {}
+    void lap(const char* stage) {
+        if (!out_) return;
+        auto now = std::chrono::steady_clock::now();
+        out_->emplace_back(stage, std::chrono::duration<double>(now - last_).count());
+        last_ = now;
+    }
+
+  private:
+    std::vector<std::pair<std::string, double>>* out_;
+    std::chrono::steady_clock::time_point last_ = std::chrono::steady_clock::now();
+};
+
 bool isLibraryModule(std::string_view path) {
     return path.starts_with("stdlib/") && !path.starts_with("stdlib/scenes/") &&
            path.ends_with(".moire");
@@ -30,6 +48,7 @@ CompileResult compileScene(const std::string& path, std::string text,
     SourceManager& sm = *program->sources;
     DiagEngine diags(sm);
     CompileResult result;
+    StageClock clock(options.stageSeconds);
 
     // 1. Parse the standard library, then the scene.
     for (const embedded::File& f : embedded::files()) {
@@ -43,12 +62,14 @@ CompileResult compileScene(const std::string& path, std::string text,
     program->modules.push_back(
         std::make_unique<ast::Module>(Parser(sm, userId, diags).parseModule()));
     program->literals = program->modules.back()->literals;
+    clock.lap("parse");
 
     // 2. Semantic checks: names, arity, types, units, constness.
     if (!diags.hasErrors()) {
         std::vector<ast::Module*> modules;
         for (auto& m : program->modules) modules.push_back(m.get());
         program->checked = sema::check(modules, diags);
+        clock.lap("check");
     }
     if (diags.hasErrors()) {
         result.diagnostics = diags.render();
@@ -74,17 +95,25 @@ CompileResult compileScene(const std::string& path, std::string text,
         program->literals[program->viewSlot + lower::ViewSlots::kZoomFactor] = 1.0;
     }
     ir::Function scene = lower::lowerScene(program->checked, lowerOptions, program->layout);
-    program->lowered = passes::simplify(scene);                              // fold, CSE, DCE
-    program->derived = passes::simplify(passes::autoDiff(program->lowered)); // forward-mode AD
+    clock.lap("lower");
+    program->lowered = passes::simplify(scene); // fold, CSE, DCE
+    clock.lap("simplify");
+    ir::Function derived = passes::autoDiff(program->lowered); // forward-mode AD
+    clock.lap("autodiff");
+    program->derived = passes::simplify(derived);
+    clock.lap("simplify derived");
     passes::FrameSplit split = passes::splitFrame(
         program->derived, program->layout.numKernelOutputs, program->layout.firstCheckSetting());
     // A checked value that depends on the pixel cannot be checked per frame.
     for (int s : split.perPixelSettings)
         program->layout.checks.at(s - program->layout.firstCheckSetting()).perPixel = true;
+    clock.lap("split frame");
     program->frame = std::move(split.frame);          // per-frame uniforms
     program->kernel = passes::simplify(split.kernel); // per-pixel kernel
+    clock.lap("simplify kernel");
     program->numUniforms = split.numUniforms;
     program->kernelHash = ir::structuralHash(program->kernel);
+    clock.lap("hash");
 
     result.diagnostics = diags.render(); // notes, if any
     result.program = std::move(program);

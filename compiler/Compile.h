@@ -10,6 +10,7 @@
 
 #include <memory>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace moire {
@@ -19,6 +20,8 @@ struct CompileOptions {
     bool probe = false;       // camera centre from literal slots probeSlot, probeSlot + 1
     bool tally = false;       // count the walking solver's radius evaluations (interpreter)
     bool interactive = false; // the viewer's pan, zoom and layer motions from literal slots
+    // When set, each stage appends its name and wall-clock seconds (bench/compile_bench).
+    std::vector<std::pair<std::string, double>>* stageSeconds = nullptr;
 };
 
 // A compiled scene, with every intermediate stage kept for `moire compile --dump`.

@@ -8,6 +8,7 @@
 #include <fmt/format.h>
 #include <limits>
 #include <numeric>
+#include <vector>
 
 namespace moire::clip {
 
@@ -107,11 +108,18 @@ std::optional<Rational> lcm(Rational a, Rational b) {
 bool readsClock(const SceneProgram& program) {
     struct Walk {
         bool found = false;
-        void expr(const ast::Expr* e) {
-            if (!e || found) return;
-            if (e->kind == ast::ExprKind::Name && e->ref == ast::RefKind::Builtin && e->name == "t")
-                found = true;
-            for (const ast::ExprPtr& a : e->args) expr(a.get());
+        // With a stack of its own: a long chain of sums is as deep as it is long.
+        void expr(const ast::Expr* root) {
+            std::vector<const ast::Expr*> todo{root};
+            while (!todo.empty() && !found) {
+                const ast::Expr* e = todo.back();
+                todo.pop_back();
+                if (!e) continue;
+                if (e->kind == ast::ExprKind::Name && e->ref == ast::RefKind::Builtin &&
+                    e->name == "t")
+                    found = true;
+                for (const ast::ExprPtr& a : e->args) todo.push_back(a.get());
+            }
         }
     } walk;
     for (const auto& module : program.modules)

@@ -18,6 +18,10 @@ class Lexer {
     std::string_view spelling(const Token& t) const { return text_.substr(t.offset, t.length); }
     uint32_t fileId() const { return file_; }
 
+    // The longest name, in characters (docs/language.md). Longer names are an error: nothing
+    // needs them, and every later stage (suggestions, messages) would carry them along.
+    static constexpr size_t kMaxNameLength = 256;
+
   private:
     SourceRange rangeAt(size_t offset, size_t length) const {
         return {{file_, static_cast<uint32_t>(offset)}, static_cast<uint32_t>(length)};

@@ -210,7 +210,13 @@ Token Lexer::next() {
                 lexColor(t, start, pos_);
                 return t;
             }
-            [a-zA-Z_] word { return finish(Tok::Ident); }
+            [a-zA-Z_] word {
+                Token name = finish(Tok::Ident);
+                if (name.length > kMaxNameLength)
+                    diags_.error(rangeAt(start, name.length), Msg::NameTooLong, name.length,
+                                 kMaxNameLength);
+                return name;
+            }
 
             "(" { return finish(Tok::LParen); }
             ")" { return finish(Tok::RParen); }

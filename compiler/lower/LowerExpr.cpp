@@ -134,22 +134,31 @@ Vals ExprLowering::binary(const Expr& e, Frame& frame) {
             return {b_.emit(Op::Exp, {x})};
         return {b_.emit(Op::Pow, {scalar(lhsE, frame), x})};
     }
-    Vals a = lower(lhsE, frame);
-    Vals c = lower(rhsE, frame);
-    b_.setLoc(e.range.begin);
-    Op op = e.bin == BinOp::Add   ? Op::Add
-            : e.bin == BinOp::Sub ? Op::Sub
-            : e.bin == BinOp::Mul ? Op::Mul
-                                  : Op::Div;
-    // Component-wise, broadcasting a scalar against a vector.
-    size_t n = std::max(a.size(), c.size());
-    Vals out;
-    for (size_t i = 0; i < n; ++i) {
-        ValueId l = a.size() == 1 ? a[0] : a[i];
-        ValueId r = c.size() == 1 ? c[0] : c[i];
-        out.push_back(b_.emit(op, {l, r}));
+    // A chain `a + b - c * d ...`: its left spine in a loop, from the first operand up, in
+    // the order recursion would take (a chain may be far longer than the stack is deep).
+    std::vector<const Expr*> spine;
+    for (const Expr* link = &e; isChainLink(*link); link = link->args[0].get())
+        spine.push_back(link);
+    Vals a = lower(*spine.back()->args[0], frame);
+    for (auto it = spine.rbegin(); it != spine.rend(); ++it) {
+        const Expr& link = **it;
+        Vals c = lower(*link.args[1], frame);
+        b_.setLoc(link.range.begin);
+        Op op = link.bin == BinOp::Add   ? Op::Add
+                : link.bin == BinOp::Sub ? Op::Sub
+                : link.bin == BinOp::Mul ? Op::Mul
+                                         : Op::Div;
+        // Component-wise, broadcasting a scalar against a vector.
+        size_t n = std::max(a.size(), c.size());
+        Vals out;
+        for (size_t i = 0; i < n; ++i) {
+            ValueId l = a.size() == 1 ? a[0] : a[i];
+            ValueId r = c.size() == 1 ? c[0] : c[i];
+            out.push_back(b_.emit(op, {l, r}));
+        }
+        a = std::move(out);
     }
-    return out;
+    return a;
 }
 
 Vals ExprLowering::call(const Expr& e, Frame& frame) {

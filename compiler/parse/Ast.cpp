@@ -1,6 +1,8 @@
 #include "compiler/parse/Ast.h"
 
 #include <fmt/format.h>
+#include <utility>
+#include <vector>
 
 namespace moire::ast {
 
@@ -82,7 +84,30 @@ std::string annot(const Expr& e) {
 }
 } // namespace
 
+Expr::~Expr() {
+    if (args.empty()) return;
+    std::vector<ExprPtr> pending = std::move(args);
+    while (!pending.empty()) {
+        ExprPtr e = std::move(pending.back());
+        pending.pop_back();
+        if (!e) continue;
+        for (ExprPtr& a : e->args) pending.push_back(std::move(a));
+        e->args.clear();
+    } // each node is destroyed here with no operands left to recurse into
+}
+
 std::string printExpr(const Expr& e) {
+    if (isChainLink(e)) {
+        // "((a + b) + c)": the spine in a loop, from the chain's first operand up.
+        std::vector<const Expr*> spine;
+        for (const Expr* link = &e; isChainLink(*link); link = link->args[0].get())
+            spine.push_back(link);
+        std::string s(spine.size(), '(');
+        s += printExpr(*spine.back()->args[0]);
+        for (auto it = spine.rbegin(); it != spine.rend(); ++it)
+            s += fmt::format(" {} {})", binOpSpelling((*it)->bin), printExpr(*(*it)->args[1]));
+        return s;
+    }
     switch (e.kind) {
     case ExprKind::Error:
         return "<error>";
@@ -111,30 +136,38 @@ std::string printExpr(const Expr& e) {
 }
 
 namespace {
-void printTree(std::string& out, const Expr& e, int depth) {
-    std::string pad(depth * 2, ' ');
-    switch (e.kind) {
-    case ExprKind::Error:
-    case ExprKind::Number:
-    case ExprKind::Color:
-    case ExprKind::Name:
-        out += pad + printExpr(e) + annot(e) + "\n";
-        return;
-    case ExprKind::Unary:
-        out += pad + (e.un == UnOp::Neg ? "neg" : "plus");
-        break;
-    case ExprKind::Binary:
-        out += pad + binOpSpelling(e.bin);
-        break;
-    case ExprKind::Call:
-        out += pad + "call " + e.name;
-        break;
-    case ExprKind::Vector:
-        out += pad + "vector";
-        break;
+void printTree(std::string& out, const Expr& root, int rootDepth) {
+    // Depth first with an explicit stack, so that a long chain needs no stack of calls.
+    std::vector<std::pair<const Expr*, int>> todo{{&root, rootDepth}};
+    while (!todo.empty()) {
+        auto [ep, depth] = todo.back();
+        todo.pop_back();
+        const Expr& e = *ep;
+        std::string pad(depth * 2, ' ');
+        switch (e.kind) {
+        case ExprKind::Error:
+        case ExprKind::Number:
+        case ExprKind::Color:
+        case ExprKind::Name:
+            out += pad + printExpr(e) + annot(e) + "\n";
+            continue;
+        case ExprKind::Unary:
+            out += pad + (e.un == UnOp::Neg ? "neg" : "plus");
+            break;
+        case ExprKind::Binary:
+            out += pad + binOpSpelling(e.bin);
+            break;
+        case ExprKind::Call:
+            out += pad + "call " + e.name;
+            break;
+        case ExprKind::Vector:
+            out += pad + "vector";
+            break;
+        }
+        out += annot(e) + "\n";
+        for (auto a = e.args.rbegin(); a != e.args.rend(); ++a)
+            todo.push_back({a->get(), depth + 1});
     }
-    out += annot(e) + "\n";
-    for (const ExprPtr& a : e.args) printTree(out, *a, depth + 1);
 }
 } // namespace
 

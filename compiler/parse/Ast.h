@@ -69,7 +69,19 @@ struct Expr {
     bool dependsOnTime = false;     // uses t
 
     Expr(ExprKind k, SourceRange r) : kind(k), range(r), opRange(r) {}
+    // Takes the tree apart in a loop: a chain `a + b + c + ...` is a left spine as deep as
+    // the chain is long, and destroying it by recursion would overflow the stack.
+    ~Expr();
+    Expr(Expr&&) = default;
+    Expr& operator=(Expr&&) = default;
 };
+
+// A link of a chain of sums or products, whose left operand may be the chain's previous link.
+// Every walk over expressions follows a chain's left spine in a loop, not by recursion
+// (the parser does not count a chain's length as nesting).
+inline bool isChainLink(const Expr& e) {
+    return e.kind == ExprKind::Binary && e.bin != BinOp::Pow;
+}
 using ExprPtr = std::unique_ptr<Expr>;
 
 struct Property {

@@ -372,38 +372,30 @@ ExprPtr Parser::binary(BinOp op, SourceRange opRange, ExprPtr lhs, ExprPtr rhs) 
     return e;
 }
 
-// A chain `a + b + c + ...` builds a left-leaning tree as tall as the chain is long, and
-// later stages walk trees recursively: each link counts as a level of nesting, so that a
-// chain of 100,000 terms is an error rather than a stack overflow further on.
+// A chain `a + b + c + ...` builds a left-leaning tree as tall as the chain is long. The
+// chain is not nesting: only parentheses, calls, signs and powers count towards kMaxDepth,
+// and every later stage walks a chain's left spine in a loop rather than by recursion.
 ExprPtr Parser::parseSum() {
     ExprPtr lhs = parseProduct();
-    int links = 0;
     while (at(Tok::Plus) || at(Tok::Minus)) {
         SourceRange opRange = range();
         BinOp op = at(Tok::Plus) ? BinOp::Add : BinOp::Sub;
-        ++links, ++depth_;
-        if (tooDeep()) break;
         advance();
         ExprPtr rhs = parseProduct();
         lhs = binary(op, opRange, std::move(lhs), std::move(rhs));
     }
-    depth_ -= links;
     return lhs;
 }
 
 ExprPtr Parser::parseProduct() {
     ExprPtr lhs = parseUnary();
-    int links = 0;
     while (at(Tok::Star) || at(Tok::Slash)) {
         SourceRange opRange = range();
         BinOp op = at(Tok::Star) ? BinOp::Mul : BinOp::Div;
-        ++links, ++depth_;
-        if (tooDeep()) break;
         advance();
         ExprPtr rhs = parseUnary();
         lhs = binary(op, opRange, std::move(lhs), std::move(rhs));
     }
-    depth_ -= links;
     return lhs;
 }
 

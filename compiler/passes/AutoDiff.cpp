@@ -71,6 +71,25 @@ class AutoDiff {
         for (const Block& blk : f_.blocks)
             for (const Inst& inst : blk.insts) fn(inst);
     }
+    // Program order, a region's instructions before the If or Loop owning them: a forward
+    // analysis then settles in one sweep but for loops' back edges. (Block order took a
+    // sweep per If or Loop in a chain of them, quadratic in the number of layers.)
+    template <class Fn>
+    void forward(BlockId b, Fn& fn) {
+        for (const Inst& inst : f_.blocks[b].insts) {
+            for (BlockId r : inst.regions) forward(r, fn);
+            fn(inst);
+        }
+    }
+    // The reverse: uses before definitions, an If or Loop before its regions.
+    template <class Fn>
+    void backward(BlockId b, Fn& fn) {
+        const auto& insts = f_.blocks[b].insts;
+        for (auto it = insts.rbegin(); it != insts.rend(); ++it) {
+            fn(*it);
+            for (auto r = it->regions.rbegin(); r != it->regions.rend(); ++r) backward(*r, fn);
+        }
+    }
     const Inst& yieldOf(BlockId b) const { return f_.blocks[b].insts.back(); }
 
     static bool mark(std::vector<bool>& set, ValueId v) {
@@ -83,7 +102,7 @@ class AutoDiff {
         // hasT: forward, to a fixed point (loops carry tangents around their back edge).
         for (bool changed = true; changed;) {
             changed = false;
-            forEachInst([&](const Inst& inst) {
+            auto step = [&](const Inst& inst) {
                 if (inst.op == Op::Indep) {
                     changed |= mark(hasT_, inst.results[0]);
                 } else if (inst.op == Op::If) {
@@ -107,7 +126,8 @@ class AutoDiff {
                     for (size_t i = first; i < inst.args.size(); ++i)
                         if (hasT_[inst.args[i]]) changed |= mark(hasT_, inst.results[0]);
                 }
-            });
+            };
+            forward(0, step);
         }
         // needT: backward from the derivative markers, to a fixed point.
         forEachInst([&](const Inst& inst) {
@@ -115,7 +135,7 @@ class AutoDiff {
         });
         for (bool changed = true; changed;) {
             changed = false;
-            forEachInst([&](const Inst& inst) {
+            auto step = [&](const Inst& inst) {
                 if (inst.op == Op::If) {
                     for (size_t i = 0; i < inst.results.size(); ++i) {
                         if (!needT_[inst.results[i]]) continue;
@@ -140,7 +160,8 @@ class AutoDiff {
                     for (ValueId a : inst.args)
                         if (f_.type(a) == Type::F) changed |= mark(needT_, a);
                 }
-            });
+            };
+            backward(0, step);
         }
         // Fix: the result of a derivative marker never gets a tangent, so a derivative of a
         // derivative came out as a silent 0. The pass is first order: refuse instead.

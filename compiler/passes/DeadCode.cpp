@@ -45,19 +45,28 @@ class Dce : public Rewriter {
     }
 
     // Backward liveness to a fixed point. A live If or Loop keeps all its yields (regions
-    // are not pruned slot by slot).
-    void analyse() {
-        for (bool changed = true; changed;) {
-            changed = false;
-            for (const Block& blk : src_.blocks) {
-                for (auto it = blk.insts.rbegin(); it != blk.insts.rend(); ++it) {
-                    const Inst& inst = *it;
-                    if (inst.op == Op::Yield || !isLive(inst)) continue;
-                    changed |= markArgs(inst.args);
-                    for (BlockId r : inst.regions)
-                        changed |= markArgs(src_.blocks[r].insts.back().args);
-                }
+    // are not pruned slot by slot). Uses are visited before definitions, an If or Loop
+    // before its regions, so one sweep settles everything but loops' back edges; sweeping
+    // the blocks in their numbering took a sweep per If or Loop in a chain of them.
+    bool sweep(BlockId b) {
+        bool changed = false;
+        const auto& insts = src_.blocks[b].insts;
+        for (auto it = insts.rbegin(); it != insts.rend(); ++it) {
+            const Inst& inst = *it;
+            if (inst.op == Op::Yield) continue;
+            if (isLive(inst)) {
+                changed |= markArgs(inst.args);
+                for (BlockId r : inst.regions)
+                    changed |= markArgs(src_.blocks[r].insts.back().args);
             }
+            // Every region is swept, as every block was before, whether its owner is live.
+            for (auto r = inst.regions.rbegin(); r != inst.regions.rend(); ++r)
+                changed |= sweep(*r);
+        }
+        return changed;
+    }
+    void analyse() {
+        while (sweep(0)) {
         }
     }
 

@@ -4,6 +4,7 @@
 #include "compiler/passes/Rewriter.h"
 #include "compiler/passes/Simplify.h"
 
+#include <iterator>
 #include <unordered_map>
 
 namespace moire::passes {
@@ -17,33 +18,31 @@ bool isPixelInput(Op op) {
 }
 
 // varying[v]: v depends on the pixel. An If or Loop is varying when anything inside it is.
+// Instructions are visited in program order, a region's before the If or Loop owning it, so
+// one sweep settles everything but a loop's back edges; sweeping the blocks in their
+// numbering instead took a sweep per If or Loop in a chain of them (one per layer).
 std::vector<bool> varyingValues(const Function& f) {
     std::vector<bool> varying(f.numValues(), false);
-    std::function<bool(BlockId)> regionVarying = [&](BlockId b) {
+    bool changed = true;
+    std::function<bool(BlockId)> sweep = [&](BlockId b) {
+        bool any = false;
         for (const Inst& inst : f.blocks[b].insts) {
-            if (isPixelInput(inst.op)) return true;
-            for (ValueId a : inst.args)
-                if (varying[a]) return true;
+            bool v = isPixelInput(inst.op);
+            for (ValueId a : inst.args) v = v || varying[a];
+            for (BlockId r : inst.regions) v = sweep(r) || v;
+            any = any || v;
+            if (!v) continue;
+            for (ValueId r : inst.results)
+                if (!varying[r]) varying[r] = changed = true;
             for (BlockId r : inst.regions)
-                if (regionVarying(r)) return true;
+                for (ValueId p : f.blocks[r].params)
+                    if (!varying[p]) varying[p] = changed = true;
         }
-        return false;
+        return any;
     };
-    for (bool changed = true; changed;) {
+    while (changed) {
         changed = false;
-        for (const Block& blk : f.blocks) {
-            for (const Inst& inst : blk.insts) {
-                bool v = isPixelInput(inst.op);
-                for (ValueId a : inst.args) v = v || varying[a];
-                for (BlockId r : inst.regions) v = v || regionVarying(r);
-                if (!v) continue;
-                for (ValueId r : inst.results)
-                    if (!varying[r]) varying[r] = changed = true;
-                for (BlockId r : inst.regions)
-                    for (ValueId p : f.blocks[r].params)
-                        if (!varying[p]) varying[p] = changed = true;
-            }
-        }
+        sweep(0);
     }
     return varying;
 }
@@ -90,19 +89,24 @@ class KernelBuilder : public Rewriter {
     void leaveRegion() override { --depth_; }
 
     ValueId mapMissing(ValueId v) override {
-        // What the kernel takes from the frame is emitted at the top of its entry block, so
-        // it dominates every use, including uses inside regions.
+        // What the kernel takes from the frame goes at the top of its entry block, so it
+        // dominates every use, including uses inside regions. It is set aside here and put
+        // there once, in finish(): inserting each import at the top as it came cost a copy
+        // of the whole entry block per uniform, quadratic in the size of the scene.
         BlockId saved = b_.block();
         b_.setBlock(0);
         auto& entry = dst_.blocks[0].insts;
         size_t at = entry.size();
         ValueId r = importValue(v);
-        std::vector<Inst> moved(entry.begin() + at, entry.end());
+        std::move(entry.begin() + at, entry.end(), std::back_inserter(imports_));
         entry.erase(entry.begin() + at, entry.end());
-        entry.insert(entry.begin() + hoisted_, moved.begin(), moved.end());
-        hoisted_ += moved.size();
         b_.setBlock(saved);
         return r;
+    }
+    void finish() override {
+        auto& entry = dst_.blocks[0].insts;
+        std::move(entry.begin(), entry.end(), std::back_inserter(imports_));
+        entry = std::move(imports_);
     }
     ValueId importValue(ValueId v) {
         const Inst* def = def_.at(v);
@@ -121,7 +125,7 @@ class KernelBuilder : public Rewriter {
     const std::vector<bool>& varying_;
     std::unordered_map<ValueId, const Inst*> def_;
     int depth_ = 0;
-    size_t hoisted_ = 0;
+    std::vector<Inst> imports_; // the entry block's imports, in the order they were made
 };
 
 // Builds the frame program: the non-varying instructions, then one output per uniform and

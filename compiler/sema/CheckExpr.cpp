@@ -47,6 +47,20 @@ void Checker::tooDeep(const Expr& e) {
 // Checks `e` and leaves in lastHeight_ its height with fields and lets filled in.
 Type Checker::checkExpr(Expr& e, const Scope& scope) {
     DepthGuard guard(exprDepth_);
+    if (isChainLink(e)) {
+        // A chain's left spine is checked in a loop from its first operand up, as lowering
+        // walks it: every operand of the chain is one level below it, however long it is.
+        std::vector<Expr*> spine;
+        for (Expr* link = &e; isChainLink(*link); link = link->args[0].get()) spine.push_back(link);
+        checkExpr(*spine.back()->args[0], scope);
+        int height = lastHeight_;
+        for (auto it = spine.rbegin(); it != spine.rend(); ++it) {
+            checkExpr(*(*it)->args[1], scope);
+            height = std::max(height, lastHeight_);
+            finishExpr(**it, scope, height);
+        }
+        return e.type;
+    }
     int height = 0;
     // ramp and progress take a timing's name first: it names a declaration, not a value.
     const bool timed = e.kind == ExprKind::Call && (e.name == "ramp" || e.name == "progress") && !e.args.empty();
@@ -58,6 +72,12 @@ Type Checker::checkExpr(Expr& e, const Scope& scope) {
         checkExpr(*e.args[i], scope);
         height = std::max(height, lastHeight_);
     }
+    return finishExpr(e, scope, height);
+}
+
+// The type of `e` once its operands are checked; lastHeight_ = 1 + max(height, the height of
+// what a name names).
+Type Checker::finishExpr(Expr& e, const Scope& scope, int height) {
     inherit(e);
     refHeight_ = 0;
     e.type = typeOf(e, scope); // a name sets refHeight_ to the height of what it names

@@ -81,6 +81,7 @@ class Checker {
 
     // Checks `e` and leaves in lastHeight_ its height with fields and lets filled in.
     Type checkExpr(Expr& e, const Scope& scope);
+    Type finishExpr(Expr& e, const Scope& scope, int height);
 
     bool anyError(const Expr& e) const;
     Type typeOf(Expr& e, const Scope& scope);
@@ -92,6 +93,7 @@ class Checker {
     CheckedScene out_;
     std::unordered_map<std::string, const Decl*> globals_;
     std::unordered_map<std::string, const Decl*> layerNames_;
+    int userLayers_ = 0; // counted against kMaxLayers
     std::vector<Decl*> fields_, familyDecls_, timings_, easings_;
     std::unordered_map<const Decl*, State> fieldState_;
     std::vector<const Decl*> fieldStack_;

@@ -162,6 +162,8 @@ void Checker::collect(const std::vector<Module*>& modules) {
                 break;
             }
             case DeclKind::Layer:
+                if (++userLayers_ == kMaxLayers + 1)
+                    diags_.error(d.range, Msg::TooManyLayers, kMaxLayers);
                 if (!d.name.empty()) {
                     auto known = layerNames_.find(d.name);
                     if (known != layerNames_.end()) {

@@ -65,6 +65,10 @@ struct CheckedLayer {
     }
 };
 
+// The most layers a scene may have (docs/language.md). Compile time and the time per pixel
+// grow with the layers; past this a scene is refused with a located error.
+constexpr int kMaxLayers = 1000;
+
 struct CheckedScene {
     const ast::Decl* scene = nullptr;
     const ast::Decl* camera = nullptr;

@@ -3,11 +3,14 @@
 #include "compiler/backend/glsl/GlslKernel.h"
 #include "compiler/diag/Diagnostics.h"
 
+#include <cstring>
 #include <glslang/Public/ResourceLimits.h>
 #include <glslang/Public/ShaderLang.h>
 #include <glslang/SPIRV/GlslangToSpv.h>
 #include <mutex>
 #include <spirv-tools/libspirv.hpp>
+#include <string>
+#include <unordered_set>
 
 namespace moire::glsl {
 
@@ -54,10 +57,43 @@ bool validateSpirv(const std::vector<uint32_t>& spirv, std::string* message) {
     return ok;
 }
 
+namespace {
+// The module with every repeated debug name made unique by its id ("param" -> "param_812").
+// glslang names each temporary of a function call "param", thousands of them in a scene of
+// many layers, and the disassembler's friendly names then search for a free "param_N" name
+// by counting up from 0 each time: quadratic, minutes for a few hundred layers.
+std::vector<uint32_t> uniqueNames(const std::vector<uint32_t>& spirv) {
+    constexpr uint32_t kOpName = 5, kHeaderWords = 5;
+    if (spirv.size() < kHeaderWords) return spirv;
+    std::vector<uint32_t> out(spirv.begin(), spirv.begin() + kHeaderWords);
+    std::unordered_set<std::string> seen;
+    for (size_t at = kHeaderWords; at < spirv.size();) {
+        uint32_t words = spirv[at] >> 16, op = spirv[at] & 0xffff;
+        if (words == 0 || at + words > spirv.size()) return spirv; // malformed: leave it be
+        if (op != kOpName || words < 3) {
+            out.insert(out.end(), spirv.begin() + at, spirv.begin() + at + words);
+            at += words;
+            continue;
+        }
+        uint32_t target = spirv[at + 1];
+        const char* chars = reinterpret_cast<const char*>(&spirv[at + 2]);
+        std::string name(chars, strnlen(chars, (words - 2) * sizeof(uint32_t)));
+        if (!seen.insert(name).second) name += "_" + std::to_string(target);
+        std::vector<uint32_t> literal((name.size() + sizeof(uint32_t)) / sizeof(uint32_t), 0);
+        std::memcpy(literal.data(), name.data(), name.size());
+        out.push_back(static_cast<uint32_t>((2 + literal.size()) << 16) | kOpName);
+        out.push_back(target);
+        out.insert(out.end(), literal.begin(), literal.end());
+        at += words;
+    }
+    return out;
+}
+} // namespace
+
 std::string disassembleSpirv(const std::vector<uint32_t>& spirv) {
     spvtools::SpirvTools tools(SPV_ENV_VULKAN_1_2);
     std::string text;
-    if (!tools.Disassemble(spirv, &text,
+    if (!tools.Disassemble(uniqueNames(spirv), &text,
                            SPV_BINARY_TO_TEXT_OPTION_FRIENDLY_NAMES |
                                SPV_BINARY_TO_TEXT_OPTION_INDENT))
         return "; (the module could not be disassembled)\n";

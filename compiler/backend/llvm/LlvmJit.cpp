@@ -120,6 +120,7 @@ struct LlvmJitBackend::Impl {
     std::mutex mutex;
     std::unordered_map<uint64_t, llvmbackend::TileFn> cache;
     int compiled = 0;
+    size_t chunkInsts = 0;
 
     Impl() {
         initialiseLlvmOnce();
@@ -142,7 +143,7 @@ struct LlvmJitBackend::Impl {
 
     std::unique_ptr<llvm::Module> build(const ir::Function& kernel, const std::string& name,
                                         llvm::LLVMContext& ctx) {
-        auto m = llvmbackend::translate(kernel, name, ctx);
+        auto m = llvmbackend::translate(kernel, name, ctx, chunkInsts);
         m->setDataLayout(jit->getDataLayout());
         m->setTargetTriple(tm->getTargetTriple().str());
         optimise(*m, *tm);
@@ -150,7 +151,9 @@ struct LlvmJitBackend::Impl {
     }
 };
 
-LlvmJitBackend::LlvmJitBackend() : impl_(std::make_unique<Impl>()) {}
+LlvmJitBackend::LlvmJitBackend(size_t chunkInsts) : impl_(std::make_unique<Impl>()) {
+    impl_->chunkInsts = chunkInsts;
+}
 LlvmJitBackend::~LlvmJitBackend() = default;
 
 int LlvmJitBackend::compileCount() const {

@@ -5,6 +5,7 @@
 
 #include "compiler/backend/Backend.h"
 
+#include <cstddef>
 #include <memory>
 #include <string>
 
@@ -12,7 +13,10 @@ namespace moire {
 
 class LlvmJitBackend : public Backend {
   public:
-    LlvmJitBackend();
+    // A kernel of more than `chunkInsts` instructions is compiled as chunks of about that
+    // size (backend/llvm/KernelChunks.h), so compile time stays linear in the kernel's size.
+    explicit LlvmJitBackend(size_t chunkInsts = kDefaultChunkInsts);
+    static constexpr size_t kDefaultChunkInsts = 600;
     ~LlvmJitBackend() override;
 
     std::string name() const override { return "jit"; }

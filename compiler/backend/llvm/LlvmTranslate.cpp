@@ -1,5 +1,6 @@
 #include "compiler/backend/llvm/LlvmTranslate.h"
 
+#include "compiler/backend/llvm/KernelChunks.h"
 #include "compiler/diag/Diagnostics.h"
 #include "compiler/ir/Semantics.h"
 
@@ -25,18 +26,28 @@ class Translator {
         i64_ = llvm::Type::getInt64Ty(ctx_);
     }
 
-    void run(const std::string& name) {
+    // The tile function of the whole kernel, or with `chunk`, the function of one chunk: the
+    // same loop over the tile's pixels, with a tenth parameter, the strip's carry buffer.
+    llvm::Function* run(const std::string& name, const Chunk* chunk = nullptr) {
         auto* ptr = llvm::PointerType::get(ctx_, 0);
-        auto* fnTy =
-            llvm::FunctionType::get(llvm::Type::getVoidTy(ctx_),
-                                    {ptr, i32_, i32_, i32_, i32_, i32_, i32_, ptr, i64_}, false);
-        fn_ = llvm::Function::Create(fnTy, llvm::Function::ExternalLinkage, name, m_);
+        std::vector<llvm::Type*> params = {ptr, i32_, i32_, i32_, i32_, i32_, i32_, ptr, i64_};
+        if (chunk) params.push_back(ptr);
+        auto* fnTy = llvm::FunctionType::get(llvm::Type::getVoidTy(ctx_), params, false);
+        fn_ = llvm::Function::Create(
+            fnTy, chunk ? llvm::Function::InternalLinkage : llvm::Function::ExternalLinkage, name,
+            m_);
         auto arg = [&](int i) { return fn_->getArg(i); };
         uniforms_ = arg(0);
         fn_->addParamAttr(0, llvm::Attribute::NoAlias);
         fn_->addParamAttr(0, llvm::Attribute::ReadOnly);
         fn_->addParamAttr(7, llvm::Attribute::NoAlias);
         fn_->addFnAttr(llvm::Attribute::NoUnwind);
+        if (chunk) {
+            // Inlined back into the tile function, the chunks would be one huge function again.
+            fn_->addFnAttr(llvm::Attribute::NoInline);
+            fn_->addParamAttr(9, llvm::Attribute::NoAlias);
+            carry_ = arg(9);
+        }
 
         entry_ = llvm::BasicBlock::Create(ctx_, "entry", fn_);
         auto* yHead = llvm::BasicBlock::Create(ctx_, "y.head", fn_);
@@ -72,7 +83,21 @@ class Translator {
         pixelX_ = b_.CreateFAdd(b_.CreateSIToFP(x, fTy_), cf(0.5), "px");
         pixelBase_ = b_.CreateMul(b_.CreateSExt(b_.CreateSub(x, arg(3)), i64_),
                                   llvm::ConstantInt::get(i64_, f_.numOutputs));
-        block(0);
+        if (chunk) {
+            lane_ = b_.CreateSExt(b_.CreateSub(x, arg(3)), i64_);
+            for (const ir::Inst* leaf : chunk->rematerialise) instruction(*leaf);
+            for (auto [value, slot] : chunk->loads) vals_[value] = loadCarry(value, slot);
+            const auto& insts = f_.blocks[0].insts;
+            for (size_t i = chunk->begin; i < chunk->end && insts[i].op != Op::Yield; ++i) {
+                instruction(insts[i]);
+                for (ValueId r : insts[i].results) {
+                    auto it = chunk->stores.find(r);
+                    if (it != chunk->stores.end()) storeCarry(r, it->second);
+                }
+            }
+        } else {
+            block(0);
+        }
         auto* xNext = b_.CreateAdd(x, llvm::ConstantInt::get(i32_, 1));
         x->addIncoming(xNext, b_.GetInsertBlock());
         b_.CreateBr(xHead);
@@ -88,9 +113,29 @@ class Translator {
         std::string err;
         llvm::raw_string_ostream os(err);
         if (llvm::verifyFunction(*fn_, &os)) MOIRE_ICE("LLVM rejected the kernel: {}", os.str());
+        return fn_;
     }
 
   private:
+    // A carried value is one 32-bit word per pixel of the strip: a float, an int, or a bool
+    // widened to an int.
+    llvm::Value* carrySlot(ValueId v, int slot) {
+        llvm::Type* word = f_.type(v) == ir::Type::F ? fTy_ : i32_;
+        llvm::Value* at = b_.CreateAdd(lane_, llvm::ConstantInt::get(i64_, int64_t{slot} * kStrip));
+        return b_.CreateGEP(word, carry_, at);
+    }
+    void storeCarry(ValueId v, int slot) {
+        llvm::Value* x = vals_[v];
+        if (f_.type(v) == ir::Type::B) x = b_.CreateZExt(x, i32_);
+        b_.CreateStore(x, carrySlot(v, slot));
+    }
+    llvm::Value* loadCarry(ValueId v, int slot) {
+        llvm::Value* p = carrySlot(v, slot);
+        if (f_.type(v) == ir::Type::F) return b_.CreateLoad(fTy_, p);
+        llvm::Value* x = b_.CreateLoad(i32_, p);
+        return f_.type(v) == ir::Type::B ? b_.CreateICmpNE(x, llvm::ConstantInt::get(i32_, 0)) : x;
+    }
+
     llvm::Constant* cf(double v) { return llvm::ConstantFP::get(fTy_, v); }
     llvm::Value* v(ValueId id) {
         MOIRE_CHECK(vals_[id], "LLVM: %{} used before definition", id);
@@ -453,14 +498,87 @@ class Translator {
     llvm::Value *uniforms_ = nullptr, *imageW_ = nullptr, *imageH_ = nullptr;
     llvm::Value *pixelX_ = nullptr, *pixelY_ = nullptr, *row_ = nullptr, *pixelBase_ = nullptr;
     std::unordered_map<int64_t, llvm::Value*> uniformLoads_;
+    llvm::Value *carry_ = nullptr, *lane_ = nullptr;
 };
+
+// The tile function of a chunked kernel: for each row of the tile, for each strip of at most
+// kStrip pixels of it, every chunk in turn, sharing one carry buffer.
+void emitChunkDriver(llvm::Module& m, const std::string& name, const ir::Function& kernel,
+                     const std::vector<llvm::Function*>& chunks, int numSlots) {
+    llvm::LLVMContext& ctx = m.getContext();
+    llvm::IRBuilder<> b(ctx);
+    auto* i32 = llvm::Type::getInt32Ty(ctx);
+    auto* i64 = llvm::Type::getInt64Ty(ctx);
+    auto* f32 = llvm::Type::getFloatTy(ctx);
+    auto* ptr = llvm::PointerType::get(ctx, 0);
+    auto* fnTy = llvm::FunctionType::get(llvm::Type::getVoidTy(ctx),
+                                         {ptr, i32, i32, i32, i32, i32, i32, ptr, i64}, false);
+    auto* fn = llvm::Function::Create(fnTy, llvm::Function::ExternalLinkage, name, m);
+    fn->addFnAttr(llvm::Attribute::NoUnwind);
+    auto arg = [&](int i) { return fn->getArg(i); };
+    auto block = [&](const char* n) { return llvm::BasicBlock::Create(ctx, n, fn); };
+    auto *entry = block("entry"), *yHead = block("y.head"), *yBody = block("y.body"),
+         *sHead = block("strip.head"), *sBody = block("strip.body"), *yLatch = block("y.latch"),
+         *exit = block("exit");
+
+    b.SetInsertPoint(entry);
+    llvm::Value* carry =
+        b.CreateAlloca(f32, llvm::ConstantInt::get(i32, std::max(1, numSlots) * kStrip), "carry");
+    b.CreateBr(yHead);
+
+    b.SetInsertPoint(yHead);
+    auto* y = b.CreatePHI(i32, 2, "y");
+    y->addIncoming(arg(4), entry);
+    b.CreateCondBr(b.CreateICmpSLT(y, arg(6)), yBody, exit);
+
+    b.SetInsertPoint(yBody);
+    llvm::Value* rowOffset = b.CreateMul(b.CreateSExt(b.CreateSub(y, arg(4)), i64), arg(8));
+    llvm::Value* row = b.CreateGEP(f32, arg(7), rowOffset, "row");
+    llvm::Value* yNext = b.CreateAdd(y, llvm::ConstantInt::get(i32, 1));
+    b.CreateBr(sHead);
+
+    b.SetInsertPoint(sHead);
+    auto* xs = b.CreatePHI(i32, 2, "xs");
+    xs->addIncoming(arg(3), yBody);
+    b.CreateCondBr(b.CreateICmpSLT(xs, arg(5)), sBody, yLatch);
+
+    b.SetInsertPoint(sBody);
+    llvm::Value* xsNext = b.CreateAdd(xs, llvm::ConstantInt::get(i32, kStrip));
+    llvm::Value* xe = b.CreateSelect(b.CreateICmpSLT(xsNext, arg(5)), xsNext, arg(5));
+    llvm::Value* out = b.CreateGEP(f32, row,
+                                   b.CreateMul(b.CreateSExt(b.CreateSub(xs, arg(3)), i64),
+                                               llvm::ConstantInt::get(i64, kernel.numOutputs)));
+    for (llvm::Function* chunk : chunks)
+        b.CreateCall(chunk, {arg(0), arg(1), arg(2), xs, y, xe, yNext, out, arg(8), carry});
+    xs->addIncoming(xsNext, sBody);
+    b.CreateBr(sHead);
+
+    b.SetInsertPoint(yLatch);
+    y->addIncoming(yNext, yLatch);
+    b.CreateBr(yHead);
+
+    b.SetInsertPoint(exit);
+    b.CreateRetVoid();
+    std::string err;
+    llvm::raw_string_ostream os(err);
+    if (llvm::verifyFunction(*fn, &os)) MOIRE_ICE("LLVM rejected the chunk driver: {}", os.str());
+}
 
 } // namespace
 
 std::unique_ptr<llvm::Module> translate(const ir::Function& kernel, const std::string& name,
-                                        llvm::LLVMContext& ctx) {
+                                        llvm::LLVMContext& ctx, size_t chunkInsts) {
     auto m = std::make_unique<llvm::Module>(name, ctx);
-    Translator(kernel, *m).run(name);
+    ChunkPlan plan = planChunks(kernel, chunkInsts);
+    if (plan.chunks.size() == 1) {
+        Translator(kernel, *m).run(name);
+        return m;
+    }
+    std::vector<llvm::Function*> chunks;
+    for (size_t c = 0; c < plan.chunks.size(); ++c)
+        chunks.push_back(
+            Translator(kernel, *m).run(name + ".chunk" + std::to_string(c), &plan.chunks[c]));
+    emitChunkDriver(*m, name, kernel, chunks, plan.numSlots);
     return m;
 }
 

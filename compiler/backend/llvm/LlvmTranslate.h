@@ -17,7 +17,8 @@ namespace moire::llvmbackend {
 using TileFn = void (*)(const double*, int32_t, int32_t, int32_t, int32_t, int32_t, int32_t, float*,
                         int64_t);
 
+// A kernel of more than `chunkInsts` instructions is compiled in chunks (KernelChunks.h).
 std::unique_ptr<llvm::Module> translate(const ir::Function& kernel, const std::string& name,
-                                        llvm::LLVMContext& ctx);
+                                        llvm::LLVMContext& ctx, size_t chunkInsts);
 
 } // namespace moire::llvmbackend

@@ -1,0 +1,132 @@
+// How compile time grows with the number of layers, measured side by side in one run.
+//
+//   build/bin/moire_compile_bench [--layers 10,100,1000] [--no-jit] [--no-spirv]
+//
+// For each count N: a scene of N identical circle layers at distinct origins, compiled from
+// source to the kernel (each stage of compileScene timed), then to callable JIT code and to
+// SPIR-V. Each figure is also given per layer, and relative to the per-layer figure of the
+// smallest scene: near-linear compilation keeps that ratio near 1 as N grows tenfold.
+#include "compiler/backend/glsl/GlslKernel.h"
+#include "compiler/backend/llvm/LlvmJit.h"
+#include "compiler/Compile.h"
+
+#include <chrono>
+#include <cstdlib>
+#include <fmt/format.h>
+#include <map>
+#include <string>
+#include <vector>
+
+using namespace moire;
+using Clock = std::chrono::steady_clock;
+
+namespace {
+
+std::string sceneOf(int layers) {
+    std::string text = "scene { size = (400, 300) }\n";
+    for (int i = 0; i < layers; ++i)
+        text += fmt::format(
+            "layer {{ family = circles; spacing = 6; stroke = 1.7; origin = ({}, 0) }}\n", i);
+    return text;
+}
+
+double since(Clock::time_point t0) {
+    return std::chrono::duration<double>(Clock::now() - t0).count();
+}
+
+struct Row {
+    int layers = 0;
+    std::vector<std::pair<std::string, double>> seconds; // stage, then the totals
+    size_t kernelInsts = 0;
+};
+
+Row measure(int layers, bool jitToo, bool spirv) {
+    Row row;
+    row.layers = layers;
+    CompileOptions options;
+    options.stageSeconds = &row.seconds;
+    auto t0 = Clock::now();
+    CompileResult r = compileScene("bench.moire", sceneOf(layers), options);
+    double front = since(t0);
+    if (!r.program) {
+        fmt::print(stderr, "{}", r.diagnostics);
+        std::exit(1);
+    }
+    row.kernelInsts = r.program->kernel.instCount();
+    row.seconds.emplace_back("= source to kernel", front);
+
+    if (jitToo) {
+        LlvmJitBackend jit;
+        auto t1 = Clock::now();
+        auto kernel = jit.compile(r.program->kernel);
+        double jitSeconds = since(t1);
+        row.seconds.emplace_back("jit", jitSeconds);
+        row.seconds.emplace_back("= source to JIT code", front + jitSeconds);
+    }
+
+    if (spirv) {
+        auto t2 = Clock::now();
+        std::string glsl = glsl::emitGlsl(r.program->kernel);
+        double emit = since(t2);
+        auto t3 = Clock::now();
+        std::vector<uint32_t> words = glsl::compileSpirv(r.program->kernel);
+        double total = since(t3); // compileSpirv emits the GLSL again, then runs glslang
+        row.seconds.emplace_back("glsl emit", emit);
+        row.seconds.emplace_back("glslang", total - emit);
+        row.seconds.emplace_back("= source to SPIR-V", front + total);
+    }
+    return row;
+}
+
+} // namespace
+
+int main(int argc, char** argv) {
+    std::vector<int> counts = {10, 100, 1000};
+    bool spirv = true, jitToo = true;
+    for (int i = 1; i < argc; ++i) {
+        std::string a = argv[i];
+        if (a == "--layers" && i + 1 < argc) {
+            counts.clear();
+            std::string list = argv[++i];
+            for (size_t p = 0; p < list.size();) {
+                size_t comma = list.find(',', p);
+                counts.push_back(std::atoi(list.substr(p, comma - p).c_str()));
+                p = comma == std::string::npos ? list.size() : comma + 1;
+            }
+        } else if (a == "--no-spirv") {
+            spirv = false;
+        } else if (a == "--no-jit") {
+            jitToo = false;
+        } else {
+            fmt::print(
+                stderr,
+                "usage: moire_compile_bench [--layers 10,100,1000] [--no-jit] [--no-spirv]\n");
+            return 2;
+        }
+    }
+
+    std::vector<Row> rows;
+    for (int n : counts) rows.push_back(measure(n, jitToo, spirv));
+
+    // One line per stage: seconds and milliseconds per layer at each size, and the per-layer
+    // cost relative to the smallest size (1.0 = linear).
+    fmt::print("{:<22}", "stage");
+    for (const Row& r : rows) fmt::print(" | {:>6} layers: s   ms/layer  x", r.layers);
+    fmt::print("\n");
+    for (size_t s = 0; s < rows[0].seconds.size(); ++s) {
+        fmt::print("{:<22}", rows[0].seconds[s].first);
+        double base = rows[0].seconds[s].second / rows[0].layers;
+        for (const Row& r : rows) {
+            double sec = r.seconds[s].second, perLayer = sec / r.layers;
+            fmt::print(" | {:>16.3f} {:>9.3f} {:>4.1f}", sec, 1e3 * perLayer,
+                       base > 0 ? perLayer / base : 0.0);
+        }
+        fmt::print("\n");
+    }
+    fmt::print("{:<22}", "kernel instructions");
+    for (const Row& r : rows)
+        fmt::print(" | {:>16} {:>9.1f} {:>4.1f}", r.kernelInsts, double(r.kernelInsts) / r.layers,
+                   (double(r.kernelInsts) / r.layers) /
+                       (double(rows[0].kernelInsts) / rows[0].layers));
+    fmt::print("\n");
+}

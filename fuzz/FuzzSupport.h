@@ -44,7 +44,8 @@ struct Front {
     sema::CheckedScene checked;
     bool checkedOk = false; // parsed and checked without errors
 };
-// Parses (and with `check`, checks) `text` as the scene file "fuzz.moire".
+// Parses `text` as the scene file "fuzz.moire"; with `check`, parses the standard library
+// before it and checks them together.
 std::unique_ptr<Front> runFront(std::string text, bool check);
 
 // Every diagnostic points into a file that exists, within its text, and renders.

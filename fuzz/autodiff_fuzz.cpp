@@ -2,12 +2,11 @@
 // the IR verifier after each pass. Then the passes are checked to keep the meaning: on the
 // interpreter, at a few pixels, the differentiated scene, its simplified form, and the frame
 // program feeding the kernel all compute the same outputs.
-#include "fuzz/FuzzSupport.h"
-
 #include "compiler/lower/LowerScene.h"
 #include "compiler/passes/AutoDiff.h"
 #include "compiler/passes/Simplify.h"
 #include "compiler/passes/SplitFrame.h"
+#include "fuzz/FuzzSupport.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     using namespace moire;

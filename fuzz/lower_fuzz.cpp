@@ -1,10 +1,9 @@
 // Stage (c): checked scene -> IR lowering, then the IR verifier, then the simplify passes
 // (constant folding, CSE, dead code) and the verifier again. The lowering options (layer
 // fields, probe, interactive, tally) are picked from the input's bytes.
-#include "fuzz/FuzzSupport.h"
-
 #include "compiler/lower/LowerScene.h"
 #include "compiler/passes/Simplify.h"
+#include "fuzz/FuzzSupport.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     using namespace moire;

@@ -1,9 +1,8 @@
 // Stage (a): source -> lexer and parser. The parser must turn any bytes into a module and
 // diagnostics that point into the text. A module that parses cleanly prints (printExpr) as
 // fully parenthesised text that parses back to the same print.
-#include "fuzz/FuzzSupport.h"
-
 #include "compiler/parse/Parser.h"
+#include "fuzz/FuzzSupport.h"
 
 #include <string_view>
 

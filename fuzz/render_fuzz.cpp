@@ -1,12 +1,14 @@
 // Stage (f): a tiny render (two 8 x 8 windows of the frame at t = 0.5) on the interpreter
 // (double) and on the LLVM JIT (single precision), compared by RenderCompare.h's rule: the two
 // must draw the same picture unless the scene is ill-conditioned in single precision.
-#include "fuzz/FuzzSupport.h"
-#include "fuzz/RenderCompare.h"
-
 #include "compiler/backend/interp/Interpreter.h"
 #include "compiler/backend/llvm/LlvmJit.h"
+#include "fuzz/FuzzSupport.h"
+#include "fuzz/RenderCompare.h"
 #include "runtime/FrameEval.h"
+
+#include <cstdio>
+#include <cstdlib>
 
 namespace {
 using namespace moire;
@@ -48,14 +50,22 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
 
         std::vector<float> want = run(*reference, fv.uniforms);
         std::vector<float> got = run(*compiled, fv.uniforms);
+        static const bool verbose = std::getenv("MOIRE_FUZZ_VERBOSE") != nullptr;
+        if (verbose)
+            std::fprintf(stderr, "render: %dx%d, JIT off %.3f\n", fv.width, fv.height,
+                         fuzz::offFraction(want, got, 4, stride));
         if (fuzz::offFraction(want, got, 4, stride) <= fuzz::kOffFraction) return;
         std::vector<float> rounded = run(*reference, fuzz::floatUniforms(fv.uniforms, 0));
         std::vector<float> nudged = run(*reference, fuzz::floatUniforms(fv.uniforms, kNudgeUlps));
-        if (fuzz::judge(want, got, rounded, nudged, 4, stride) == fuzz::Verdict::Differ)
+        if (verbose)
+            std::fprintf(stderr, "render: float-rounded off %.3f, nudged off %.3f\n",
+                         fuzz::offFraction(want, rounded, 4, stride),
+                         fuzz::offFraction(want, nudged, 4, stride));
+        if (fuzz::judge(want, got, rounded, nudged, 4, stride, fuzz::beyondFloat(fv.uniforms)) ==
+            fuzz::Verdict::Differ)
             fuzz::finding("the JIT draws another picture than the interpreter: " +
                           std::to_string(fuzz::offFraction(want, got, 4, stride) * 100) +
-                          "% of the samples differ by more than " +
-                          std::to_string(fuzz::kOffBy));
+                          "% of the samples differ by more than " + std::to_string(fuzz::kOffBy));
     });
     return 0;
 }

@@ -1,9 +1,8 @@
 // Stage (e): a compiled kernel -> GLSL -> SPIR-V through glslang -> spirv-val. glslang
 // rejecting the emitted GLSL is an internal error (compileSpirv raises it); SPIR-V that
 // spirv-val rejects is a finding.
-#include "fuzz/FuzzSupport.h"
-
 #include "compiler/backend/glsl/GlslKernel.h"
+#include "fuzz/FuzzSupport.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     using namespace moire;

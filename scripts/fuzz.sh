@@ -67,7 +67,7 @@ run() {
   fi
   mkdir -p "$corpus" "$findings"
   local args=(-max_len=$max_len -timeout=$per_input_timeout -rss_limit_mb=$rss_limit_mb
-              -print_final_stats=1 -artifact_prefix="$findings/")
+              -print_final_stats=1 -artifact_prefix="$findings/" -dict="$root/fuzz/moire.dict")
   [[ -n "$runs" ]] && args+=(-runs="$runs")
   [[ -n "$seconds" ]] && args+=(-max_total_time="$seconds")
   [[ -n "$seed" ]] && args+=(-seed="$seed")

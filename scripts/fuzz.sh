@@ -33,7 +33,7 @@ while [[ $# -gt 0 ]]; do
     --all) all=1; shift ;;
     --jobs) jobs="$2"; shift 2 ;;
     --list) printf '%s\n' "${targets[@]}"; exit 0 ;;
-    -h|--help) sed -n '2,14p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
+    -h|--help) sed -n '2,13p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
     -*) echo "fuzz.sh: unknown option $1" >&2; exit 2 ;;
     *) if [[ -z "$target" ]]; then target="$1"; else seconds="$1"; fi; shift ;;
   esac

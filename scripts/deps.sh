@@ -16,6 +16,7 @@ packages=(
   ffmpeg                         # clips to mp4, webm and gif (moire clip)
   libglfw3-dev libgl-dev libgl1-mesa-dri  # the viewer (moire view): a window, OpenGL 2.1
   xvfb xauth xdotool             # the viewer's tests: a virtual X server, and input for it
+  clang-16 libclang-rt-16-dev    # the libFuzzer build of fuzz/ (libFuzzer, ASan, UBSan runtimes)
 )
 
 missing=()

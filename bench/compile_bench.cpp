@@ -1,20 +1,30 @@
 // How compile time grows with the number of layers, measured side by side in one run.
 //
-//   build/bin/moire_compile_bench [--layers 10,100,1000] [--no-jit] [--no-spirv]
+//   build/bin/moire_compile_bench [--layers 10,100,1000] [--no-jit] [--no-spirv] [--no-classic]
 //
 // For each count N: a scene of N identical circle layers at distinct origins, compiled from
 // source to the kernel (each stage of compileScene timed), then to callable JIT code and to
 // SPIR-V. Each figure is also given per layer, and relative to the per-layer figure of the
 // smallest scene: near-linear compilation keeps that ratio near 1 as N grows tenfold.
+//
+// Then the JIT's trade, side by side: for each N, the time to callable code (wall and CPU
+// seconds: the machine may be shared) and the render speed at 600x400 (fastest of 3), with
+// chunked kernels compiled as now (whole strips, chunks on parallel threads) and as before
+// (LlvmJitBackend::Options::classicChunks). Kernels too small to chunk are the same in both.
 #include "compiler/backend/glsl/GlslKernel.h"
 #include "compiler/backend/llvm/LlvmJit.h"
 #include "compiler/Compile.h"
+#include "runtime/FrameEval.h"
+#include "runtime/TileExecutor.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cstdlib>
+#include <ctime>
 #include <fmt/format.h>
 #include <map>
 #include <string>
+#include <thread>
 #include <vector>
 
 using namespace moire;
@@ -34,13 +44,54 @@ double since(Clock::time_point t0) {
     return std::chrono::duration<double>(Clock::now() - t0).count();
 }
 
+double cpuSeconds() {
+    timespec t{};
+    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
+    return static_cast<double>(t.tv_sec) + 1e-9 * static_cast<double>(t.tv_nsec);
+}
+
+// One JIT setting on one scene: source-to-kernel excluded.
+struct JitFigures {
+    double wall = 0, cpu = 0, mpxPerS = 0;
+};
+
+JitFigures measureJit(const SceneProgram& program, const LlvmJitBackend::Options& options) {
+    JitFigures f;
+    LlvmJitBackend jit(options); // fresh: nothing cached
+    auto t0 = Clock::now();
+    double c0 = cpuSeconds();
+    auto kernel = jit.compile(program.kernel);
+    f.cpu = cpuSeconds() - c0;
+    f.wall = since(t0);
+    FrameRequest req;
+    req.width = 600;
+    req.height = 400;
+    FrameValues fv;
+    std::string diags;
+    if (!evaluateFrame(program, req, fv, diags)) {
+        fmt::print(stderr, "{}", diags);
+        std::exit(1);
+    }
+    KernelFrame frame{fv.uniforms.data(), fv.width, fv.height};
+    double best = 1e30;
+    for (int i = 0; i < 3; ++i) {
+        auto t = Clock::now();
+        Image img = runKernel(*kernel, frame);
+        best = std::min(best, since(t));
+    }
+    f.mpxPerS = req.width * static_cast<double>(req.height) / 1e6 / best;
+    return f;
+}
+
 struct Row {
     int layers = 0;
     std::vector<std::pair<std::string, double>> seconds; // stage, then the totals
     size_t kernelInsts = 0;
+    JitFigures now, classic;
+    bool hasClassic = false;
 };
 
-Row measure(int layers, bool jitToo, bool spirv) {
+Row measure(int layers, bool jitToo, bool spirv, bool classic) {
     Row row;
     row.layers = layers;
     CompileOptions options;
@@ -56,12 +107,16 @@ Row measure(int layers, bool jitToo, bool spirv) {
     row.seconds.emplace_back("= source to kernel", front);
 
     if (jitToo) {
-        LlvmJitBackend jit;
-        auto t1 = Clock::now();
-        auto kernel = jit.compile(r.program->kernel);
-        double jitSeconds = since(t1);
-        row.seconds.emplace_back("jit", jitSeconds);
-        row.seconds.emplace_back("= source to JIT code", front + jitSeconds);
+        row.now = measureJit(*r.program, {});
+        row.seconds.emplace_back("jit", row.now.wall);
+        row.seconds.emplace_back("= source to JIT code", front + row.now.wall);
+        if (classic) {
+            LlvmJitBackend::Options old;
+            old.classicChunks = true;
+            old.compileThreads = 1;
+            row.classic = measureJit(*r.program, old);
+            row.hasClassic = true;
+        }
     }
 
     if (spirv) {
@@ -82,7 +137,7 @@ Row measure(int layers, bool jitToo, bool spirv) {
 
 int main(int argc, char** argv) {
     std::vector<int> counts = {10, 100, 1000};
-    bool spirv = true, jitToo = true;
+    bool spirv = true, jitToo = true, classic = true;
     for (int i = 1; i < argc; ++i) {
         std::string a = argv[i];
         if (a == "--layers" && i + 1 < argc) {
@@ -97,16 +152,18 @@ int main(int argc, char** argv) {
             spirv = false;
         } else if (a == "--no-jit") {
             jitToo = false;
+        } else if (a == "--no-classic") {
+            classic = false;
         } else {
-            fmt::print(
-                stderr,
-                "usage: moire_compile_bench [--layers 10,100,1000] [--no-jit] [--no-spirv]\n");
+            fmt::print(stderr,
+                       "usage: moire_compile_bench [--layers 10,100,1000] [--no-jit] [--no-spirv] "
+                       "[--no-classic]\n");
             return 2;
         }
     }
 
     std::vector<Row> rows;
-    for (int n : counts) rows.push_back(measure(n, jitToo, spirv));
+    for (int n : counts) rows.push_back(measure(n, jitToo, spirv, classic));
 
     // One line per stage: seconds and milliseconds per layer at each size, and the per-layer
     // cost relative to the smallest size (1.0 = linear).
@@ -129,4 +186,19 @@ int main(int argc, char** argv) {
                    (double(r.kernelInsts) / r.layers) /
                        (double(rows[0].kernelInsts) / rows[0].layers));
     fmt::print("\n");
+
+    if (!jitToo || !rows[0].hasClassic) return 0;
+    fmt::print(
+        "\nLLVM JIT, chunked kernels now vs classic ({} hardware threads): seconds to callable\n"
+        "code (wall / CPU) and 600x400 render Mpx/s (fastest of 3)\n",
+        std::max(1u, std::thread::hardware_concurrency()));
+    fmt::print("{:>7} | {:>15} {:>9} | {:>15} {:>9} | {:>10} {:>10}\n", "layers", "now: wall/CPU s",
+               "Mpx/s", "old: wall/CPU s", "Mpx/s", "wall old/n", "Mpx/s n/old");
+    for (const Row& r : rows)
+        fmt::print("{:>7} | {:>7.3f}/{:<7.3f} {:>9.2f} | {:>7.3f}/{:<7.3f} {:>9.2f} | {:>10.2f} "
+                   "{:>10.2f}\n",
+                   r.layers, r.now.wall, r.now.cpu, r.now.mpxPerS, r.classic.wall, r.classic.cpu,
+                   r.classic.mpxPerS, r.classic.wall / r.now.wall,
+                   r.now.mpxPerS / r.classic.mpxPerS);
+    return 0;
 }

@@ -3,8 +3,11 @@
 #include "compiler/backend/llvm/LlvmTranslate.h"
 #include "compiler/diag/Diagnostics.h"
 
+#include <algorithm>
+#include <atomic>
 #include <fmt/format.h>
 #include <llvm/Analysis/TargetLibraryInfo.h>
+#include <llvm/ExecutionEngine/Orc/CompileUtils.h>
 #include <llvm/ExecutionEngine/Orc/ExecutionUtils.h>
 #include <llvm/ExecutionEngine/Orc/JITTargetMachineBuilder.h>
 #include <llvm/ExecutionEngine/Orc/LLJIT.h>
@@ -17,6 +20,8 @@
 #include <llvm/Target/TargetMachine.h>
 #include <llvm/TargetParser/Host.h>
 #include <mutex>
+#include <optional>
+#include <thread>
 #include <unordered_map>
 
 namespace moire {
@@ -116,22 +121,22 @@ class JitKernel : public CompiledKernel {
 
 struct LlvmJitBackend::Impl {
     std::unique_ptr<llvm::orc::LLJIT> jit;
+    std::optional<llvm::orc::JITTargetMachineBuilder> jtmb;
     std::unique_ptr<llvm::TargetMachine> tm;
     std::mutex mutex;
     std::unordered_map<uint64_t, llvmbackend::TileFn> cache;
     int compiled = 0;
-    size_t chunkInsts = 0;
+    Options options;
 
-    Impl() {
+    explicit Impl(const Options& o) : options(o) {
         initialiseLlvmOnce();
-        auto jtmb = llvm::orc::JITTargetMachineBuilder::detectHost();
-        if (!jtmb) MOIRE_ICE("LLVM cannot target this host: {}", errorText(jtmb.takeError()));
+        auto detected = llvm::orc::JITTargetMachineBuilder::detectHost();
+        if (!detected)
+            MOIRE_ICE("LLVM cannot target this host: {}", errorText(detected.takeError()));
+        jtmb = std::move(*detected);
         jtmb->setCodeGenOptLevel(llvm::CodeGenOpt::Default);
-        auto tmOr = jtmb->createTargetMachine();
-        if (!tmOr) MOIRE_ICE("LLVM target machine: {}", errorText(tmOr.takeError()));
-        tm = std::move(*tmOr);
-        auto built =
-            llvm::orc::LLJITBuilder().setJITTargetMachineBuilder(std::move(*jtmb)).create();
+        tm = targetMachine();
+        auto built = llvm::orc::LLJITBuilder().setJITTargetMachineBuilder(*jtmb).create();
         if (!built) MOIRE_ICE("cannot start the LLVM JIT: {}", errorText(built.takeError()));
         jit = std::move(*built);
         // Kernels call libm (sinf, atan2f, ...) from this process.
@@ -141,19 +146,66 @@ struct LlvmJitBackend::Impl {
         jit->getMainJITDylib().addGenerator(std::move(*gen));
     }
 
-    std::unique_ptr<llvm::Module> build(const ir::Function& kernel, const std::string& name,
-                                        llvm::LLVMContext& ctx) {
-        auto m = llvmbackend::translate(kernel, name, ctx, chunkInsts);
-        m->setDataLayout(jit->getDataLayout());
-        m->setTargetTriple(tm->getTargetTriple().str());
-        optimise(*m, *tm);
-        return m;
+    // One per compiling thread: a TargetMachine is not safe to share between threads.
+    std::unique_ptr<llvm::TargetMachine> targetMachine() {
+        auto tmOr = jtmb->createTargetMachine();
+        if (!tmOr) MOIRE_ICE("LLVM target machine: {}", errorText(tmOr.takeError()));
+        return std::move(*tmOr);
+    }
+
+    std::vector<llvmbackend::OwnedModule> translate(const ir::Function& kernel,
+                                                    const std::string& name) {
+        llvmbackend::TranslateOptions t;
+        t.chunkInsts = options.chunkInsts;
+        t.wholeStrips = t.separateModules = !options.classicChunks;
+        return llvmbackend::translate(kernel, name, t);
+    }
+
+    void prepare(llvm::Module& m, llvm::TargetMachine& machine) {
+        m.setDataLayout(jit->getDataLayout());
+        m.setTargetTriple(machine.getTargetTriple().str());
+        optimise(m, machine);
+    }
+
+    // Optimises and compiles the modules of a chunked kernel to object code on several
+    // threads (LLVM's time for a kernel of 1,000 layers is seconds; the chunks are
+    // independent), then hands the objects to the JIT to link.
+    void compileInParallel(std::vector<llvmbackend::OwnedModule>& modules) {
+        unsigned threads = options.compileThreads > 0
+                               ? static_cast<unsigned>(options.compileThreads)
+                               : std::max(1u, std::thread::hardware_concurrency());
+        threads = std::min<unsigned>(threads, static_cast<unsigned>(modules.size()));
+        std::vector<std::unique_ptr<llvm::MemoryBuffer>> objects(modules.size());
+        std::vector<std::string> errors(modules.size());
+        std::atomic<size_t> next{0};
+        auto work = [&](llvm::TargetMachine& machine) {
+            llvm::orc::SimpleCompiler compile(machine);
+            for (size_t i; (i = next++) < modules.size();) {
+                prepare(*modules[i].module, machine);
+                auto object = compile(*modules[i].module);
+                if (object)
+                    objects[i] = std::move(*object);
+                else
+                    errors[i] = errorText(object.takeError());
+            }
+        };
+        // Target machines are made here: MOIRE_ICE must not throw on a worker thread.
+        std::vector<std::unique_ptr<llvm::TargetMachine>> machines;
+        for (unsigned t = 0; t < threads; ++t) machines.push_back(targetMachine());
+        std::vector<std::thread> workers;
+        for (unsigned t = 1; t < threads; ++t) workers.emplace_back(work, std::ref(*machines[t]));
+        work(*machines[0]);
+        for (std::thread& w : workers) w.join();
+        for (size_t i = 0; i < modules.size(); ++i) {
+            if (!errors[i].empty()) MOIRE_ICE("LLVM could not compile a chunk: {}", errors[i]);
+            if (auto err = jit->addObjectFile(std::move(objects[i])))
+                MOIRE_ICE("LLVM JIT rejected a chunk: {}", errorText(std::move(err)));
+        }
     }
 };
 
-LlvmJitBackend::LlvmJitBackend(size_t chunkInsts) : impl_(std::make_unique<Impl>()) {
-    impl_->chunkInsts = chunkInsts;
-}
+LlvmJitBackend::LlvmJitBackend(size_t chunkInsts) : LlvmJitBackend(Options{chunkInsts, 0, false}) {}
+LlvmJitBackend::LlvmJitBackend(const Options& options) : impl_(std::make_unique<Impl>(options)) {}
 LlvmJitBackend::~LlvmJitBackend() = default;
 
 int LlvmJitBackend::compileCount() const {
@@ -166,11 +218,16 @@ std::unique_ptr<CompiledKernel> LlvmJitBackend::compile(const ir::Function& kern
     auto it = impl_->cache.find(hash);
     if (it == impl_->cache.end()) {
         std::string name = fmt::format("moire_kernel_{:016x}", hash);
-        auto ctx = std::make_unique<llvm::LLVMContext>();
-        auto m = impl_->build(kernel, name, *ctx);
-        if (auto err =
-                impl_->jit->addIRModule(llvm::orc::ThreadSafeModule(std::move(m), std::move(ctx))))
-            MOIRE_ICE("LLVM JIT rejected the module: {}", errorText(std::move(err)));
+        auto modules = impl_->translate(kernel, name);
+        if (modules.size() == 1) {
+            // One module (a kernel too small to chunk, or classic chunks): the JIT compiles it.
+            impl_->prepare(*modules[0].module, *impl_->tm);
+            if (auto err = impl_->jit->addIRModule(llvm::orc::ThreadSafeModule(
+                    std::move(modules[0].module), std::move(modules[0].ctx))))
+                MOIRE_ICE("LLVM JIT rejected the module: {}", errorText(std::move(err)));
+        } else {
+            impl_->compileInParallel(modules);
+        }
         auto sym = impl_->jit->lookup(name);
         if (!sym) MOIRE_ICE("LLVM JIT lookup: {}", errorText(sym.takeError()));
         it = impl_->cache.emplace(hash, sym->toPtr<llvmbackend::TileFn>()).first;
@@ -181,11 +238,12 @@ std::unique_ptr<CompiledKernel> LlvmJitBackend::compile(const ir::Function& kern
 
 std::string LlvmJitBackend::dumpLlvm(const ir::Function& kernel) {
     std::lock_guard<std::mutex> lock(impl_->mutex);
-    llvm::LLVMContext ctx;
-    auto m = impl_->build(kernel, "moire_kernel", ctx);
     std::string s;
     llvm::raw_string_ostream os(s);
-    m->print(os, nullptr);
+    for (auto& m : impl_->translate(kernel, "moire_kernel")) {
+        impl_->prepare(*m.module, *impl_->tm);
+        m.module->print(os, nullptr);
+    }
     return os.str();
 }
 

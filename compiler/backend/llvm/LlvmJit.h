@@ -13,10 +13,23 @@ namespace moire {
 
 class LlvmJitBackend : public Backend {
   public:
-    // A kernel of more than `chunkInsts` instructions is compiled as chunks of about that
-    // size (backend/llvm/KernelChunks.h), so compile time stays linear in the kernel's size.
-    explicit LlvmJitBackend(size_t chunkInsts = kDefaultChunkInsts);
     static constexpr size_t kDefaultChunkInsts = 600;
+
+    struct Options {
+        // A kernel of more than `chunkInsts` instructions is compiled as chunks of about that
+        // size (backend/llvm/KernelChunks.h), so compile time stays linear in the kernel's size.
+        size_t chunkInsts = kDefaultChunkInsts;
+        // Chunks are compiled on this many threads at once (0: one per hardware thread).
+        int compileThreads = 0;
+        // Compile chunked kernels as before (one module on one thread, each chunk looping to
+        // the tile's edge, so vectorised with a remainder loop and an epilogue): for
+        // moire_compile_bench to compare against. Kernels too small to chunk are the same
+        // either way.
+        bool classicChunks = false;
+    };
+
+    explicit LlvmJitBackend(size_t chunkInsts = kDefaultChunkInsts);
+    explicit LlvmJitBackend(const Options& options);
     ~LlvmJitBackend() override;
 
     std::string name() const override { return "jit"; }

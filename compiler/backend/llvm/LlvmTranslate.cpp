@@ -28,14 +28,19 @@ class Translator {
 
     // The tile function of the whole kernel, or with `chunk`, the function of one chunk: the
     // same loop over the tile's pixels, with a tenth parameter, the strip's carry buffer.
-    llvm::Function* run(const std::string& name, const Chunk* chunk = nullptr) {
+    // With `wholeStrip`, a chunk runs kStrip pixels from x0 whatever x1 is: a constant trip
+    // count that the vectoriser divides exactly, so it emits neither a scalar remainder loop
+    // nor a vectorised epilogue, each as big as the body (the driver clips the outputs).
+    llvm::Function* run(const std::string& name, const Chunk* chunk = nullptr,
+                        bool wholeStrip = false, bool external = false) {
         auto* ptr = llvm::PointerType::get(ctx_, 0);
         std::vector<llvm::Type*> params = {ptr, i32_, i32_, i32_, i32_, i32_, i32_, ptr, i64_};
         if (chunk) params.push_back(ptr);
         auto* fnTy = llvm::FunctionType::get(llvm::Type::getVoidTy(ctx_), params, false);
-        fn_ = llvm::Function::Create(
-            fnTy, chunk ? llvm::Function::InternalLinkage : llvm::Function::ExternalLinkage, name,
-            m_);
+        fn_ = llvm::Function::Create(fnTy,
+                                     chunk && !external ? llvm::Function::InternalLinkage
+                                                        : llvm::Function::ExternalLinkage,
+                                     name, m_);
         auto arg = [&](int i) { return fn_->getArg(i); };
         uniforms_ = arg(0);
         fn_->addParamAttr(0, llvm::Attribute::NoAlias);
@@ -75,16 +80,22 @@ class Translator {
         b_.CreateBr(xHead);
 
         b_.SetInsertPoint(xHead);
-        auto* x = b_.CreatePHI(i32_, 2, "x");
-        x->addIncoming(arg(3), yBody);
-        b_.CreateCondBr(b_.CreateICmpSLT(x, arg(5)), xBody, yLatch);
+        wholeStrip = chunk && wholeStrip;
+        // Whole strips count lanes from 0 (no overflow: x0 + kStrip fits), so that the trip
+        // count is the constant kStrip; otherwise x runs from x0 to x1.
+        auto* x = b_.CreatePHI(i32_, 2, wholeStrip ? "lane" : "x");
+        x->addIncoming(wholeStrip ? b_.getInt32(0) : static_cast<llvm::Value*>(arg(3)), yBody);
+        llvm::Value* xEnd = wholeStrip ? b_.getInt32(kStrip) : static_cast<llvm::Value*>(arg(5));
+        b_.CreateCondBr(b_.CreateICmpSLT(x, xEnd), xBody, yLatch);
 
         b_.SetInsertPoint(xBody);
-        pixelX_ = b_.CreateFAdd(b_.CreateSIToFP(x, fTy_), cf(0.5), "px");
-        pixelBase_ = b_.CreateMul(b_.CreateSExt(b_.CreateSub(x, arg(3)), i64_),
+        llvm::Value* px = wholeStrip ? b_.CreateNSWAdd(arg(3), x, "x") : x;
+        pixelX_ = b_.CreateFAdd(b_.CreateSIToFP(px, fTy_), cf(0.5), "px");
+        pixelBase_ = b_.CreateMul(b_.CreateSExt(b_.CreateSub(px, arg(3)), i64_),
                                   llvm::ConstantInt::get(i64_, f_.numOutputs));
         if (chunk) {
-            lane_ = b_.CreateSExt(b_.CreateSub(x, arg(3)), i64_);
+            lane_ =
+                wholeStrip ? b_.CreateZExt(x, i64_) : b_.CreateSExt(b_.CreateSub(x, arg(3)), i64_);
             for (const ir::Inst* leaf : chunk->rematerialise) instruction(*leaf);
             for (auto [value, slot] : chunk->loads) vals_[value] = loadCarry(value, slot);
             const auto& insts = f_.blocks[0].insts;
@@ -98,7 +109,8 @@ class Translator {
         } else {
             block(0);
         }
-        auto* xNext = b_.CreateAdd(x, llvm::ConstantInt::get(i32_, 1));
+        auto* xNext = wholeStrip ? b_.CreateNSWAdd(x, b_.getInt32(1))
+                                 : b_.CreateAdd(x, llvm::ConstantInt::get(i32_, 1));
         x->addIncoming(xNext, b_.GetInsertBlock());
         b_.CreateBr(xHead);
 
@@ -502,9 +514,11 @@ class Translator {
 };
 
 // The tile function of a chunked kernel: for each row of the tile, for each strip of at most
-// kStrip pixels of it, every chunk in turn, sharing one carry buffer.
+// kStrip pixels of it, every chunk in turn, sharing one carry buffer. Chunks that run whole
+// strips write their outputs to a strip buffer, of which the pixels inside the tile are copied
+// out (writing past x1 could overwrite the next tile or run off the image).
 void emitChunkDriver(llvm::Module& m, const std::string& name, const ir::Function& kernel,
-                     const std::vector<llvm::Function*>& chunks, int numSlots) {
+                     const std::vector<llvm::Function*>& chunks, int numSlots, bool wholeStrip) {
     llvm::LLVMContext& ctx = m.getContext();
     llvm::IRBuilder<> b(ctx);
     auto* i32 = llvm::Type::getInt32Ty(ctx);
@@ -524,6 +538,10 @@ void emitChunkDriver(llvm::Module& m, const std::string& name, const ir::Functio
     b.SetInsertPoint(entry);
     llvm::Value* carry =
         b.CreateAlloca(f32, llvm::ConstantInt::get(i32, std::max(1, numSlots) * kStrip), "carry");
+    llvm::Value* stripOut =
+        wholeStrip ? b.CreateAlloca(f32, llvm::ConstantInt::get(i32, kernel.numOutputs * kStrip),
+                                    "strip.out")
+                   : nullptr;
     b.CreateBr(yHead);
 
     b.SetInsertPoint(yHead);
@@ -549,7 +567,13 @@ void emitChunkDriver(llvm::Module& m, const std::string& name, const ir::Functio
                                    b.CreateMul(b.CreateSExt(b.CreateSub(xs, arg(3)), i64),
                                                llvm::ConstantInt::get(i64, kernel.numOutputs)));
     for (llvm::Function* chunk : chunks)
-        b.CreateCall(chunk, {arg(0), arg(1), arg(2), xs, y, xe, yNext, out, arg(8), carry});
+        b.CreateCall(chunk, {arg(0), arg(1), arg(2), xs, y, xe, yNext, wholeStrip ? stripOut : out,
+                             arg(8), carry});
+    if (wholeStrip) {
+        llvm::Value* bytes = b.CreateMul(b.CreateSExt(b.CreateSub(xe, xs), i64),
+                                         llvm::ConstantInt::get(i64, 4 * kernel.numOutputs));
+        b.CreateMemCpy(out, llvm::MaybeAlign(4), stripOut, llvm::MaybeAlign(4), bytes);
+    }
     xs->addIncoming(xsNext, sBody);
     b.CreateBr(sHead);
 
@@ -566,20 +590,41 @@ void emitChunkDriver(llvm::Module& m, const std::string& name, const ir::Functio
 
 } // namespace
 
-std::unique_ptr<llvm::Module> translate(const ir::Function& kernel, const std::string& name,
-                                        llvm::LLVMContext& ctx, size_t chunkInsts) {
-    auto m = std::make_unique<llvm::Module>(name, ctx);
-    ChunkPlan plan = planChunks(kernel, chunkInsts);
+std::vector<OwnedModule> translate(const ir::Function& kernel, const std::string& name,
+                                   const TranslateOptions& options) {
+    std::vector<OwnedModule> out;
+    auto newModule = [&](const std::string& moduleName) -> llvm::Module& {
+        OwnedModule& om = out.emplace_back();
+        om.ctx = std::make_unique<llvm::LLVMContext>();
+        om.module = std::make_unique<llvm::Module>(moduleName, *om.ctx);
+        return *om.module;
+    };
+    ChunkPlan plan = planChunks(kernel, options.chunkInsts);
     if (plan.chunks.size() == 1) {
-        Translator(kernel, *m).run(name);
-        return m;
+        Translator(kernel, newModule(name)).run(name);
+        return out;
     }
+    bool split = options.separateModules, whole = options.wholeStrips;
+    llvm::Module& driver = newModule(name);
     std::vector<llvm::Function*> chunks;
-    for (size_t c = 0; c < plan.chunks.size(); ++c)
-        chunks.push_back(
-            Translator(kernel, *m).run(name + ".chunk" + std::to_string(c), &plan.chunks[c]));
-    emitChunkDriver(*m, name, kernel, chunks, plan.numSlots);
-    return m;
+    for (size_t c = 0; c < plan.chunks.size(); ++c) {
+        std::string chunkName = name + ".chunk" + std::to_string(c);
+        llvm::Function* fn = Translator(kernel, split ? newModule(chunkName) : driver)
+                                 .run(chunkName, &plan.chunks[c], whole, split);
+        // In a module of its own, the driver calls the chunk through a declaration.
+        if (split) {
+            llvm::LLVMContext& ctx = driver.getContext();
+            llvm::Type *ptr = llvm::PointerType::get(ctx, 0), *i32 = llvm::Type::getInt32Ty(ctx);
+            auto* fnTy = llvm::FunctionType::get(
+                llvm::Type::getVoidTy(ctx),
+                {ptr, i32, i32, i32, i32, i32, i32, ptr, llvm::Type::getInt64Ty(ctx), ptr}, false);
+            fn = llvm::Function::Create(fnTy, llvm::Function::ExternalLinkage, chunkName, driver);
+            fn->addFnAttr(llvm::Attribute::NoUnwind);
+        }
+        chunks.push_back(fn);
+    }
+    emitChunkDriver(driver, name, kernel, chunks, plan.numSlots, whole);
+    return out;
 }
 
 } // namespace moire::llvmbackend

@@ -7,6 +7,7 @@
 #include <llvm/IR/Module.h>
 #include <memory>
 #include <string>
+#include <vector>
 
 namespace moire::llvmbackend {
 
@@ -17,8 +18,24 @@ namespace moire::llvmbackend {
 using TileFn = void (*)(const double*, int32_t, int32_t, int32_t, int32_t, int32_t, int32_t, float*,
                         int64_t);
 
-// A kernel of more than `chunkInsts` instructions is compiled in chunks (KernelChunks.h).
-std::unique_ptr<llvm::Module> translate(const ir::Function& kernel, const std::string& name,
-                                        llvm::LLVMContext& ctx, size_t chunkInsts);
+// A module with the context it lives in (declared first, so destroyed last).
+struct OwnedModule {
+    std::unique_ptr<llvm::LLVMContext> ctx;
+    std::unique_ptr<llvm::Module> module;
+};
+
+struct TranslateOptions {
+    // A kernel of more than `chunkInsts` instructions is compiled in chunks (KernelChunks.h).
+    size_t chunkInsts = 600;
+    // Chunks run whole strips (a constant trip count: the vectoriser emits the pixel body once).
+    bool wholeStrips = true;
+    // Each chunk in a module (and context) of its own, so chunks can be compiled in parallel.
+    bool separateModules = true;
+};
+
+// The module of tile function NAME; for a chunked kernel, the driver's module first, then one
+// per chunk where options.separateModules.
+std::vector<OwnedModule> translate(const ir::Function& kernel, const std::string& name,
+                                   const TranslateOptions& options);
 
 } // namespace moire::llvmbackend

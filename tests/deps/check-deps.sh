@@ -63,6 +63,9 @@ collect() {
     launchers=$(sed -n 's/^CMAKE_[A-Z]*_COMPILER_LAUNCHER:[A-Z]*=//p' "$build/CMakeCache.txt")
     cat "$build/build.ninja" "$build/CMakeFiles/rules.ninja" | tr ' ;"$:' '\n\n\n\n\n' | sort -u |
       grep -vxF -e "${launchers:-/}" | system_files "$build" | sed 's/^/ninja /'
+    # Shared libraries the programs load, including those loaded through others.
+    { find "$build/bin" -maxdepth 1 -type f -perm -u+x -exec ldd {} + 2>/dev/null || true; } |
+      sed -n 's/.*=> \(\/[^ ]*\) .*/\1/p' | sort -u | system_files "$build" | sed 's/^/lib /'
     # A configure of the same source, traced with every argument expanded. Options that
     # change what is found are copied from the build's cache.
     local options=()

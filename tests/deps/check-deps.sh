@@ -18,6 +18,8 @@
 #   ninja   every absolute path in build.ninja and rules.ninja: libraries linked, the compiler,
 #           re2c, the files whose change reruns the configure
 #   lib     every shared library the built programs load (ldd)
+#   loaded  every shared library moire loads at run time to list the Vulkan devices (the
+#           loader's drivers and layers, through dlopen)
 #   cmake   every file a configure reads, and every file an imported target names, which
 #           CMake requires to exist (cmake --trace-expand of a configure of the same source in
 #           a scratch directory). Files a find module merely probes for and the build does not
@@ -66,6 +68,11 @@ collect() {
     # Shared libraries the programs load, including those loaded through others.
     { find "$build/bin" -maxdepth 1 -type f -perm -u+x -exec ldd {} + 2>/dev/null || true; } |
       sed -n 's/.*=> \(\/[^ ]*\) .*/\1/p' | sort -u | system_files "$build" | sed 's/^/lib /'
+    # And those loaded at run time (dlopen): the Vulkan loader's drivers and layers, found
+    # while moire lists the devices.
+    { LD_DEBUG=files "$build/bin/moire" devices 2>&1 >/dev/null || true; } |
+      sed -n 's/.*calling init: \(\/[^ ]*\).*/\1/p' | sort -u | system_files "$build" |
+      sed 's/^/loaded /'
     # A configure of the same source, traced with every argument expanded. Options that
     # change what is found are copied from the build's cache.
     local options=()

@@ -1,6 +1,9 @@
 #!/usr/bin/env bash
 # Installs the Debian 12 packages moire needs that are not installed yet. As root it runs
 # apt-get; otherwise it prints the apt-get line to run and exits with status 1.
+#   scripts/deps.sh --list   prints the package list, one a line, and installs nothing.
+# This list is the only one: tests/deps/check-deps.sh reads it through --list and fails when the
+# configured build, its tests or its benchmarks use a file of a package it does not bring in.
 set -euo pipefail
 
 packages=(
@@ -11,6 +14,7 @@ packages=(
   glslang-dev glslang-tools spirv-tools  # the GPU backend: GLSL -> SPIR-V, spirv-val (glslang's CMake package names glslangValidator)
   libvulkan-dev                  # the Vulkan loader and headers
   mesa-vulkan-drivers            # lavapipe: a software Vulkan device where there is no GPU
+  vulkan-tools                   # vulkaninfo: the devices test compares `moire devices` with it
   libfmt-dev libcli11-dev        # formatting, the command line
   doctest-dev                    # the tests
   ffmpeg                         # clips to mp4, webm and gif (moire clip)
@@ -18,6 +22,11 @@ packages=(
   xvfb xauth xdotool             # the viewer's tests: a virtual X server, and input for it
   clang-16 libclang-rt-16-dev    # the libFuzzer build of fuzz/ (libFuzzer, ASan, UBSan runtimes)
 )
+
+if [[ "${1:-}" == "--list" ]]; then
+  printf '%s\n' "${packages[@]}"
+  exit 0
+fi
 
 missing=()
 for p in "${packages[@]}"; do

@@ -155,9 +155,10 @@ std::string edit(const std::string& good, std::mt19937& rng, std::string& kind) 
         return t.substr(0, pick(t.size()));
     case 3: { // garbage bytes typed somewhere
         kind = "garbage";
+        static const char kJunk[] = "{}()=;,#@$%&*!?<>~`\"'\\x9 \n";
         std::string junk;
         for (size_t i = 0, n = 1 + pick(6); i < n; ++i)
-            junk += "{}()=;,#@$%&*!?<>~`\"'\\x9 \n"[pick(29)];
+            junk += kJunk[pick(sizeof kJunk - 1)]; // any character but the terminating NUL
         return t.insert(pick(t.size()), junk);
     }
     case 4: { // invalid UTF-8: a stray continuation, a cut sequence, bytes never valid

@@ -89,21 +89,7 @@ LowerSetup lowerSetup(const Front& f, const uint8_t* data, size_t size) {
 std::vector<double> interpret(const ir::Function& f, const std::vector<double>& params,
                               const std::vector<double>& uniforms, double px, double py, int w,
                               int h, double t) {
-    Interpreter interp(f);
-    std::vector<double> out(f.numOutputs), regs;
-    InterpEnv env;
-    env.pixelX = px;
-    env.pixelY = py;
-    env.imageW = w;
-    env.imageH = h;
-    env.time = t;
-    env.params = params.data();
-    env.numParams = params.size();
-    env.uniforms = uniforms.data();
-    env.numUniforms = uniforms.size();
-    env.outputs = out.data();
-    interp.run(env, regs);
-    return out;
+    return Interpreter(f).atPixel(uniforms, px, py, w, h, t, &params);
 }
 
 bool sameValue(double a, double b) {

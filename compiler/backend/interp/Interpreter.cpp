@@ -61,13 +61,19 @@ Interpreter::Interpreter(const ir::Function& f)
 }
 
 std::vector<double> Interpreter::atPixel(const std::vector<double>& uniforms, double px, double py,
-                                         int w, int h) const {
+                                         int w, int h, double time,
+                                         const std::vector<double>* params) const {
     std::vector<double> out(static_cast<size_t>(numOutputs_)), regs;
     InterpEnv env;
     env.pixelX = px;
     env.pixelY = py;
     env.imageW = w;
     env.imageH = h;
+    env.time = time;
+    if (params) {
+        env.params = params->data();
+        env.numParams = params->size();
+    }
     env.uniforms = uniforms.data();
     env.numUniforms = uniforms.size();
     env.outputs = out.data();

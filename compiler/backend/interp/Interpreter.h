@@ -28,9 +28,11 @@ class Interpreter {
     // Runs the function once. `regs` is scratch space reused across calls.
     void run(const InterpEnv& env, std::vector<double>& regs) const;
     // Runs a kernel at one pixel (its centre is (px, py)) of a w x h image with the frame's
-    // uniforms, and returns its outputs.
+    // uniforms, and returns its outputs. A function that still reads the clock or the
+    // literal table (a scene function before the frame split) is given `time` and `params`.
     std::vector<double> atPixel(const std::vector<double>& uniforms, double px, double py, int w,
-                                int h) const;
+                                int h, double time = 0.0,
+                                const std::vector<double>* params = nullptr) const;
     int numOutputs() const { return numOutputs_; }
     size_t numValues() const { return numValues_; }
     // Number of instructions executed by the most recent run on this thread.

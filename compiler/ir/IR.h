@@ -8,6 +8,7 @@
 #pragma once
 
 #include "compiler/diag/Source.h"
+#include "compiler/ir/IdList.h"
 
 #include <cstdint>
 #include <string>
@@ -56,11 +57,11 @@ constexpr ValueId kNoValue = UINT32_MAX;
 
 struct Inst {
     Op op{};
-    std::vector<ValueId> args;
-    std::vector<ValueId> results; // one for ordinary ops; several for If / Loop; none for sinks
-    std::vector<BlockId> regions; // If: then, else. Loop: cond, body.
-    double imm = 0.0;             // ConstF
-    int64_t iimm = 0;             // ConstI/B value, slot, exponent or independent index
+    IdList args;
+    IdList results;   // one for ordinary ops; several for If / Loop; none for sinks
+    IdList regions;   // If: then, else. Loop: cond, body.
+    double imm = 0.0; // ConstF
+    int64_t iimm = 0; // ConstI/B value, slot, exponent or independent index
     SourceLoc loc;
 
     ValueId result() const { return results.empty() ? kNoValue : results[0]; }

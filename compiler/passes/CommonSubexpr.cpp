@@ -1,9 +1,9 @@
 #include "compiler/passes/Rewriter.h"
 #include "compiler/passes/Simplify.h"
 
+#include <array>
 #include <cstring>
-#include <map>
-#include <tuple>
+#include <unordered_map>
 
 namespace moire::passes {
 
@@ -19,12 +19,29 @@ class Cse : public Rewriter {
     using Rewriter::Rewriter;
 
   private:
-    using Key = std::tuple<Op, std::vector<ValueId>, uint64_t, int64_t>;
+    struct Key {
+        Op op;
+        std::array<ValueId, 3> args{kNoValue, kNoValue, kNoValue};
+        uint64_t immBits = 0;
+        int64_t iimm = 0;
+        bool operator==(const Key&) const = default;
+    };
+    struct KeyHash {
+        size_t operator()(const Key& k) const {
+            uint64_t h = static_cast<uint64_t>(k.op) * 0x9E3779B97F4A7C15ull;
+            auto mix = [&h](uint64_t v) { h = (h ^ v) * 0xFF51AFD7ED558CCDull; };
+            for (ValueId a : k.args) mix(a);
+            mix(k.immBits);
+            mix(static_cast<uint64_t>(k.iimm));
+            return static_cast<size_t>(h ^ (h >> 32));
+        }
+    };
 
     bool visit(const Inst& inst) override {
-        if (!isPure(inst.op) || inst.results.size() != 1) return false;
-        std::vector<ValueId> args;
-        for (ValueId a : inst.args) args.push_back(map(a));
+        if (!isPure(inst.op) || inst.results.size() != 1 || inst.args.size() > 3) return false;
+        Key key{inst.op};
+        auto& args = key.args;
+        for (size_t i = 0; i < inst.args.size(); ++i) args[i] = map(inst.args[i]);
         // Commutative ops are keyed with sorted operands. (min and max are not commutative
         // under their NaN rule, so they keep their order.)
         bool commutative = inst.op == Op::Add || inst.op == Op::Mul || inst.op == Op::MulZ ||
@@ -32,9 +49,8 @@ class Cse : public Rewriter {
                            inst.op == Op::Or || inst.op == Op::Hypot || inst.op == Op::IAdd ||
                            inst.op == Op::IMul;
         if (commutative && args[0] > args[1]) std::swap(args[0], args[1]);
-        uint64_t immBits;
-        std::memcpy(&immBits, &inst.imm, sizeof immBits);
-        Key key{inst.op, args, immBits, inst.iimm};
+        std::memcpy(&key.immBits, &inst.imm, sizeof key.immBits);
+        key.iimm = inst.iimm;
         for (auto it = scopes_.rbegin(); it != scopes_.rend(); ++it) {
             auto found = it->find(key);
             if (found != it->end()) {
@@ -42,14 +58,13 @@ class Cse : public Rewriter {
                 return true;
             }
         }
-        std::vector<ValueId> res = copy(inst);
-        scopes_.back().emplace(std::move(key), res[0]);
+        scopes_.back().emplace(key, copy(inst)[0]);
         return true;
     }
     void enterRegion() override { scopes_.emplace_back(); }
     void leaveRegion() override { scopes_.pop_back(); }
 
-    std::vector<std::map<Key, ValueId>> scopes_{1};
+    std::vector<std::unordered_map<Key, ValueId, KeyHash>> scopes_{1};
 };
 
 } // namespace

@@ -23,6 +23,7 @@ ValueId Rewriter::mapMissing(ValueId v) {
 
 Function Rewriter::run() {
     b_.setBlock(0);
+    dst_.blocks[0].insts.reserve(src_.blocks[0].insts.size());
     for (const Inst& inst : src_.blocks[0].insts)
         if (!visit(inst)) copy(inst);
     finish();
@@ -43,7 +44,7 @@ std::vector<ValueId> Rewriter::inlineBlock(BlockId b) {
     return yielded;
 }
 
-std::vector<ValueId> Rewriter::copy(const Inst& inst) {
+IdList Rewriter::copy(const Inst& inst) {
     b_.setLoc(inst.loc);
     if (inst.op == Op::If) {
         auto region = [&](BlockId r) {
@@ -76,17 +77,23 @@ std::vector<ValueId> Rewriter::copy(const Inst& inst) {
         for (size_t i = 0; i < res.size(); ++i) bind(inst.results[i], res[i]);
         return res;
     }
-    Inst c = inst;
-    for (ValueId& a : c.args) a = map(a);
-    c.results.clear();
+    Inst c;
+    c.op = inst.op;
+    c.imm = inst.imm;
+    c.iimm = inst.iimm;
+    c.loc = inst.loc;
+    c.regions = inst.regions;
+    c.args.reserve(inst.args.size());
+    for (ValueId a : inst.args) c.args.push_back(map(a));
+    c.results.reserve(inst.results.size());
     for (ValueId r : inst.results) {
         ValueId nr = dst_.newValue(src_.type(r));
         c.results.push_back(nr);
         bind(r, nr);
     }
-    std::vector<ValueId> res = c.results;
-    dst_.blocks[b_.block()].insts.push_back(std::move(c));
-    return res;
+    auto& insts = dst_.blocks[b_.block()].insts;
+    insts.push_back(std::move(c));
+    return insts.back().results;
 }
 
 } // namespace moire::passes

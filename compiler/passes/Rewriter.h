@@ -30,7 +30,7 @@ class Rewriter {
     ir::ValueId map(ir::ValueId v);
     void bind(ir::ValueId oldValue, ir::ValueId newValue) { vmap_[oldValue] = newValue; }
     // Copies `inst` with mapped operands (recursing into regions); returns the new results.
-    std::vector<ir::ValueId> copy(const ir::Inst& inst);
+    ir::IdList copy(const ir::Inst& inst);
     // Emits the body of a source block into the current block, returning the mapped yield.
     std::vector<ir::ValueId> inlineBlock(ir::BlockId b);
 

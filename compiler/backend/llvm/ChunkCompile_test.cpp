@@ -7,6 +7,7 @@
 #include "compiler/Compile.h"
 #include "runtime/FrameEval.h"
 
+#include <cstdlib>
 #include <cstring>
 #include <doctest/doctest.h>
 #include <fmt/format.h>
@@ -119,4 +120,48 @@ TEST_CASE("jit chunks: a chunk's pixel loop is compiled once") {
     int edges = chunkLoopBackEdges(jit.dumpLlvm(p->kernel), &chunks);
     CHECK(chunks > 1);
     CHECK(edges <= chunks);
+}
+
+// The width of the float arithmetic in the chunks' optimised code (outputs are stored
+// interleaved, in wider vectors): 0 where none is vectorised, -1 where two widths appear.
+int chunkVectorWidth(const std::string& llvmText) {
+    int width = 0;
+    bool inChunk = false;
+    std::istringstream in(llvmText);
+    for (std::string line; std::getline(in, line);) {
+        if (line.rfind("define ", 0) == 0)
+            inChunk = line.find(".chunk") != std::string::npos;
+        else if (line == "}")
+            inChunk = false;
+        if (!inChunk) continue;
+        for (const char* op : {" = fadd <", " = fsub <", " = fmul <", " = fdiv <"}) {
+            size_t at = line.find(op);
+            if (at == std::string::npos || line.find(" x float>", at) == std::string::npos)
+                continue;
+            int w = std::atoi(line.c_str() + at + std::strlen(op));
+            width = width == 0 || width == w ? w : -1;
+        }
+    }
+    return width;
+}
+
+TEST_CASE("jit chunks: the pixel loop is vectorised at the width it is given") {
+    // The hint saves the vectoriser costing every width; 4 floats is legal on every x86-64
+    // and no cost model would pick it on a host with AVX, so the width seen is the hint's.
+    auto p = compiled(circles(40).substr(0, circles(40).find("layer { family = squares")));
+    LlvmJitBackend::Options four, none;
+    four.chunkVectorWidth = 4;
+    none.chunkVectorWidth = 0;
+    LlvmJitBackend hinted(four), unhinted(none), widest;
+    CHECK(chunkVectorWidth(hinted.dumpLlvm(p->kernel)) == 4);
+    // With no hint, or the default one, the cost model's width and the default agree.
+    int chosen = chunkVectorWidth(unhinted.dumpLlvm(p->kernel));
+    CHECK(chosen >= 4);
+    CHECK(chunkVectorWidth(widest.dumpLlvm(p->kernel)) == chosen);
+    // And the pixels do not depend on the width.
+    TileRect tile{0, 0, 2 * llvmbackend::kStrip + 3, 3};
+    size_t rowFloats = static_cast<size_t>(tile.x1) * widest.compile(p->kernel)->numOutputs();
+    std::vector<float> ref = runTile(unhinted, *p, tile, rowFloats);
+    CHECK(sameBits(ref, runTile(hinted, *p, tile, rowFloats)));
+    CHECK(sameBits(ref, runTile(widest, *p, tile, rowFloats)));
 }

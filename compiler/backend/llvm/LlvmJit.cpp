@@ -7,6 +7,7 @@
 #include <atomic>
 #include <fmt/format.h>
 #include <llvm/Analysis/TargetLibraryInfo.h>
+#include <llvm/Analysis/TargetTransformInfo.h>
 #include <llvm/ExecutionEngine/Orc/CompileUtils.h>
 #include <llvm/ExecutionEngine/Orc/ExecutionUtils.h>
 #include <llvm/ExecutionEngine/Orc/JITTargetMachineBuilder.h>
@@ -102,6 +103,19 @@ void optimise(llvm::Module& m, llvm::TargetMachine& tm) {
     mpm.run(m, mam);
 }
 
+// Floats in the target's widest vector register, as the loop vectoriser counts it (an x86
+// tuned to prefer 256-bit vectors says 256 even with AVX-512). For a pixel loop of float
+// arithmetic, the width its cost model settles on.
+unsigned widestFloatVector(llvm::TargetMachine& tm) {
+    llvm::LLVMContext ctx;
+    llvm::Module m("probe", ctx);
+    auto* fn = llvm::Function::Create(llvm::FunctionType::get(llvm::Type::getVoidTy(ctx), false),
+                                      llvm::Function::ExternalLinkage, "probe", m);
+    llvm::TargetTransformInfo tti = tm.getTargetTransformInfo(*fn);
+    auto bits = tti.getRegisterBitWidth(llvm::TargetTransformInfo::RGK_FixedWidthVector);
+    return std::max<unsigned>(1, static_cast<unsigned>(bits.getFixedValue() / 32));
+}
+
 class JitKernel : public CompiledKernel {
   public:
     JitKernel(llvmbackend::TileFn fn, int numOutputs) : fn_(fn), numOutputs_(numOutputs) {}
@@ -127,6 +141,7 @@ struct LlvmJitBackend::Impl {
     std::unordered_map<uint64_t, llvmbackend::TileFn> cache;
     int compiled = 0;
     Options options;
+    unsigned chunkVectorWidth = 0;
 
     explicit Impl(const Options& o) : options(o) {
         initialiseLlvmOnce();
@@ -136,6 +151,9 @@ struct LlvmJitBackend::Impl {
         jtmb = std::move(*detected);
         jtmb->setCodeGenOptLevel(llvm::CodeGenOpt::Default);
         tm = targetMachine();
+        chunkVectorWidth = options.chunkVectorWidth == Options::kWidestFloatVector
+                               ? widestFloatVector(*tm)
+                               : static_cast<unsigned>(std::max(0, options.chunkVectorWidth));
         auto built = llvm::orc::LLJITBuilder().setJITTargetMachineBuilder(*jtmb).create();
         if (!built) MOIRE_ICE("cannot start the LLVM JIT: {}", errorText(built.takeError()));
         jit = std::move(*built);
@@ -158,6 +176,7 @@ struct LlvmJitBackend::Impl {
         llvmbackend::TranslateOptions t;
         t.chunkInsts = options.chunkInsts;
         t.wholeStrips = t.separateModules = !options.classicChunks;
+        t.chunkVectorWidth = chunkVectorWidth;
         return llvmbackend::translate(kernel, name, t);
     }
 

@@ -26,6 +26,11 @@ class LlvmJitBackend : public Backend {
         // moire_compile_bench to compare against. Kernels too small to chunk are the same
         // either way.
         bool classicChunks = false;
+        // The vector width given to each chunk's pixel loop as a hint, so the vectoriser does
+        // not cost every width (LlvmTranslate.h): kWidestFloatVector, the width its cost model
+        // picks for these loops; 0, no hint.
+        static constexpr int kWidestFloatVector = -1;
+        int chunkVectorWidth = kWidestFloatVector;
     };
 
     explicit LlvmJitBackend(size_t chunkInsts = kDefaultChunkInsts);

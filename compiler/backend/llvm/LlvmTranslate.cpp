@@ -31,8 +31,13 @@ class Translator {
     // With `wholeStrip`, a chunk runs kStrip pixels from x0 whatever x1 is: a constant trip
     // count that the vectoriser divides exactly, so it emits neither a scalar remainder loop
     // nor a vectorised epilogue, each as big as the body (the driver clips the outputs).
+    //
+    // With `vectorWidth`, a whole-strip chunk's pixel loop carries that width as a hint. The
+    // vectoriser then plans that one width instead of costing every width the target offers,
+    // which was a third of LLVM's optimisation time for a kernel of 1,000 layers; the driver
+    // passes the width its cost model picks for these loops (the widest float vector).
     llvm::Function* run(const std::string& name, const Chunk* chunk = nullptr,
-                        bool wholeStrip = false, bool external = false) {
+                        bool wholeStrip = false, bool external = false, unsigned vectorWidth = 0) {
         auto* ptr = llvm::PointerType::get(ctx_, 0);
         std::vector<llvm::Type*> params = {ptr, i32_, i32_, i32_, i32_, i32_, i32_, ptr, i64_};
         if (chunk) params.push_back(ptr);
@@ -112,7 +117,10 @@ class Translator {
         auto* xNext = wholeStrip ? b_.CreateNSWAdd(x, b_.getInt32(1))
                                  : b_.CreateAdd(x, llvm::ConstantInt::get(i32_, 1));
         x->addIncoming(xNext, b_.GetInsertBlock());
-        b_.CreateBr(xHead);
+        auto* backEdge = b_.CreateBr(xHead);
+        // Not where the chunk calls libm: libmvec has 4- and 8-lane versions only, and a wider
+        // hint would call the scalar function once per lane; the cost model weighs that.
+        if (wholeStrip && vectorWidth > 1 && !callsLibm_) hintVectorWidth(backEdge, vectorWidth);
 
         b_.SetInsertPoint(yLatch);
         auto* yNext = b_.CreateAdd(y, llvm::ConstantInt::get(i32_, 1));
@@ -129,6 +137,19 @@ class Translator {
     }
 
   private:
+    // Loop metadata on the back edge: llvm.loop.vectorize.width (a distinct, self-referencing
+    // node, as LLVM's loop metadata must be).
+    void hintVectorWidth(llvm::BranchInst* backEdge, unsigned width) {
+        llvm::Metadata* hint[] = {
+            llvm::MDString::get(ctx_, "llvm.loop.vectorize.width"),
+            llvm::ConstantAsMetadata::get(llvm::ConstantInt::get(i32_, width))};
+        auto self = llvm::MDNode::getTemporary(ctx_, std::nullopt);
+        llvm::Metadata* ops[] = {self.get(), llvm::MDNode::get(ctx_, hint)};
+        llvm::MDNode* loop = llvm::MDNode::getDistinct(ctx_, ops);
+        loop->replaceOperandWith(0, loop);
+        backEdge->setMetadata(llvm::LLVMContext::MD_loop, loop);
+    }
+
     // A carried value is one 32-bit word per pixel of the strip: a float, an int, or a bool
     // widened to an int.
     llvm::Value* carrySlot(ValueId v, int slot) {
@@ -160,6 +181,7 @@ class Translator {
     }
     // A libm function of one or two floats (sinf, atan2f, ...), resolved in the host process.
     llvm::Value* libm(const char* name, std::initializer_list<llvm::Value*> args) {
+        callsLibm_ = true;
         std::vector<llvm::Type*> params(args.size(), fTy_);
         auto callee = m_.getOrInsertFunction(name, llvm::FunctionType::get(fTy_, params, false));
         if (auto* fn = llvm::dyn_cast<llvm::Function>(callee.getCallee())) {
@@ -511,6 +533,7 @@ class Translator {
     llvm::Value *pixelX_ = nullptr, *pixelY_ = nullptr, *row_ = nullptr, *pixelBase_ = nullptr;
     std::unordered_map<int64_t, llvm::Value*> uniformLoads_;
     llvm::Value *carry_ = nullptr, *lane_ = nullptr;
+    bool callsLibm_ = false;
 };
 
 // The tile function of a chunked kernel: for each row of the tile, for each strip of at most
@@ -609,8 +632,9 @@ std::vector<OwnedModule> translate(const ir::Function& kernel, const std::string
     std::vector<llvm::Function*> chunks;
     for (size_t c = 0; c < plan.chunks.size(); ++c) {
         std::string chunkName = name + ".chunk" + std::to_string(c);
-        llvm::Function* fn = Translator(kernel, split ? newModule(chunkName) : driver)
-                                 .run(chunkName, &plan.chunks[c], whole, split);
+        llvm::Function* fn =
+            Translator(kernel, split ? newModule(chunkName) : driver)
+                .run(chunkName, &plan.chunks[c], whole, split, options.chunkVectorWidth);
         // In a module of its own, the driver calls the chunk through a declaration.
         if (split) {
             llvm::LLVMContext& ctx = driver.getContext();

@@ -31,6 +31,10 @@ struct TranslateOptions {
     bool wholeStrips = true;
     // Each chunk in a module (and context) of its own, so chunks can be compiled in parallel.
     bool separateModules = true;
+    // The vector width (pixels per SIMD iteration) the pixel loop of a whole-strip chunk is
+    // given as a hint (not where the chunk calls libm); 0 leaves the choice to the vectoriser's
+    // cost model.
+    unsigned chunkVectorWidth = 0;
 };
 
 // The module of tile function NAME; for a chunked kernel, the driver's module first, then one

@@ -14,52 +14,6 @@ namespace moire::sema {
 
 using namespace ast;
 
-const std::vector<PropertySpec>& sceneProperties() {
-    static const std::vector<PropertySpec> props = {
-        {"size", Type::Vec2, true, true,
-         "image size in pixels, (width, height); default (1200, 800)"},
-        {"background", Type::Color, true, false, "paper colour; default #ffffff"},
-        {"unresolved", Type::Color, true, false,
-         "tint laid where an encoded field's fringes are too fine for its carrier; default none"},
-    };
-    return props;
-}
-
-const std::vector<PropertySpec>& cameraProperties() {
-    static const std::vector<PropertySpec> props = {
-        {"center", Type::Vec2, true, false,
-         "world point at the middle of the image; default (0, 0)"},
-        {"zoom", Type::Num, true, false, "pixels per world unit; default 1"},
-        {"rotation", Type::Angle, true, false, "turn of the view; default 0deg"},
-    };
-    return props;
-}
-
-const std::vector<PropertySpec>& layerProperties() {
-    static const std::vector<PropertySpec> props = {
-        {"family", Type::Error, false, false, "a family name, or a phase expression in x and y"},
-        {"spacing", Type::Num, false, false, "distance between members (s); default 10"},
-        {"phase", Type::Num, false, false, "offset of the members, in phase units; default 0"},
-        {"stroke", Type::Num, false, false, "stroke thickness in world units; default 1"},
-        {"color", Type::Color, false, false, "ink colour; default #000000"},
-        {"opacity", Type::Num, false, false, "0..1; default 1"},
-        {"origin", Type::Vec2, false, false, "where the family's (0, 0) sits; default (0, 0)"},
-        {"rotation", Type::Angle, false, false,
-         "turn of the family about its origin; default 0deg"},
-        {"offset", Type::Vec2, false, false,
-         "walking families: member n is moved by n * offset (turned with it); default (0, 0)"},
-        {"turn", Type::Angle, false, false,
-         "walking families: member n is turned by n * turn; default 0deg"},
-        {"field", Type::Num, false, false,
-         "a scalar field encoded into the phase: the fringes against a twin are its contours"},
-        {"gain", Type::Num, false, false,
-         "how strongly the field is encoded: contours every 1 / gain; default 1"},
-        {"morph_time", Type::Num, false, false,
-         "morphs: seconds each change of family takes (eased, cubic); default 0.28"},
-    };
-    return props;
-}
-
 namespace detail {
 
 namespace {

@@ -4,6 +4,7 @@
 
 #include "compiler/diag/Diagnostics.h"
 #include "compiler/parse/Ast.h"
+#include "compiler/sema/Properties.h"
 
 #include <optional>
 #include <string>
@@ -79,18 +80,6 @@ struct CheckedScene {
     std::vector<const ast::Decl*> timingOrder; // declaration order
     std::unordered_map<std::string, const ast::Decl*> easingByName;
 };
-
-// One property a block accepts.
-struct PropertySpec {
-    const char* name;
-    ast::Type type;
-    bool positionFree; // may not depend on x, y
-    bool timeFree;     // may not depend on t
-    const char* doc;
-};
-const std::vector<PropertySpec>& sceneProperties();
-const std::vector<PropertySpec>& cameraProperties();
-const std::vector<PropertySpec>& layerProperties(); // `family` is listed with type Error
 
 // Checks the standard library modules and the user's module together. Errors go to
 // `diags`; the result is meaningful only when no error was reported.

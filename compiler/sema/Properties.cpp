@@ -1,0 +1,84 @@
+#include "compiler/sema/Properties.h"
+
+#include "compiler/diag/Diagnostics.h"
+
+namespace moire::sema {
+
+using ast::Type;
+
+const std::vector<PropertySpec>& sceneProperties() {
+    static const std::vector<PropertySpec> props = {
+        {"size",
+         Type::Vec2,
+         true,
+         true,
+         "image size in pixels, (width, height)",
+         {kDefaultWidth, kDefaultHeight}},
+        {"background", Type::Color, true, false, "paper colour (white)", {1, 1, 1, 1}},
+        // Transparent: no tint unless the scene sets one.
+        {"unresolved",
+         Type::Color,
+         true,
+         false,
+         "tint laid where an encoded field's fringes are too fine for its carrier",
+         {0, 0, 0, 0}},
+    };
+    return props;
+}
+
+const std::vector<PropertySpec>& cameraProperties() {
+    static const std::vector<PropertySpec> props = {
+        {"center", Type::Vec2, true, false, "world point at the middle of the image", {0, 0}},
+        {"zoom", Type::Num, true, false, "pixels per world unit", {1}},
+        {"rotation", Type::Angle, true, false, "turn of the view", {0}},
+    };
+    return props;
+}
+
+const std::vector<PropertySpec>& layerProperties() {
+    static const std::vector<PropertySpec> props = {
+        {"family", Type::Error, false, false, "a family name, or a phase expression in x and y"},
+        {"spacing", Type::Num, false, false, "distance between members (s)", {10}},
+        {"phase", Type::Num, false, false, "offset of the members, in phase units", {0}},
+        {"stroke", Type::Num, false, false, "stroke thickness in world units", {1}},
+        {"color", Type::Color, false, false, "ink colour (black)", {0, 0, 0, 1}},
+        {"opacity", Type::Num, false, false, "0..1", {1}},
+        {"origin", Type::Vec2, false, false, "where the family's (0, 0) sits", {0, 0}},
+        {"rotation", Type::Angle, false, false, "turn of the family about its origin", {0}},
+        {"offset",
+         Type::Vec2,
+         false,
+         false,
+         "walking families: member n is moved by n * offset (turned with it)",
+         {0, 0}},
+        {"turn",
+         Type::Angle,
+         false,
+         false,
+         "walking families: member n is turned by n * turn",
+         {0}},
+        {"field", Type::Num, false, false,
+         "a scalar field encoded into the phase: the fringes against a twin are its contours"},
+        {"gain",
+         Type::Num,
+         false,
+         false,
+         "how strongly the field is encoded: contours every 1 / gain",
+         {1}},
+        {"morph_time",
+         Type::Num,
+         false,
+         false,
+         "morphs: seconds each change of family takes (eased, cubic)",
+         {0.28}},
+    };
+    return props;
+}
+
+const PropertySpec& propertySpec(const std::vector<PropertySpec>& table, std::string_view name) {
+    for (const PropertySpec& s : table)
+        if (name == s.name) return s;
+    MOIRE_ICE("no property named '{}' in the table", name);
+}
+
+} // namespace moire::sema

@@ -98,7 +98,7 @@ Run measure(const std::string& backendName, const std::string& sceneText, int w,
     writeFile(path, edited(sceneText, 0, false));
 
     SceneReloader::Options options;
-    options.compile.interactive = true; // as the viewer compiles
+    options.compile.mode = CompileOptions::Mode::Interactive; // as the viewer compiles
     options.watch.debounce = std::chrono::milliseconds(debounceMs);
     SceneReloader reloader(path, *backend, options);
     if (!reloader.loadNow().good()) {

@@ -14,6 +14,7 @@
 #include "compiler/backend/interp/Interpreter.h"
 #include "compiler/backend/llvm/LlvmJit.h"
 #include "compiler/Compile.h"
+#include "compiler/lower/CameraModel.h"
 #include "compiler/lower/WalkingFamily.h"
 #include "runtime/FrameEval.h"
 #include "runtime/TileExecutor.h"
@@ -148,8 +149,12 @@ Row measure(const Scene& s, int w, int h) {
     env.numUniforms = fv.uniforms.size();
     env.outputs = out.data();
 
-    const double pixel = 1.0 / s.zoom;
-    const double a = 0.7 * pixel;
+    // The scene's size is the image's, so the camera fits it at one world unit a pixel.
+    lower::CameraT<double> cam;
+    cam.width = w;
+    cam.height = h;
+    cam.pixel = lower::fitScale<double>(w, h, w, h) / s.zoom;
+    cam.turned = cam.centred = false;
     Row row;
     long samples = 0;
     for (int y = 0; y < h; ++y) {
@@ -157,13 +162,15 @@ Row measure(const Scene& s, int w, int h) {
             env.pixelX = x + 0.5;
             env.pixelY = y + 0.5;
             interp.run(env, regs);
-            const double wx = (x + 0.5 - w / 2.0) * pixel, wy = (h / 2.0 - (y + 0.5)) * pixel;
+            const ir::Vec2T<double> world = lower::toWorld(cam, {x + 0.5, y + 0.5});
+            const double wx = world.x, wy = world.y;
             // One interpreter run solves every layer; its count is shared out evenly.
             row.windowEvals += static_cast<double>(Interpreter::lastTally(lower::kRadiusTally));
             for (size_t i = 0; i < s.layers.size(); ++i) {
                 const Layer& l = s.layers[i];
-                const double hw = std::max(l.stroke / 2, 1.15 * pixel);
-                const double guard = std::max(hw + a, 0.75 * l.spacing);
+                const lower::StrokeBandT<double> band = lower::strokeBandOf(l.stroke, cam.pixel);
+                const double hw = band.h, a = band.a;
+                const double guard = lower::walkGuard(band, l.spacing);
                 ref::Walking wk = walking(l);
                 ref::Nearest exact = ref::nearest(wk, wx, wy, guard);
                 SweepResult sw = sweep(wk, wx, wy, guard);

@@ -77,26 +77,13 @@ CompileResult compileScene(const std::string& path, std::string text,
     }
 
     // 3. Lower to the scene function, then the ordered IR passes.
-    lower::LowerOptions lowerOptions;
-    lowerOptions.layerFields = options.layerFields;
-    lowerOptions.tally = options.tally;
-    if (options.probe) {
-        program->probeSlot = lowerOptions.probeSlot = static_cast<int>(program->literals.size());
-        program->literals.push_back(0.0);
-        program->literals.push_back(0.0);
-    }
-    if (options.interactive) {
-        // The identity view: no pan, zoom factor 1, no layer moved or turned.
-        program->viewSlot = lowerOptions.viewSlot = static_cast<int>(program->literals.size());
-        program->literals.resize(
-            program->literals.size() +
-                lower::ViewSlots::count(static_cast<int>(program->checked.layers.size())),
-            0.0);
-        program->literals[program->viewSlot + lower::ViewSlots::kZoomFactor] = 1.0;
-    }
-    ir::Function scene = lower::lowerScene(program->checked, lowerOptions, program->layout);
+    lower::LoweredScene lowered = lower::lowerScene(
+        program->checked, {options.mode, options.layerFields, options.tally}, program->literals);
+    program->layout = std::move(lowered.layout);
+    program->probeSlot = lowered.probeSlot;
+    program->viewSlot = lowered.viewSlot;
     clock.lap("lower");
-    program->lowered = passes::simplify(scene); // fold, CSE, DCE
+    program->lowered = passes::simplify(lowered.function); // fold, CSE, DCE
     clock.lap("simplify");
     ir::Function derived = passes::autoDiff(program->lowered); // forward-mode AD
     clock.lap("autodiff");

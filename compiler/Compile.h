@@ -16,10 +16,13 @@
 namespace moire {
 
 struct CompileOptions {
+    // Where the camera's inputs come from: the scene (Render), a probe point in literal
+    // slots (Probe: SceneProgram::probeSlot), or the viewer's pan, zoom and layer motions in
+    // literal slots (Interactive: SceneProgram::viewSlot). See lower::LowerMode.
+    using Mode = lower::LowerMode;
+    Mode mode = Mode::Render;
     bool layerFields = false; // the kernel also outputs each layer's index, distance and gradient
-    bool probe = false;       // camera centre from literal slots probeSlot, probeSlot + 1
     bool tally = false;       // count the walking solver's radius evaluations (interpreter)
-    bool interactive = false; // the viewer's pan, zoom and layer motions from literal slots
     // When set, each stage appends its name and wall-clock seconds (bench/compile_bench).
     std::vector<std::pair<std::string, double>>* stageSeconds = nullptr;
 };
@@ -38,8 +41,8 @@ struct SceneProgram {
     lower::OutputLayout layout;
     int numUniforms = 0;
     uint64_t kernelHash = 0; // structure only: unchanged when only numbers change
-    int probeSlot = -1;      // with CompileOptions::probe: the literal slots of the probe point
-    int viewSlot = -1; // with CompileOptions::interactive: the first of lower::ViewSlots' slots
+    int probeSlot = -1;      // in Mode::Probe: the literal slots of the probe point
+    int viewSlot = -1;       // in Mode::Interactive: the first of lower::ViewSlots' slots
 
     const ast::Module& userModule() const { return *modules.back(); }
 };

@@ -71,19 +71,18 @@ LowerSetup lowerSetup(const Front& f, const uint8_t* data, size_t size) {
     s.literals = f.modules.back()->literals;
     s.options.layerFields = h & 1;
     s.options.tally = (h >> 1) & 1;
-    if ((h >> 2) & 1) {
-        s.options.probeSlot = static_cast<int>(s.literals.size());
-        s.literals.push_back(0.25);
-        s.literals.push_back(-0.5);
-    }
-    if ((h >> 3) & 1) {
-        s.options.viewSlot = static_cast<int>(s.literals.size());
-        s.literals.resize(s.literals.size() +
-                              lower::ViewSlots::count(static_cast<int>(f.checked.layers.size())),
-                          0.0);
-        s.literals[s.options.viewSlot + lower::ViewSlots::kZoomFactor] = 1.0;
-    }
+    if ((h >> 2) & 1) s.options.mode = lower::LowerMode::Probe;
+    if ((h >> 3) & 1) s.options.mode = lower::LowerMode::Interactive;
     return s;
+}
+
+lower::LoweredScene lowerWith(const Front& f, LowerSetup& setup) {
+    lower::LoweredScene scene = lower::lowerScene(f.checked, setup.options, setup.literals);
+    if (scene.probeSlot >= 0) {
+        setup.literals[scene.probeSlot] = 0.25;
+        setup.literals[scene.probeSlot + 1] = -0.5;
+    }
+    return scene;
 }
 
 std::vector<double> interpret(const ir::Function& f, const std::vector<double>& params,

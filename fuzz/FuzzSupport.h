@@ -51,14 +51,16 @@ std::unique_ptr<Front> runFront(std::string text, bool check);
 // Every diagnostic points into a file that exists, within its text, and renders.
 void checkDiagnostics(const Front& f);
 
-// The user module's literal table with the slots compileScene appends for probe and
-// interactive lowering.
+// The user module's literal table (lowering appends the slots of probe and interactive
+// modes to it) and the lowering options.
 struct LowerSetup {
     lower::LowerOptions options;
     std::vector<double> literals;
 };
 // Lowering options chosen from the input's bytes, so the same input always lowers the same way.
 LowerSetup lowerSetup(const Front& f, const uint8_t* data, size_t size);
+// Lowers the checked scene with `setup`, then moves a probe point off the origin.
+lower::LoweredScene lowerWith(const Front& f, LowerSetup& setup);
 
 // Evaluates `f` once on the interpreter at pixel centre (px, py) of a w x h image at time t.
 std::vector<double> interpret(const ir::Function& f, const std::vector<double>& params,

@@ -16,9 +16,9 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
         auto front = fuzz::runFront(text, /*check=*/true);
         if (!front->checkedOk) return;
         fuzz::LowerSetup setup = fuzz::lowerSetup(*front, data, size);
-        lower::OutputLayout layout;
-        ir::Function lowered =
-            passes::simplify(lower::lowerScene(front->checked, setup.options, layout));
+        lower::LoweredScene scene = fuzz::lowerWith(*front, setup);
+        const lower::OutputLayout& layout = scene.layout;
+        ir::Function lowered = passes::simplify(scene.function);
         ir::Function derived = passes::autoDiff(lowered);
         ir::verify(derived);
         ir::Function simplified = passes::simplify(derived);

@@ -13,8 +13,9 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
         auto front = fuzz::runFront(text, /*check=*/true);
         if (!front->checkedOk) return;
         fuzz::LowerSetup setup = fuzz::lowerSetup(*front, data, size);
-        lower::OutputLayout layout;
-        ir::Function scene = lower::lowerScene(front->checked, setup.options, layout);
+        lower::LoweredScene lowered = fuzz::lowerWith(*front, setup);
+        const lower::OutputLayout& layout = lowered.layout;
+        const ir::Function& scene = lowered.function;
         ir::verify(scene);
         if (layout.numKernelOutputs > scene.numOutputs)
             fuzz::finding("the layout has more kernel outputs than the scene function");

@@ -14,7 +14,7 @@ namespace moire {
 
 class Prober {
   public:
-    // `program` must be compiled with CompileOptions::probe (and usually layerFields).
+    // `program` must be compiled in CompileOptions::Mode::Probe (and usually with layerFields).
     // With `backend` null the reference interpreter evaluates the kernel in double precision;
     // otherwise the backend's compiled kernel does (in its own precision).
     Prober(const SceneProgram& program, Backend* backend);

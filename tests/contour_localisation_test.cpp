@@ -310,8 +310,8 @@ Result measurePreset(const std::string& name, double gain, Backend& backend, dou
     // f and its exact gradient at any world point: a layer whose phase is the field, at
     // spacing 1, has index f and index gradient grad f (forward-mode AD, evaluated by the
     // double-precision interpreter).
-    auto probeProgram =
-        test::compileOk("layer { family = " + name + "; spacing = 1 }", {true, true});
+    auto probeProgram = test::compileOk("layer { family = " + name + "; spacing = 1 }",
+                                        {.mode = CompileOptions::Mode::Probe, .layerFields = true});
     Prober prober(*probeProgram, nullptr);
     const auto& lay = probeProgram->layout;
     const Field field = [&](double x, double y) {

@@ -38,7 +38,7 @@ struct Scene {
     std::unique_ptr<SceneProgram> program;
     Prober probe;
     explicit Scene(const std::string& src, Backend* backend = nullptr)
-        : program(test::compileOk(src, {.layerFields = true, .probe = true})),
+        : program(test::compileOk(src, {.mode = CompileOptions::Mode::Probe, .layerFields = true})),
           probe(*program, backend) {}
 
     std::vector<double> at(double x, double y) { return probe.at(x, y); }

@@ -49,7 +49,8 @@ std::vector<std::pair<double, double>> points(int n, double half, uint64_t seed,
 // Returns how many points differed by more than `tol` (relative), so a caller can also
 // check that two layers that should differ do.
 int differingPoints(const std::string& a, const std::string& b, double tol, uint64_t seed) {
-    auto program = test::compileOk(a + "\n" + b, {true, true});
+    auto program =
+        test::compileOk(a + "\n" + b, {.mode = CompileOptions::Mode::Probe, .layerFields = true});
     Prober probe(*program, nullptr);
     int differ = 0;
     for (auto [x, y] : points(100, 40.0, seed)) {
@@ -73,7 +74,8 @@ TEST_CASE("families: the hyperbola never inks its excluded member 0, the asympto
     for (double phase : {0.0, -2.0, 3.0}) {
         RefLayer ref{test::refHyperbola(), 8.0, phase, 0.0, 0.0, 0.0};
         std::string layer = test::layerSource("hyperbola", "stroke = 1; color = #000000", ref);
-        auto program = test::compileOk("scene { background = #ffffff }\n" + layer, {true, true});
+        auto program = test::compileOk("scene { background = #ffffff }\n" + layer,
+                                       {.mode = CompileOptions::Mode::Probe, .layerFields = true});
         Prober probe(*program, nullptr);
         CAPTURE(layer);
         int white = 0;
@@ -182,7 +184,8 @@ TEST_CASE("families: the AD index gradient is Table 1's gradient, for every fami
     for (const Case& c : cases) {
         std::string src = test::layerSource(c.family, c.args, c.ref);
         CAPTURE(src);
-        auto program = test::compileOk(src, {true, true});
+        auto program =
+            test::compileOk(src, {.mode = CompileOptions::Mode::Probe, .layerFields = true});
         Prober probe(*program, nullptr);
         const RefLayer& L = c.ref;
         int compared = 0;
@@ -231,7 +234,8 @@ TEST_CASE("families: the JIT's fields agree with the exact interpreter's to sing
     uint64_t seed = 70;
     for (const std::string& src : layers) {
         CAPTURE(src);
-        auto program = test::compileOk(src, {true, true});
+        auto program =
+            test::compileOk(src, {.mode = CompileOptions::Mode::Probe, .layerFields = true});
         Prober exact(*program, nullptr), single(*program, jit.get());
         for (auto [x, y] : points(100, 40.0, seed++)) {
             CAPTURE(x);

@@ -59,7 +59,8 @@ struct Sample {
 // enough points.
 std::vector<Sample> sampleSetting(const Setting& st, double radius, uint64_t seed,
                                   int corners = 0) {
-    auto program = test::compileOk(test::layerSource(st.family, st.args, st.ref), {true, true});
+    auto program = test::compileOk(test::layerSource(st.family, st.args, st.ref),
+                                   {.mode = CompileOptions::Mode::Probe, .layerFields = true});
     Prober probe(*program, nullptr);
     const double s = st.ref.spacing;
     std::mt19937_64 rng(seed);

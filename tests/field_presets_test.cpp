@@ -89,7 +89,8 @@ struct Probed {
     std::unique_ptr<SceneProgram> program;
     Prober probe;
     explicit Probed(Backend* backend = nullptr)
-        : program(test::compileOk(presetScene(), {.layerFields = true, .probe = true})),
+        : program(test::compileOk(presetScene(),
+                                  {.mode = CompileOptions::Mode::Probe, .layerFields = true})),
           probe(*program, backend) {}
     // Every output at (x, y), and preset i's value and gradient read off its layer.
     std::vector<double> all(double x, double y) { return probe.at(x, y); }

@@ -54,7 +54,7 @@ double distanceToMember1(double px, double py, double s) {
 TEST_CASE("hyperbola: on the asymptotes, at every radius, the distance is member 1's") {
     const double s = 6.0;
     auto program = test::compileOk("layer { family = hyperbola; spacing = 6; stroke = 1.5 }",
-                                   {/*layerFields=*/true, /*probe=*/true});
+                                   {.mode = CompileOptions::Mode::Probe, .layerFields = true});
     const int distanceSlot = program->layout.distanceSlot(0);
     for (const std::string name : {"interp", "jit"}) {
         CAPTURE(name);

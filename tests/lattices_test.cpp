@@ -213,7 +213,8 @@ void checkAgainstBruteForce(Kind kind, uint64_t seed) {
     const std::vector<Setting> all = settings();
     std::string scene;
     for (const Setting& st : all) scene += layerText(kind, st);
-    auto program = test::compileOk(scene, {true, true});
+    auto program =
+        test::compileOk(scene, {.mode = CompileOptions::Mode::Probe, .layerFields = true});
     Prober probe(*program, nullptr);
     const auto& layout = program->layout;
 
@@ -293,7 +294,7 @@ TEST_CASE("lattices: edges, spacing and scale are run-time values, and t can swi
     Setting edgesOn = st;
     edgesOn.edges = 1;
     auto program = test::compileOk(timed + layerText(Kind::Hex, st) + layerText(Kind::Hex, edgesOn),
-                                   {true, true});
+                                   {.mode = CompileOptions::Mode::Probe, .layerFields = true});
     Prober probe(*program, nullptr);
     const auto& layout = program->layout;
     int differ = 0;
@@ -316,7 +317,8 @@ TEST_CASE("lattices: the JIT's fields agree with the exact interpreter's to sing
         CAPTURE(familyName(kind));
         std::string scene;
         for (const Setting& st : some) scene += layerText(kind, st);
-        auto program = test::compileOk(scene, {true, true});
+        auto program =
+            test::compileOk(scene, {.mode = CompileOptions::Mode::Probe, .layerFields = true});
         Prober exact(*program, nullptr), single(*program, jit.get());
         const auto& layout = program->layout;
         double worst = 0.0;
@@ -358,9 +360,9 @@ TEST_CASE("lattices: a negative spacing or scale draws the same lattice") {
         for (int edges : {0, 1}) {
             Setting plain{7, 1, 2, 10, 1, -2, edges}, mirrored{-7, -1, 2, 10, 1, -2, edges},
                 flipped{7, 1, -2, 10, 1, -2, edges};
-            auto program = test::compileOk(layerText(kind, plain) + layerText(kind, mirrored) +
-                                               layerText(kind, flipped),
-                                           {true, true});
+            auto program = test::compileOk(
+                layerText(kind, plain) + layerText(kind, mirrored) + layerText(kind, flipped),
+                {.mode = CompileOptions::Mode::Probe, .layerFields = true});
             Prober probe(*program, nullptr);
             const auto& layout = program->layout;
             CAPTURE(familyName(kind));

@@ -82,7 +82,7 @@ double cubicInOut(double u) {
 CompileOptions probing() {
     CompileOptions o;
     o.layerFields = true;
-    o.probe = true;
+    o.mode = CompileOptions::Mode::Probe;
     return o;
 }
 

@@ -101,7 +101,8 @@ TEST_CASE("pencil: Eq. 6 against the distance to the trimmed members, found by b
             std::string scene;
             for (int n : counts) scene += layerText(n, phi, frame);
             CAPTURE(scene);
-            auto program = test::compileOk(scene, {true, true});
+            auto program =
+                test::compileOk(scene, {.mode = CompileOptions::Mode::Probe, .layerFields = true});
             Prober probe(*program, nullptr);
             const auto& layout = program->layout;
 
@@ -173,7 +174,8 @@ TEST_CASE("pencil: the understatement bound is reached, on the bisector inside t
         const double phi = 9.0, delta = kPi / (2.0 * n);
         const double r = phi / (1.0 + std::sin(delta));
         Frame frame{-12, 1, 2};
-        auto program = test::compileOk(layerText(n, phi, frame), {true, true});
+        auto program = test::compileOk(layerText(n, phi, frame),
+                                       {.mode = CompileOptions::Mode::Probe, .layerFields = true});
         Prober probe(*program, nullptr);
         double qx = r * std::cos(delta), qy = r * std::sin(delta), wx, wy;
         toWorld(frame, qx, qy, wx, wy);
@@ -193,7 +195,8 @@ TEST_CASE("pencil: the index is the angular sector floor(theta N / pi), changing
         for (int n : {1, 2, 5, 36}) {
             std::string scene = layerText(n, 4.0, frame);
             CAPTURE(scene);
-            auto program = test::compileOk(scene, {true, true});
+            auto program =
+                test::compileOk(scene, {.mode = CompileOptions::Mode::Probe, .layerFields = true});
             Prober probe(*program, nullptr);
             for (int k = -n; k < n; ++k)
                 for (double f : {1e-6, 0.01, 0.5, 0.99, 1 - 1e-6})
@@ -214,7 +217,8 @@ TEST_CASE("pencil: the JIT agrees with the exact interpreter to single precision
     if (!jit) return;
     Frame frame{17, 4, -3};
     std::string scene = layerText(3, 6.0, frame) + layerText(36, 10.0, frame);
-    auto program = test::compileOk(scene, {true, true});
+    auto program =
+        test::compileOk(scene, {.mode = CompileOptions::Mode::Probe, .layerFields = true});
     Prober exact(*program, nullptr), single(*program, jit.get());
     std::mt19937_64 rng(71);
     std::uniform_real_distribution<double> u(-40.0, 40.0);

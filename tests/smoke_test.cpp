@@ -19,7 +19,8 @@ TEST_CASE("the default scene compiles and renders on every backend") {
 }
 
 TEST_CASE("a probe reads a circle family's distance") {
-    auto program = test::compileOk("layer { family = circles; spacing = 10 }", {true, true});
+    auto program = test::compileOk("layer { family = circles; spacing = 10 }",
+                                   {.mode = CompileOptions::Mode::Probe, .layerFields = true});
     Prober probe(*program, nullptr);
     std::vector<double> out = probe.at(3.0, 4.0); // r = 5: half way between members 0 and 1
     CHECK(out[program->layout.indexSlot(0)] == doctest::Approx(0.5));

@@ -19,7 +19,8 @@ const std::vector<std::pair<std::string, CompileOptions>>& variants() {
     static const std::vector<std::pair<std::string, CompileOptions>> all = {
         {"plain", {}},
         {"layer fields", {.layerFields = true}},
-        {"fields, probe and tally", {.layerFields = true, .probe = true, .tally = true}},
+        {"fields, probe and tally",
+         {.mode = CompileOptions::Mode::Probe, .layerFields = true, .tally = true}},
     };
     return all;
 }

@@ -258,7 +258,7 @@ double channel(const char* hex) { return std::stoi(hex, nullptr, 16) / 255.0; }
 CompileOptions probing() {
     CompileOptions o;
     o.layerFields = true;
-    o.probe = true;
+    o.mode = CompileOptions::Mode::Probe;
     return o;
 }
 

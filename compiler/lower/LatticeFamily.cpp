@@ -30,13 +30,6 @@
 
 namespace moire::lower {
 
-LatticeKind latticeKind(const std::string& familyName) {
-    if (familyName == "square_lattice") return LatticeKind::Square;
-    if (familyName == "triangle_lattice") return LatticeKind::Triangle;
-    if (familyName == "hex_lattice") return LatticeKind::Hex;
-    MOIRE_ICE("no builtin family named '{}'", familyName);
-}
-
 namespace {
 
 using ir::ValueId;
@@ -45,7 +38,7 @@ constexpr double kSqrt3 = std::numbers::sqrt3;
 constexpr double kPi = std::numbers::pi;
 
 // What every kind needs: the point in both frames, the spacing and the stretch.
-struct Frame {
+struct LatticeFrame {
     ValueId px, py; // the layer's frame (world units)
     ValueId ux, uy; // unstretched: (px / sx, py / sy)
     ValueId s, sx, sy;
@@ -66,7 +59,7 @@ void consider(ir::Builder& b, Nearest& best, ValueId d, ValueId i, ValueId j) {
 
 // World distance from p to the line family {<u, n> = c + k h} (n a unit normal in u, k any
 // integer): the residual to the nearest line in u, over |S^-1 n|.
-ValueId lineFamilyDistance(ir::Builder& b, const Frame& f, double nx, double ny, ValueId h) {
+ValueId lineFamilyDistance(ir::Builder& b, const LatticeFrame& f, double nx, double ny, ValueId h) {
     ValueId along = b.add(b.mul(f.ux, b.constF(nx)), b.mul(f.uy, b.constF(ny)));
     ValueId residual = b.abs(b.wrap(along, h));
     return b.div(residual, b.hypot(b.div(b.constF(nx), f.sx), b.div(b.constF(ny), f.sy)));
@@ -98,7 +91,7 @@ std::pair<ValueId, ValueId> a2Round(ir::Builder& b, ValueId x, ValueId y, ValueI
 // cells are the rectangles that rounding each axis finds, so rounding is already the world-
 // nearest point at any scale. Edges are the grid lines through the points (the sides of
 // the square cells whose corners the points are), x = s sx i and y = s sy j.
-LayerFields squareLattice(ir::Builder& b, const Frame& f, ValueId drawEdges) {
+LayerFields squareLattice(ir::Builder& b, const LatticeFrame& f, ValueId drawEdges) {
     ValueId i = b.round(b.div(f.ux, f.s)), j = b.round(b.div(f.uy, f.s));
     ValueId vertex =
         b.hypot(b.sub(f.px, b.mul(b.mul(f.sx, f.s), i)), b.sub(f.py, b.mul(b.mul(f.sy, f.s), j)));
@@ -123,7 +116,7 @@ LayerFields squareLattice(ir::Builder& b, const Frame& f, ValueId drawEdges) {
 // neighbours hold the world-nearest point at every scale.
 // Edges: the triangles' sides, three line families through the points, each h = s sqrt3/2
 // apart, with normals at 90, 150 and 30 degrees.
-LayerFields triangleLattice(ir::Builder& b, const Frame& f, ValueId drawEdges) {
+LayerFields triangleLattice(ir::Builder& b, const LatticeFrame& f, ValueId drawEdges) {
     auto [i, j] = a2Round(b, f.ux, f.uy, f.s);
     // The offset from the rounded point to p, in world units, and the world steps to its
     // neighbours: a1 = S s (1, 0), a2 = S s (1/2, sqrt3/2), and a2 - a1.
@@ -177,7 +170,7 @@ LayerFields triangleLattice(ir::Builder& b, const Frame& f, ValueId drawEdges) {
 // the six outward normals n_k at 60k degrees (apothem s sqrt3/2), and since p is inside
 // its own cell, no other hexagon's side can be nearer. Opposite sides share |S^-1 n|, so
 // each pair is one term with |<q, n_k>|.
-LayerFields hexLattice(ir::Builder& b, const Frame& f, ValueId drawEdges) {
+LayerFields hexLattice(ir::Builder& b, const LatticeFrame& f, ValueId drawEdges) {
     ValueId pitch = b.mul(f.s, b.constF(kSqrt3)); // between centres
     auto [ci, cj] = a2Round(b, f.ux, f.uy, pitch);
     ValueId cx = b.mul(pitch, b.add(ci, b.mul(cj, b.constF(0.5))));
@@ -229,7 +222,7 @@ LayerFields latticeFields(ir::Builder& b, LatticeKind kind, const LatticeInputs&
     // All three point sets are symmetric under x -> -x and y -> -y, so a negative spacing or
     // scale draws the same lattice; taking magnitudes keeps the apothem and the per-facet
     // norms positive. A zero scale divides by zero, and the resulting NaN coverage is no ink.
-    Frame f;
+    LatticeFrame f;
     f.px = in.px;
     f.py = in.py;
     f.s = b.abs(in.spacing);
@@ -247,6 +240,14 @@ LayerFields latticeFields(ir::Builder& b, LatticeKind kind, const LatticeInputs&
         return hexLattice(b, f, drawEdges);
     }
     MOIRE_ICE("unknown lattice kind");
+}
+
+FamilyBuilder latticeBuilder(LatticeKind kind) {
+    return [kind](ir::Builder& b, const FamilyInputs& in) {
+        MOIRE_CHECK(in.params.size() == 2, "a lattice takes (scale, edges)");
+        const LayerFrame& at = in.at;
+        return latticeFields(b, kind, {at.qx, at.qy, at.spacing, in.params[0], in.params[1][0]});
+    };
 }
 
 } // namespace moire::lower

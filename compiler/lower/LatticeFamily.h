@@ -5,6 +5,7 @@
 #pragma once
 
 #include "compiler/ir/Builder.h"
+#include "compiler/lower/FamilyRegistry.h"
 #include "compiler/lower/LayerPipeline.h"
 
 #include <string>
@@ -18,9 +19,6 @@ enum class LatticeKind {
     Hex,      // hex_lattice: a honeycomb; points are the hexagons' corners, edges their sides
 };
 
-// The kind named by a builtin family of the standard library (square_lattice, ...).
-LatticeKind latticeKind(const std::string& familyName);
-
 struct LatticeInputs {
     ir::ValueId px, py;             // the point, in the layer's frame
     ir::ValueId spacing;            // distance between neighbouring points
@@ -31,5 +29,9 @@ struct LatticeInputs {
 // distance: to the nearest point or edge; index: the first of the point's two integer
 // coordinates; aux0: the second.
 LayerFields latticeFields(ir::Builder& b, LatticeKind kind, const LatticeInputs& in);
+
+// The builder of a lattice family for the registry: its arguments are (scale = (sx, sy),
+// edges), as stdlib/families.moire declares them.
+FamilyBuilder latticeBuilder(LatticeKind kind);
 
 } // namespace moire::lower

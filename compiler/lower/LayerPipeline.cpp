@@ -1,5 +1,6 @@
 #include "compiler/lower/LayerPipeline.h"
 
+#include "compiler/ir/BuiltValue.h"
 #include "compiler/ir/Semantics.h"
 
 namespace moire::lower {
@@ -62,8 +63,9 @@ LayerFields phaseFamilyFields(ir::Builder& b, ValueId phi, ValueId phase, ValueI
 }
 
 StrokeBand strokeBand(ir::Builder& b, ValueId stroke, ValueId pixel) {
-    return {b.max(b.mul(stroke, b.constF(0.5)), b.mul(pixel, b.constF(1.15))),
-            b.mul(pixel, b.constF(0.7))};
+    StrokeBandT<ir::BuiltValue> band =
+        strokeBandOf(ir::BuiltValue(b, stroke), ir::BuiltValue(b, pixel));
+    return {band.h.id, band.a.id};
 }
 
 ValueId strokeCoverage(ir::Builder& b, ValueId d, const StrokeBand& band, ValueId opacity,

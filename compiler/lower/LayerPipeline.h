@@ -7,6 +7,7 @@
 
 #include "compiler/ir/Builder.h"
 
+#include <algorithm>
 #include <optional>
 
 namespace moire::lower {
@@ -20,7 +21,23 @@ struct LayerFields {
 };
 
 // The stroke in world units: half-width h = max(t/2, 1.15 px) and antialias band
-// a = 0.7 px, where px is the world size of a pixel (Eq. 35).
+// a = 0.7 px, where px is the world size of a pixel (Eq. 35). Written once as a template
+// (instantiated over IR values here, over double by the benchmarks that check the kernel).
+constexpr double kStrokeFloorPixels = 1.15; // the thinnest half-width drawn, in pixels
+constexpr double kAntialiasPixels = 0.7;    // the antialias band's half-width, in pixels
+template <class T>
+struct StrokeBandT {
+    T h, a;
+};
+template <class T>
+inline StrokeBandT<T> strokeBandOf(T stroke, T pixel) {
+    using std::max;
+    T half = stroke * 0.5;
+    T floor = pixel * kStrokeFloorPixels;
+    T h = max(half, floor);
+    T a = pixel * kAntialiasPixels;
+    return {h, a};
+}
 struct StrokeBand {
     ir::ValueId h, a;
 };

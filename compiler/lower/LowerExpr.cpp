@@ -24,6 +24,14 @@ ValueId ExprLowering::scalar(const Expr& e, Frame& frame) {
     return v[0];
 }
 
+Vals ExprLowering::property(const Decl* block, const std::vector<sema::PropertySpec>& table,
+                            std::string_view name, Frame& frame) {
+    if (const Property* p = block ? block->prop(name) : nullptr) return lower(*p->value, frame);
+    Vals v;
+    for (double d : sema::propertySpec(table, name).defaults) v.push_back(b_.constF(d));
+    return v;
+}
+
 Vals ExprLowering::lower(const Expr& e, Frame& frame) {
     b_.setLoc(e.range.begin);
     switch (e.kind) {

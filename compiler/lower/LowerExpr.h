@@ -42,6 +42,10 @@ class ExprLowering {
 
     Vals lower(const ast::Expr& e, Frame& frame);
     ir::ValueId scalar(const ast::Expr& e, Frame& frame);
+    // A block's property (`block` may be null: a scene without it) as written, or else its
+    // default from `table` (sema/Properties.h).
+    Vals property(const ast::Decl* block, const std::vector<sema::PropertySpec>& table,
+                  std::string_view name, Frame& frame);
 
   private:
     Vals name(const ast::Expr& e, Frame& frame);

@@ -5,28 +5,35 @@
 #pragma once
 
 #include "compiler/ir/IR.h"
+#include "compiler/sema/Sema.h"
 
 #include <string>
 #include <vector>
-#include "compiler/sema/Sema.h"
 
 namespace moire::lower {
 
+// Where the camera's inputs come from, besides the scene.
+enum class LowerMode {
+    Render, // the scene's camera as written
+    // Probe: the camera centre is read from two literal slots appended to the table
+    // (LoweredScene::probeSlot), so that the pixel of a 1x1 image sits on any chosen world
+    // point.
+    Probe,
+    // Interactive (the viewer): the view's own adjustments are read from literal slots
+    // appended to the table (LoweredScene::viewSlot, see ViewSlots), so panning, zooming or
+    // dragging a layer changes uniforms, never the kernel.
+    Interactive,
+};
+
 struct LowerOptions {
+    LowerMode mode = LowerMode::Render;
     bool layerFields = false; // also output each layer's index, distance and index gradient
-    // Probe mode: the camera centre is read from two literal slots appended to the table
-    // (`probeSlot`), so that the pixel of a 1x1 image sits on any chosen world point.
-    int probeSlot = -1;
     // Count the walking solver's radius evaluations with `tally` (the interpreter's
     // counting mode, for benchmarks).
     bool tally = false;
-    // Interactive mode (the viewer): the view's own adjustments are read from literal slots
-    // appended to the table from `viewSlot` (see ViewSlots), so panning, zooming or dragging a
-    // layer changes uniforms, never the kernel.
-    int viewSlot = -1;
 };
 
-// The literal slots of interactive mode, counted from LowerOptions::viewSlot. The camera's
+// The literal slots of interactive mode, counted from LoweredScene::viewSlot. The camera's
 // centre gains (panX, panY) and its zoom is multiplied by zoomFactor; layer i is carried by a
 // rigid motion of the world: turned by `turn` about the world origin, then moved by (dx, dy).
 struct ViewSlots {
@@ -77,7 +84,7 @@ struct OutputLayout {
     static constexpr int kSettingCenterX = 3; // the camera as the scene sets it (before the view)
     static constexpr int kSettingCenterY = 4;
     static constexpr int kSettingTurn = 5;
-    static constexpr int kNumSettings = 6; // and then kTimingSettings per timing used
+    static constexpr int kNumSettings = 6;    // and then kTimingSettings per timing used
     static constexpr int kTimingSettings = 3; // period, delay, mode (0 once, 1 loop, 2 pingpong)
     std::vector<std::string> timings;         // the timings the scene uses, in declaration order
     std::vector<SourceRange> timingPeriods;   // where each one's period is written
@@ -98,10 +105,17 @@ struct OutputLayout {
     int aux1Slot(int layer) const { return indexSlot(layer) + 5; }
 };
 
-constexpr int kDefaultWidth = 1200;
-constexpr int kDefaultHeight = 800;
+struct LoweredScene {
+    ir::Function function; // the scene function, verified
+    OutputLayout layout;
+    int probeSlot = -1; // LowerMode::Probe: the literal slots of the probe point (x, then y)
+    int viewSlot = -1;  // LowerMode::Interactive: the first of ViewSlots' slots
+};
 
-ir::Function lowerScene(const sema::CheckedScene& scene, const LowerOptions& options,
-                        OutputLayout& layout);
+// Lowers the checked scene. `literals` is the scene's literal table; the slots the mode reads
+// are appended to it, set to the scene's own view (probe point at the origin; no pan, zoom
+// factor 1, no layer moved or turned).
+LoweredScene lowerScene(const sema::CheckedScene& scene, const LowerOptions& options,
+                        std::vector<double>& literals);
 
 } // namespace moire::lower

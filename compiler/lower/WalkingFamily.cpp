@@ -1,10 +1,15 @@
 #include "compiler/lower/WalkingFamily.h"
 
+#include "compiler/ir/BuiltValue.h"
+#include "compiler/ir/Plane.h"
+#include "compiler/ir/Semantics.h"
+
 #include <limits>
 #include <numbers>
 
 namespace moire::lower {
 
+using ir::BuiltValue;
 using ir::Op;
 using ir::ValueId;
 using Vals = std::vector<ValueId>;
@@ -64,9 +69,13 @@ class Solver {
     }
     // Rot(-angle) p: the point in the frame of a member turned by `angle`.
     std::pair<ValueId, ValueId> unturn(ValueId angle) {
-        ValueId cs = b_.cos(angle), sn = b_.sin(angle);
-        return {b_.add(b_.mul(cs, in_.px), b_.mul(sn, in_.py)),
-                b_.sub(b_.mul(cs, in_.py), b_.mul(sn, in_.px))};
+        BuiltValue cs(b_, b_.cos(angle)), sn(b_, b_.sin(angle));
+        return unturn(cs, sn, in_.px, in_.py);
+    }
+    // Rot(-angle) (x, y), given the angle's cosine and sine.
+    std::pair<ValueId, ValueId> unturn(BuiltValue cs, BuiltValue sn, ValueId x, ValueId y) {
+        ir::Vec2T<BuiltValue> q = ir::unrotate({BuiltValue(b_, x), BuiltValue(b_, y)}, cs, sn);
+        return {q.x.id, q.y.id};
     }
     // The signed residual h_p(n) = rho(Rot(-n theta) p - n delta) - (n s + phase) (Eq. 24).
     ValueId residual(ValueId n) {
@@ -90,9 +99,9 @@ class Solver {
 
     void setUp() {
         s_ = b_.max(in_.spacing, c(1e-6));
-        ValueId reach = b_.add(in_.band.h, in_.band.a);
         // The guard (Eq. 26): any distance past it draws nothing, so the search may stop there.
-        guard_ = b_.max(reach, b_.mul(s_, c(in_.flankGuard ? 1.0 : 0.75)));
+        StrokeBandT<BuiltValue> band{BuiltValue(b_, in_.band.h), BuiltValue(b_, in_.band.a)};
+        guard_ = walkGuard(band, BuiltValue(b_, s_), in_.flankGuard ? 1.0 : kWalkGuardPitches).id;
         accept_ = b_.sub(in_.band.h, in_.band.a); // fully inked below this: stop early
         r_ = b_.hypot(in_.px, in_.py);
         len_ = b_.hypot(in_.offsetX, in_.offsetY);
@@ -236,8 +245,9 @@ class Solver {
                     return std::pair{b_.sub(ak, in_.phase), b_.add(s_, bk)};
                 };
                 auto turnNormal = [&](ValueId ux, ValueId uy) {
-                    return std::pair{b_.sub(b_.mul(cs, ux), b_.mul(sn, uy)),
-                                     b_.add(b_.mul(sn, ux), b_.mul(cs, uy))};
+                    ir::Vec2T<BuiltValue> u = ir::rotate({BuiltValue(b_, ux), BuiltValue(b_, uy)},
+                                                         BuiltValue(b_, cs), BuiltValue(b_, sn));
+                    return std::pair{u.x.id, u.y.id};
                 };
                 auto more = [&](std::span<const ValueId> v) {
                     return Vals{b_.lt(v[0], in_.facets)};
@@ -330,8 +340,8 @@ class Solver {
                 Vals turned = b_.ifThenElse(
                     carry,
                     [&] {
-                        return Vals{b_.add(b_.mul(cs, tx), b_.mul(sn, ty)),
-                                    b_.sub(b_.mul(cs, ty), b_.mul(sn, tx)), b_.add(steps, c(1.0))};
+                        auto [ax, ay] = unturn(BuiltValue(b_, cs), BuiltValue(b_, sn), tx, ty);
+                        return Vals{ax, ay, b_.add(steps, c(1.0))};
                     },
                     [&] {
                         auto [ax, ay] = unturn(b_.mul(next, in_.turn));
@@ -379,6 +389,47 @@ class Solver {
 
 LayerFields walkingFamilyFields(ir::Builder& b, const WalkingInputs& in, const RadiusFn& rho) {
     return Solver(b, in, rho).run();
+}
+
+LayerFields walkingLayerFields(ir::Builder& b, const FamilyInputs& fam) {
+    const LayerFrame& at = fam.at;
+    WalkingInputs in;
+    in.px = at.qx;
+    in.py = at.qy;
+    in.spacing = at.spacing;
+    in.phase = at.phase;
+    // Encoding shifts every member's residual by -gain s f(p): the same as moving the
+    // phase by +gain s f. The residual is then divided by the carrier gradient, taken as
+    // radial from the layer's origin (a first-order convenience, §10.1), minus
+    // gain s grad f; the solver works in residual units, so its stroke band is scaled by
+    // that length and its distance divided by it.
+    ValueId slope = ir::kNoValue;
+    if (fam.enc.field != ir::kNoValue) {
+        ValueId shift = b.mul(b.mul(fam.enc.gain, at.spacing), fam.enc.field);
+        in.phase = b.add(at.phase, shift);
+        ValueId rr = b.max(b.hypot(at.dx, at.dy), b.constF(ir::kTiny));
+        ValueId gx = b.sub(b.div(at.dx, rr), b.emit(Op::DerivX, {shift}));
+        ValueId gy = b.sub(b.div(at.dy, rr), b.emit(Op::DerivY, {shift}));
+        slope = b.max(b.hypot(gx, gy), b.constF(ir::kTiny));
+    }
+    Vals offset = fam.layerProp("offset");
+    in.offsetX = offset[0];
+    in.offsetY = offset[1];
+    // Member n is turned by n * turn with n whole, so a turn is the same taken modulo a full
+    // turn; reduced to (-pi, pi] here (per frame, in double, when it does not depend on
+    // the pixel) so that n * turn stays small enough for the float renderers to resolve.
+    ValueId turn = fam.layerProp("turn")[0];
+    ValueId turns = b.round(b.div(turn, b.constF(2.0 * std::numbers::pi)));
+    ValueId reduced = b.sub(turn, b.mul(turns, b.constF(2.0 * std::numbers::pi)));
+    in.turn = b.select(b.le(b.abs(turn), b.constF(std::numbers::pi)), turn, reduced);
+    in.facets = fam.facets;
+    in.band = fam.band;
+    if (slope != ir::kNoValue) in.band = {b.mul(fam.band.h, slope), b.mul(fam.band.a, slope)};
+    in.wantIndex = fam.wantIndex;
+    in.tally = fam.tally;
+    LayerFields out = walkingFamilyFields(b, in, fam.phaseAt);
+    if (slope != ir::kNoValue) out.distance = b.div(out.distance, slope);
+    return out;
 }
 
 } // namespace moire::lower

@@ -6,6 +6,7 @@
 #pragma once
 
 #include "compiler/ir/Builder.h"
+#include "compiler/lower/FamilyRegistry.h"
 #include "compiler/lower/LayerPipeline.h"
 
 #include <functional>
@@ -31,7 +32,20 @@ struct WalkingInputs {
 
 // Evaluates the family's radius rho (its support function: the phase) at the point (qx, qy)
 // of the family's own frame, emitting the IR at the builder's current position.
-using RadiusFn = std::function<ir::ValueId(ir::Builder&, ir::ValueId qx, ir::ValueId qy)>;
+using RadiusFn = PhaseFn;
+
+// The guard (Eq. 26): past max(h + a, 3/4 s) a member draws nothing, so the search may stop
+// there (a full pitch, s, for views that read the flanking members: WalkingInputs::flankGuard).
+// Written once as a template (instantiated over IR values here, over double by the
+// walking benchmark's reference).
+constexpr double kWalkGuardPitches = 0.75;
+template <class T>
+inline T walkGuard(const StrokeBandT<T>& band, T spacing, double pitches = kWalkGuardPitches) {
+    using std::max;
+    T reach = band.h + band.a;
+    T least = spacing * pitches;
+    return max(reach, least);
+}
 
 // The solver's constants (spec §7.6).
 constexpr double kWalkBudget = 1024;   // B: evaluations the scan may spend
@@ -46,5 +60,10 @@ constexpr int kRadiusTally = 0;
 // Distance (clamped at the guard) and, with wantIndex, the searched index; aux0 and aux1
 // are the certified interval [n_lo, n_hi] of Theorem 4 (before the span cap).
 LayerFields walkingFamilyFields(ir::Builder& b, const WalkingInputs& in, const RadiusFn& rho);
+
+// The walking solver as the registry's kWalking: a layer's frame, its `offset` and `turn`
+// (reduced to one turn), its encoded field, and the family's radius (FamilyInputs::phaseAt)
+// and side count (FamilyInputs::facets).
+LayerFields walkingLayerFields(ir::Builder& b, const FamilyInputs& in);
 
 } // namespace moire::lower

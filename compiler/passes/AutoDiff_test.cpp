@@ -34,7 +34,8 @@ struct Dual {
 class Field {
   public:
     explicit Field(const std::string& expr)
-        : program_(test::compileOk("layer { family = " + expr + "; spacing = 1 }", {true, true})),
+        : program_(test::compileOk("layer { family = " + expr + "; spacing = 1 }",
+                                   {.mode = CompileOptions::Mode::Probe, .layerFields = true})),
           exact_(*program_, nullptr) {}
 
     Dual exact(double x, double y) { return read(exact_.at(x, y, kTime)); }

@@ -119,7 +119,7 @@ TEST_CASE("SceneBuilder: same bytes are skipped, bad text keeps the current buil
 TEST_CASE("SceneBuilder: an interactive program keeps its kernel across view edits") {
     // The viewer's pan, zoom and layer motions are literal slots: any values, one kernel.
     LlvmJitBackend jit;
-    SceneBuilder builder(jit, CompileOptions{.interactive = true});
+    SceneBuilder builder(jit, CompileOptions{.mode = CompileOptions::Mode::Interactive});
     BuildResult r = builder.build("live.moire", kScene);
     REQUIRE(r.good());
     const SceneProgram& p = *r.build->program;

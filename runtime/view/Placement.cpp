@@ -1,6 +1,7 @@
 #include "runtime/view/Placement.h"
 
 #include "compiler/Compile.h"
+#include "compiler/ir/Plane.h"
 
 #include <algorithm>
 #include <cmath>
@@ -48,8 +49,8 @@ struct Vec {
 };
 
 Vec rotated(Vec v, double a) {
-    const double c = std::cos(a), s = std::sin(a);
-    return {c * v.x - s * v.y, s * v.x + c * v.y};
+    const ir::Vec2T<double> r = ir::rotate<double>({v.x, v.y}, a);
+    return {r.x, r.y};
 }
 
 class Writer {

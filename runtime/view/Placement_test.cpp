@@ -66,7 +66,8 @@ Image drawPlain(const SceneProgram& program, double t) {
 // properties in place of its own) and checks that it draws what the adjusted view drew.
 void checkPasted(const std::string& camera, const std::string& a, const std::string& b,
                  const std::string& c, const ViewAdjust& view, std::string& placement) {
-    auto original = test::compileOk(scene(camera, a, b, c), {.interactive = true});
+    auto original =
+        test::compileOk(scene(camera, a, b, c), {.mode = CompileOptions::Mode::Interactive});
     placement = placementText(*original, view);
     INFO("placement:\n", placement);
     std::string ba = body(placement, "layer a"), bb = body(placement, "layer b");
@@ -179,7 +180,7 @@ namespace {
 // Writes the placement into the scene's text and checks that the result compiles to one
 // scene that draws what the adjusted view drew, at several times.
 std::string checkPlaced(const std::string& text, const ViewAdjust& view) {
-    auto original = test::compileOk(text, {.interactive = true});
+    auto original = test::compileOk(text, {.mode = CompileOptions::Mode::Interactive});
     std::string placed, why;
     REQUIRE_MESSAGE(placedSource(*original, view, placed, why), why);
     INFO("placed scene:\n", placed);
@@ -238,7 +239,7 @@ TEST_CASE("placement: written into the scene's text, in place, the rest kept") {
         const std::string text = "scene { size = (90, 60) }\n"
                                  "field o = (3, 4)\n"
                                  "layer a { family = circles; origin = o }\n";
-        auto program = test::compileOk(text, {.interactive = true});
+        auto program = test::compileOk(text, {.mode = CompileOptions::Mode::Interactive});
         ViewAdjust view;
         view.layerRef(0) = {1.0, 0.0, 0.3};
         std::string placed, why;

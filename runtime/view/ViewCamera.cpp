@@ -22,8 +22,8 @@ SceneCamera SceneCamera::from(const FrameValues& frame) {
 }
 
 Vec2 LayerMotion::apply(Vec2 p) const {
-    const double c = std::cos(turn), s = std::sin(turn);
-    return {c * p.x - s * p.y + dx, s * p.x + c * p.y + dy};
+    const ir::Vec2T<double> r = ir::rotate<double>({p.x, p.y}, turn);
+    return {r.x + dx, r.y + dy};
 }
 
 void ViewAdjust::reset() {
@@ -53,28 +53,30 @@ void ViewAdjust::write(std::vector<double>& literals, int viewSlot, int numLayer
     }
 }
 
-ViewCamera::ViewCamera(const SceneCamera& scene, const ViewAdjust& view, int width, int height)
-    : w_(std::max(width, 1)), h_(std::max(height, 1)), cx_(scene.centerX + view.panX),
-      cy_(scene.centerY + view.panY), cos_(std::cos(scene.turn)), sin_(std::sin(scene.turn)) {
-    const double fit = std::max(scene.sceneWidth / w_, scene.sceneHeight / h_);
-    pixel_ = fit / (scene.zoom * view.zoomFactor);
+ViewCamera::ViewCamera(const SceneCamera& scene, const ViewAdjust& view, int width, int height) {
+    cam_.width = std::max(width, 1);
+    cam_.height = std::max(height, 1);
+    cam_.center = {scene.centerX + view.panX, scene.centerY + view.panY};
+    cam_.cosTurn = std::cos(scene.turn);
+    cam_.sinTurn = std::sin(scene.turn);
+    const double fit =
+        lower::fitScale(scene.sceneWidth, scene.sceneHeight, cam_.width, cam_.height);
+    cam_.pixel = fit / (scene.zoom * view.zoomFactor);
 }
 
 Vec2 ViewCamera::toWorld(Vec2 p) const {
-    const double sx = p.x - 0.5 * w_, sy = 0.5 * h_ - p.y;
-    return {cx_ + (cos_ * sx - sin_ * sy) * pixel_, cy_ + (sin_ * sx + cos_ * sy) * pixel_};
+    const ir::Vec2T<double> w = lower::toWorld(cam_, {p.x, p.y});
+    return {w.x, w.y};
 }
 
 Vec2 ViewCamera::toPixel(Vec2 world) const {
-    const double rx = (world.x - cx_) / pixel_, ry = (world.y - cy_) / pixel_;
-    // Rot(-turn) undoes the camera's turn.
-    const double sx = cos_ * rx + sin_ * ry, sy = -sin_ * rx + cos_ * ry;
-    return {sx + 0.5 * w_, 0.5 * h_ - sy};
+    const ir::Vec2T<double> p = lower::toPixel(cam_, {world.x, world.y});
+    return {p.x, p.y};
 }
 
 Vec2 ViewCamera::deltaToWorld(Vec2 d) const {
-    // Screen y points down, world y up.
-    return {(cos_ * d.x + sin_ * d.y) * pixel_, (sin_ * d.x - cos_ * d.y) * pixel_};
+    const ir::Vec2T<double> w = lower::deltaToWorld(cam_, {d.x, d.y});
+    return {w.x, w.y};
 }
 
 void zoomAbout(const SceneCamera& scene, ViewAdjust& view, int width, int height, Vec2 at,
@@ -120,10 +122,9 @@ void turnLayer(const SceneCamera& scene, ViewAdjust& view, int width, int height
     const double angle = std::atan2(a.x * b.y - a.y * b.x, a.x * b.x + a.y * b.y);
     // Rot(angle) applied after p -> Rot(turn) p + d gives Rot(turn + angle) p + Rot(angle) d.
     LayerMotion& m = view.layerRef(layer);
-    const double c = std::cos(angle), s = std::sin(angle);
-    const double dx = c * m.dx - s * m.dy, dy = s * m.dx + c * m.dy;
-    m.dx = dx;
-    m.dy = dy;
+    const ir::Vec2T<double> d = ir::rotate<double>({m.dx, m.dy}, angle);
+    m.dx = d.x;
+    m.dy = d.y;
     m.turn += angle;
 }
 
@@ -136,7 +137,8 @@ Preview previewOf(const SceneCamera& scene, const ViewAdjust& view, int width, i
     p.height = (std::max(height, 1) + d - 1) / d;
     const ViewCamera full(scene, view, width, height);
     // The preview's pixel is `d` full pixels wide...
-    const double fit = std::max(scene.sceneWidth / p.width, scene.sceneHeight / p.height);
+    const double fit =
+        lower::fitScale<double>(scene.sceneWidth, scene.sceneHeight, p.width, p.height);
     p.view.zoomFactor = fit / (scene.zoom * d * full.pixelSize());
     // ... and its corner sits on the full frame's corner: the centre moves by the overhang.
     const double ox = 0.5 * (p.width * d - width), oy = 0.5 * (p.height * d - height);

@@ -2,14 +2,17 @@
 // world, and how each gesture (wheel zoom, drag, layer drag, layer turn) changes the view's
 // adjustments so that what was under the cursor stays under it.
 //
-// The kernel's camera (compiler/lower/LowerScene.cpp) maps pixel (px, py) of a W x H image,
-// px and py continuous with pixel centres at i + 0.5, to
+// The kernel's camera (compiler/lower/CameraModel.h, the one template both instantiate) maps
+// pixel (px, py) of a W x H image, px and py continuous with pixel centres at i + 0.5, to
 //     world = C + Rot(turn) (px - W/2, H/2 - py) * pixel
 //     pixel = max(sceneWidth / W, sceneHeight / H) / (zoom * zoomFactor)
 //     C     = the scene's centre + (panX, panY)
 // and layer i is carried by the rigid motion p -> Rot(a_i) p + d_i about the world origin.
 // Everything here is that formula and its inverse; the tests hold it to a brute-force copy.
 #pragma once
+
+#include "compiler/lower/CameraModel.h"
+#include "compiler/sema/Properties.h"
 
 #include <vector>
 
@@ -28,7 +31,7 @@ struct SceneCamera {
     double centerX = 0.0, centerY = 0.0;
     double turn = 0.0; // radians
     double zoom = 1.0;
-    double sceneWidth = 1200.0, sceneHeight = 800.0;
+    double sceneWidth = sema::kDefaultWidth, sceneHeight = sema::kDefaultHeight;
     static SceneCamera from(const FrameValues& frame);
 };
 
@@ -58,8 +61,8 @@ class ViewCamera {
   public:
     ViewCamera(const SceneCamera& scene, const ViewAdjust& view, int width, int height);
 
-    double pixelSize() const { return pixel_; }
-    Vec2 center() const { return {cx_, cy_}; }
+    double pixelSize() const { return cam_.pixel; }
+    Vec2 center() const { return {cam_.center.x, cam_.center.y}; }
     // `p` in pixels from the image's top-left corner (a pixel centre is at i + 0.5).
     Vec2 toWorld(Vec2 p) const;
     Vec2 toPixel(Vec2 world) const;
@@ -67,7 +70,7 @@ class ViewCamera {
     Vec2 deltaToWorld(Vec2 d) const;
 
   private:
-    double w_, h_, cx_, cy_, cos_, sin_, pixel_;
+    lower::CameraT<double> cam_;
 };
 
 // The gestures. Each takes the scene's camera and the image size the cursor positions are in

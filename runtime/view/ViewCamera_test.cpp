@@ -201,11 +201,12 @@ TEST_CASE("view camera: a preview's pixels cover blocks of the full frame exactl
 TEST_CASE("view camera: the compiled kernel places the world and the layers the same way") {
     // Two layers whose distance fields are |x| and |y| in their own coordinates (one member,
     // far from the others), so the kernel's layer fields reveal where it put each pixel.
-    auto program = test::compileOk("scene { size = (300, 200) }\n"
-                                   "camera { center = (12.5, -7); zoom = 1.7; rotation = 20deg }\n"
-                                   "layer a { family = x; spacing = 100000 }\n"
-                                   "layer b { family = y; spacing = 100000 }\n",
-                                   CompileOptions{.layerFields = true, .interactive = true});
+    auto program = test::compileOk(
+        "scene { size = (300, 200) }\n"
+        "camera { center = (12.5, -7); zoom = 1.7; rotation = 20deg }\n"
+        "layer a { family = x; spacing = 100000 }\n"
+        "layer b { family = y; spacing = 100000 }\n",
+        CompileOptions{.mode = CompileOptions::Mode::Interactive, .layerFields = true});
     REQUIRE(program->viewSlot >= 0);
     ViewAdjust v;
     v.panX = -3.25;

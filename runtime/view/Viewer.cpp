@@ -142,7 +142,7 @@ class Viewer {
 
     bool loadScene() {
         CompileOptions compile;
-        compile.interactive = true;
+        compile.mode = CompileOptions::Mode::Interactive;
         BuildResult first;
         if (options_.scenePath.empty()) {
             builder_ = std::make_unique<SceneBuilder>(backend_, compile);
@@ -644,7 +644,7 @@ class Viewer {
             const SourceFile& src = program.sources->file(program.userModule().file);
             CompileOptions o;
             o.layerFields = true;
-            o.interactive = true;
+            o.mode = CompileOptions::Mode::Interactive;
             CompileResult r = compileScene(src.path(), src.text(), o);
             if (!r.program) return;
             probe_ = std::move(r.program);

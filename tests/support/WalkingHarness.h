@@ -58,8 +58,9 @@ struct Walker {
             "; spacing = 10.0202; phase = 0.0303; offset = (0.0404, 0.0505); turn = 0.0606rad;"
             " stroke = 1.0707" +
             (fam == "ngon" ? "; sides = 5.0808" : "") + " }\n";
-        program = test::compileOk(
-            text, CompileOptions{.layerFields = true, .probe = true, .tally = true});
+        program = test::compileOk(text, CompileOptions{.mode = CompileOptions::Mode::Probe,
+                                                       .layerFields = true,
+                                                       .tally = true});
         probe = std::make_unique<Prober>(*program, nullptr);
         auto slot = [&](double v) {
             for (size_t i = 0; i < program->literals.size(); ++i)
@@ -73,6 +74,8 @@ struct Walker {
     }
 };
 
+// The stroke band and guard are written again here on purpose, from the spec (Eqs. 26, 35):
+// an oracle independent of compiler/lower's (LayerPipeline.h, WalkingFamily.h).
 struct Setting {
     Walking w;
     double zoom = 1.0, stroke = 1.5;

@@ -1,0 +1,162 @@
+#include "compiler/lower/LayerLowering.h"
+
+#include "compiler/diag/Diagnostics.h"
+#include "compiler/ir/BuiltValue.h"
+#include "compiler/ir/Plane.h"
+#include "compiler/lower/MorphFamily.h"
+
+namespace moire::lower {
+
+using namespace ast;
+using ir::BuiltValue;
+using ir::Op;
+using ir::ValueId;
+
+Encoding LayerLowering::encoding(const sema::CheckedLayer& layer) {
+    Encoding enc;
+    if (!layer.encoded) return enc;
+    enc.field = ctx_.layerProp(layer, "field")[0];
+    enc.gain = ctx_.layerProp(layer, "gain")[0];
+    return enc;
+}
+
+// The fringes are legible while gain s |grad f| stays under about 1/3 (c / |grad f| >= 3 s,
+// Eq. 38).
+ValueId LayerLowering::sampling(const sema::CheckedLayer& layer, const Encoding& enc) {
+    ir::Builder& b = ctx_.b;
+    ValueId spacing = ctx_.layerProp(layer, "spacing")[0];
+    ValueId slope = b.hypot(b.emit(Op::DerivX, {enc.field}), b.emit(Op::DerivY, {enc.field}));
+    return b.mul(b.abs(b.mul(enc.gain, spacing)), slope);
+}
+
+LayerFields LayerLowering::fields(const sema::CheckedLayer& layer, const StrokeBand& band,
+                                  const Encoding& enc, bool wantIndex) {
+    ir::Builder& b = ctx_.b;
+    b.setLoc(layer.decl->range.begin);
+    auto built = [&](ValueId v) { return BuiltValue(b, v); };
+    LayerFrame lf;
+    lf.spacing = ctx_.layerProp(layer, "spacing")[0];
+    lf.phase = ctx_.layerProp(layer, "phase")[0];
+    Vals origin = ctx_.layerProp(layer, "origin");
+    const Expr* turn = layer.prop("rotation");
+    ir::Vec2T<BuiltValue> p{built(ctx_.world.x), built(ctx_.world.y)};
+    if (ctx_.interactive()) {
+        // The viewer's rigid motion M(p) = Rot(a) p + d carries the layer: evaluate it at
+        // M^-1(p) = Rot(-a) (p - d).
+        const int i = static_cast<int>(&layer - ctx_.scene.layers.data());
+        ir::Vec2T<BuiltValue> moved{
+            p.x - built(ctx_.viewParam(ViewSlots::layer(i, ViewSlots::kLayerDx))),
+            p.y - built(ctx_.viewParam(ViewSlots::layer(i, ViewSlots::kLayerDy)))};
+        p = ir::rotate(moved, -built(ctx_.viewParam(ViewSlots::layer(i, ViewSlots::kLayerTurn))));
+    }
+    ir::Vec2T<BuiltValue> d{p.x - built(origin[0]), p.y - built(origin[1])};
+    lf.dx = d.x.id;
+    lf.dy = d.y.id;
+    ir::Vec2T<BuiltValue> q = d;
+    if (turn) q = ir::rotate(d, -built(ctx_.exprs.scalar(*turn, ctx_.world)));
+    lf.qx = q.x.id;
+    lf.qy = q.y.id;
+    if (layer.morph.empty())
+        return familyFields(layer, lf, bind(layer.family, layer.args), band, enc, wantIndex);
+    return morphFields(*this, layer, lf, band, enc, wantIndex);
+}
+
+BoundFamily LayerLowering::bind(const sema::CheckedFamily* family,
+                                const std::vector<const Expr*>& args) {
+    BoundFamily bf{family, {}};
+    if (!family) return bf;
+    const Decl& fam = *family->decl;
+    for (size_t i = 0; i < fam.params.size(); ++i) {
+        const Expr* value = args[i] ? args[i] : fam.params[i].defaultValue.get();
+        MOIRE_CHECK(value, "missing family argument survived checking");
+        bf.params.push_back(ctx_.exprs.lower(*value, ctx_.world));
+    }
+    return bf;
+}
+
+// A fresh frame with the layer's arguments, its lets lowered anew (they may use x and y).
+Frame LayerLowering::frameAt(const BoundFamily& bf, const LayerFrame& lf, ValueId x, ValueId y) {
+    Frame f;
+    f.x = x;
+    f.y = y;
+    f.spacing = lf.spacing;
+    f.family = bf.family ? bf.family->decl : nullptr;
+    f.params = bf.params;
+    if (bf.family)
+        for (const Let& l : bf.family->decl->lets) f.lets.push_back(ctx_.exprs.lower(*l.value, f));
+    return f;
+}
+
+ValueId LayerLowering::phaseAt(const sema::CheckedLayer& layer, const BoundFamily& bf,
+                               const LayerFrame& lf, ValueId x, ValueId y) {
+    const Expr* phase = bf.family ? bf.family->phase : layer.anonymousPhase;
+    MOIRE_CHECK(phase, "layer without a phase survived checking");
+    Frame f = frameAt(bf, lf, x, y);
+    return ctx_.exprs.scalar(*phase, f);
+}
+
+// Walking applies to the families that can walk; in a morph, the others ignore it.
+bool LayerLowering::walks(const sema::CheckedLayer& layer, const sema::CheckedFamily* family) {
+    return layer.walking && family && family->facets;
+}
+
+FamilyInputs LayerLowering::inputs(const sema::CheckedLayer& layer, const LayerFrame& lf,
+                                   const BoundFamily& bf, const StrokeBand& band,
+                                   const Encoding& enc, bool wantIndex) {
+    FamilyInputs in{lf, bf.params, band, enc, wantIndex, ctx_.options.tally};
+    in.layerProp = [this, &layer](std::string_view name) { return ctx_.layerProp(layer, name); };
+    return in;
+}
+
+// The fields of one family in the layer's frame, by the kind of family.
+LayerFields LayerLowering::familyFields(const sema::CheckedLayer& layer, const LayerFrame& lf,
+                                        const BoundFamily& bf, const StrokeBand& band,
+                                        const Encoding& enc, bool wantIndex) {
+    ir::Builder& b = ctx_.b;
+    b.setLoc(layer.decl->range.begin);
+    const sema::CheckedFamily* family = bf.family;
+    if (family && family->kind == sema::FamilyKind::Builtin)
+        return familyBuilder(family->decl->name)(b, inputs(layer, lf, bf, band, enc, wantIndex));
+    if (family && family->kind == sema::FamilyKind::Distance) {
+        Frame here = frameAt(bf, lf, lf.qx, lf.qy);
+        LayerFields out;
+        out.distance = ctx_.exprs.scalar(*family->distance, here);
+        out.index = family->index ? ctx_.exprs.scalar(*family->index, here) : b.constF(0.0);
+        return out;
+    }
+    if (walks(layer, family)) {
+        Frame here = frameAt(bf, lf, lf.qx, lf.qy);
+        FamilyInputs in = inputs(layer, lf, bf, band, enc, wantIndex);
+        in.facets = ctx_.exprs.scalar(*family->facets, here);
+        in.phaseAt = [&](ir::Builder&, ValueId x, ValueId y) {
+            return phaseAt(layer, bf, lf, x, y);
+        };
+        return familyBuilder(kWalking)(b, in);
+    }
+    ValueId phi = phaseAt(layer, bf, lf, lf.qx, lf.qy);
+    std::optional<int> first = family ? family->first : std::nullopt;
+    ValueId near = ir::kNoValue;
+    if (first && enc.field == ir::kNoValue) {
+        // The phase a millionth of the radius away, off any fold through the centre (the
+        // direction is along no line a family would fold on): ample for float, whose
+        // resolution there is about 6e-8 of the radius, and the gradient it gives moves
+        // by about a millionth.
+        ValueId e = b.mul(b.hypot(lf.qx, lf.qy), b.constF(1e-6));
+        near =
+            phaseAt(layer, bf, lf, b.add(lf.qx, e), b.add(lf.qy, b.mul(e, b.constF(0.6180339887))));
+    }
+    return phaseFields(layer, lf, phi, first, enc, near);
+}
+
+// A phase family (Eq. 5), with the encoded field subtracted first (§10.1): forward-mode AD
+// gives the gradient of the whole phase, field included.
+LayerFields LayerLowering::phaseFields(const sema::CheckedLayer& layer, const LayerFrame& lf,
+                                       ValueId phi, std::optional<int> first, const Encoding& enc,
+                                       ValueId near) {
+    ir::Builder& b = ctx_.b;
+    b.setLoc(layer.decl->range.begin);
+    if (enc.field != ir::kNoValue) phi = b.sub(phi, b.mul(b.mul(enc.gain, lf.spacing), enc.field));
+    return phaseFamilyFields(b, phi, lf.phase, lf.spacing, first, near);
+}
+
+} // namespace moire::lower

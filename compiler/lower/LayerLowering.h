@@ -1,0 +1,58 @@
+// One layer's fields at the pixel: the layer's frame (origin, rotation, the viewer's motion),
+// its family bound to its arguments, and the fields by the kind of family: a phase family
+// (Eq. 5), a distance family, a compiler-built family (FamilyRegistry), or a morph between
+// families (MorphFamily).
+#pragma once
+
+#include "compiler/lower/FamilyRegistry.h"
+#include "compiler/lower/LayerPipeline.h"
+#include "compiler/lower/SceneContext.h"
+
+#include <optional>
+
+namespace moire::lower {
+
+// One family with a layer's arguments lowered, ready to be evaluated at any point of the
+// layer's frame. Null for a layer that writes its phase itself.
+struct BoundFamily {
+    const sema::CheckedFamily* family = nullptr;
+    std::vector<Vals> params;
+};
+
+class LayerLowering {
+  public:
+    explicit LayerLowering(SceneContext& ctx) : ctx_(ctx) {}
+
+    Encoding encoding(const sema::CheckedLayer& layer);
+    // gain s |grad f|, whose reciprocal is the fringe spacing in carrier pitches.
+    ir::ValueId sampling(const sema::CheckedLayer& layer, const Encoding& enc);
+    // The fields of one layer: its family's, or a morph's blend of its families'.
+    LayerFields fields(const sema::CheckedLayer& layer, const StrokeBand& band, const Encoding& enc,
+                       bool wantIndex);
+
+    // The pieces a morph (MorphFamily.cpp) is made of.
+    SceneContext& context() { return ctx_; }
+    BoundFamily bind(const sema::CheckedFamily* family, const std::vector<const ast::Expr*>& args);
+    // The family's expressions at a point of its frame.
+    Frame frameAt(const BoundFamily& bf, const LayerFrame& lf, ir::ValueId x, ir::ValueId y);
+    ir::ValueId phaseAt(const sema::CheckedLayer& layer, const BoundFamily& bf,
+                        const LayerFrame& lf, ir::ValueId x, ir::ValueId y);
+    // Whether the layer draws this family by the walking solver.
+    static bool walks(const sema::CheckedLayer& layer, const sema::CheckedFamily* family);
+    LayerFields familyFields(const sema::CheckedLayer& layer, const LayerFrame& lf,
+                             const BoundFamily& bf, const StrokeBand& band, const Encoding& enc,
+                             bool wantIndex);
+    LayerFields phaseFields(const sema::CheckedLayer& layer, const LayerFrame& lf, ir::ValueId phi,
+                            std::optional<int> first, const Encoding& enc,
+                            ir::ValueId near = ir::kNoValue);
+    // What a registered builder is given for this layer (FamilyInputs), with `phaseAt` and
+    // `facets` left for the caller.
+    FamilyInputs inputs(const sema::CheckedLayer& layer, const LayerFrame& lf,
+                        const BoundFamily& bf, const StrokeBand& band, const Encoding& enc,
+                        bool wantIndex);
+
+  private:
+    SceneContext& ctx_;
+};
+
+} // namespace moire::lower

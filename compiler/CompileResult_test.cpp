@@ -6,7 +6,6 @@
 
 #include <doctest/doctest.h>
 #include <filesystem>
-#include <sstream>
 #include <string>
 #include <vector>
 
@@ -14,18 +13,11 @@ using namespace moire;
 
 namespace {
 
-std::vector<std::string> lines(const std::string& text) {
-    std::vector<std::string> out;
-    std::istringstream in(text);
-    for (std::string line; std::getline(in, line);) out.push_back(line);
-    return out;
-}
-
 // Checks one located diagnostic against its own rendered text: the header names the same
 // place, severity and message, and the caret line marks its columns.
 void checkAgainstRendered(const LocatedDiagnostic& d) {
     CAPTURE(d.rendered);
-    std::vector<std::string> ls = lines(d.rendered);
+    std::vector<std::string> ls = test::lines(d.rendered);
     REQUIRE(!ls.empty());
     const std::string kind = severityName(d.severity);
     if (!d.range) {

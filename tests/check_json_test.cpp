@@ -7,24 +7,14 @@
 #include <filesystem>
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
-#include <sstream>
 
 using namespace moire;
 using Json = nlohmann::json;
 
 namespace {
 
-// Runs `moire check <args>` from the source root (scenes named as the catalogue names them).
 test::CommandResult check(const std::string& args) {
-    return test::runCommand("cd '" + test::sourcePath("") + "' && '" + test::moireBinary() +
-                            "' check " + args);
-}
-
-std::vector<std::string> lines(const std::string& text) {
-    std::vector<std::string> out;
-    std::istringstream in(text);
-    for (std::string line; std::getline(in, line);) out.push_back(line);
-    return out;
+    return test::runMoireInSourceRoot("check " + args);
 }
 
 // The header line a diagnostic's JSON stands for, built from its fields alone.
@@ -66,17 +56,17 @@ TEST_CASE("moire check --format=json: the diagnostics are the text ones, field b
         for (const Json& d : entry["diagnostics"]) {
             rendered += d["rendered"].get<std::string>();
             headers.push_back(header(d));
-            CHECK(lines(d["rendered"].get<std::string>()).at(0) == headers.back());
+            CHECK(test::lines(d["rendered"].get<std::string>()).at(0) == headers.back());
             if (!d["range"].is_null()) {
                 // The caret sits under the start column.
-                std::vector<std::string> ls = lines(d["rendered"].get<std::string>());
+                std::vector<std::string> ls = test::lines(d["rendered"].get<std::string>());
                 REQUIRE(ls.size() == 3);
                 CHECK(ls[2].find('^') - 8 + 1 == d["range"]["start"]["column"].get<size_t>());
             }
         }
         CHECK(rendered == text.err);
         std::vector<std::string> textHeaders;
-        for (const std::string& l : lines(text.err))
+        for (const std::string& l : test::lines(text.err))
             if (!l.starts_with(" ")) textHeaders.push_back(l);
         CHECK(headers == textHeaders);
         CHECK(!headers.empty());

@@ -1,5 +1,6 @@
-// One list of reserved words: every declaration keyword begins a declaration, and every
-// reserved word is refused as a user's name with the same message.
+// One list of reserved words, shared across the front end's layers (so this test sits above
+// them): every declaration keyword begins a declaration, and every reserved word is refused
+// as a user's name with the same message.
 #include "compiler/Compile.h"
 #include "compiler/lex/Keywords.h"
 #include "compiler/sema/Builtins.h"

@@ -21,8 +21,7 @@ int main(int argc, char** argv) {
         "embedded default scene.");
 
     cli::RenderArgs renderArgs;
-    CLI::App* renderCmd = app.add_subcommand(
-        "render", "Render a scene to an image file (--backend: jit, interp or vulkan)");
+    CLI::App* renderCmd = app.add_subcommand("render", "Render a scene to an image file");
     renderCmd->add_option("scene", renderArgs.scene,
                           "The .moire scene, - for standard input (default: the embedded "
                           "default scene)");
@@ -153,8 +152,7 @@ int main(int argc, char** argv) {
     CLI::App* devicesCmd = app.add_subcommand("devices", "List the Vulkan devices");
 
     cli::CompileArgs compileArgs;
-    CLI::App* compileCmd = app.add_subcommand(
-        "compile", "Show a compiler stage: the AST, the IR, LLVM IR, GLSL or SPIR-V (--dump)");
+    CLI::App* compileCmd = app.add_subcommand("compile", "Show a stage of the compiler");
     compileCmd->add_option("scene", compileArgs.scene,
                            "The .moire scene, - for standard input (default: the embedded "
                            "default scene)");

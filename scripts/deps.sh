@@ -22,6 +22,7 @@ packages=(
   libglfw3-dev libgl-dev libgl1-mesa-dri  # the viewer (moire view): a window, OpenGL 2.1
   xvfb xauth xdotool             # the viewer's tests: a virtual X server, and input for it
   clang-16 libclang-rt-16-dev    # the libFuzzer build of fuzz/ (libFuzzer, ASan, UBSan runtimes)
+  clang-format-16                # CI's format check (scripts/check-format.sh): the toolchain's version
 )
 
 if [[ "${1:-}" == "--list" ]]; then

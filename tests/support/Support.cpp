@@ -61,7 +61,7 @@ std::vector<std::string> availableBackends() {
         try {
             if (makeBackend(name)) out.push_back(name);
         } catch (const std::exception& e) {
-            MESSAGE("skipping backend '", name, "': ", std::string(e.what()));
+            skip("backend '" + name + "': " + e.what());
         }
     }
     return out;
@@ -71,7 +71,7 @@ std::unique_ptr<Backend> makeBackendOrSkip(const std::string& name) {
     try {
         return makeBackend(name);
     } catch (const std::exception& e) {
-        MESSAGE("skipping backend '", name, "': ", std::string(e.what()));
+        skip("backend '" + name + "': " + e.what());
         return nullptr;
     }
 }

@@ -4,10 +4,14 @@
 //   build/bin/moire_fields_bench [--size WxH] [--repeat N]
 //
 // For every preset of stdlib/fields.moire: a vertical-line layer with the field encoded, and
-// the same layer without it. The field's cost is the difference, in milliseconds per
-// megapixel, on the JIT (best of N) and on the interpreter (once), with the instructions the
-// field adds to the kernel. Last, a layer with no field costs the same kernel (same
-// structural hash) whether or not the scene declares fields it does not use.
+// the same layer without it, rendered in turn, in milliseconds per megapixel on the JIT (best
+// of N) and on the interpreter (once), with the instructions the field adds to the kernel. The
+// field's cost is the difference of the two, printed beside both measured times: a cheap field
+// can measure faster than the plain layer (timing noise), and such a difference is no cost to
+// divide, so the interpreter/JIT ratio of the costs is printed only where both stand clear of
+// the noise.
+// Last, a layer with no field costs the same kernel (same structural hash) whether or not the
+// scene declares fields it does not use.
 #include "compiler/backend/interp/Interpreter.h"
 #include "compiler/backend/llvm/LlvmJit.h"
 #include "compiler/Compile.h"
@@ -16,6 +20,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <fmt/format.h>
 #include <string>
@@ -49,17 +54,40 @@ Compiled compile(const std::string& text, int w, int h) {
     return c;
 }
 
-// Milliseconds per megapixel: the fastest of `repeat` renders.
-double msPerMpx(Backend& backend, const Compiled& c, int repeat) {
-    auto kernel = backend.compile(c.program->kernel);
-    KernelFrame frame{c.frame.uniforms.data(), c.frame.width, c.frame.height};
-    double best = 1e30;
-    for (int i = 0; i < repeat; ++i) {
+struct SideBySide {
+    double plain, field; // milliseconds per megapixel
+};
+
+// The fastest of `repeat` renders of each of two layers of the same size, rendered in turn,
+// so that both see the same load on the machine: a baseline measured once, apart, can catch
+// a busy moment and come out slower than the layers it is subtracted from.
+SideBySide msPerMpx(Backend& backend, const Compiled& plain, const Compiled& field, int repeat) {
+    auto plainKernel = backend.compile(plain.program->kernel);
+    auto fieldKernel = backend.compile(field.program->kernel);
+    auto time = [](const CompiledKernel& kernel, const Compiled& c) {
+        KernelFrame frame{c.frame.uniforms.data(), c.frame.width, c.frame.height};
         auto t0 = Clock::now();
-        runKernel(*kernel, frame);
-        best = std::min(best, std::chrono::duration<double>(Clock::now() - t0).count());
+        runKernel(kernel, frame);
+        return std::chrono::duration<double>(Clock::now() - t0).count();
+    };
+    double bestPlain = 1e30, bestField = 1e30;
+    for (int i = 0; i < repeat; ++i) {
+        bestPlain = std::min(bestPlain, time(*plainKernel, plain));
+        bestField = std::min(bestField, time(*fieldKernel, field));
     }
-    return best * 1e3 / (c.frame.width * static_cast<double>(c.frame.height) / 1e6);
+    const double mpx = plain.frame.width * static_cast<double>(plain.frame.height) / 1e6;
+    return {bestPlain * 1e3 / mpx, bestField * 1e3 / mpx};
+}
+
+// Differences smaller than this share of the plain layer's time are not told apart from
+// timing noise. On a busy machine the noise is larger: more --repeat narrows it on the JIT.
+constexpr double kNoise = 0.02;
+
+// The field's cost as a signed difference, "~0" where it is within the noise.
+std::string cost(double withField, double base) {
+    const double d = withField - base;
+    if (std::abs(d) < kNoise * base) return "~0";
+    return base < 100 ? fmt::format("{:+.3f}", d) : fmt::format("{:+.1f}", d);
 }
 
 std::string layer(const std::string& field) {
@@ -86,28 +114,32 @@ int main(int argc, char** argv) {
     // The interpreter renders a smaller frame (its cost per pixel does not depend on size).
     const int iw = std::max(1, w / 4), ih = std::max(1, h / 4);
     Compiled plain = compile(layer(""), w, h), plainSmall = compile(layer(""), iw, ih);
-    const double jitBase = msPerMpx(jit, plain, repeat),
-                 interpBase = msPerMpx(interp, plainSmall, 1);
     const size_t baseInsts = plain.program->kernel.instCount();
 
     fmt::print(
         "Cost of one encoded field per pixel, {}x{} (JIT best of {}), in ms per megapixel\n\n", w,
         h, repeat);
-    fmt::print("{:<16} {:>7} {:>12} {:>12} {:>9}   {:>12} {:>12}\n", "preset", "+instr", "interp",
-               "JIT", "int/JIT", "layer (JIT)", "layer (int)");
+    fmt::print("{:<8} {:>6}   {:>24}   {:>26}   {:>7}\n", "", "", "JIT", "interpreter", "int/JIT");
+    fmt::print("{:<8} {:>6}   {:>7} {:>7} {:>8}   {:>7} {:>7} {:>10}   {:>7}\n", "preset", "+instr",
+               "plain", "field", "cost", "plain", "field", "cost", "cost");
     for (const char* preset : {"saddle", "dipole", "bumps", "swirl", "ripple", "terrain"}) {
         Compiled c = compile(layer(preset), w, h), small = compile(layer(preset), iw, ih);
-        const double j = msPerMpx(jit, c, repeat), i = msPerMpx(interp, small, 1);
+        const SideBySide j = msPerMpx(jit, plain, c, repeat);
+        const SideBySide i = msPerMpx(interp, plainSmall, small, 1);
         const long added =
             static_cast<long>(c.program->kernel.instCount()) - static_cast<long>(baseInsts);
-        // The field's own cost is what it adds to the same layer; timing noise can make a
-        // cheap field read as slightly negative, which is shown as it was measured.
-        fmt::print("{:<16} {:>7} {:>12.3f} {:>12.3f} {:>8.0f}x   {:>12.3f} {:>12.1f}\n", preset,
-                   added, i - interpBase, j - jitBase,
-                   (i - interpBase) / std::max(1e-9, j - jitBase), j, i);
+        const bool clear =
+            j.field - j.plain >= kNoise * j.plain && i.field - i.plain >= kNoise * i.plain;
+        const std::string ratio =
+            clear ? fmt::format("{:.0f}x", (i.field - i.plain) / (j.field - j.plain)) : "-";
+        fmt::print("{:<8} {:>6}   {:>7.3f} {:>7.3f} {:>8}   {:>7.1f} {:>7.1f} {:>10}   {:>7}\n",
+                   preset, added, j.plain, j.field, cost(j.field, j.plain), i.plain, i.field,
+                   cost(i.field, i.plain), ratio);
     }
-    fmt::print("{:<16} {:>7} {:>12} {:>12} {:>9}   {:>12.3f} {:>12.1f}\n", "no field", 0, "-", "-",
-               "-", jitBase, interpBase);
+    fmt::print(
+        "\nplain: the layer without a field; field: with it, the two rendered in turn;\n"
+        "cost: field - plain, \"~0\" within {:.0f}% of plain (timing noise), with no ratio.\n",
+        kNoise * 100);
 
     // A field declared but not used by a layer costs that layer nothing: its kernel is the
     // same program, not merely a similar one.

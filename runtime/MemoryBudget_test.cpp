@@ -1,6 +1,7 @@
 // The memory estimate before a render and the memory the process may have: the figures
 // counted by hand from the buffers a render holds, and the limits read back as they were set.
 #include "runtime/MemoryBudget.h"
+#include "tests/support/Skip.h"
 
 #include <doctest/doctest.h>
 #include <fstream>
@@ -66,7 +67,7 @@ TEST_CASE("memory budget: the address space limit lowers what is available") {
     const uint64_t mapped = mappedBytes();
     REQUIRE(mapped > 0);
     if (saved.rlim_max != RLIM_INFINITY && saved.rlim_max < mapped + headroom) {
-        MESSAGE("skipped: the hard address space limit is already below what the test sets");
+        test::skip("the hard address space limit is already below what the test sets");
         return;
     }
     rlimit tight = saved;

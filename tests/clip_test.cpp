@@ -224,7 +224,7 @@ TEST_CASE("bad clip command lines exit with status 2 and write nothing") {
 
 TEST_CASE("videos: mp4, webm and gif, read back with ffprobe") {
     if (!haveFfmpeg()) {
-        MESSAGE("skipping: ffmpeg and ffprobe are not installed");
+        test::skip("ffmpeg and ffprobe are not installed");
         return;
     }
     Workdir w;
@@ -299,7 +299,7 @@ TEST_CASE("Ctrl-C stops an image clip after a frame: only complete frames, statu
 
 TEST_CASE("Ctrl-C during a video discards it and leaves no temporary file") {
     if (!haveFfmpeg()) {
-        MESSAGE("skipping: ffmpeg is not installed");
+        test::skip("ffmpeg is not installed");
         return;
     }
     Workdir w, logs;

@@ -79,10 +79,10 @@ Measured runMeasured(const std::vector<std::string>& args, const test::TempDir& 
 
 // AddressSanitizer reserves terabytes of shadow address space when a program starts and
 // inflates what it keeps resident: under it neither an address-space limit nor a peak RSS
-// says anything about moire's own memory, so those tests are skipped (with a message).
+// says anything about moire's own memory, so those tests are skipped.
 bool underAddressSanitizer() {
 #ifdef __SANITIZE_ADDRESS__
-    MESSAGE("skipped: memory limits are not measurable under AddressSanitizer");
+    test::skip("memory limits are not measurable under AddressSanitizer");
     return true;
 #else
     return false;

@@ -238,7 +238,7 @@ TEST_CASE("clip under a file size limit: frames of every format fail with the re
 
 TEST_CASE("clip under a file size limit: a video fails with ffmpeg's reason, none left behind") {
     if (!haveFfmpeg()) {
-        MESSAGE("skipping: ffmpeg is not installed");
+        test::skip("ffmpeg is not installed");
         return;
     }
     test::TempDir w("outsafe");
@@ -416,7 +416,7 @@ TEST_CASE("ffmpeg failing after it has read every frame is reported with its own
 
 TEST_CASE("a GIF's frame delays add up to the clip's length exactly") {
     if (!haveFfmpeg()) {
-        MESSAGE("skipping: ffmpeg and ffprobe are not installed");
+        test::skip("ffmpeg and ffprobe are not installed");
         return;
     }
     test::TempDir w("outsafe");

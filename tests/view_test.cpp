@@ -405,7 +405,7 @@ Rgb windowMatching(const VirtualScreen& screen, std::pair<int, int> origin, cons
 
 #define SKIP_WITHOUT_X()                                                                           \
     if (!haveTool("Xvfb") || !haveTool("xdotool")) {                                               \
-        MESSAGE("skipped: the viewer's tests need Xvfb and xdotool");                              \
+        test::skip("the viewer's tests need Xvfb and xdotool");                                    \
         return;                                                                                    \
     }
 
@@ -415,7 +415,7 @@ bool started(Viewer& viewer) {
     if (viewer.firstFrame()) return true;
     std::string err = viewer.stderrText();
     if (err.find("cannot open a window") != std::string::npos) {
-        MESSAGE("skipped: ", err);
+        test::skip(err);
         return false;
     }
     FAIL("no frame from moire view; stderr:\n", err);

@@ -1,13 +1,14 @@
 // The Vulkan backend (runtime/vulkan) held to independent expectations: the interpreter's
 // pictures, its own single-dispatch render (for the chunked and windowed paths), the
 // structural cache's compile counter, and the walking families' brute-force reference
-// (tests/reference). Every case skips with a printed reason where no Vulkan device is
+// (tests/reference). Every case is skipped (tests/support/Skip.h) where no Vulkan device is
 // available (no driver, no device); CI runs them on lavapipe, so the images stay small.
 // The command line (`moire devices`, --device, no driver) is in cli_test.cpp; per-example
 // parity in examples_test.cpp.
 #include "runtime/Render.h"
 #include "runtime/TileExecutor.h"
 #include "runtime/vulkan/VulkanBackend.h"
+#include "tests/support/Skip.h"
 #include "tests/support/WalkingHarness.h"
 
 #include <algorithm>
@@ -20,12 +21,12 @@ using namespace moire::walktest;
 
 namespace {
 
-// The Vulkan backend, or null (the reason printed) where this machine has none.
+// The Vulkan backend, or null (the case skipped) where this machine has none.
 std::unique_ptr<VulkanBackend> vulkanOrSkip(const VulkanOptions& options = {}) {
     try {
         return std::make_unique<VulkanBackend>(options);
     } catch (const BackendError& e) {
-        MESSAGE("skipping the Vulkan case: ", std::string(e.what()));
+        test::skip(std::string("no Vulkan backend: ") + e.what());
         return nullptr;
     }
 }

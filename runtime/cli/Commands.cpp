@@ -273,7 +273,8 @@ int render(const RenderArgs& args) {
     return kExitOk;
 }
 
-int check(const std::vector<std::string>& scenes, bool quiet) {
+int check(const std::vector<std::string>& scenes, bool quiet, const std::string& format) {
+    if (format == "json") return checkJson(scenes);
     int status = kExitOk;
     for (const std::string& path : scenes) {
         Source src;

@@ -78,7 +78,9 @@ struct ViewArgs {
 };
 int view(const ViewArgs& args);
 
-int check(const std::vector<std::string>& scenes, bool quiet);
+int check(const std::vector<std::string>& scenes, bool quiet, const std::string& format = "text");
+// `check --format=json`: every scene's diagnostics as one JSON document (CheckJson.cpp).
+int checkJson(const std::vector<std::string>& scenes);
 
 // Lists the Vulkan devices --device can name.
 int devices();

@@ -148,6 +148,11 @@ int main(int argc, char** argv) {
     checkCmd->add_option("scenes", checkScenes, "The .moire scenes, - for standard input")
         ->required();
     checkCmd->add_flag("-q,--quiet", checkQuiet, "Print nothing but errors");
+    std::string checkFormat = "text";
+    checkCmd
+        ->add_option("--format", checkFormat,
+                     "text (default), or json: the diagnostics as JSON on standard output")
+        ->check(CLI::IsMember({"text", "json"}));
 
     CLI::App* devicesCmd = app.add_subcommand("devices", "List the Vulkan devices");
 
@@ -175,7 +180,7 @@ int main(int argc, char** argv) {
         }
         if (*watchCmd) return cli::watch(watchArgs);
         if (*viewCmd) return cli::view(viewArgs);
-        if (*checkCmd) return cli::check(checkScenes, checkQuiet);
+        if (*checkCmd) return cli::check(checkScenes, checkQuiet, checkFormat);
         if (*compileCmd) return cli::compile(compileArgs);
         if (*devicesCmd) return cli::devices();
         fmt::print("{}", app.help());

@@ -27,10 +27,11 @@
 #   tool    the programs the tests and the runtime run, from TOOLS below
 set -euo pipefail
 
-# Programs run by the tests and by moire itself, found on PATH: clip and its tests (ffmpeg,
-# ffprobe), the viewer's tests (Xvfb, xdotool under timeout), and the Vulkan device list
-# test, which compares `moire devices` with vulkaninfo.
-TOOLS=(ffmpeg ffprobe Xvfb xdotool timeout vulkaninfo)
+# Programs run by the tests, by moire itself and by CI, found on PATH: clip and its tests
+# (ffmpeg, ffprobe), the viewer's tests (Xvfb, xdotool under timeout), the Vulkan device list
+# test, which compares `moire devices` with vulkaninfo, and CI's format check
+# (clang-format-16, scripts/check-format.sh).
+TOOLS=(ffmpeg ffprobe Xvfb xdotool timeout vulkaninfo clang-format-16)
 
 here=$(cd "$(dirname "$0")" && pwd)
 source_dir=$(cd "$here/../.." && pwd)

@@ -61,7 +61,7 @@ std::vector<std::string> availableBackends() {
         try {
             if (makeBackend(name)) out.push_back(name);
         } catch (const std::exception& e) {
-            MESSAGE("skipping backend '", name, "': ", std::string(e.what()));
+            skip("backend '" + name + "': " + e.what());
         }
     }
     return out;
@@ -71,7 +71,7 @@ std::unique_ptr<Backend> makeBackendOrSkip(const std::string& name) {
     try {
         return makeBackend(name);
     } catch (const std::exception& e) {
-        MESSAGE("skipping backend '", name, "': ", std::string(e.what()));
+        skip("backend '" + name + "': " + e.what());
         return nullptr;
     }
 }
@@ -178,6 +178,17 @@ CommandResult runCommand(const std::string& command) {
     fs::remove(outName);
     fs::remove(errName);
     return r;
+}
+
+CommandResult runMoireInSourceRoot(const std::string& args) {
+    return runCommand("cd '" + sourcePath("") + "' && '" + moireBinary() + "' " + args);
+}
+
+std::vector<std::string> lines(const std::string& text) {
+    std::vector<std::string> out;
+    std::istringstream in(text);
+    for (std::string line; std::getline(in, line);) out.push_back(line);
+    return out;
 }
 
 } // namespace moire::test

@@ -1,10 +1,12 @@
 // Shared helpers for moire's tests: compiling scenes from text, running every backend that
-// is available (one test body, every backend), reading files, comparing images.
+// is available (one test body, every backend), reading files, comparing images, and skipping
+// what cannot run here (Skip.h).
 #pragma once
 
 #include "compiler/backend/Backend.h"
 #include "compiler/Compile.h"
 #include "runtime/Image.h"
+#include "tests/support/Skip.h"
 
 #include <memory>
 #include <string>
@@ -25,7 +27,7 @@ std::unique_ptr<SceneProgram> compileOk(const std::string& text, const CompileOp
 std::string compileErrors(const std::string& text, const std::string& path = "test.moire");
 
 // Backends that can run here. Each test body that checks a backend property loops over
-// these; a backend missing at run time is skipped with a message, never failed.
+// these; a backend missing at run time is skipped (tests/support/Skip.h), never failed.
 std::vector<std::string> availableBackends();
 std::unique_ptr<Backend> makeBackendOrSkip(const std::string& name);
 
@@ -78,5 +80,11 @@ struct CommandResult {
     std::string out, err;
 };
 CommandResult runCommand(const std::string& command);
+// Runs `moire <args>` from the source root, so that a scene given as tests/errors/x.moire is
+// named in the diagnostics exactly so.
+CommandResult runMoireInSourceRoot(const std::string& args);
+
+// The lines of `text`, without their newlines.
+std::vector<std::string> lines(const std::string& text);
 
 } // namespace moire::test

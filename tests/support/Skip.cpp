@@ -1,0 +1,21 @@
+#include "tests/support/Skip.h"
+
+#include <atomic>
+#include <doctest/doctest.h>
+
+namespace moire::test {
+
+namespace {
+std::atomic<int> skips{0};
+} // namespace
+
+void skip(const std::string& reason) {
+    MESSAGE("skipped: ", reason);
+    ++skips;
+}
+
+int skipCount() {
+    return skips.load();
+}
+
+} // namespace moire::test

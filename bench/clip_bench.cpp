@@ -13,9 +13,9 @@
 #include "compiler/Compile.h"
 #include "runtime/Clip.h"
 #include "runtime/FrameEval.h"
-#include "runtime/ImageIO.h"
+#include "runtime/output/ImageIO.h"
 #include "runtime/TileExecutor.h"
-#include "runtime/VideoWriter.h"
+#include "runtime/output/VideoWriter.h"
 
 #include <algorithm>
 #include <chrono>

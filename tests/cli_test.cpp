@@ -1,6 +1,6 @@
 // The `moire` command line, run as a user runs it: exit statuses, files written (and not
 // written), and what each dump shows.
-#include "runtime/ImageIO.h"
+#include "runtime/output/ImageIO.h"
 #include "tests/support/Support.h"
 
 #include <algorithm>

@@ -1,7 +1,7 @@
 // `moire clip` as a user runs it: frame n is exactly the still `moire render --time` draws at
 // from + n / fps, ranges repeat byte for byte, a default clip is one loop, videos go through
 // ffmpeg (when installed), and Ctrl-C leaves only complete files.
-#include "runtime/ImageIO.h"
+#include "runtime/output/ImageIO.h"
 #include "tests/support/Support.h"
 
 #include <algorithm>

@@ -3,8 +3,8 @@
 // at most 4 MiB (or standard input), and frames too large for the memory the process may
 // have refused before anything is drawn, with the estimate checked against the peak
 // resident memory of a real render.
-#include "runtime/ImageIO.h"
-#include "runtime/MemoryBudget.h"
+#include "runtime/output/ImageIO.h"
+#include "runtime/output/MemoryBudget.h"
 #include "runtime/TextFile.h"
 #include "tests/support/Support.h"
 

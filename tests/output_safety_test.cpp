@@ -3,7 +3,7 @@
 // format fail with the system's words and leave nothing; signals leave no temporary, and
 // what a killed process left is removed by the next run; ffmpeg's failures are reported as
 // they were; a GIF's delays add up to its length.
-#include "runtime/ImageIO.h"
+#include "runtime/output/ImageIO.h"
 #include "tests/support/Support.h"
 
 #include <algorithm>
@@ -444,12 +444,14 @@ TEST_CASE("a GIF's frame delays add up to the clip's length exactly") {
 TEST_CASE("every file the project writes goes through the one checked writer") {
     // Writing a file any other way (a stream, stdio, a library writing by name, a rename of
     // one's own) is how "wrote" came to be printed over a truncated image. Only
-    // runtime/OutputFile.cpp opens files for writing; ImageIO.cpp hands OpenImageIO a memory
-    // buffer (or a memory file) and VideoWriter a temporary that OutputFile names and commits.
+    // runtime/output/OutputFile.cpp opens files for writing; ImageIO.cpp hands OpenImageIO a
+    // memory buffer (or a memory file) and VideoWriter a temporary that OutputFile names and
+    // commits.
+    const std::string dir = "runtime/output/";
     const std::vector<std::pair<std::string, std::string>> allowed = {
-        {"runtime/OutputFile.cpp", "O_CREAT"},   {"runtime/OutputFile.cpp", "O_WRONLY"},
-        {"runtime/OutputFile.cpp", "rename"},    {"runtime/ImageIO.cpp", "ImageOutput::create"},
-        {"runtime/VideoWriter.cpp", "O_WRONLY"}, // ffmpeg's stdout to /dev/null
+        {dir + "OutputFile.cpp", "O_CREAT"},   {dir + "OutputFile.cpp", "O_WRONLY"},
+        {dir + "OutputFile.cpp", "rename"},    {dir + "ImageIO.cpp", "ImageOutput::create"},
+        {dir + "VideoWriter.cpp", "O_WRONLY"}, // ffmpeg's stdout to /dev/null
     };
     const std::regex writer(R"(std::ofstream|\bfopen\s*\(|\bfreopen\s*\(|\bcreat\s*\(|O_CREAT|)"
                             R"(O_WRONLY|O_RDWR|ImageOutput::create|\brename\s*\(|)"
@@ -479,5 +481,6 @@ TEST_CASE("every file the project writes goes through the one checked writer") {
     }
     std::string list;
     for (const std::string& o : offenders) list += o + "\n";
-    CHECK_MESSAGE(offenders.empty(), "write files through runtime/OutputFile.h instead:\n", list);
+    CHECK_MESSAGE(offenders.empty(), "write files through runtime/output/OutputFile.h instead:\n",
+                  list);
 }

@@ -4,7 +4,7 @@
 // render of the last good state, whole (a reader polling it never sees half a file).
 #include "compiler/backend/interp/Interpreter.h"
 #include "runtime/FrameEval.h"
-#include "runtime/ImageIO.h"
+#include "runtime/output/ImageIO.h"
 #include "runtime/live/WatchSession.h"
 #include "tests/support/Support.h"
 

@@ -6,11 +6,11 @@
 #include "runtime/cli/StopSignals.h"
 #include "runtime/Clip.h"
 #include "runtime/FrameEval.h"
-#include "runtime/ImageIO.h"
-#include "runtime/OutputFile.h"
-#include "runtime/Render.h"
+#include "runtime/output/ImageIO.h"
+#include "runtime/output/OutputFile.h"
+#include "runtime/output/Render.h"
 #include "runtime/TileExecutor.h"
-#include "runtime/VideoWriter.h"
+#include "runtime/output/VideoWriter.h"
 
 #include <algorithm>
 #include <cmath>

@@ -3,8 +3,8 @@
 
 #include "compiler/backend/Backend.h"
 #include "compiler/Compile.h"
-#include "runtime/ImageIO.h"
-#include "runtime/MemoryBudget.h"
+#include "runtime/output/ImageIO.h"
+#include "runtime/output/MemoryBudget.h"
 
 #include <chrono>
 #include <memory>

@@ -3,7 +3,7 @@
 #include "runtime/cli/Commands.h"
 #include "runtime/cli/Shared.h"
 #include "runtime/FrameEval.h"
-#include "runtime/Render.h"
+#include "runtime/output/Render.h"
 #include "runtime/view/Viewer.h"
 #include "runtime/vulkan/VulkanBackend.h"
 #include "runtime/vulkan/VulkanContext.h"

@@ -4,8 +4,8 @@
 #include "runtime/cli/Commands.h"
 #include "runtime/cli/Shared.h"
 #include "runtime/live/WatchSession.h"
-#include "runtime/OutputFile.h"
-#include "runtime/Render.h"
+#include "runtime/output/OutputFile.h"
+#include "runtime/output/Render.h"
 
 #include <csignal>
 #include <cstdio>

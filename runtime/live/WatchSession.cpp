@@ -1,7 +1,7 @@
 #include "runtime/live/WatchSession.h"
 
 #include "compiler/backend/Backend.h"
-#include "runtime/MemoryBudget.h"
+#include "runtime/output/MemoryBudget.h"
 
 #include <fmt/format.h>
 #include <new>

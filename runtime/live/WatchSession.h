@@ -4,7 +4,7 @@
 #pragma once
 
 #include "runtime/FrameEval.h"
-#include "runtime/ImageIO.h"
+#include "runtime/output/ImageIO.h"
 #include "runtime/live/SceneReloader.h"
 #include "runtime/TileExecutor.h"
 

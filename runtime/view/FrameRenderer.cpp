@@ -1,7 +1,7 @@
 #include "runtime/view/FrameRenderer.h"
 
 #include "runtime/FrameEval.h"
-#include "runtime/ImageIO.h"
+#include "runtime/output/ImageIO.h"
 #include "runtime/TileExecutor.h"
 
 #include <algorithm>

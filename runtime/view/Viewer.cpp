@@ -4,7 +4,7 @@
 #include "compiler/Compile.h"
 #include "runtime/FrameEval.h"
 #include "runtime/live/SceneReloader.h"
-#include "runtime/OutputFile.h"
+#include "runtime/output/OutputFile.h"
 #include "runtime/TextFile.h"
 #include "runtime/view/FrameRenderer.h"
 #include "runtime/view/Overlay.h"

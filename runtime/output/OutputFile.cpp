@@ -1,4 +1,4 @@
-#include "runtime/OutputFile.h"
+#include "runtime/output/OutputFile.h"
 
 #include <atomic>
 #include <cerrno>

@@ -3,7 +3,7 @@
 //   .tif  16-bit (default) or 8-bit sRGB
 //   .exr  32-bit float (default) or half, linear colour
 //   .jpg  8-bit sRGB, no alpha
-// The image is encoded in memory and written by writeFileAtomically (runtime/OutputFile.h):
+// The image is encoded in memory and written by writeFileAtomically (runtime/output/OutputFile.h):
 // through a temporary beside the target, every write checked, renamed into place, so a
 // reader never sees half an image and a failed write leaves any existing file untouched.
 #pragma once

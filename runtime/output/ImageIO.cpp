@@ -1,6 +1,6 @@
-#include "runtime/ImageIO.h"
+#include "runtime/output/ImageIO.h"
 
-#include "runtime/OutputFile.h"
+#include "runtime/output/OutputFile.h"
 
 #include <algorithm>
 #include <cerrno>

@@ -9,7 +9,7 @@
 
 #include "runtime/Clip.h"
 #include "runtime/Image.h"
-#include "runtime/ImageIO.h"
+#include "runtime/output/ImageIO.h"
 
 #include <csignal>
 #include <cstdint>

@@ -1,7 +1,7 @@
-#include "runtime/VideoWriter.h"
+#include "runtime/output/VideoWriter.h"
 
 #include "runtime/Clip.h"
-#include "runtime/OutputFile.h"
+#include "runtime/output/OutputFile.h"
 
 #include <algorithm>
 #include <cerrno>

@@ -16,7 +16,7 @@
 //     that writes into its directory (removeStaleTemporaries).
 #pragma once
 
-#include "runtime/ImageIO.h"
+#include "runtime/output/ImageIO.h"
 
 #include <cstddef>
 #include <string>

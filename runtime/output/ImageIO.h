@@ -10,6 +10,8 @@
 
 #include "runtime/Image.h"
 
+#include <cmath>
+#include <cstdint>
 #include <stdexcept>
 #include <string>
 
@@ -33,6 +35,18 @@ void writeImage(const std::string& path, const Image& image, const WriteOptions&
 // Reads any image OpenImageIO understands into float RGBA (values as stored; sRGB files stay
 // sRGB-encoded, EXR stays linear). Throws IoError.
 Image readImage(const std::string& path);
+
+// A channel value as the 8-bit PNG writer stores it, for everything else that makes 8-bit
+// pixels from the same floats (the viewer's window, a video's frames): clamped to [0, 1],
+// scaled by 255 in float and rounded to nearest, ties away from zero. That is OpenImageIO
+// 2.4's float to uint8 conversion as built for x86-64 without SSE4.1 (simd::round is roundf
+// there; with SSE4.1 it would round ties to even); ByteRounding_test holds this to what
+// writeImage actually writes. NaN gives 0, as OpenImageIO's clamp does.
+inline uint8_t toByte(float v) {
+    if (!(v > 0.0f)) return 0; // and NaN
+    if (v >= 1.0f) return 255;
+    return static_cast<uint8_t>(std::round(v * 255.0f));
+}
 
 // The sRGB transfer function and its inverse.
 float srgbToLinear(float v);

@@ -241,15 +241,12 @@ void VideoWriter::write(const Image& image) {
     if (done_ || stdin_ < 0) throw IoError("internal: writing to a finished video");
     if (image.width != width_ || image.height != height_ || image.channels < 4)
         throw IoError("internal: a video frame of the wrong size");
-    // 8 bits a channel, rounded to nearest as the 8-bit PNG writer rounds.
+    // 8 bits a channel, rounded as the 8-bit PNG writer rounds.
     unsigned char* dst = buffer_.data();
     for (int y = 0; y < height_; ++y) {
         const float* src = image.row(y);
         for (int x = 0; x < width_; ++x)
-            for (int c = 0; c < 4; ++c) {
-                float v = std::clamp(src[x * image.channels + c], 0.0f, 1.0f);
-                *dst++ = static_cast<unsigned char>(std::lround(v * 255.0f));
-            }
+            for (int c = 0; c < 4; ++c) *dst++ = toByte(src[x * image.channels + c]);
     }
     size_t off = 0;
     while (off < buffer_.size()) {

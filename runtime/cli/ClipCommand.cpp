@@ -1,10 +1,11 @@
 // `moire clip`: the recorder of spec §8.5. It is the clock rather than an observer of it:
 // frame n is evaluated at exactly from + n / fps, rendered, written, and only then does the
 // clock advance, so the same range recorded twice is the same files twice.
+#include "compiler/lower/ClipClock.h"
+#include "runtime/cli/ClipNames.h"
 #include "runtime/cli/Commands.h"
 #include "runtime/cli/Shared.h"
 #include "runtime/cli/StopSignals.h"
-#include "runtime/Clip.h"
 #include "runtime/FrameEval.h"
 #include "runtime/output/ImageIO.h"
 #include "runtime/output/OutputFile.h"
@@ -69,18 +70,18 @@ int clip(const ClipArgs& args) {
     if (!parseDepth(args.depth, depth))
         return usage(fmt::format("--depth must be 8, 16, half or float, not '{}'", args.depth));
     std::string why;
-    std::optional<clip::FrameRange> given;
-    if (!args.frames.empty() && !(given = clip::parseFrames(args.frames, why))) return usage(why);
+    std::optional<FrameRange> given;
+    if (!args.frames.empty() && !(given = parseFrames(args.frames, why))) return usage(why);
     if (!checkBackendArgs(args.backend, args.device)) return kExitUsage;
     if (args.output.empty() && !args.plan)
         return usage("clip needs -o: a numbered image name like frames/f_%04d.png, or a video "
                      "(.mp4, .webm, .gif)");
 
     const std::optional<VideoFormat> video = videoFormatOf(args.output);
-    clip::NamePattern pattern;
+    NamePattern pattern;
     std::string ffmpeg;
     if (!args.output.empty()) {
-        std::optional<clip::NamePattern> p = clip::parseNamePattern(args.output, why);
+        std::optional<NamePattern> p = parseNamePattern(args.output, why);
         if (!p) return usage(why);
         pattern = *p;
         if (video && pattern.numbered)
@@ -127,7 +128,7 @@ int clip(const ClipArgs& args) {
     }
 
     // Which frames: as asked, or the timings' loop.
-    clip::FrameRange range;
+    FrameRange range;
     std::vector<std::string> notes;
     if (given) {
         range = *given;
@@ -195,7 +196,8 @@ int clip(const ClipArgs& args) {
         output = video ? std::make_unique<ClipOutput>(
                              std::make_unique<VideoWriter>(ffmpeg, args.output, *video, first.width,
                                                            first.height, args.fps, range.count()))
-                       : std::make_unique<ClipOutput>(pattern, wo, ClipOutput::defaultInFlight());
+                       : std::make_unique<ClipOutput>([pattern](int64_t n) { return pattern.name(n); },
+                                                      wo, ClipOutput::defaultInFlight());
     } catch (const BackendError& e) {
         fmt::print(stderr, "moire: error: {}\n", e.what());
         return kExitUserError;

@@ -1,6 +1,6 @@
 #include "runtime/output/VideoWriter.h"
 
-#include "runtime/Clip.h"
+#include "compiler/lower/Rational.h"
 #include "runtime/output/OutputFile.h"
 
 #include <algorithm>
@@ -78,7 +78,7 @@ int64_t gifFinalDelay(double fps, int64_t frames) {
     // into the GIF's time base (to nearest, halves away from zero); the last frame lasts until
     // the clip's end, round(100 N / fps). Exact in integers when the rate is a fraction.
     if (frames < 1) return 0;
-    clip::Rational r = clip::approximate(fps, 1001);
+    Rational r = approximate(fps, 1001);
     auto start = [&](int64_t k) -> int64_t {
         if (std::fabs(r.value() - fps) <= 1e-12 * fps && r.num > 0) {
             __int128 num = static_cast<__int128>(k) * 100 * r.den; // k / fps = k den / num
@@ -93,7 +93,7 @@ std::vector<std::string> ffmpegArguments(VideoFormat format, int width, int heig
                                          int64_t frames, const std::string& output) {
     // The rate as a fraction when it is one (24, 30000/1001), so the container's time base
     // is exact; otherwise every digit of the double.
-    clip::Rational r = clip::approximate(fps, 1001);
+    Rational r = approximate(fps, 1001);
     std::string rate = std::fabs(r.value() - fps) <= 1e-12 * fps
                            ? fmt::format("{}/{}", r.num, r.den)
                            : fmt::format("{:.17g}", fps);
@@ -316,8 +316,9 @@ void VideoWriter::discard() {
     done_ = true;
 }
 
-ClipOutput::ClipOutput(clip::NamePattern pattern, WriteOptions options, int inFlight)
-    : pattern_(std::move(pattern)), options_(options),
+ClipOutput::ClipOutput(std::function<std::string(int64_t)> nameOf, WriteOptions options,
+                       int inFlight)
+    : nameOf_(std::move(nameOf)), options_(options),
       inFlight_(static_cast<size_t>(std::max(1, inFlight))) {}
 
 ClipOutput::ClipOutput(std::unique_ptr<VideoWriter> video) : video_(std::move(video)) {}
@@ -348,7 +349,7 @@ void ClipOutput::add(int64_t n, Image image) {
             std::launch::async, [v = video_.get(), img = std::move(image)] { v->write(img); }));
     else
         pending_.push_back(std::async(
-            std::launch::async, [name = pattern_.name(n), options = options_,
+            std::launch::async, [name = nameOf_(n), options = options_,
                                  img = std::move(image)] { writeImage(name, img, options); }));
 }
 

@@ -14,8 +14,8 @@
 #include "compiler/lower/ClipClock.h"
 #include "runtime/FrameEval.h"
 #include "runtime/output/ImageIO.h"
-#include "runtime/TileExecutor.h"
 #include "runtime/output/VideoWriter.h"
+#include "runtime/TileExecutor.h"
 
 #include <algorithm>
 #include <chrono>

@@ -139,8 +139,7 @@ Length defaultLength(const Motion& motion, double t0, double fps) {
             const std::string head = fmt::format(
                 "the loop is {}{}, the least common multiple of the timings' cycles ({})",
                 describeSeconds(out.loop.value()),
-                out.loop.den == 1 ? "" : fmt::format(" ({} s)", fractionText(out.loop)),
-                cycles);
+                out.loop.den == 1 ? "" : fmt::format(" ({} s)", fractionText(out.loop)), cycles);
             if (whole) {
                 out.seamless = true;
                 out.notes.push_back(fmt::format("{}: {} frames at {:g} fps", head, frames, fps));

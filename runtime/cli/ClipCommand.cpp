@@ -10,8 +10,8 @@
 #include "runtime/output/ImageIO.h"
 #include "runtime/output/OutputFile.h"
 #include "runtime/output/Render.h"
-#include "runtime/TileExecutor.h"
 #include "runtime/output/VideoWriter.h"
+#include "runtime/TileExecutor.h"
 
 #include <algorithm>
 #include <cmath>
@@ -77,6 +77,9 @@ int clip(const ClipArgs& args) {
         return usage("clip needs -o: a numbered image name like frames/f_%04d.png, or a video "
                      "(.mp4, .webm, .gif)");
 
+    if (args.output == kStdoutPath)
+        return usage("clip writes files (numbered images, or a video renamed into place when "
+                     "complete), not standard output");
     const std::optional<VideoFormat> video = videoFormatOf(args.output);
     NamePattern pattern;
     std::string ffmpeg;
@@ -105,7 +108,7 @@ int clip(const ClipArgs& args) {
                            "moire: error: writing {} needs ffmpeg (Debian package "
                            "'ffmpeg')\n",
                            extensionOf(*video));
-                return kExitUserError;
+                return kExitIo;
             }
         }
     }
@@ -114,17 +117,19 @@ int clip(const ClipArgs& args) {
     // it comes while the scene compiles or while frame n renders.
     StopSignals signals;
     std::unique_ptr<Backend> backend = openBackend(args.backend, args.device);
-    if (!backend) return kExitUserError;
+    if (!backend) return kExitMachine;
     const auto start = std::chrono::steady_clock::now();
+    Stages stages(args.verbosity);
     Source src;
-    if (!readScene(args.scene, src)) return kExitUserError;
+    if (!readScene(args.scene, src)) return kExitIo;
     auto program = compileOrReport(src);
-    if (!program) return kExitUserError;
+    if (!program) return kExitScene;
+    stages.done(fmt::format("compiled {}", src.path));
     FrameValues first;
     std::string diags;
     if (!evaluateFrame(*program, FrameRequest{args.from, w, h}, first, diags)) {
         fmt::print(stderr, "{}", diags);
-        return kExitUserError;
+        return kExitScene;
     }
 
     // Which frames: as asked, or the timings' loop.
@@ -150,7 +155,7 @@ int clip(const ClipArgs& args) {
                    clip::frameTime(args.from, range.last, args.fps), first.width, first.height);
         return kExitOk;
     }
-    if (!args.quiet)
+    if (!args.verbosity.quiet)
         for (const std::string& n : notes) fmt::print(stderr, "moire: note: {}\n", n);
     if (!video && !pattern.numbered && range.count() > 1)
         return usage(fmt::format(
@@ -163,7 +168,7 @@ int clip(const ClipArgs& args) {
         std::string problem = videoSizeProblem(*video, first.width, first.height);
         if (!problem.empty()) {
             fmt::print(stderr, "moire: error: {}\n", problem);
-            return kExitUserError;
+            return kExitUsage;
         }
     }
     FrameFootprint footprint;
@@ -175,7 +180,7 @@ int clip(const ClipArgs& args) {
     // While a frame renders, earlier ones are being written (ClipOutput's writes in flight).
     footprint.queued = video ? 1 : ClipOutput::defaultInFlight();
     footprint.gpu = args.backend == "vulkan";
-    if (!checkMemory(footprint)) return kExitUserError;
+    if (!checkMemory(footprint)) return kExitMachine;
     // A missing output directory is created, as a shard of a longer clip is usually written
     // to a fresh one; something else in its place is an error. Temporaries that clips killed
     // there earlier left behind go.
@@ -183,7 +188,7 @@ int clip(const ClipArgs& args) {
         prepareOutputDirectory(pattern.name(range.first));
     } catch (const IoError& e) {
         fmt::print(stderr, "moire: error: {}\n", e.what());
-        return kExitUserError;
+        return kExitIo;
     }
     removeStaleTemporaries(pattern.name(range.first));
 
@@ -193,20 +198,22 @@ int clip(const ClipArgs& args) {
     wo.depth = depth;
     try {
         kernel = backend->compile(program->kernel);
-        output = video ? std::make_unique<ClipOutput>(
-                             std::make_unique<VideoWriter>(ffmpeg, args.output, *video, first.width,
-                                                           first.height, args.fps, range.count()))
-                       : std::make_unique<ClipOutput>([pattern](int64_t n) { return pattern.name(n); },
-                                                      wo, ClipOutput::defaultInFlight());
+        output =
+            video ? std::make_unique<ClipOutput>(
+                        std::make_unique<VideoWriter>(ffmpeg, args.output, *video, first.width,
+                                                      first.height, args.fps, range.count()))
+                  : std::make_unique<ClipOutput>([pattern](int64_t n) { return pattern.name(n); },
+                                                 wo, ClipOutput::defaultInFlight());
     } catch (const BackendError& e) {
         fmt::print(stderr, "moire: error: {}\n", e.what());
-        return kExitUserError;
+        return kExitMachine;
     } catch (const IoError& e) {
         fmt::print(stderr, "moire: error: {}\n", e.what());
-        return kExitUserError;
+        return kExitIo;
     }
 
-    const bool tty = isatty(fileno(stderr)) && !args.quiet;
+    stages.done(fmt::format("compiled the kernel for {}", describe(*backend)));
+    const bool tty = isatty(fileno(stderr)) && !args.verbosity.quiet;
     const auto loopStart = std::chrono::steady_clock::now();
     bool shown = false;
     int64_t done = 0;
@@ -231,7 +238,7 @@ int clip(const ClipArgs& args) {
             endLine();
             fmt::print(stderr, "{}moire: error: frame {} (t = {:.17g}) cannot be rendered\n", diags,
                        n, clip::frameTime(args.from, n, args.fps));
-            return kExitUserError;
+            return kExitScene;
         }
         try {
             KernelFrame kf{frame.uniforms.data(), frame.width, frame.height};
@@ -239,11 +246,11 @@ int clip(const ClipArgs& args) {
         } catch (const BackendError& e) {
             endLine();
             fmt::print(stderr, "moire: error: {}\n", e.what());
-            return kExitUserError;
+            return kExitMachine;
         } catch (const IoError& e) {
             endLine();
             fmt::print(stderr, "moire: error: {}\n", e.what());
-            return kExitUserError;
+            return kExitIo;
         }
         ++done;
         if (tty && (shown || secondsSince(loopStart) >= 1.0)) {
@@ -259,7 +266,7 @@ int clip(const ClipArgs& args) {
         std::string failed = output->abandon();
         if (!failed.empty()) {
             fmt::print(stderr, "moire: error: {}\n", failed);
-            return kExitUserError;
+            return kExitIo;
         }
         if (video) {
             fmt::print(stderr, "moire: interrupted: {} was not written\n", args.output);
@@ -275,9 +282,11 @@ int clip(const ClipArgs& args) {
         output->finish();
     } catch (const IoError& e) {
         fmt::print(stderr, "moire: error: {}\n", e.what());
-        return kExitUserError;
+        return kExitIo;
     }
-    if (!args.quiet) {
+    stages.done(
+        fmt::format("rendered and wrote {} frame{}", range.count(), range.count() == 1 ? "" : "s"));
+    if (!args.verbosity.quiet) {
         double seconds = secondsSince(start);
         std::string what =
             video || range.count() == 1

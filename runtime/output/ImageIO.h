@@ -14,6 +14,7 @@
 #include <cstdint>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 namespace moire {
 
@@ -31,6 +32,14 @@ class IoError : public std::runtime_error {
 
 // `image` holds straight sRGB-encoded RGBA (channels >= 4); throws IoError.
 void writeImage(const std::string& path, const Image& image, const WriteOptions& options = {});
+
+// The file's bytes in memory, as writeImage would write them (render -o -): `format` is
+// imageFormatOf's name; `path` names the image in errors. Throws IoError.
+std::vector<unsigned char> encodeImage(const std::string& path, const std::string& format,
+                                       const Image& image, const WriteOptions& options = {});
+
+// Why `format` (imageFormatOf's name) cannot hold `depth`, or "" when it can.
+std::string depthProblem(const std::string& format, PixelDepth depth);
 
 // Reads any image OpenImageIO understands into float RGBA (values as stored; sRGB files stay
 // sRGB-encoded, EXR stays linear). Throws IoError.

@@ -27,6 +27,10 @@ namespace moire {
 // permissions. Throws IoError.
 void writeFileAtomically(const std::string& path, const void* data, size_t size);
 
+// Writes `size` bytes to standard output (render -o -), every write checked. Throws
+// IoError("cannot write to standard output: ...").
+void writeStandardOutput(const void* data, size_t size);
+
 // A fresh temporary name beside `target`, keeping its extension (ffmpeg chooses the
 // container by it), in the naming removeStaleTemporaries recognises.
 std::string temporaryBeside(const std::string& target);

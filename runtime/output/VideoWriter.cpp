@@ -349,8 +349,9 @@ void ClipOutput::add(int64_t n, Image image) {
             std::launch::async, [v = video_.get(), img = std::move(image)] { v->write(img); }));
     else
         pending_.push_back(std::async(
-            std::launch::async, [name = nameOf_(n), options = options_,
-                                 img = std::move(image)] { writeImage(name, img, options); }));
+            std::launch::async, [name = nameOf_(n), options = options_, img = std::move(image)] {
+                writeImage(name, img, options);
+            }));
 }
 
 void ClipOutput::finish() {

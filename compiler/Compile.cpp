@@ -64,15 +64,23 @@ CompileResult compileScene(const std::string& path, std::string text,
     program->literals = program->modules.back()->literals;
     clock.lap("parse");
 
-    // 2. Semantic checks: names, arity, types, units, constness.
+    // 2. Semantic checks: names, arity, types, units, constness. The symbol table (for an
+    // editor) is taken from what the checks resolved, errors or not.
     if (!diags.hasErrors()) {
         std::vector<ast::Module*> modules;
         for (auto& m : program->modules) modules.push_back(m.get());
         program->checked = sema::check(modules, diags);
         clock.lap("check");
     }
+    {
+        std::vector<const ast::Module*> modules;
+        for (auto& m : program->modules) modules.push_back(m.get());
+        result.symbols = sema::collectSymbols(modules);
+    }
+    result.diagnosticList = diags.located();
     if (diags.hasErrors()) {
         result.diagnostics = diags.render();
+        result.partial = std::move(program);
         return result;
     }
 
@@ -116,6 +124,7 @@ CompileResult compileScene(const std::string& path, std::string text,
     clock.lap("hash");
 
     result.diagnostics = diags.render(); // notes, if any
+    result.diagnosticList = diags.located();
     result.program = std::move(program);
     return result;
 }

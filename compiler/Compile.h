@@ -7,6 +7,7 @@
 #include "compiler/lower/LowerScene.h"
 #include "compiler/parse/Ast.h"
 #include "compiler/sema/Sema.h"
+#include "compiler/sema/Symbols.h"
 
 #include <memory>
 #include <string>
@@ -47,6 +48,16 @@ struct SceneProgram {
 struct CompileResult {
     std::unique_ptr<SceneProgram> program; // null when the scene has errors
     std::string diagnostics;               // rendered file:line:col diagnostics
+    // The same diagnostics one by one (severity, place, message id, suggestion), for tools.
+    std::vector<LocatedDiagnostic> diagnosticList;
+
+    // For an editor, errors or not: the scene as far as the front end got. When the scene
+    // has errors, `partial` holds its sources, its parsed modules and what the checks made
+    // of them (annotated where they resolved names), and no IR; when it compiled, `program`.
+    std::unique_ptr<SceneProgram> partial;
+    const SceneProgram& frontEnd() const { return program ? *program : *partial; }
+    // The user's declarations and the references to them (sema/Symbols.h), errors or not.
+    sema::SymbolTable symbols;
 };
 
 // Compiles `text` (read from `path`, used in diagnostics). User errors come back as

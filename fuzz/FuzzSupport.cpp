@@ -61,6 +61,10 @@ void checkDiagnostics(const Front& f) {
     // The engine keeps at most kMaxErrors errors (it counts the rest).
     if (errors > DiagEngine::kMaxErrors) finding("more errors kept than kMaxErrors");
     if (f.diags->hasErrors() && errors == 0) finding("errors reported but none kept");
+    // The structured diagnostics (an editor's, `check --format=json`) say what the text says.
+    std::string joined;
+    for (const LocatedDiagnostic& d : f.diags->located()) joined += d.rendered;
+    if (joined != f.diags->render()) finding("the located diagnostics differ from the text");
 }
 
 LowerSetup lowerSetup(const Front& f, const uint8_t* data, size_t size) {

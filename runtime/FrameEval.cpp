@@ -40,7 +40,7 @@ const char* requirement(lower::ValueCheck::Rule rule, double v, bool angle) {
 } // namespace
 
 bool evaluateFrame(const SceneProgram& program, const FrameRequest& request, FrameValues& out,
-                   std::string& diagnostics) {
+                   std::string& diagnostics, std::vector<LocatedDiagnostic>* located) {
     Interpreter interp(program.frame);
     std::vector<double> outputs(program.frame.numOutputs);
     std::vector<double> regs;
@@ -121,6 +121,7 @@ bool evaluateFrame(const SceneProgram& program, const FrameRequest& request, Fra
             outOfRange(c.where, c.what, need, v, c.angle);
     }
     diagnostics = diags.render();
+    if (located) *located = diags.located();
     return !diags.hasErrors();
 }
 

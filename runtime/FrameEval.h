@@ -33,9 +33,9 @@ struct FrameRequest {
 };
 
 // Evaluates the frame at `request.time`. A value that cannot be rendered (an image size out
-// of range, a zero zoom) is a user error: the rendered diagnostic goes to `diagnostics` and
-// the function returns false.
+// of range, a zero zoom) is a user error: the rendered diagnostic goes to `diagnostics` (and
+// one by one to `located`, when given) and the function returns false.
 bool evaluateFrame(const SceneProgram& program, const FrameRequest& request, FrameValues& out,
-                   std::string& diagnostics);
+                   std::string& diagnostics, std::vector<LocatedDiagnostic>* located = nullptr);
 
 } // namespace moire

@@ -16,6 +16,7 @@ packages=(
   mesa-vulkan-drivers            # lavapipe: a software Vulkan device where there is no GPU
   vulkan-tools                   # vulkaninfo: the devices test compares `moire devices` with it
   libfmt-dev libcli11-dev        # formatting, the command line
+  nlohmann-json3-dev             # moire check --format=json
   doctest-dev                    # the tests
   ffmpeg                         # clips to mp4, webm and gif (moire clip)
   libglfw3-dev libgl-dev libgl1-mesa-dri  # the viewer (moire view): a window, OpenGL 2.1

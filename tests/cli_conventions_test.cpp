@@ -87,6 +87,8 @@ TEST_CASE("exit status 3: a file that cannot be read or written") {
     // check goes on past a scene it cannot read, and answers with the first failure's status.
     CHECK(d.moire("check none.moire bad.moire").status == 3);
     CHECK(d.moire("check bad.moire none.moire").status == 1);
+    CHECK(d.moire("check --format=json none.moire bad.moire").status == 3);
+    CHECK(d.moire("check --format=json bad.moire none.moire").status == 1);
 }
 
 TEST_CASE("exit status 4: the machine cannot do it (no Vulkan device, not enough memory)") {

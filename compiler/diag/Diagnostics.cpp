@@ -26,7 +26,27 @@ int messageCount() {
     return static_cast<int>(sizeof(kMessages) / sizeof(kMessages[0]));
 }
 
-void DiagEngine::report(Severity s, SourceRange at, Msg m, std::string text) {
+const char* severityName(Severity s) {
+    return s == Severity::Error ? "error" : "note";
+}
+
+LocatedRange locate(const SourceManager& sm, SourceRange r) {
+    const SourceFile& f = sm.file(r.begin.file);
+    LocatedRange out;
+    out.file = f.path();
+    out.offset = r.begin.offset;
+    // A range may run past the end of the text (a missing token after the last one).
+    uint32_t size = static_cast<uint32_t>(f.text().size());
+    uint32_t end = static_cast<uint32_t>(
+        std::min<uint64_t>(uint64_t{r.begin.offset} + r.length, std::max(size, r.begin.offset)));
+    out.length = end - r.begin.offset;
+    out.start = f.lineCol(r.begin.offset);
+    out.end = f.lineCol(end);
+    return out;
+}
+
+void DiagEngine::report(Severity s, SourceRange at, Msg m, std::string text,
+                        std::optional<Suggestion> suggestion) {
     if (s == Severity::Error) {
         droppedLastError_ = errorCount_ >= kMaxErrors;
         if (droppedLastError_) {
@@ -38,11 +58,11 @@ void DiagEngine::report(Severity s, SourceRange at, Msg m, std::string text) {
         // A note explains the error before it; without that error it would point at nothing.
         return;
     }
-    diags_.push_back(Diagnostic{s, m, at, std::move(text)});
+    diags_.push_back(Diagnostic{s, m, at, std::move(text), std::move(suggestion)});
 }
 
 std::string DiagEngine::render(const Diagnostic& d) const {
-    const char* kind = d.severity == Severity::Error ? "error" : "note";
+    const char* kind = severityName(d.severity);
     if (!d.range.begin.valid()) return fmt::format("moire: {}: {}\n", kind, d.text);
     const SourceFile& f = sm_.file(d.range.begin.file);
     LineCol lc = f.lineCol(d.range.begin.offset);
@@ -85,10 +105,34 @@ std::string DiagEngine::render(const Diagnostic& d) const {
 std::string DiagEngine::render() const {
     std::string out;
     for (const Diagnostic& d : diags_) out += render(d);
+    if (std::optional<Diagnostic> more = droppedNote()) out += render(*more);
+    return out;
+}
+
+std::optional<Diagnostic> DiagEngine::droppedNote() const {
     // Later errors are usually echoes of the first ones; say how many were left out.
-    if (droppedErrors_ > 0)
-        out += fmt::format("moire: note: {} more error{} not shown\n", droppedErrors_,
-                           droppedErrors_ == 1 ? "" : "s");
+    if (droppedErrors_ == 0) return std::nullopt;
+    return Diagnostic{Severity::Note, Msg::MoreErrors, SourceRange{},
+                      format(Msg::MoreErrors, droppedErrors_, droppedErrors_ == 1 ? "" : "s"),
+                      std::nullopt};
+}
+
+std::vector<LocatedDiagnostic> DiagEngine::located() const {
+    std::vector<LocatedDiagnostic> out;
+    auto add = [&](const Diagnostic& d) {
+        LocatedDiagnostic l;
+        l.severity = d.severity;
+        l.id = messageName(d.msg);
+        l.message = d.text;
+        if (d.range.begin.valid()) l.range = locate(sm_, d.range);
+        if (d.suggestion && d.suggestion->range.begin.valid())
+            l.suggestion =
+                LocatedDiagnostic::Fix{d.suggestion->replacement, locate(sm_, d.suggestion->range)};
+        l.rendered = render(d);
+        out.push_back(std::move(l));
+    };
+    for (const Diagnostic& d : diags_) add(d);
+    if (std::optional<Diagnostic> more = droppedNote()) add(*more);
     return out;
 }
 

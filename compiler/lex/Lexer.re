@@ -8,8 +8,8 @@
 #include <numbers>
 #include <string>
 
-#include "compiler/sema/Builtins.h"
-#include "compiler/sema/Suggest.h"
+#include "compiler/diag/Suggest.h"
+#include "compiler/lex/Keywords.h"
 
 namespace moire {
 
@@ -64,26 +64,26 @@ void Lexer::lexNumber(Token& t, size_t start, size_t end) {
     size_t digitsEnd = static_cast<size_t>(ptr - text_.data());
     std::string_view suffix = text_.substr(digitsEnd, end - digitsEnd);
     t.kind = Tok::Number;
-    t.unit = ast::Unit::None;
+    t.unit = Unit::None;
     if (suffix == "deg") {
-        t.unit = ast::Unit::Deg;
+        t.unit = Unit::Deg;
         v *= std::numbers::pi / 180.0;
     } else if (suffix == "rad") {
-        t.unit = ast::Unit::Rad;
+        t.unit = Unit::Rad;
     } else if (!suffix.empty()) {
         // `2x` and `2r` are multiplications written the way they are on paper; `30degrees`
         // and `1dg` are misspelt units.
-        std::string hint;
+        Hint hint;
         std::string number(text_.substr(start, digitsEnd - start));
         std::string near = nearestName(suffix, {"deg", "rad"}, 2);
         // A suggestion must keep some of what was written: "e4" is not a misspelt "deg".
         if (!near.empty() && editDistance(suffix, near) >= static_cast<int>(suffix.size())) near.clear();
-        if (suffix.size() == 1 || sema::lookupName(suffix)) near.clear();
+        if (suffix.size() == 1 || isBuiltinValueName(suffix)) near.clear();
         else if (suffix.starts_with("deg")) near = "deg";
         else if (suffix.starts_with("rad")) near = "rad";
         if (!near.empty())
-            hint = "; did you mean '" + number + near + "'?";
-        else if (suffix.size() == 1 || sema::lookupName(suffix))
+            hint = suggest(number + near, rangeAt(start, end - start)); // the whole number
+        else if (suffix.size() == 1 || isBuiltinValueName(suffix))
             hint = "; to multiply, write " + number + " * " + std::string(suffix);
         diags_.error(rangeAt(digitsEnd, suffix.size()), Msg::UnknownUnit, suffix, hint);
     }

@@ -92,7 +92,7 @@ TEST_CASE("lexer: numbers in every written form") {
     CHECK(number("2.5e-2").number == 0.025);
     CHECK(number("1E+2").number == 100.0);
     CHECK(number("007").number == 7.0);
-    CHECK(number("1").unit == ast::Unit::None);
+    CHECK(number("1").unit == Unit::None);
     // A sign is an operator, not part of the number.
     Lexed neg = lex("-3");
     CHECK(kinds(neg) == std::vector<Tok>{Tok::Minus, Tok::Number});
@@ -103,10 +103,10 @@ TEST_CASE("lexer: numbers in every written form") {
 
 TEST_CASE("lexer: angle units convert to radians") {
     Token deg = number("30deg");
-    CHECK(deg.unit == ast::Unit::Deg);
+    CHECK(deg.unit == Unit::Deg);
     CHECK(deg.number == doctest::Approx(30 * std::numbers::pi / 180).epsilon(1e-15));
     Token rad = number("2rad");
-    CHECK(rad.unit == ast::Unit::Rad);
+    CHECK(rad.unit == Unit::Rad);
     CHECK(rad.number == 2.0);
     CHECK(number("0.5deg").number == doctest::Approx(0.5 * std::numbers::pi / 180).epsilon(1e-15));
     CHECK(number("1e1deg").number == doctest::Approx(10 * std::numbers::pi / 180).epsilon(1e-15));

@@ -1,12 +1,14 @@
+// Tokens: what the lexer gives the parser.
 #pragma once
-
-#include "compiler/parse/Ast.h"
 
 #include <array>
 #include <cstdint>
 #include <string_view>
 
 namespace moire {
+
+// The unit written after a number (the AST keeps it as ast::Unit).
+enum class Unit : uint8_t { None, Deg, Rad };
 
 enum class Tok : uint8_t {
     End,
@@ -35,7 +37,7 @@ struct Token {
     uint32_t offset = 0;
     uint32_t length = 0;
     double number = 0.0;              // Number: value in canonical units (radians for angles)
-    ast::Unit unit = ast::Unit::None; // Number: the written unit
+    Unit unit = Unit::None;           // Number: the written unit
     std::array<double, 4> rgba{};     // Color
 };
 

@@ -100,7 +100,9 @@ Vals ExprLowering::name(const Expr& e, Frame& frame) {
         MOIRE_CHECK(frame.u != ir::kNoValue, "u outside an easing");
         return {frame.u};
     case RefKind::Timing:
-        MOIRE_ICE("a timing's name reached lowering as a value");
+    case RefKind::Family:
+    case RefKind::Easing:
+        MOIRE_ICE("a declaration's name ('{}') reached lowering as a value", e.name);
     case RefKind::Unresolved:
         break;
     }

@@ -3,6 +3,7 @@
 #pragma once
 
 #include "compiler/diag/Source.h"
+#include "compiler/lex/Token.h"
 
 #include <array>
 #include <cstdint>
@@ -12,7 +13,7 @@
 
 namespace moire::ast {
 
-enum class Unit : uint8_t { None, Deg, Rad };
+using moire::Unit; // as the lexer read it
 
 // The value types of the language. Vectors and colours are scalarised during lowering.
 enum class Type : uint8_t { Error, Num, Angle, Vec2, Color };
@@ -34,8 +35,10 @@ enum class RefKind : uint8_t {
     FamilyParam, // a parameter of the enclosing family
     Let,         // a let binding in the enclosing family
     Spacing,     // `spacing` inside a family body: the layer's spacing
-    Timing,      // a timing's name, as the first argument of ramp or progress
+    Timing,      // a timing's name, as the first argument of ramp, progress or morph
     EasingVar,   // `u` inside an easing
+    Family,      // a family's name: a layer's `family`, a member of a morph
+    Easing,      // an easing's name: a timing's `easing`
 };
 
 struct Expr {
@@ -63,7 +66,8 @@ struct Expr {
     // Annotations from semantic checks.
     Type type = Type::Error;
     RefKind ref = RefKind::Unresolved;
-    const Decl* refDecl = nullptr;  // Field decl, or the family owning a param/let
+    const Decl* refDecl = nullptr;  // the Field, Timing, Family or Easing decl, or the family
+                                    // owning a param/let
     int refIndex = -1;              // builtin id, param index or let index
     bool dependsOnPosition = false; // uses x, y, r or theta (directly or through fields)
     bool dependsOnTime = false;     // uses t

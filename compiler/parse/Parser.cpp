@@ -1,6 +1,7 @@
 #include "compiler/parse/Parser.h"
 
-#include "compiler/sema/Suggest.h"
+#include "compiler/diag/Suggest.h"
+#include "compiler/lex/Keywords.h"
 
 #include <fmt/format.h>
 
@@ -14,8 +15,6 @@ struct DepthGuard {
     explicit DepthGuard(int& d) : depth(d) { ++depth; }
     ~DepthGuard() { --depth; }
 };
-
-const std::vector<std::string> kDeclWords = {"scene", "camera", "layer", "field", "family", "timing", "easing"};
 
 // Tokens that can begin a value but never a property or a declaration: met right after a
 // value, they mean a missing operator, as in `2 (x + 1)`.
@@ -108,7 +107,7 @@ bool Parser::nextIsAssign() const {
 }
 
 bool Parser::atDeclWord() const {
-    for (const std::string& w : kDeclWords)
+    for (const std::string& w : declarationKeywords())
         if (atWord(w)) return true;
     return false;
 }
@@ -199,8 +198,11 @@ DeclPtr Parser::parseDecl() {
     else if (word == "easing")
         kind = DeclKind::Easing;
     else {
-        std::string found = describeCurrent();
-        if (at(Tok::Ident)) found += didYouMean(word, kDeclWords);
+        Hint found = describeCurrent();
+        if (at(Tok::Ident)) {
+            found = didYouMean(word, declarationKeywords());
+            found.text = describeCurrent() + found.text;
+        }
         diags_.error(range(), Msg::Expected,
                      "a declaration (scene, camera, layer, field, family, timing or easing)", found);
         advance();

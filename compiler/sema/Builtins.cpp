@@ -1,18 +1,25 @@
 #include "compiler/sema/Builtins.h"
 
+#include "compiler/lex/Keywords.h"
+
+#include <iterator>
+
 namespace moire::sema {
 
 namespace {
+// The spellings are the lexer's list (lex/Keywords.h), in the order of Name.
+constexpr const char* const* kSpelling = kBuiltinValueNames;
 constexpr NameInfo kNames[] = {
-    {"x", true, false, "the x coordinate"},
-    {"y", true, false, "the y coordinate"},
-    {"r", true, false, "the distance from the origin"},
-    {"theta", true, false, "the polar angle atan2(y, x), in radians"},
-    {"pi", false, false, "pi"},
-    {"tau", false, false, "2 pi"},
-    {"e", false, false, "Euler's number"},
-    {"t", false, true, "the scene clock, in seconds"},
+    {kSpelling[0], true, false, "the x coordinate"},
+    {kSpelling[1], true, false, "the y coordinate"},
+    {kSpelling[2], true, false, "the distance from the origin"},
+    {kSpelling[3], true, false, "the polar angle atan2(y, x), in radians"},
+    {kSpelling[4], false, false, "pi"},
+    {kSpelling[5], false, false, "2 pi"},
+    {kSpelling[6], false, false, "Euler's number"},
+    {kSpelling[7], false, true, "the scene clock, in seconds"},
 };
+static_assert(std::size(kNames) == std::size(kBuiltinValueNames));
 
 constexpr FnInfo kFns[] = {
     {"sin", 1, Signature::Trig, "sine"},

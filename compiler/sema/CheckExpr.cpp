@@ -1,8 +1,8 @@
 // Checking expressions: name resolution, the types and units of operators and calls, and
 // what each expression depends on (the position, the clock).
+#include "compiler/diag/Suggest.h"
 #include "compiler/sema/Builtins.h"
 #include "compiler/sema/Checker.h"
-#include "compiler/sema/Suggest.h"
 
 #include <algorithm>
 #include <cmath>

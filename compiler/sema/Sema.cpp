@@ -1,8 +1,9 @@
 #include "compiler/sema/Sema.h"
 
+#include "compiler/diag/Suggest.h"
+#include "compiler/lex/Keywords.h"
 #include "compiler/sema/Builtins.h"
 #include "compiler/sema/Checker.h"
-#include "compiler/sema/Suggest.h"
 
 #include <algorithm>
 #include <cmath>
@@ -63,20 +64,18 @@ const std::vector<PropertySpec>& layerProperties() {
 namespace detail {
 
 namespace {
-const std::vector<std::string> kKeywords = {"scene", "camera", "layer", "field", "family", "let"};
-
 // A hint for a word that is not a timing's mode: the mode meant by a word other tools use
 // for it, or a near spelling of one (at most one edit: 'bounce' is no misspelling of 'once').
-std::string modeHint(const std::string& word) {
+Hint modeHint(const std::string& word) {
     static const std::pair<const char*, const char*> synonyms[] = {
         {"bounce", "pingpong"},  {"yoyo", "pingpong"},   {"alternate", "pingpong"},
         {"reverse", "pingpong"}, {"mirror", "pingpong"}, {"repeat", "loop"},
         {"cycle", "loop"},       {"forever", "loop"},    {"infinite", "loop"},
         {"single", "once"},      {"one", "once"},        {"hold", "once"}};
     for (const auto& [other, mode] : synonyms)
-        if (word == other) return fmt::format("; did you mean '{}'?", mode);
+        if (word == other) return suggest(mode);
     std::string near = nearestName(word, {"once", "loop", "pingpong"}, 1);
-    return near.empty() ? std::string() : fmt::format("; did you mean '{}'?", near);
+    return near.empty() ? Hint() : suggest(near);
 }
 
 // `#rrggbb` for a colour's common name, as an example of how to write it.
@@ -111,7 +110,7 @@ bool Checker::reserved(const std::string& name, SourceRange at) {
     auto is = [&](const std::vector<std::string>& v) {
         return std::find(v.begin(), v.end(), name) != v.end();
     };
-    if (is(builtinNames()) || is(builtinFunctions()) || is(kKeywords) || name == "spacing") {
+    if (is(builtinNames()) || is(builtinFunctions()) || isKeyword(name) || name == "spacing") {
         diags_.error(at, Msg::ReservedName, name);
         return true;
     }
@@ -235,24 +234,29 @@ void Checker::checkTiming(Decl& t) {
                 ct.mode = TimingMode::Loop;
             else if (word == "pingpong")
                 ct.mode = TimingMode::PingPong;
-            else
-                diags_.error(p.value->range, Msg::BadMode,
-                             word.empty() ? std::string("this")
-                                          : fmt::format("'{}'{}", word, modeHint(word)));
+            else if (word.empty())
+                diags_.error(p.value->range, Msg::BadMode, "this");
+            else {
+                Hint hint = modeHint(word);
+                hint.text = fmt::format("'{}'{}", word, hint.text);
+                diags_.error(p.value->range, Msg::BadMode, hint);
+            }
         } else if (p.name == "easing") {
             auto it =
                 p.value->kind == ExprKind::Name ? globals_.find(p.value->name) : globals_.end();
             if (it != globals_.end() && it->second->kind == DeclKind::Easing) {
                 ct.easing = it->second;
+                p.value->ref = RefKind::Easing; // for the symbol table
+                p.value->refDecl = it->second;
             } else {
                 std::vector<std::string> names;
                 for (const Decl* e : easings_) names.push_back(e->name);
                 std::string what =
                     p.value->kind == ExprKind::Name ? fmt::format("'{}'", p.value->name) : "this";
-                std::string hint =
-                    p.value->kind == ExprKind::Name ? didYouMean(p.value->name, names) : "";
+                Hint hint =
+                    p.value->kind == ExprKind::Name ? didYouMean(p.value->name, names) : Hint();
                 // With nothing near, say what there is, and how to make one's own.
-                if (hint.empty()) {
+                if (hint.text.empty()) {
                     std::sort(names.begin(), names.end());
                     names.erase(std::unique(names.begin(), names.end()), names.end());
                     std::string list;
@@ -284,9 +288,10 @@ bool Checker::timingArgument(Expr& arg, const std::string& fn) {
         const char* example = fn == "ramp"       ? "ramp(drift, 0, 1)"
                               : fn == "progress" ? "progress(drift)"
                                                  : "morph(drift, circles, hexagons)";
-        diags_.error(
-            arg.range, Msg::NotATiming, fmt::format("'{}'", fn), example,
-            arg.kind == ExprKind::Name ? didYouMean(arg.name, globalNames(DeclKind::Timing)) : "");
+        diags_.error(arg.range, Msg::NotATiming, fmt::format("'{}'", fn), example,
+                     arg.kind == ExprKind::Name
+                         ? didYouMean(arg.name, globalNames(DeclKind::Timing))
+                         : Hint());
         return false;
     }
     arg.ref = RefKind::Timing;
@@ -309,11 +314,14 @@ bool Checker::checkMorph(const Property& fam, CheckedLayer& layer) {
         Expr& a = *call.args[i];
         auto it = a.kind == ExprKind::Name ? globals_.find(a.name) : globals_.end();
         if (it == globals_.end() || it->second->kind != DeclKind::Family) {
-            diags_.error(
-                a.range, Msg::UnknownFamily, a.kind == ExprKind::Name ? a.name : "?",
-                a.kind == ExprKind::Name ? didYouMean(a.name, globalNames(DeclKind::Family)) : "");
+            diags_.error(a.range, Msg::UnknownFamily, a.kind == ExprKind::Name ? a.name : "?",
+                         a.kind == ExprKind::Name
+                             ? didYouMean(a.name, globalNames(DeclKind::Family))
+                             : Hint());
             continue;
         }
+        a.ref = RefKind::Family; // for the symbol table
+        a.refDecl = it->second;
         CheckedLayer::Member m;
         m.family = &out_.families[it->second];
         m.args.assign(it->second->params.size(), nullptr);
@@ -400,9 +408,9 @@ void Checker::checkFamily(Decl& f) {
             }
         } else {
             // `w = 2` in a family body is most likely a value meant to be named.
-            std::string hint =
-                didYouMean(p.name, {"phase", "first", "facets", "distance", "index"});
-            if (hint.empty()) hint = fmt::format("; to name a value, write: let {} = ...", p.name);
+            Hint hint = didYouMean(p.name, {"phase", "first", "facets", "distance", "index"});
+            if (hint.text.empty())
+                hint = fmt::format("; to name a value, write: let {} = ...", p.name);
             diags_.error(p.nameRange, Msg::UnknownProperty, p.name,
                          "a family (its properties are phase, first, facets, distance and index)",
                          hint);
@@ -505,6 +513,8 @@ void Checker::checkLayer(Decl& d) {
                  globals_[fam->value->name]->kind == DeclKind::Field)) {
         auto it = globals_.find(fam->value->name);
         if (it != globals_.end() && it->second->kind == DeclKind::Family) {
+            fam->value->ref = RefKind::Family; // for the symbol table
+            fam->value->refDecl = it->second;
             CheckedLayer::Member m;
             m.family = &out_.families[it->second];
             m.args.assign(it->second->params.size(), nullptr);

@@ -304,6 +304,7 @@ int render(const RenderArgs& args) {
 }
 
 int check(const CheckArgs& args) {
+    if (args.format == "json") return checkJson(args.scenes);
     int status = kExitOk;
     auto fail = [&](int code) {
         if (status == kExitOk) status = code;

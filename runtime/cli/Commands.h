@@ -89,9 +89,12 @@ int view(const ViewArgs& args);
 // `moire check`: every scene is checked; the status is the first failing scene's.
 struct CheckArgs {
     std::vector<std::string> scenes; // "-": standard input
+    std::string format = "text";     // or "json" (checkJson)
     Verbosity verbosity;
 };
 int check(const CheckArgs& args);
+// `check --format=json`: every scene's diagnostics as one JSON document (CheckJson.cpp).
+int checkJson(const std::vector<std::string>& scenes);
 
 // Lists the Vulkan devices --device can name (-q: none, the status says whether any).
 int devices(const Verbosity& verbosity);

@@ -186,6 +186,10 @@ int main(int argc, char** argv) {
     CLI::App* checkCmd = app.add_subcommand("check", "Check scenes for errors without rendering");
     checkCmd->add_option("scenes", checkArgs.scenes, "The .moire scenes, - for standard input")
         ->required();
+    checkCmd
+        ->add_option("--format", checkArgs.format,
+                     "text (default), or json: the diagnostics as JSON on standard output")
+        ->check(CLI::IsMember({"text", "json"}));
     addVerbosity(checkCmd, checkArgs.verbosity, "Print nothing but errors",
                  "Also print each scene's size and timings, and how long it took to check");
     checkCmd->footer("Exit status: 0 every scene is good; otherwise the first failing scene's: 1 "

@@ -39,6 +39,18 @@ std::string stillPath(const std::string& scenePath) {
 
 } // namespace
 
+bool evaluateViewFrame(const SceneProgram& program, const ViewAdjust& view, double time, int width,
+                       int height, FrameValues& out, std::string& diags) {
+    std::vector<double> literals = program.literals;
+    view.write(literals, program.viewSlot, static_cast<int>(program.checked.layers.size()));
+    FrameRequest req;
+    req.time = time;
+    req.width = width;
+    req.height = height;
+    req.literals = &literals;
+    return evaluateFrame(program, req, out, diags);
+}
+
 void toRgba8(const float* rgba, int channels, size_t pixels, uint8_t* out) {
     for (size_t i = 0; i < pixels; ++i)
         for (int c = 0; c < 4; ++c) out[i * 4 + c] = toByte(rgba[i * channels + c]);
@@ -192,28 +204,16 @@ bool FrameRenderer::render(const RenderJob& job, int divisor, bool cancellable, 
     out.fullHeight = job.height;
     out.divisor = divisor;
     const SceneProgram& program = *job.build->program;
-    const int numLayers = static_cast<int>(program.checked.layers.size());
-    std::vector<double> literals = program.literals;
-    job.view.write(literals, program.viewSlot, numLayers);
-    FrameRequest req;
-    req.time = job.time;
-    req.width = job.width;
-    req.height = job.height;
-    req.literals = &literals;
     FrameValues frame;
     std::string diags;
-    if (!evaluateFrame(program, req, frame, diags)) {
+    if (!evaluateViewFrame(program, job.view, job.time, job.width, job.height, frame, diags)) {
         out.error = diags;
         return true;
     }
     if (divisor > 1) {
         // The preview's own camera, whose pixels are blocks of the full frame's.
         Preview p = previewOf(SceneCamera::from(frame), job.view, job.width, job.height, divisor);
-        literals = program.literals;
-        p.view.write(literals, program.viewSlot, numLayers);
-        req.width = p.width;
-        req.height = p.height;
-        if (!evaluateFrame(program, req, frame, diags)) {
+        if (!evaluateViewFrame(program, p.view, job.time, p.width, p.height, frame, diags)) {
             out.error = diags;
             return true;
         }

@@ -47,6 +47,12 @@ struct RenderedFrame {
     std::string error;   // no pixels: the frame could not be evaluated or rendered
 };
 
+// The frame values of `program` at `time` for a width x height image, with the view's
+// adjustments in its literal slots (SceneProgram::viewSlot): what the picture on screen is
+// drawn from. False, with the diagnostics, when the frame cannot be evaluated.
+bool evaluateViewFrame(const SceneProgram& program, const ViewAdjust& view, double time, int width,
+                       int height, FrameValues& out, std::string& diags);
+
 // Float RGBA (sRGB-encoded, straight alpha) to 8 bits the way the PNG writer rounds, so the
 // window shows the bytes `moire render` writes.
 void toRgba8(const float* rgba, int channels, size_t pixels, uint8_t* out);

@@ -1,16 +1,17 @@
+// The window around ViewState: GLFW's events in, the frame on screen out. What the hand does
+// to the view is ViewState's; which layer a click picks is LayerPicker's, on its own thread;
+// the pixels are FrameRenderer's, on its. What stays here is the window itself (opening it,
+// the texture it shows), when to ask for a frame, and the terminal's lines.
 #include "runtime/view/Viewer.h"
 
-#include "compiler/backend/interp/Interpreter.h"
 #include "compiler/Compile.h"
-#include "runtime/FrameEval.h"
 #include "runtime/live/SceneReloader.h"
-#include "runtime/output/OutputFile.h"
 #include "runtime/TextFile.h"
 #include "runtime/view/FrameRenderer.h"
+#include "runtime/view/LayerPicker.h"
 #include "runtime/view/Overlay.h"
-#include "runtime/view/Placement.h"
-#include "runtime/view/ViewCamera.h"
-#include "runtime/view/ViewClock.h"
+#include "runtime/view/ViewState.h"
+#include "runtime/view/WindowCanvas.h"
 
 #define GLFW_INCLUDE_NONE
 #include <algorithm>
@@ -18,7 +19,6 @@
 #include <cmath>
 #include <csignal>
 #include <cstdio>
-#include <cstring>
 #include <filesystem>
 #include <fmt/format.h>
 #include <GL/gl.h>
@@ -34,10 +34,6 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
-constexpr double kStep = 1.0 / 30.0;         // `.` and `,`: one frame at 30 fps
-constexpr double kWheelZoom = 1.1;           // per wheel notch
-constexpr double kDragThreshold = 3.0;       // screen pixels before a press becomes a drag
-constexpr double kPickTolerance = 4.0;       // pixels from a stroke's centre line that pick it
 constexpr double kPlayInterval = 1.0 / 60.0; // the fastest the clock's frames are asked for
 // While the clock plays over a picture that does not move (its uniforms came back the same),
 // only the status line's t changes: ten frames a second are enough for that.
@@ -73,23 +69,17 @@ void onGlfwError(int, const char* description) {
     glfwLastError = description ? description : "";
 }
 
-// The layers' names, for carrying the view's adjustments across a reload.
-std::vector<std::string> layerNames(const SceneProgram& program) {
-    std::vector<std::string> names;
-    for (const sema::CheckedLayer& l : program.checked.layers) names.push_back(l.decl->name);
-    return names;
-}
-
 class Viewer {
   public:
     Viewer(Backend& backend, const ViewerOptions& options)
         : backend_(backend), options_(options),
-          clock_(options.time, !options.paused, Clock::now()) {}
+          state_(options.time, !options.paused, Clock::now()) {}
 
     ~Viewer() {
-        // The reloader's and the renderer's threads call back into this object: stop them
-        // before anything they touch goes.
+        // The reloader's, the picker's and the renderer's threads call back into this
+        // object: stop them before anything they touch goes.
         if (reloader_) reloader_->stop();
+        picker_.reset();
         renderer_.reset();
         if (window_) {
             if (texture_) glDeleteTextures(1, &texture_);
@@ -102,6 +92,7 @@ class Viewer {
         if (!loadScene()) return 1;
         if (!openWindow()) return 1;
         renderer_ = std::make_unique<FrameRenderer>(options_.threads, [] { glfwPostEmptyEvent(); });
+        picker_ = std::make_unique<LayerPicker>([] { glfwPostEmptyEvent(); });
         if (reloader_)
             reloader_->start([this](const BuildResult& ev) {
                 {
@@ -110,12 +101,11 @@ class Viewer {
                 }
                 glfwPostEmptyEvent();
             });
-        // The clock starts with the window, not with the compile before it.
-        clock_.restart(Clock::now());
+        state_.restartClock(Clock::now());
         StopSignals signals;
         while (!glfwWindowShouldClose(window_) && !StopSignals::requested) {
             guard([&] { step(); });
-            glfwWaitEventsTimeout(clock_.playing() ? playInterval() : 0.5);
+            glfwWaitEventsTimeout(state_.playing() ? playInterval() : 0.5);
         }
         return 0;
     }
@@ -167,13 +157,9 @@ class Viewer {
             }
             first = reloader_->loadNow();
         }
-        if (first.good()) {
-            adopt(first.build);
-        } else {
-            // A scene with errors still opens: the window shows them until a save fixes them.
-            buildError_ = first.diagnostics;
-            fmt::print(stderr, "{}", first.diagnostics);
-        }
+        // A scene with errors still opens: the window shows them until a save fixes them.
+        state_.reloaded(first);
+        if (!first.good()) fmt::print(stderr, "{}", first.diagnostics);
         return true;
     }
 
@@ -191,12 +177,7 @@ class Viewer {
         int w = options_.width, h = options_.height;
         if (w <= 0 || h <= 0) {
             w = 1200, h = 800;
-            FrameValues fv;
-            std::string diags;
-            FrameRequest req;
-            req.time = timeNow();
-            if (build_ && evaluateFrame(*build_->program, req, fv, diags))
-                w = fv.width, h = fv.height;
+            if (auto size = state_.sceneSize(Clock::now())) std::tie(w, h) = *size;
             // A scene larger than the screen opens at the most of it that fits, same aspect.
             int mx = 0, my = 0, mw = 0, mh = 0;
             if (GLFWmonitor* m = glfwGetPrimaryMonitor())
@@ -222,7 +203,9 @@ class Viewer {
         glfwMakeContextCurrent(window_);
         glfwSwapInterval(1);
         glfwSetWindowUserPointer(window_, this);
-        glfwGetFramebufferSize(window_, &fbW_, &fbH_);
+        int fbW = 0, fbH = 0;
+        glfwGetFramebufferSize(window_, &fbW, &fbH);
+        state_.resize(fbW, fbH);
         glfwGetCursorPos(window_, &cursorX_, &cursorY_);
         installCallbacks();
 
@@ -249,9 +232,9 @@ class Viewer {
             Viewer& v = of(w);
             v.guard([&] { v.onKey(key, action, mods); });
         });
-        glfwSetMouseButtonCallback(window_, [](GLFWwindow* w, int button, int action, int mods) {
+        glfwSetMouseButtonCallback(window_, [](GLFWwindow* w, int button, int action, int) {
             Viewer& v = of(w);
-            v.guard([&] { v.onButton(button, action, mods); });
+            v.guard([&] { v.onButton(button, action); });
         });
         glfwSetCursorPosCallback(window_, [](GLFWwindow* w, double x, double y) {
             Viewer& v = of(w);
@@ -259,12 +242,10 @@ class Viewer {
         });
         glfwSetScrollCallback(window_, [](GLFWwindow* w, double, double dy) {
             Viewer& v = of(w);
-            v.guard([&] { v.onScroll(dy); });
+            v.guard([&] { v.state_.scroll(dy, v.cursor(), Clock::now()); });
         });
         glfwSetFramebufferSizeCallback(window_, [](GLFWwindow* w, int width, int height) {
-            Viewer& v = of(w);
-            v.fbW_ = width, v.fbH_ = height;
-            v.changed(true); // resizing by hand is a gesture: previews while it lasts
+            of(w).state_.resize(width, height);
         });
         glfwSetWindowRefreshCallback(window_, [](GLFWwindow* w) { of(w).redraw_ = true; });
         glfwSetWindowContentScaleCallback(
@@ -280,7 +261,9 @@ class Viewer {
             fmt::print(error ? stderr : stdout, "{}\n", m);
             std::fflush(stdout);
         }
+        while (std::optional<PickResult> p = picker_->take()) state_.picked(*p);
         if (std::optional<RenderedFrame> f = renderer_->takeFrame()) accept(std::move(*f));
+        if (state_.takeRedraw()) redraw_ = true;
         if (redraw_) present();
         schedule();
     }
@@ -292,46 +275,14 @@ class Viewer {
             events.swap(reloads_);
         }
         for (const BuildResult& ev : events) {
-            if (ev.good()) {
-                // The text `w` wrote holds the view's adjustments: they are the scene's now.
-                if (placedText_ && sourceOf(*ev.build->program) == *placedText_) view_.reset();
-                placedText_.reset();
-                adopt(ev.build);
-                buildError_.clear();
-                const bool numbers = ev.kind == BuildResult::Kind::Numbers;
+            state_.reloaded(ev);
+            if (ev.good())
                 fmt::print(stderr, "moire: reloaded ({}, {:.0f} ms)\n",
-                           numbers ? "numbers only" : "recompiled", ev.frontEndMs + ev.kernelMs);
-            } else {
-                // The last good build stays on screen under the errors.
-                buildError_ = ev.diagnostics;
+                           ev.kind == BuildResult::Kind::Numbers ? "numbers only" : "recompiled",
+                           ev.frontEndMs + ev.kernelMs);
+            else
                 fmt::print(stderr, "{}", ev.diagnostics);
-            }
-            redraw_ = true;
         }
-    }
-
-    // Takes a new build, carrying the view's layer motions and the selection over by layer
-    // name (by position for unnamed layers), so that an edit keeps the placement in hand.
-    void adopt(std::shared_ptr<const LiveProgram> build) {
-        std::vector<std::string> names = layerNames(*build->program);
-        ViewAdjust next = view_;
-        next.layers.clear();
-        int selected = -1;
-        for (int j = 0; j < static_cast<int>(names.size()); ++j) {
-            int from = -1;
-            for (int i = 0; i < static_cast<int>(names_.size()) && from < 0; ++i)
-                if (names[j].empty() ? (i == j && names_[i].empty()) : names_[i] == names[j])
-                    from = i;
-            if (from < 0) continue;
-            if (!view_.layer(from).identity()) next.layerRef(j) = view_.layer(from);
-            if (from == selected_) selected = j;
-        }
-        view_ = std::move(next);
-        selected_ = selected;
-        names_ = std::move(names);
-        build_ = std::move(build);
-        probe_.reset();
-        changed(false);
     }
 
     // Asks for a frame when the picture changed, or when the clock runs and the last frame
@@ -339,29 +290,16 @@ class Viewer {
     double playInterval() const { return still_ ? kStillInterval : kPlayInterval; }
 
     void schedule() {
-        if (!build_) return;
-        if (clock_.playing() && version_ == submitted_ && !renderer_->busy() &&
+        if (!state_.build()) return;
+        if (state_.playing() && state_.version() == submitted_ && !renderer_->busy() &&
             Clock::now() - lastSubmit_ >= std::chrono::duration<double>(playInterval()))
-            ++version_;
-        if (version_ == submitted_) return;
-        RenderJob j = job();
-        clock_.asked(j.time);
+            state_.changed(false);
+        if (state_.version() == submitted_) return;
+        RenderJob j = state_.job(Clock::now());
+        state_.submitted(j);
+        submitted_ = j.version;
         renderer_->submit(std::move(j));
-        submitted_ = version_;
-        interactive_ = false;
         lastSubmit_ = Clock::now();
-    }
-
-    RenderJob job() const {
-        RenderJob j;
-        j.build = build_;
-        j.view = view_;
-        j.time = timeNow();
-        j.width = fbW_;
-        j.height = fbH_;
-        j.interactive = interactive_;
-        j.version = version_;
-        return j;
     }
 
     void accept(RenderedFrame&& f) {
@@ -383,19 +321,16 @@ class Viewer {
         int w = 0, h = 0;
         glfwGetFramebufferSize(window_, &w, &h);
         if (w <= 0 || h <= 0) return; // minimised
-        canvas_.assign(static_cast<size_t>(w) * h * 4, 0);
-        if (shown_)
-            blit(*shown_, w, h);
-        else
-            for (size_t i = 0; i < canvas_.size(); i += 4)
-                canvas_[i] = 48, canvas_[i + 1] = 48, canvas_[i + 2] = 52, canvas_[i + 3] = 255;
         // `h` hides the status line; errors always show, so a broken save is never missed.
         OverlayText text;
-        if (overlay_) text.status = statusLine();
-        const std::string& errors = !buildError_.empty() ? buildError_ : frameError_;
+        const RenderedFrame* shown = shown_ ? &*shown_ : nullptr;
+        if (overlay_)
+            text.status =
+                state_.statusLine(Clock::now(), shown, lastFullMs_, options_.backendLabel);
+        const std::string& errors =
+            state_.buildErrors().empty() ? frameError_ : state_.buildErrors();
         if (!errors.empty()) text.errorLines = errorLines(errors);
-        Canvas canvas{canvas_.data(), w, h};
-        drawOverlay(canvas, text, textScale());
+        composeWindow(shown, w, h, text, textScale(), canvas_);
 
         glViewport(0, 0, w, h);
         glMatrixMode(GL_PROJECTION);
@@ -430,80 +365,26 @@ class Viewer {
         }
     }
 
-    // The shown frame into the canvas: 1:1 when it is the window's size, block by block for a
-    // preview of it, stretched while a resize waits for its frame.
-    void blit(const RenderedFrame& f, int w, int h) {
-        const bool preview = f.divisor > 1 && f.fullWidth == w && f.fullHeight == h;
-        const int d = f.divisor;
-        for (int y = 0; y < h; ++y) {
-            const int sy =
-                preview ? y / d : static_cast<int>(static_cast<int64_t>(y) * f.height / h);
-            const uint8_t* src =
-                f.rgba.data() + static_cast<size_t>(std::min(sy, f.height - 1)) * f.width * 4;
-            uint8_t* dst = canvas_.data() + static_cast<size_t>(y) * w * 4;
-            if (!preview && f.width == w) {
-                std::memcpy(dst, src, static_cast<size_t>(w) * 4);
-                continue;
-            }
-            for (int x = 0; x < w; ++x) {
-                const int sx =
-                    preview ? x / d : static_cast<int>(static_cast<int64_t>(x) * f.width / w);
-                std::memcpy(dst + x * 4, src + std::min(sx, f.width - 1) * 4, 4);
-            }
-        }
-        // The picture is opaque (straight alpha over nothing): the window has no backdrop.
-        for (size_t i = 3; i < canvas_.size(); i += 4) canvas_[i] = 255;
-    }
-
     int textScale() const {
         float xs = 1, ys = 1;
         glfwGetWindowContentScale(window_, &xs, &ys);
         return std::max(1, static_cast<int>(std::lround(std::max(xs, ys))));
     }
 
-    // What matters most first, since a narrow window cuts the line's end: the clock, the
-    // selection, then the frame time and the backend.
-    std::string statusLine() const {
-        std::string s = fmt::format("t={:.3f}", shown_ ? shown_->time : timeNow());
-        if (!clock_.playing()) s += "  paused";
-        if (selected_ >= 0) {
-            s += fmt::format("  layer {}", selected_ + 1);
-            if (!names_[selected_].empty()) s += " " + names_[selected_];
-        }
-        if (shown_ && shown_->divisor > 1) s += "  preview";
-        return s + fmt::format("  {:.1f} ms  {}", lastFullMs_, options_.backendLabel);
-    }
-
-    // --- The clock ----------------------------------------------------------------------
-
-    double timeNow() const { return clock_.at(Clock::now()); }
-
-    void setTime(double t, bool interactive) {
-        clock_.set(t, Clock::now());
-        changed(interactive);
-    }
-
-    void togglePlay() {
-        if (clock_.playing())
-            clock_.pause(Clock::now());
-        else
-            clock_.play(Clock::now());
-        redraw_ = true; // the status line says so
-    }
-
-    // The picture must be rendered again; `interactive` while a gesture is under way.
-    void changed(bool interactive) {
-        ++version_;
-        interactive_ = interactive_ || interactive;
-    }
-
     // --- Input --------------------------------------------------------------------------
+
+    // Framebuffer pixels per screen unit (more than 1 on a high-DPI screen).
+    double pixelsPerUnit() const {
+        int ww = 1, wh = 1;
+        glfwGetWindowSize(window_, &ww, &wh);
+        return static_cast<double>(state_.width()) / std::max(ww, 1);
+    }
 
     // A cursor position (screen units) as a framebuffer position, in the image's pixels.
     Vec2 toPixels(double x, double y) const {
         int ww = 1, wh = 1;
         glfwGetWindowSize(window_, &ww, &wh);
-        return {x * fbW_ / std::max(ww, 1), y * fbH_ / std::max(wh, 1)};
+        return {x * state_.width() / std::max(ww, 1), y * state_.height() / std::max(wh, 1)};
     }
 
     // Where the cursor was as of the last event handled. glfwGetCursorPos asks the X server
@@ -511,59 +392,42 @@ class Viewer {
     // would land where the drag ends.
     Vec2 cursor() const { return toPixels(cursorX_, cursorY_); }
 
-    // The scene's own camera now (it may move with the clock).
-    SceneCamera sceneCamera() {
-        if (!build_) return camera_;
-        FrameRequest req;
-        req.time = timeNow();
-        FrameValues fv;
-        std::string diags;
-        if (evaluateFrame(*build_->program, req, fv, diags)) camera_ = SceneCamera::from(fv);
-        return camera_;
-    }
-
-    int numLayers() const { return static_cast<int>(names_.size()); }
-
-    void select(int layer) {
-        selected_ = layer >= 0 && layer < numLayers() ? layer : -1;
-        redraw_ = true;
-    }
-
     void onKey(int key, int action, int mods) {
         if (action == GLFW_RELEASE) return;
         const bool repeat = action == GLFW_REPEAT;
         const bool shift = mods & GLFW_MOD_SHIFT;
-        if (key >= GLFW_KEY_1 && key <= GLFW_KEY_9) return select(key - GLFW_KEY_1);
-        if (key >= GLFW_KEY_KP_1 && key <= GLFW_KEY_KP_9) return select(key - GLFW_KEY_KP_1);
+        const Clock::time_point now = Clock::now();
+        if (key >= GLFW_KEY_1 && key <= GLFW_KEY_9) return state_.select(key - GLFW_KEY_1);
+        if (key >= GLFW_KEY_KP_1 && key <= GLFW_KEY_KP_9) return state_.select(key - GLFW_KEY_KP_1);
         switch (key) {
         case GLFW_KEY_0:
         case GLFW_KEY_KP_0:
         case GLFW_KEY_ESCAPE:
-            return select(-1);
+            return state_.select(-1);
         case GLFW_KEY_SPACE:
-            if (!repeat) togglePlay();
+            if (!repeat) state_.togglePlay(now);
             return;
         case GLFW_KEY_PERIOD:
         case GLFW_KEY_COMMA:
-            clock_.step(key == GLFW_KEY_PERIOD ? kStep : -kStep, Clock::now());
-            redraw_ = true;
-            return changed(true);
+            return state_.stepFrames(key == GLFW_KEY_PERIOD ? 1 : -1, now);
         case GLFW_KEY_RIGHT:
         case GLFW_KEY_LEFT:
-            return setTime(timeNow() + (key == GLFW_KEY_RIGHT ? 1 : -1) * (shift ? 0.1 : 1.0),
-                           true);
+            return state_.skip((key == GLFW_KEY_RIGHT ? 1 : -1) * (shift ? 0.1 : 1.0), now);
         case GLFW_KEY_R:
-            view_.reset();
-            return changed(false);
+            return state_.resetView();
         case GLFW_KEY_S:
-            if (!repeat && build_) {
-                RenderJob j = job();
+            if (!repeat && state_.build()) {
+                RenderJob j = state_.job(now);
                 j.interactive = false;
                 renderer_->saveStill(std::move(j), options_.scenePath);
             }
             return;
         case GLFW_KEY_P:
-            if (!repeat) printPlacement();
+            if (!repeat && state_.build()) {
+                fmt::print("{}", state_.placementReport(now));
+                if (options_.trace) fmt::print("placed v={}\n", state_.version());
+                std::fflush(stdout);
+            }
             return;
         case GLFW_KEY_W:
             if (!repeat) writePlacement();
@@ -583,138 +447,31 @@ class Viewer {
         }
     }
 
-    void onButton(int button, int action, int mods) {
-        if (action == GLFW_PRESS) {
-            if (drag_ >= 0) return;
-            drag_ = button;
-            pressAt_ = lastAt_ = cursor();
-            moved_ = false;
-            return;
-        }
-        if (action != GLFW_RELEASE || button != drag_) return;
-        drag_ = -1;
-        // A click (a press that never became a drag) on a stroke selects its layer.
-        if (!moved_ && button == GLFW_MOUSE_BUTTON_LEFT) pick(pressAt_);
+    void onButton(int button, int action) {
+        if (action == GLFW_PRESS) return state_.press(button, cursor());
+        if (action != GLFW_RELEASE) return;
+        if (std::optional<PickRequest> pick = state_.release(button, Clock::now()))
+            picker_->request(std::move(*pick));
     }
 
     void onCursor(double x, double y) {
         cursorX_ = x, cursorY_ = y;
-        if (drag_ < 0 || !build_) return;
-        const Vec2 at = toPixels(x, y);
-        if (!moved_) {
-            int ww = 1, wh = 1;
-            glfwGetWindowSize(window_, &ww, &wh);
-            const double ratio = static_cast<double>(fbW_) / std::max(ww, 1);
-            if (std::hypot(at.x - pressAt_.x, at.y - pressAt_.y) < kDragThreshold * ratio) return;
-            moved_ = true;
-        }
-        const SceneCamera cam = sceneCamera();
-        if (drag_ == GLFW_MOUSE_BUTTON_LEFT && selected_ >= 0) {
-            // Alt turns the layer about the world origin; Ctrl too, where the window manager
-            // keeps alt-drag for itself.
-            const bool turn = glfwGetKey(window_, GLFW_KEY_LEFT_ALT) == GLFW_PRESS ||
-                              glfwGetKey(window_, GLFW_KEY_RIGHT_ALT) == GLFW_PRESS ||
-                              glfwGetKey(window_, GLFW_KEY_LEFT_CONTROL) == GLFW_PRESS ||
-                              glfwGetKey(window_, GLFW_KEY_RIGHT_CONTROL) == GLFW_PRESS;
-            if (turn)
-                turnLayer(cam, view_, fbW_, fbH_, selected_, lastAt_, at);
-            else
-                moveLayer(cam, view_, fbW_, fbH_, selected_, lastAt_, at);
-        } else {
-            panDrag(cam, view_, fbW_, fbH_, lastAt_, at);
-        }
-        lastAt_ = at;
-        changed(true);
+        if (!state_.dragging()) return;
+        // Alt turns the layer about the world origin; Ctrl too, where the window manager
+        // keeps alt-drag for itself.
+        auto held = [&](int key) { return glfwGetKey(window_, key) == GLFW_PRESS; };
+        const bool turn = held(GLFW_KEY_LEFT_ALT) || held(GLFW_KEY_RIGHT_ALT) ||
+                          held(GLFW_KEY_LEFT_CONTROL) || held(GLFW_KEY_RIGHT_CONTROL);
+        state_.cursorMoved(toPixels(x, y), turn, pixelsPerUnit(), Clock::now());
     }
 
-    void onScroll(double dy) {
-        if (!build_ || dy == 0.0) return;
-        zoomAbout(sceneCamera(), view_, fbW_, fbH_, cursor(), std::pow(kWheelZoom, dy));
-        changed(true);
-    }
-
-    // Selects the layer whose stroke passes nearest the click (within kPickTolerance
-    // pixels; the topmost on a tie), or none. Each layer's distance at the clicked pixel
-    // comes from a second compile of the same text with the layers' fields as outputs,
-    // evaluated there once by the interpreter, with the view's slots as they are.
-    void pick(Vec2 at) {
-        if (!build_) return;
-        const SceneProgram& program = *build_->program;
-        if (!probe_) {
-            const SourceFile& src = program.sources->file(program.userModule().file);
-            CompileOptions o;
-            o.layerFields = true;
-            o.interactive = true;
-            CompileResult r = compileScene(src.path(), src.text(), o);
-            if (!r.program) return;
-            probe_ = std::move(r.program);
-            probeKernel_ = std::make_unique<Interpreter>(probe_->kernel);
-        }
-        const int n = static_cast<int>(probe_->checked.layers.size());
-        std::vector<double> literals = probe_->literals;
-        view_.write(literals, probe_->viewSlot, n);
-        FrameRequest req;
-        req.time = timeNow();
-        req.width = fbW_;
-        req.height = fbH_;
-        req.literals = &literals;
-        FrameValues fv;
-        std::string diags;
-        if (!evaluateFrame(*probe_, req, fv, diags)) return;
-        const std::vector<double> out = probeKernel_->atPixel(fv.uniforms, at.x, at.y, fbW_, fbH_);
-        const double pixel = ViewCamera(SceneCamera::from(fv), view_, fbW_, fbH_).pixelSize();
-        int best = -1;
-        double bestDistance = kPickTolerance;
-        for (int i = n - 1; i >= 0; --i) {
-            const double d = std::fabs(out[probe_->layout.distanceSlot(i)]) / pixel;
-            if (std::isfinite(d) && d < bestDistance) best = i, bestDistance = d;
-        }
-        select(best);
-    }
-
-    void printPlacement() {
-        if (!build_) return;
-        fmt::print("// placement at t = {:.3f} s: set these in the scene's blocks (w writes "
-                   "them into the file)\n{}",
-                   timeNow(), placementText(*build_->program, view_));
-        if (options_.trace) fmt::print("placed v={}\n", version_);
-        std::fflush(stdout);
-    }
-
-    static const std::string& sourceOf(const SceneProgram& program) {
-        return program.sources->file(program.userModule().file).text();
-    }
-
-    // Writes the placement into the scene file (Placement.h: placedSource), atomically. The
-    // view keeps its adjustments until the reload of the written text, which then carries
-    // them itself: the picture never jumps.
     void writePlacement() {
-        if (!build_) return;
-        auto fail = [](const std::string& why) {
-            fmt::print(stderr, "moire: error: cannot write the placement: {}\n", why);
-        };
-        if (options_.scenePath.empty())
-            return fail("the default scene has no file (p prints the placement)");
-        // The file must still be the text on screen: a save with errors, or one not yet
-        // reloaded, is the user's newer work, never to be replaced by an older text.
-        if (!buildError_.empty()) return fail("the file has errors; fix them first");
-        const std::string& loaded = sourceOf(*build_->program);
-        std::string now, why;
-        if (!readWholeFile(options_.scenePath, now, why)) return fail(why);
-        if (now != loaded) return fail("the file has changed since it was loaded; try again");
-        std::string placed;
-        if (!placedSource(*build_->program, view_, placed, why)) return fail(why);
-        if (placed == loaded) {
-            fmt::print("moire: the scene already has this placement\n");
-        } else {
-            try {
-                writeFileAtomically(options_.scenePath, placed.data(), placed.size());
-            } catch (const IoError& e) {
-                return fail(e.what());
-            }
-            placedText_ = placed;
-            fmt::print("moire: wrote the placement into {}\n", options_.scenePath);
-        }
+        PlacementWrite r = state_.writePlacement(options_.scenePath);
+        if (r.message.empty()) return;
+        if (r.ok)
+            fmt::print("{}\n", r.message);
+        else
+            fmt::print(stderr, "moire: error: cannot write the placement: {}\n", r.message);
         std::fflush(stdout);
     }
 
@@ -729,39 +486,23 @@ class Viewer {
     std::unique_ptr<SceneReloader> reloader_; // a scene file
     std::unique_ptr<SceneBuilder> builder_;   // the default scene
     std::unique_ptr<FrameRenderer> renderer_;
+    std::unique_ptr<LayerPicker> picker_;
 
     std::mutex reloadMutex_; // guards reloads_, filled on the reloader's thread
     std::vector<BuildResult> reloads_;
 
     // Everything below belongs to the window's thread.
-    std::shared_ptr<const LiveProgram> build_;
-    std::vector<std::string> names_;      // build_'s layer names
-    std::string buildError_;              // the file's diagnostics while it has errors
-    std::string frameError_;              // the last frame could not be drawn
-    std::unique_ptr<SceneProgram> probe_; // build_ with layer fields, for picking
-    std::unique_ptr<Interpreter> probeKernel_;
-    std::optional<std::string> placedText_; // what `w` last wrote, until its reload
-    ViewAdjust view_;
-    SceneCamera camera_;
-    int selected_ = -1;
+    ViewState state_;
+    std::string frameError_; // the last frame could not be drawn
     bool overlay_ = true;
-
-    ViewClock clock_;
+    uint64_t submitted_ = 0; // the version of the last frame asked for
     Clock::time_point lastSubmit_{};
-
-    uint64_t version_ = 1, submitted_ = 0;
-    bool interactive_ = false;
-    int fbW_ = 0, fbH_ = 0;
     std::optional<RenderedFrame> shown_;
     double lastFullMs_ = 0.0;
     bool still_ = false; // the last frame was the one before it (nothing moved)
     bool redraw_ = false;
     int presented_ = 0;
-
     double cursorX_ = 0, cursorY_ = 0; // screen units, as of the last cursor event
-    int drag_ = -1;                    // the button held, -1 none
-    Vec2 pressAt_, lastAt_;
-    bool moved_ = false;
 };
 
 } // namespace

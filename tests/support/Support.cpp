@@ -180,4 +180,15 @@ CommandResult runCommand(const std::string& command) {
     return r;
 }
 
+CommandResult runMoireInSourceRoot(const std::string& args) {
+    return runCommand("cd '" + sourcePath("") + "' && '" + moireBinary() + "' " + args);
+}
+
+std::vector<std::string> lines(const std::string& text) {
+    std::vector<std::string> out;
+    std::istringstream in(text);
+    for (std::string line; std::getline(in, line);) out.push_back(line);
+    return out;
+}
+
 } // namespace moire::test

@@ -78,5 +78,11 @@ struct CommandResult {
     std::string out, err;
 };
 CommandResult runCommand(const std::string& command);
+// Runs `moire <args>` from the source root, so that a scene given as tests/errors/x.moire is
+// named in the diagnostics exactly so.
+CommandResult runMoireInSourceRoot(const std::string& args);
+
+// The lines of `text`, without their newlines.
+std::vector<std::string> lines(const std::string& text);
 
 } // namespace moire::test

@@ -1,6 +1,6 @@
 // The banded edit distance behind "did you mean": the same answers as the full table, and
 // the same suggestions, for any names (checked here on many random ones).
-#include "compiler/sema/Suggest.h"
+#include "compiler/diag/Suggest.h"
 
 #include <algorithm>
 #include <cctype>

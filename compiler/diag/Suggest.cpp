@@ -1,4 +1,4 @@
-#include "compiler/sema/Suggest.h"
+#include "compiler/diag/Suggest.h"
 
 #include <algorithm>
 #include <cctype>
@@ -83,9 +83,17 @@ std::string nearestName(std::string_view name, const std::vector<std::string>& c
     return bestDistance <= maxDistance ? best : std::string();
 }
 
-std::string didYouMean(std::string_view name, const std::vector<std::string>& candidates) {
+Hint didYouMean(std::string_view name, const std::vector<std::string>& candidates) {
     std::string near = nearestName(name, candidates);
-    return near.empty() ? std::string() : "; did you mean '" + near + "'?";
+    return near.empty() ? Hint() : suggest(std::move(near));
+}
+
+Hint suggest(std::string replacement, SourceRange range) {
+    Hint h;
+    h.text = "; did you mean '" + replacement + "'?";
+    h.replacement = std::move(replacement);
+    h.range = range;
+    return h;
 }
 
 } // namespace moire

@@ -1,4 +1,4 @@
-#include "compiler/sema/Suggest.h"
+#include "compiler/diag/Suggest.h"
 
 #include <doctest/doctest.h>
 
@@ -18,8 +18,10 @@ TEST_CASE("the nearest name is suggested only when it is close") {
     CHECK(nearestName("spacng", names) == "spacing");
     CHECK(nearestName("strok", names) == "stroke");
     CHECK(nearestName("zzzzzz", names).empty());
-    CHECK(didYouMean("opacty", names) == "; did you mean 'opacity'?");
-    CHECK(didYouMean("q", names).empty());
+    CHECK(didYouMean("opacty", names).text == "; did you mean 'opacity'?");
+    CHECK(didYouMean("opacty", names).replacement == "opacity");
+    CHECK(didYouMean("q", names).text.empty());
+    CHECK(didYouMean("q", names).replacement.empty());
 }
 
 TEST_CASE("a suggestion keeps something of the name written") {
@@ -27,5 +29,5 @@ TEST_CASE("a suggestion keeps something of the name written") {
     CHECK(nearestName("a", {"e", "x", "pi"}).empty());
     CHECK(nearestName("X", {"x", "y"}) == "x"); // case alone differs: distance 0
     CHECK(nearestName("sn", {"sin", "t"}) == "sin");
-    CHECK(didYouMean("k", {"pi", "e"}).empty());
+    CHECK(didYouMean("k", {"pi", "e"}).text.empty());
 }

@@ -11,11 +11,11 @@
 // renders, so writing costs only what the wall time exceeds rendering by.
 #include "compiler/backend/llvm/LlvmJit.h"
 #include "compiler/Compile.h"
-#include "runtime/Clip.h"
+#include "compiler/lower/ClipClock.h"
 #include "runtime/FrameEval.h"
-#include "runtime/ImageIO.h"
+#include "runtime/output/ImageIO.h"
+#include "runtime/output/VideoWriter.h"
 #include "runtime/TileExecutor.h"
-#include "runtime/VideoWriter.h"
 
 #include <algorithm>
 #include <chrono>
@@ -134,12 +134,7 @@ int main(int argc, char** argv) {
         std::optional<VideoFormat> format;
         if (kind > 0) format = kind == 1 ? VideoFormat::Mp4 : VideoFormat::WebM;
         if (format && ffmpeg.empty()) continue;
-        clip::NamePattern pattern;
-        pattern.before = (dir / "p_").string();
-        pattern.after = ".png";
-        pattern.numbered = true;
-        pattern.width = 4;
-        pattern.zeroPad = true;
+        auto pattern = [&](int64_t n) { return (dir / fmt::format("p_{:04}.png", n)).string(); };
         Row row;
         std::string video =
             format ? (dir / fmt::format("clip{}", extensionOf(*format))).string() : std::string();
@@ -159,7 +154,7 @@ int main(int argc, char** argv) {
         if (format)
             row.bytes = fs::file_size(video);
         else
-            for (int n = 0; n < frames; ++n) row.bytes += fs::file_size(pattern.name(n));
+            for (int n = 0; n < frames; ++n) row.bytes += fs::file_size(pattern(n));
         piped.push_back(row);
     }
     if (ffmpeg.empty()) fmt::print("(no ffmpeg on PATH: the video rows are left out)\n");

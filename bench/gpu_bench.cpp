@@ -13,7 +13,7 @@
 #include "bench/BenchScenes.h"
 #include "compiler/backend/glsl/GlslKernel.h"
 #include "compiler/Compile.h"
-#include "runtime/Render.h"
+#include "runtime/output/Render.h"
 
 #include <algorithm>
 #include <chrono>

@@ -16,7 +16,7 @@
 #include "compiler/Compile.h"
 #include "runtime/FrameEval.h"
 #include "runtime/live/SceneReloader.h"
-#include "runtime/Render.h"
+#include "runtime/output/Render.h"
 #include "runtime/TileExecutor.h"
 
 #include <algorithm>

@@ -4,22 +4,12 @@
 #pragma once
 
 #include "compiler/Compile.h"
+#include "compiler/lower/ClipClock.h" // TimingValues
 
 #include <string>
 #include <vector>
 
 namespace moire {
-
-// A timing the scene uses, as the frame program computed it.
-struct TimingValues {
-    enum Mode { Once = 0, Loop = 1, PingPong = 2 };
-    std::string name;
-    double period = 0.0, delay = 0.0;
-    Mode mode = Loop;
-    // The time after which it repeats: delay + period (loop) or delay + 2 period (pingpong);
-    // for `once`, the time it comes to rest.
-    double cycle() const { return delay + (mode == PingPong ? 2.0 : 1.0) * period; }
-};
 
 struct FrameValues {
     std::vector<double> uniforms;

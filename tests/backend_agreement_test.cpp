@@ -6,7 +6,7 @@
 // passed and the float backends drew another picture altogether (value_limits_test.cpp has
 // the errors for values past them).
 #include "runtime/FrameEval.h"
-#include "runtime/Render.h"
+#include "runtime/output/Render.h"
 #include "tests/support/Support.h"
 
 #include <algorithm>

@@ -72,15 +72,15 @@ TEST_CASE("moire check: several scenes are all checked, and any error makes the 
     CHECK(r.err == test::readFile(test::sourcePath("tests/errors/missing_family.expected")));
 }
 
-TEST_CASE("moire check: a file that cannot be read is one clear line, and status 1") {
+TEST_CASE("moire check: a file that cannot be read is one clear line, and status 3") {
     std::string missing = "/nonexistent-moire-dir/none.moire";
     test::CommandResult r = check(missing);
-    CHECK(r.status == 1);
+    CHECK(r.status == 3);
     CHECK(r.err == "moire: error: cannot read '" + missing + "': No such file or directory\n");
     CHECK(r.out.empty());
     TempScene scene("layer { family = circles }\n");
     std::string dirPath = scene.path();
     test::CommandResult dir = check(fmt::format("'{}'", dirPath));
-    CHECK(dir.status == 1);
+    CHECK(dir.status == 3);
     CHECK(dir.err == fmt::format("moire: error: cannot read '{}': it is a directory\n", dirPath));
 }

@@ -1,6 +1,6 @@
 // The `moire` command line, run as a user runs it: exit statuses, files written (and not
 // written), and what each dump shows.
-#include "runtime/ImageIO.h"
+#include "runtime/output/ImageIO.h"
 #include "tests/support/Support.h"
 
 #include <algorithm>
@@ -95,7 +95,7 @@ TEST_CASE("bad command lines exit with status 2 and write nothing") {
         CHECK(r.status == 2);
         CHECK_FALSE(r.err.empty());
     }
-    CHECK(w.moire("render s.moire --depth float -o f.png").status == 1); // PNG cannot hold float
+    CHECK(w.moire("render s.moire --depth float -o f.png").status == 2); // PNG cannot hold float
     CHECK(w.names() == std::vector<std::string>{"s.moire"});
 }
 
@@ -108,7 +108,7 @@ TEST_CASE("a scene with errors gives diagnostics, status 1 and no image") {
           std::string::npos);
     CHECK_FALSE(fs::exists(w.file("out.png")));
     auto missing = w.moire("render nowhere.moire");
-    CHECK(missing.status == 1);
+    CHECK(missing.status == 3);
     CHECK(missing.err.find("cannot read 'nowhere.moire'") != std::string::npos);
 }
 
@@ -186,7 +186,7 @@ TEST_CASE("devices lists the Vulkan devices, one a line, or says there are none"
     CHECK(w.moire("--help").out.find("devices") != std::string::npos);
     auto r = w.moire("devices");
     if (r.status != 0) {
-        CHECK(r.status == 1);
+        CHECK(r.status == 4);
         CHECK(oneLineError(r.err));
         test::skip("no Vulkan device here: " + r.err);
         return;
@@ -247,7 +247,7 @@ TEST_CASE("--backend vulkan draws what the JIT draws") {
     CHECK(d.meanAbs < 0.5 / 255);
 }
 
-TEST_CASE("no Vulkan device: one line, status 1, and no image written") {
+TEST_CASE("no Vulkan device: one line, status 4, and no image written") {
     Workdir w;
     w.write("s.moire", kSmall);
     w.write("kept.png", "previous");
@@ -261,7 +261,7 @@ TEST_CASE("no Vulkan device: one line, status 1, and no image written") {
         auto r = args.rfind("VK_", 0) == 0
                      ? test::runCommand("cd '" + w.path() + "' && " + args)
                      : w.moire(args);
-        CHECK(r.status == 1);
+        CHECK(r.status == 4);
         CHECK(oneLineError(r.err));
         CHECK(r.out.empty());
     }

@@ -1,7 +1,7 @@
 // `moire clip` as a user runs it: frame n is exactly the still `moire render --time` draws at
 // from + n / fps, ranges repeat byte for byte, a default clip is one loop, videos go through
 // ffmpeg (when installed), and Ctrl-C leaves only complete files.
-#include "runtime/ImageIO.h"
+#include "runtime/output/ImageIO.h"
 #include "tests/support/Support.h"
 
 #include <algorithm>
@@ -244,13 +244,13 @@ TEST_CASE("videos: mp4, webm and gif, read back with ffprobe") {
     CHECK(w.names() == std::vector<std::string>{"a.moire", "v.gif", "v.mp4", "v.webm"});
 }
 
-TEST_CASE("without ffmpeg a video is one line of error, status 1, and nothing else") {
+TEST_CASE("without ffmpeg a video is one line of error, status 3, and nothing else") {
     Workdir w;
     w.write("a.moire", kAnimated);
     for (const char* ext : {"mp4", "webm", "gif"}) {
         auto r = w.moire(fmt::format("clip a.moire --fps 24 --frames 4 -o v.{}", ext),
                          "PATH=/nonexistent");
-        CHECK(r.status == 1);
+        CHECK(r.status == 3);
         CHECK(r.err == fmt::format("moire: error: writing .{} needs ffmpeg (Debian package "
                                    "'ffmpeg')\n",
                                    ext));
@@ -266,7 +266,7 @@ TEST_CASE("ffmpeg failing is reported with the end of what it said") {
                           "exit 3\n");
     fs::permissions(w.file("bin/ffmpeg"), fs::perms::owner_all);
     auto r = w.moire("clip a.moire --fps 24 --frames 30 -o v.mp4", "PATH=\"$PWD/bin:$PATH\"");
-    CHECK(r.status == 1);
+    CHECK(r.status == 3);
     CHECK(r.err.find("moire: error: cannot write 'v.mp4'") == 0);
     CHECK(r.err.find("exit status 3") != std::string::npos);
     CHECK(r.err.find("Unknown encoder libx264") != std::string::npos);

@@ -11,8 +11,8 @@
 // The estimator is calibrated on the control of §10.3: two plain line families at pitches
 // 5.8 and 6.4444 px, whose fringes are known exactly (straight lines 58 px apart).
 // MOIRE_CONTOUR_REPORT=1 prints the table that docs/families.md quotes.
+#include "runtime/output/Render.h"
 #include "runtime/Probe.h"
-#include "runtime/Render.h"
 #include "tests/support/Support.h"
 
 #include <algorithm>

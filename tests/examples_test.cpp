@@ -1,8 +1,8 @@
 // Every example scene (and the embedded default) against the two independent expectations
 // an example can have: the reference interpreter (backend parity) and a reviewed golden
 // image (regressions).
-#include "runtime/ImageIO.h"
-#include "runtime/Render.h"
+#include "runtime/output/ImageIO.h"
+#include "runtime/output/Render.h"
 #include "tests/support/Support.h"
 
 #include <cmath>

@@ -3,7 +3,7 @@
 // is wrong as a whole fails, and a scene that single precision cannot draw gets no verdict.
 #include "fuzz/RenderCompare.h"
 #include "runtime/FrameEval.h"
-#include "runtime/Render.h"
+#include "runtime/output/Render.h"
 #include "tests/support/Support.h"
 
 #include <cmath>

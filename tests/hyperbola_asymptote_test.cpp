@@ -7,8 +7,8 @@
 //
 // The truth here is the exact Euclidean distance to member 1, the curves x^2 - y^2 = +-s^2,
 // found by brute force over points of the curves (no gradient, no first-order formula).
+#include "runtime/output/Render.h"
 #include "runtime/Probe.h"
-#include "runtime/Render.h"
 #include "tests/support/Support.h"
 
 #include <cmath>

@@ -3,8 +3,8 @@
 // at most 4 MiB (or standard input), and frames too large for the memory the process may
 // have refused before anything is drawn, with the estimate checked against the peak
 // resident memory of a real render.
-#include "runtime/ImageIO.h"
-#include "runtime/MemoryBudget.h"
+#include "runtime/output/ImageIO.h"
+#include "runtime/output/MemoryBudget.h"
 #include "runtime/TextFile.h"
 #include "tests/support/Support.h"
 
@@ -203,18 +203,18 @@ TEST_CASE("input: a scene is a regular file of at most 4 MiB, or standard input"
     auto check = [&](const std::string& path) { return run("check " + quoted(path)).err; };
     // A device never ends: refused without reading it.
     test::CommandResult r = run("check /dev/zero");
-    CHECK(r.status == 1);
+    CHECK(r.status == 3);
     CHECK(r.err == "moire: error: cannot read '/dev/zero': it is a device, not a file\n");
     // A FIFO with no writer: refused at once rather than waited on (timeout says 124).
     const std::string fifo = dir.file("pipe.moire");
     REQUIRE(::mkfifo(fifo.c_str(), 0600) == 0);
     r = test::runCommand("timeout 20 " + quoted(test::moireBinary()) + " check " + quoted(fifo));
-    CHECK(r.status == 1);
+    CHECK(r.status == 3);
     CHECK(r.err.find("it is a FIFO, not a file") != std::string::npos);
     // The other commands read scenes the same way.
     r = test::runCommand("timeout 20 " + quoted(test::moireBinary()) + " render -q " +
                          quoted(fifo) + " -o " + quoted(dir.file("o.png")));
-    CHECK(r.status == 1);
+    CHECK(r.status == 3);
     CHECK(r.err.find("it is a FIFO, not a file") != std::string::npos);
     CHECK(check(dir.path()).find("cannot read '" + dir.path() + "': it is a directory") !=
           std::string::npos);
@@ -231,7 +231,7 @@ TEST_CASE("input: a scene is a regular file of at most 4 MiB, or standard input"
     CHECK_MESSAGE(r.status == 0, r.err);
     dir.write("over.moire", atCap + "\n");
     r = run("check " + quoted(dir.file("over.moire")));
-    CHECK(r.status == 1);
+    CHECK(r.status == 3);
     CHECK(r.err.find("cannot read '" + dir.file("over.moire") +
                      "': it is longer than 4 MiB, the most a scene may be") != std::string::npos);
 
@@ -248,7 +248,7 @@ TEST_CASE("input: a scene is a regular file of at most 4 MiB, or standard input"
     CHECK(r.status == 1);
     CHECK(r.err.find("<stdin>:1:") == 0);
     r = test::runCommand("timeout 20 " + quoted(test::moireBinary()) + " check - < /dev/zero");
-    CHECK(r.status == 1);
+    CHECK(r.status == 3);
     CHECK(r.err.find("cannot read the scene from standard input: it is longer than 4 MiB") !=
           std::string::npos);
     // watch and view follow a file; standard input is not one.
@@ -274,7 +274,7 @@ TEST_CASE("input: a frame larger than the memory the process may have is refused
                              formatBytes(estimateFrameBytes(big)) + " of memory; there is ";
     Measured m = runMeasured({"render", scene, "--size", "32768x32768", "-o", dir.file("big.png")},
                              dir, limit);
-    CHECK(m.status == 1);
+    CHECK(m.status == 4);
     INFO(m.err);
     CHECK(m.err.find("moire: error: " + need) == 0);
     CHECK(m.err.find(" available under the address space limit (ulimit -v)\n") !=
@@ -288,16 +288,16 @@ TEST_CASE("input: a frame larger than the memory the process may have is refused
     m = runMeasured({"clip", scene, "--size", "32768x32768", "--fps", "1", "--frames", "1", "-o",
                      dir.file("f%d.png")},
                     dir, limit);
-    CHECK(m.status == 1);
+    CHECK(m.status == 4);
     CHECK(m.err.find("moire: error: a 32768x32768 image needs about ") == 0);
     CHECK(m.maxRss < (1ull << 30));
     m = runMeasured({"watch", scene, "--once", "--size", "32768x32768", "-o", dir.file("w.png")},
                     dir, limit);
-    CHECK(m.status == 1);
+    CHECK(m.status == 4);
     CHECK(m.err.find("moire: error: a 32768x32768 image needs about ") == 0);
     CHECK(m.maxRss < (1ull << 30));
     m = runMeasured({"view", scene, "--size", "32768x32768"}, dir, limit);
-    CHECK(m.status == 1);
+    CHECK(m.status == 4);
     CHECK(m.err.find("moire: error: a 32768x32768 window needs about ") == 0);
     CHECK(dir.names() == std::vector<std::string>{"measured.err", "s.moire"});
 }

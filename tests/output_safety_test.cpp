@@ -3,7 +3,7 @@
 // format fail with the system's words and leave nothing; signals leave no temporary, and
 // what a killed process left is removed by the next run; ffmpeg's failures are reported as
 // they were; a GIF's delays add up to its length.
-#include "runtime/ImageIO.h"
+#include "runtime/output/ImageIO.h"
 #include "tests/support/Support.h"
 
 #include <algorithm>
@@ -204,14 +204,14 @@ TEST_CASE("render under a file size limit: every format and depth fails with the
         CAPTURE(depth);
         Result r =
             run(w.path(), {"render", "a.moire", "-q", "--depth", depth, "-o", name}, kTinyLimit);
-        CHECK(r.status == 1);
+        CHECK(r.status == 3);
         CHECK(r.err == fmt::format("moire: error: cannot write '{}': File too large\n", name));
         CHECK(w.names() == std::vector<std::string>{"a.moire"});
     }
     // An earlier image of the name is left as it was.
     w.write("x.png", "an earlier image");
     Result r = run(w.path(), {"render", "a.moire", "-q", "-o", "x.png"}, kTinyLimit);
-    CHECK(r.status == 1);
+    CHECK(r.status == 3);
     CHECK(test::readFile(w.file("x.png")) == "an earlier image");
     CHECK(w.names() == std::vector<std::string>{"a.moire", "x.png"});
 }
@@ -226,7 +226,7 @@ TEST_CASE("clip under a file size limit: frames of every format fail with the re
             run(w.path(),
                 {"clip", "a.moire", "-q", "--fps", "4", "-o", fmt::format("f/f_%02d.{}", ext)},
                 kTinyLimit);
-        CHECK(r.status == 1);
+        CHECK(r.status == 3);
         // Frames are written several at a time: the first to fail is reported, whichever.
         CHECK(std::regex_match(
             r.err, std::regex(fmt::format("moire: error: cannot write 'f/f_0[0-7]\\.{}': File "
@@ -247,7 +247,7 @@ TEST_CASE("clip under a file size limit: a video fails with ffmpeg's reason, non
         CAPTURE(name);
         Result r = run(w.path(), {"clip", "a.moire", "-q", "--fps", "4", "-o", name}, kTinyLimit);
         INFO(r.err);
-        CHECK(r.status == 1);
+        CHECK(r.status == 3);
         CHECK(r.err.find(fmt::format("moire: error: cannot write '{}': ffmpeg failed", name)) == 0);
         CHECK(r.err.find("File too large") != std::string::npos);
         CHECK(r.err.find(".tmp") == std::string::npos); // ffmpeg's words name the user's file
@@ -260,7 +260,7 @@ TEST_CASE("watch under a file size limit: --once and a live save fail with the r
     test::TempDir w("outsafe");
     w.write("a.moire", kScene);
     Result r = run(w.path(), {"watch", "a.moire", "--once", "-o", "w.png"}, kTinyLimit);
-    CHECK(r.status == 1);
+    CHECK(r.status == 3);
     CHECK(r.err.find("moire: error: cannot write 'w.png': File too large\n") == 0);
     CHECK(r.err.find("kept") == std::string::npos); // there is no image to keep
     CHECK(w.names() == std::vector<std::string>{"a.moire"});
@@ -279,7 +279,7 @@ TEST_CASE("watch under a file size limit: --once and a live save fail with the r
 TEST_CASE("watch --once on a missing scene is an error that keeps nothing") {
     test::TempDir w("outsafe");
     Result r = run(w.path(), {"watch", "missing.moire", "--once", "-o", "w.png"});
-    CHECK(r.status == 1);
+    CHECK(r.status == 3);
     CHECK(r.err.find("missing.moire: error: cannot read the scene: No such file or directory") !=
           std::string::npos);
     CHECK(r.err.find("kept") == std::string::npos);
@@ -297,7 +297,7 @@ TEST_CASE("render creates a missing output directory, as clip does") {
     // A file in the way: the error names the user's path, never a temporary.
     w.write("plain", "");
     r = run(w.path(), {"render", "a.moire", "-q", "-o", "plain/x.png"});
-    CHECK(r.status == 1);
+    CHECK(r.status == 3);
     CHECK(r.err.find("moire: error: cannot write into 'plain': ") == 0);
     CHECK(r.err.find(".tmp") == std::string::npos);
 }
@@ -408,7 +408,7 @@ TEST_CASE("ffmpeg failing after it has read every frame is reported with its own
     fs::permissions(w.file("bin/ffmpeg"), fs::perms::owner_all);
     Result r = run(w.path(), {"clip", "a.moire", "--fps", "4", "--frames", "3", "-o", "v.gif"}, 0,
                    w.file("bin") + ":/usr/bin:/bin");
-    CHECK(r.status == 1);
+    CHECK(r.status == 3);
     CHECK(r.err == "moire: error: cannot write 'v.gif': ffmpeg failed (exit status 3); ffmpeg "
                    "said:\nError writing trailer\n");
     CHECK(w.names() == std::vector<std::string>{"a.moire", "bin"});
@@ -444,12 +444,14 @@ TEST_CASE("a GIF's frame delays add up to the clip's length exactly") {
 TEST_CASE("every file the project writes goes through the one checked writer") {
     // Writing a file any other way (a stream, stdio, a library writing by name, a rename of
     // one's own) is how "wrote" came to be printed over a truncated image. Only
-    // runtime/OutputFile.cpp opens files for writing; ImageIO.cpp hands OpenImageIO a memory
-    // buffer (or a memory file) and VideoWriter a temporary that OutputFile names and commits.
+    // runtime/output/OutputFile.cpp opens files for writing; ImageIO.cpp hands OpenImageIO a
+    // memory buffer (or a memory file) and VideoWriter a temporary that OutputFile names and
+    // commits.
+    const std::string dir = "runtime/output/";
     const std::vector<std::pair<std::string, std::string>> allowed = {
-        {"runtime/OutputFile.cpp", "O_CREAT"},   {"runtime/OutputFile.cpp", "O_WRONLY"},
-        {"runtime/OutputFile.cpp", "rename"},    {"runtime/ImageIO.cpp", "ImageOutput::create"},
-        {"runtime/VideoWriter.cpp", "O_WRONLY"}, // ffmpeg's stdout to /dev/null
+        {dir + "OutputFile.cpp", "O_CREAT"},   {dir + "OutputFile.cpp", "O_WRONLY"},
+        {dir + "OutputFile.cpp", "rename"},    {dir + "ImageIO.cpp", "ImageOutput::create"},
+        {dir + "VideoWriter.cpp", "O_WRONLY"}, // ffmpeg's stdout to /dev/null
     };
     const std::regex writer(R"(std::ofstream|\bfopen\s*\(|\bfreopen\s*\(|\bcreat\s*\(|O_CREAT|)"
                             R"(O_WRONLY|O_RDWR|ImageOutput::create|\brename\s*\(|)"
@@ -479,5 +481,6 @@ TEST_CASE("every file the project writes goes through the one checked writer") {
     }
     std::string list;
     for (const std::string& o : offenders) list += o + "\n";
-    CHECK_MESSAGE(offenders.empty(), "write files through runtime/OutputFile.h instead:\n", list);
+    CHECK_MESSAGE(offenders.empty(), "write files through runtime/output/OutputFile.h instead:\n",
+                  list);
 }

@@ -6,7 +6,7 @@
 // opacity of 2 or 2.5 sides passed `moire check`. Every value is checked when the frame is
 // computed, since it may be an expression in t.
 #include "runtime/FrameEval.h"
-#include "runtime/Render.h"
+#include "runtime/output/Render.h"
 #include "tests/support/Support.h"
 
 #include <doctest/doctest.h>

@@ -4,7 +4,7 @@
 // the scene renders the same picture; a save reloads, a broken save shows its errors over the
 // last frame, and `s` writes the frame as a still. Skipped where Xvfb or xdotool is missing.
 #include "runtime/FrameEval.h"
-#include "runtime/ImageIO.h"
+#include "runtime/output/ImageIO.h"
 #include "runtime/view/Placement.h"
 #include "runtime/view/ViewCamera.h"
 #include "tests/support/Support.h"

@@ -5,7 +5,7 @@
 // available (no driver, no device); CI runs them on lavapipe, so the images stay small.
 // The command line (`moire devices`, --device, no driver) is in cli_test.cpp; per-example
 // parity in examples_test.cpp.
-#include "runtime/Render.h"
+#include "runtime/output/Render.h"
 #include "runtime/TileExecutor.h"
 #include "runtime/vulkan/VulkanBackend.h"
 #include "tests/support/Skip.h"

@@ -4,8 +4,8 @@
 // render of the last good state, whole (a reader polling it never sees half a file).
 #include "compiler/backend/interp/Interpreter.h"
 #include "runtime/FrameEval.h"
-#include "runtime/ImageIO.h"
 #include "runtime/live/WatchSession.h"
+#include "runtime/output/ImageIO.h"
 #include "tests/support/Support.h"
 
 #include <atomic>
@@ -18,8 +18,8 @@
 #include <mutex>
 #include <random>
 #include <thread>
-#include <vector>
 #include <unistd.h>
+#include <vector>
 
 namespace moire {
 namespace {
@@ -445,7 +445,7 @@ TEST_CASE("watch: a missing directory and --once on a bad scene fail with a mess
     test::TempDir dir("watchonce");
     test::CommandResult r = test::runCommand(
         test::moireBinary() + " watch " + dir.file("nowhere/s.moire") + " -o " + dir.file("o.png"));
-    CHECK(r.status == 1);
+    CHECK(r.status == 3);
     CHECK(r.err.find("moire: error: ") != std::string::npos);
     dir.write("bad.moire", "layer a { family = circles; spacing = }\n");
     r = test::runCommand(test::moireBinary() + " watch --once " + dir.file("bad.moire") + " -o " +

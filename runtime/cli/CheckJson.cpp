@@ -59,7 +59,9 @@ int checkJson(const std::vector<std::string>& scenes) {
             for (const LocatedDiagnostic& d : all) diagnostics.push_back(toJson(d));
             entry["ok"] = ok;
         }
-        if (!entry["ok"].get<bool>()) status = kExitUserError;
+        // The first failing scene's status, as in text mode.
+        if (status == kExitOk && !entry["ok"].get<bool>())
+            status = entry["read"].get<bool>() ? kExitScene : kExitIo;
         entry["diagnostics"] = std::move(diagnostics);
         list.push_back(std::move(entry));
     }

@@ -1,16 +1,17 @@
 // `moire clip`: the recorder of spec §8.5. It is the clock rather than an observer of it:
 // frame n is evaluated at exactly from + n / fps, rendered, written, and only then does the
 // clock advance, so the same range recorded twice is the same files twice.
+#include "compiler/lower/ClipClock.h"
+#include "runtime/cli/ClipNames.h"
 #include "runtime/cli/Commands.h"
 #include "runtime/cli/Shared.h"
 #include "runtime/cli/StopSignals.h"
-#include "runtime/Clip.h"
 #include "runtime/FrameEval.h"
-#include "runtime/ImageIO.h"
-#include "runtime/OutputFile.h"
-#include "runtime/Render.h"
+#include "runtime/output/ImageIO.h"
+#include "runtime/output/OutputFile.h"
+#include "runtime/output/Render.h"
+#include "runtime/output/VideoWriter.h"
 #include "runtime/TileExecutor.h"
-#include "runtime/VideoWriter.h"
 
 #include <algorithm>
 #include <cmath>
@@ -69,18 +70,21 @@ int clip(const ClipArgs& args) {
     if (!parseDepth(args.depth, depth))
         return usage(fmt::format("--depth must be 8, 16, half or float, not '{}'", args.depth));
     std::string why;
-    std::optional<clip::FrameRange> given;
-    if (!args.frames.empty() && !(given = clip::parseFrames(args.frames, why))) return usage(why);
+    std::optional<FrameRange> given;
+    if (!args.frames.empty() && !(given = parseFrames(args.frames, why))) return usage(why);
     if (!checkBackendArgs(args.backend, args.device)) return kExitUsage;
     if (args.output.empty() && !args.plan)
         return usage("clip needs -o: a numbered image name like frames/f_%04d.png, or a video "
                      "(.mp4, .webm, .gif)");
 
+    if (args.output == kStdoutPath)
+        return usage("clip writes files (numbered images, or a video renamed into place when "
+                     "complete), not standard output");
     const std::optional<VideoFormat> video = videoFormatOf(args.output);
-    clip::NamePattern pattern;
+    NamePattern pattern;
     std::string ffmpeg;
     if (!args.output.empty()) {
-        std::optional<clip::NamePattern> p = clip::parseNamePattern(args.output, why);
+        std::optional<NamePattern> p = parseNamePattern(args.output, why);
         if (!p) return usage(why);
         pattern = *p;
         if (video && pattern.numbered)
@@ -104,7 +108,7 @@ int clip(const ClipArgs& args) {
                            "moire: error: writing {} needs ffmpeg (Debian package "
                            "'ffmpeg')\n",
                            extensionOf(*video));
-                return kExitUserError;
+                return kExitIo;
             }
         }
     }
@@ -113,21 +117,23 @@ int clip(const ClipArgs& args) {
     // it comes while the scene compiles or while frame n renders.
     StopSignals signals;
     std::unique_ptr<Backend> backend = openBackend(args.backend, args.device);
-    if (!backend) return kExitUserError;
+    if (!backend) return kExitMachine;
     const auto start = std::chrono::steady_clock::now();
+    Stages stages(args.verbosity);
     Source src;
-    if (!readScene(args.scene, src)) return kExitUserError;
+    if (!readScene(args.scene, src)) return kExitIo;
     auto program = compileOrReport(src);
-    if (!program) return kExitUserError;
+    if (!program) return kExitScene;
+    stages.done(fmt::format("compiled {}", src.path));
     FrameValues first;
     std::string diags;
     if (!evaluateFrame(*program, FrameRequest{args.from, w, h}, first, diags)) {
         fmt::print(stderr, "{}", diags);
-        return kExitUserError;
+        return kExitScene;
     }
 
     // Which frames: as asked, or the timings' loop.
-    clip::FrameRange range;
+    FrameRange range;
     std::vector<std::string> notes;
     if (given) {
         range = *given;
@@ -149,7 +155,7 @@ int clip(const ClipArgs& args) {
                    clip::frameTime(args.from, range.last, args.fps), first.width, first.height);
         return kExitOk;
     }
-    if (!args.quiet)
+    if (!args.verbosity.quiet)
         for (const std::string& n : notes) fmt::print(stderr, "moire: note: {}\n", n);
     if (!video && !pattern.numbered && range.count() > 1)
         return usage(fmt::format(
@@ -162,7 +168,7 @@ int clip(const ClipArgs& args) {
         std::string problem = videoSizeProblem(*video, first.width, first.height);
         if (!problem.empty()) {
             fmt::print(stderr, "moire: error: {}\n", problem);
-            return kExitUserError;
+            return kExitUsage;
         }
     }
     FrameFootprint footprint;
@@ -174,7 +180,7 @@ int clip(const ClipArgs& args) {
     // While a frame renders, earlier ones are being written (ClipOutput's writes in flight).
     footprint.queued = video ? 1 : ClipOutput::defaultInFlight();
     footprint.gpu = args.backend == "vulkan";
-    if (!checkMemory(footprint)) return kExitUserError;
+    if (!checkMemory(footprint)) return kExitMachine;
     // A missing output directory is created, as a shard of a longer clip is usually written
     // to a fresh one; something else in its place is an error. Temporaries that clips killed
     // there earlier left behind go.
@@ -182,7 +188,7 @@ int clip(const ClipArgs& args) {
         prepareOutputDirectory(pattern.name(range.first));
     } catch (const IoError& e) {
         fmt::print(stderr, "moire: error: {}\n", e.what());
-        return kExitUserError;
+        return kExitIo;
     }
     removeStaleTemporaries(pattern.name(range.first));
 
@@ -192,19 +198,22 @@ int clip(const ClipArgs& args) {
     wo.depth = depth;
     try {
         kernel = backend->compile(program->kernel);
-        output = video ? std::make_unique<ClipOutput>(
-                             std::make_unique<VideoWriter>(ffmpeg, args.output, *video, first.width,
-                                                           first.height, args.fps, range.count()))
-                       : std::make_unique<ClipOutput>(pattern, wo, ClipOutput::defaultInFlight());
+        output =
+            video ? std::make_unique<ClipOutput>(
+                        std::make_unique<VideoWriter>(ffmpeg, args.output, *video, first.width,
+                                                      first.height, args.fps, range.count()))
+                  : std::make_unique<ClipOutput>([pattern](int64_t n) { return pattern.name(n); },
+                                                 wo, ClipOutput::defaultInFlight());
     } catch (const BackendError& e) {
         fmt::print(stderr, "moire: error: {}\n", e.what());
-        return kExitUserError;
+        return kExitMachine;
     } catch (const IoError& e) {
         fmt::print(stderr, "moire: error: {}\n", e.what());
-        return kExitUserError;
+        return kExitIo;
     }
 
-    const bool tty = isatty(fileno(stderr)) && !args.quiet;
+    stages.done(fmt::format("compiled the kernel for {}", describe(*backend)));
+    const bool tty = isatty(fileno(stderr)) && !args.verbosity.quiet;
     const auto loopStart = std::chrono::steady_clock::now();
     bool shown = false;
     int64_t done = 0;
@@ -229,7 +238,7 @@ int clip(const ClipArgs& args) {
             endLine();
             fmt::print(stderr, "{}moire: error: frame {} (t = {:.17g}) cannot be rendered\n", diags,
                        n, clip::frameTime(args.from, n, args.fps));
-            return kExitUserError;
+            return kExitScene;
         }
         try {
             KernelFrame kf{frame.uniforms.data(), frame.width, frame.height};
@@ -237,11 +246,11 @@ int clip(const ClipArgs& args) {
         } catch (const BackendError& e) {
             endLine();
             fmt::print(stderr, "moire: error: {}\n", e.what());
-            return kExitUserError;
+            return kExitMachine;
         } catch (const IoError& e) {
             endLine();
             fmt::print(stderr, "moire: error: {}\n", e.what());
-            return kExitUserError;
+            return kExitIo;
         }
         ++done;
         if (tty && (shown || secondsSince(loopStart) >= 1.0)) {
@@ -257,7 +266,7 @@ int clip(const ClipArgs& args) {
         std::string failed = output->abandon();
         if (!failed.empty()) {
             fmt::print(stderr, "moire: error: {}\n", failed);
-            return kExitUserError;
+            return kExitIo;
         }
         if (video) {
             fmt::print(stderr, "moire: interrupted: {} was not written\n", args.output);
@@ -273,9 +282,11 @@ int clip(const ClipArgs& args) {
         output->finish();
     } catch (const IoError& e) {
         fmt::print(stderr, "moire: error: {}\n", e.what());
-        return kExitUserError;
+        return kExitIo;
     }
-    if (!args.quiet) {
+    stages.done(
+        fmt::format("rendered and wrote {} frame{}", range.count(), range.count() == 1 ? "" : "s"));
+    if (!args.verbosity.quiet) {
         double seconds = secondsSince(start);
         std::string what =
             video || range.count() == 1

@@ -5,10 +5,10 @@
 #include "compiler/Compile.h"
 #include "runtime/cli/Shared.h"
 #include "runtime/cli/StopSignals.h"
-#include "runtime/ImageIO.h"
-#include "runtime/MemoryBudget.h"
-#include "runtime/OutputFile.h"
-#include "runtime/Render.h"
+#include "runtime/output/ImageIO.h"
+#include "runtime/output/MemoryBudget.h"
+#include "runtime/output/OutputFile.h"
+#include "runtime/output/Render.h"
 #include "runtime/TextFile.h"
 #include "runtime/vulkan/VulkanBackend.h"
 #include "runtime/vulkan/VulkanContext.h"
@@ -131,6 +131,17 @@ double secondsSince(std::chrono::steady_clock::time_point t0) {
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
 
+Stages::Stages(const Verbosity& verbosity)
+    : verbose_(verbosity.verbose), last_(std::chrono::steady_clock::now()) {}
+
+void Stages::done(const std::string& what) {
+    const auto now = std::chrono::steady_clock::now();
+    if (verbose_)
+        fmt::print(stderr, "moire: {} ({:.1f} ms)\n", what,
+                   std::chrono::duration<double, std::milli>(now - last_).count());
+    last_ = now;
+}
+
 std::unique_ptr<Backend> openBackend(const std::string& name, int device) {
     try {
         return makeBackend(name, BackendOptions{.device = device});
@@ -158,11 +169,16 @@ bool checkImageOptions(const ImageArgs& args, ImageOptions& out) {
                       : args.scene == kStdinPath ? std::string("stdin")
                                                  : fs::path(args.scene).stem().string()) +
                      ".png";
-    if (imageFormatOf(out.output).empty()) {
+    out.format = out.output == kStdoutPath ? std::string("png") : imageFormatOf(out.output);
+    if (out.format.empty()) {
         fmt::print(
             stderr,
             "moire: error: cannot write '{}': unknown image format; use .png, .tif, .exr or .jpg\n",
             out.output);
+        return false;
+    }
+    if (std::string problem = depthProblem(out.format, out.depth); !problem.empty()) {
+        fmt::print(stderr, "moire: error: cannot write '{}': {}\n", out.output, problem);
         return false;
     }
     return checkBackendArgs(args.backend, args.device);
@@ -190,8 +206,13 @@ int render(const RenderArgs& args) {
             {args.scene, args.output, args.size, args.depth, args.backend, args.device}, image))
         return kExitUsage;
     const int w = image.width, h = image.height;
-    const PixelDepth depth = image.depth;
-    const std::string& output = image.output;
+    const bool toStdout = image.output == kStdoutPath;
+    if (toStdout && isatty(STDOUT_FILENO)) {
+        fmt::print(stderr, "moire: error: -o - writes a PNG to standard output, which is a "
+                           "terminal; redirect it to a file or a pipe\n");
+        return kExitUsage;
+    }
+    const std::string output = toStdout ? std::string("standard output") : image.output;
     // From here on SIGINT and SIGTERM stop the render between tiles: status 128 + the
     // signal, a line saying so, and no file (and no temporary) written.
     StopSignals signals;
@@ -200,13 +221,15 @@ int render(const RenderArgs& args) {
         return 128 + StopSignals::received();
     };
     std::unique_ptr<Backend> backend = openBackend(args.backend, args.device);
-    if (!backend) return kExitUserError;
+    if (!backend) return kExitMachine;
 
     auto t0 = std::chrono::steady_clock::now();
+    Stages stages(args.verbosity);
     Source src;
-    if (!readScene(args.scene, src)) return kExitUserError;
+    if (!readScene(args.scene, src)) return kExitIo;
     auto program = compileOrReport(src);
-    if (!program) return kExitUserError;
+    if (!program) return kExitScene;
+    stages.done(fmt::format("compiled {}", src.path));
     if (StopSignals::received()) return interrupted();
 
     FrameRequest req;
@@ -217,22 +240,22 @@ int render(const RenderArgs& args) {
     std::string diags;
     if (!evaluateFrame(*program, req, frame, diags)) {
         fmt::print(stderr, "{}", diags);
-        return kExitUserError;
+        return kExitScene;
     }
     FrameFootprint footprint;
     footprint.width = frame.width;
     footprint.height = frame.height;
     footprint.channels = program->kernel.numOutputs;
-    footprint.format = imageFormatOf(output);
+    footprint.format = image.format;
     footprint.gpu = args.backend == "vulkan";
-    if (!checkMemory(footprint)) return kExitUserError;
+    if (!checkMemory(footprint)) return kExitMachine;
 
     ExecOptions exec;
     exec.threads = args.threads;
     exec.cancelled = [] { return StopSignals::received() != 0; };
     bool tty = isatty(fileno(stderr));
     bool shown = false;
-    if (!args.quiet) {
+    if (!args.verbosity.quiet) {
         exec.progress = [&](double fraction) {
             // Only renders that take over a second get a progress line.
             if (secondsSince(t0) < 1.0 || !tty) return;
@@ -248,77 +271,102 @@ int render(const RenderArgs& args) {
     } catch (const BackendError& e) { // the device lost, or out of memory
         if (shown) fmt::print(stderr, "\n");
         fmt::print(stderr, "moire: error: {}\n", e.what());
-        return kExitUserError;
+        return kExitMachine;
     }
     if (shown) fmt::print(stderr, "\n");
     if (StopSignals::received()) return interrupted();
+    stages.done(fmt::format("rendered {}x{} on {}", frame.width, frame.height, describe(*backend)));
 
     WriteOptions wo;
-    wo.depth = depth;
+    wo.depth = image.depth;
     wo.dpi = args.dpi;
     try {
-        // A missing directory is created, as clip creates one; temporaries that renders
-        // killed there earlier left behind go.
-        prepareOutputDirectory(output);
-        removeStaleTemporaries(output);
-        writeImage(output, img, wo);
+        if (toStdout) {
+            const std::vector<unsigned char> bytes = encodeImage(output, "png", img, wo);
+            writeStandardOutput(bytes.data(), bytes.size());
+        } else {
+            // A missing directory is created, as clip creates one; temporaries that renders
+            // killed there earlier left behind go.
+            prepareOutputDirectory(output);
+            removeStaleTemporaries(output);
+            writeImage(output, img, wo);
+        }
     } catch (const IoError& e) {
         fmt::print(stderr, "moire: error: {}\n", e.what());
-        return kExitUserError;
+        return kExitIo;
     }
+    stages.done(fmt::format("wrote {}", output));
     double seconds = secondsSince(t0);
-    if (!args.quiet)
+    if (!args.verbosity.quiet)
         fmt::print(stderr, "moire: wrote {} ({}x{}, {}, {:.0f} ms)\n", output, frame.width,
                    frame.height, describe(*backend), seconds * 1000.0);
     return kExitOk;
 }
 
-int check(const std::vector<std::string>& scenes, bool quiet, const std::string& format) {
-    if (format == "json") return checkJson(scenes);
+int check(const CheckArgs& args) {
+    if (args.format == "json") return checkJson(args.scenes);
     int status = kExitOk;
-    for (const std::string& path : scenes) {
+    auto fail = [&](int code) {
+        if (status == kExitOk) status = code;
+    };
+    for (const std::string& path : args.scenes) {
+        Stages stages(args.verbosity);
         Source src;
         if (!readScene(path, src)) {
-            status = kExitUserError;
+            fail(kExitIo);
             continue;
         }
         auto program = compileOrReport(src);
         if (!program) {
-            status = kExitUserError;
+            fail(kExitScene);
             continue;
         }
         FrameValues frame;
         std::string diags;
         if (!evaluateFrame(*program, FrameRequest{}, frame, diags)) {
             fmt::print(stderr, "{}", diags);
-            status = kExitUserError;
+            fail(kExitScene);
             continue;
         }
-        if (!quiet) fmt::print("{}: ok\n", path);
+        if (args.verbosity.verbose) {
+            std::string timings;
+            for (const TimingValues& t : frame.timings)
+                timings +=
+                    fmt::format("{}{} {:g} s", timings.empty() ? "" : ", ", t.name, t.cycle());
+            stages.done(fmt::format("checked {}: {}x{}, timings: {}", src.path, frame.width,
+                                    frame.height, timings.empty() ? "none" : timings));
+        }
+        if (!args.verbosity.quiet) fmt::print("{}: ok\n", path);
     }
     return status;
 }
 
-int devices() {
+int devices(const Verbosity& verbosity) {
     std::vector<vk::DeviceInfo> list;
     try {
         list = vk::listDevices();
     } catch (const BackendError& e) {
         fmt::print(stderr, "moire: error: {}\n", e.what());
-        return kExitUserError;
+        return kExitMachine;
     }
     if (list.empty()) {
         fmt::print(stderr, "moire: error: no Vulkan device found (the driver lists none)\n");
-        return kExitUserError;
+        return kExitMachine;
     }
     // One line a device: index, type, API version, name, and which one --device defaults to.
     const int chosen = vk::defaultDevice(list);
-    for (const vk::DeviceInfo& d : list)
-        fmt::print("{:<3}{:<11}Vulkan {:<10}{}{}\n", d.index, d.type,
-                   vk::versionString(d.apiVersion), d.name,
-                   d.index == chosen ? "  (default)"
-                   : d.usable        ? ""
-                                     : fmt::format("  (unusable: {})", d.whyNot));
+    if (!verbosity.quiet)
+        for (const vk::DeviceInfo& d : list)
+            fmt::print("{:<3}{:<11}Vulkan {:<10}{}{}\n", d.index, d.type,
+                       vk::versionString(d.apiVersion), d.name,
+                       d.index == chosen ? "  (default)"
+                       : d.usable        ? ""
+                                         : fmt::format("  (unusable: {})", d.whyNot));
+    if (verbosity.verbose)
+        fmt::print(stderr,
+                   "moire: --device defaults to the first usable discrete GPU, else the first "
+                   "usable device: {}\n",
+                   chosen);
     return kExitOk;
 }
 
@@ -332,28 +380,47 @@ int compile(const CompileArgs& args) {
                    args.dump);
         return kExitUsage;
     }
+    if (args.output.empty()) {
+        fmt::print(stderr, "moire: error: -o needs a file name, or - for standard output\n");
+        return kExitUsage;
+    }
+    Stages stages(args.verbosity);
     Source src;
-    if (!readScene(args.scene, src)) return kExitUserError;
+    if (!readScene(args.scene, src)) return kExitIo;
     CompileOptions options;
     options.layerFields = args.layerFields;
     auto program = compileOrReport(src, options);
-    if (!program) return kExitUserError;
+    if (!program) return kExitScene;
+    stages.done(fmt::format("compiled {}", src.path));
+    std::string text;
     if (args.dump == "ast")
-        fmt::print("{}", ast::printModule(program->userModule()));
+        text = ast::printModule(program->userModule());
     else if (args.dump == "ir")
-        fmt::print("{}", ir::print(program->lowered));
+        text = ir::print(program->lowered);
     else if (args.dump == "ir-ad")
-        fmt::print("{}", ir::print(program->derived));
+        text = ir::print(program->derived);
     else if (args.dump == "frame")
-        fmt::print("{}", ir::print(program->frame));
+        text = ir::print(program->frame);
     else if (args.dump == "kernel")
-        fmt::print("{}", ir::print(program->kernel));
+        text = ir::print(program->kernel);
     else if (args.dump == "glsl")
-        fmt::print("{}", glsl::emitGlsl(program->kernel));
+        text = glsl::emitGlsl(program->kernel);
     else if (args.dump == "spirv")
-        fmt::print("{}", glsl::disassembleSpirv(glsl::compileSpirv(program->kernel)));
+        text = glsl::disassembleSpirv(glsl::compileSpirv(program->kernel));
     else if (args.dump == "llvm")
-        fmt::print("{}", LlvmJitBackend().dumpLlvm(program->kernel));
+        text = LlvmJitBackend().dumpLlvm(program->kernel);
+    stages.done(fmt::format("made the {} dump", args.dump));
+    try {
+        if (args.output == kStdoutPath) {
+            writeStandardOutput(text.data(), text.size());
+        } else {
+            prepareOutputDirectory(args.output);
+            writeFileAtomically(args.output, text.data(), text.size());
+        }
+    } catch (const IoError& e) {
+        fmt::print(stderr, "moire: error: {}\n", e.what());
+        return kExitIo;
+    }
     return kExitOk;
 }
 

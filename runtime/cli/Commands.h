@@ -1,6 +1,4 @@
-// The `moire` subcommands. Each returns the process exit status:
-//   0 success, 1 the scene or a file is wrong (a diagnostic was printed),
-//   2 the command line is wrong, 70 an internal error in moire.
+// The `moire` subcommands. Each returns the process exit status (docs/cli.md):
 #pragma once
 
 #include <string>
@@ -9,9 +7,18 @@
 namespace moire::cli {
 
 constexpr int kExitOk = 0;
-constexpr int kExitUserError = 1;
-constexpr int kExitUsage = 2;
-constexpr int kExitInternal = 70;
+constexpr int kExitScene = 1;     // the scene has errors: its diagnostics were printed
+constexpr int kExitUsage = 2;     // the command line asks for something moire does not do
+constexpr int kExitIo = 3;        // a file cannot be read or written (or ffmpeg cannot make it)
+constexpr int kExitMachine = 4;   // no usable Vulkan device, not enough memory, the GPU failed
+constexpr int kExitInternal = 70; // a bug in moire (sysexits' EX_SOFTWARE)
+// Stopped by SIGINT or SIGTERM: 128 + the signal (130, 143).
+
+// -q and -v, which every command takes.
+struct Verbosity {
+    bool quiet = false;   // nothing but errors
+    bool verbose = false; // also each stage and how long it took, on stderr
+};
 
 struct RenderArgs {
     std::string scene;  // empty: the embedded default scene
@@ -23,7 +30,7 @@ struct RenderArgs {
     std::string depth; // 8, 16, half, float
     double dpi = 0.0;
     int threads = 0;
-    bool quiet = false;
+    Verbosity verbosity;
 };
 int render(const RenderArgs& args);
 
@@ -43,7 +50,7 @@ struct ClipArgs {
     std::string depth; // image frames only
     int threads = 0;
     bool plan = false; // print the schedule, render nothing
-    bool quiet = false;
+    Verbosity verbosity;
 };
 int clip(const ClipArgs& args);
 
@@ -60,7 +67,7 @@ struct WatchArgs {
     int threads = 0;
     int debounceMs = 30;
     bool once = false; // render the current file and exit (no watching)
-    bool quiet = false;
+    Verbosity verbosity;
 };
 int watch(const WatchArgs& args);
 
@@ -75,20 +82,29 @@ struct ViewArgs {
     int threads = 0;
     int debounceMs = 30;
     bool trace = false; // hidden: a line per frame shown, and after `p` a marker (tests)
+    Verbosity verbosity;
 };
 int view(const ViewArgs& args);
 
-int check(const std::vector<std::string>& scenes, bool quiet, const std::string& format = "text");
+// `moire check`: every scene is checked; the status is the first failing scene's.
+struct CheckArgs {
+    std::vector<std::string> scenes; // "-": standard input
+    std::string format = "text";     // or "json" (checkJson)
+    Verbosity verbosity;
+};
+int check(const CheckArgs& args);
 // `check --format=json`: every scene's diagnostics as one JSON document (CheckJson.cpp).
 int checkJson(const std::vector<std::string>& scenes);
 
-// Lists the Vulkan devices --device can name.
-int devices();
+// Lists the Vulkan devices --device can name (-q: none, the status says whether any).
+int devices(const Verbosity& verbosity);
 
 struct CompileArgs {
     std::string scene;
-    std::string dump = "ir"; // ast, ir, ir-ad, frame, kernel, llvm
+    std::string dump = "ir"; // ast, ir, ir-ad, frame, kernel, llvm, glsl, spirv
     bool layerFields = false;
+    std::string output = "-"; // the file the dump goes to; "-": standard output
+    Verbosity verbosity;
 };
 int compile(const CompileArgs& args);
 

@@ -3,8 +3,9 @@
 
 #include "compiler/backend/Backend.h"
 #include "compiler/Compile.h"
-#include "runtime/ImageIO.h"
-#include "runtime/MemoryBudget.h"
+#include "runtime/cli/Commands.h"
+#include "runtime/output/ImageIO.h"
+#include "runtime/output/MemoryBudget.h"
 
 #include <chrono>
 #include <memory>
@@ -19,6 +20,8 @@ struct Source {
 
 // The scene path that means standard input (render, clip, check, compile).
 inline constexpr const char* kStdinPath = "-";
+// The output path that means standard output (render -o -, compile -o -).
+inline constexpr const char* kStdoutPath = "-";
 // The largest --dpi: a 32-bit float in the file, and far past any printer.
 constexpr double kMaxDpi = 1e6;
 
@@ -40,7 +43,8 @@ struct ImageArgs {
 struct ImageOptions {
     int width = 0, height = 0; // 0: the scene's size
     PixelDepth depth = PixelDepth::Default;
-    std::string output;
+    std::string output; // kStdoutPath: standard output
+    std::string format; // imageFormatOf(output); "png" for standard output
 };
 // Checks --backend (a known name; empty: chosen by the command) and --device (Vulkan only),
 // printing the reason when one is wrong.
@@ -62,6 +66,16 @@ bool parseDepth(const std::string& s, PixelDepth& d);
 // The backend as a closing line names it: Vulkan says which device drew the image.
 std::string describe(const Backend& backend);
 double secondsSince(std::chrono::steady_clock::time_point t0);
+// -v's lines: "moire: <what> (12.3 ms)", each stage timed from the end of the one before.
+class Stages {
+  public:
+    explicit Stages(const Verbosity& verbosity);
+    void done(const std::string& what);
+
+  private:
+    bool verbose_;
+    std::chrono::steady_clock::time_point last_;
+};
 // The backend by name. One that cannot run here (no Vulkan driver or device, a bad device
 // index) is the user's to fix: prints one line and returns null.
 std::unique_ptr<Backend> openBackend(const std::string& name, int device);

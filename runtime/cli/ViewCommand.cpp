@@ -3,7 +3,7 @@
 #include "runtime/cli/Commands.h"
 #include "runtime/cli/Shared.h"
 #include "runtime/FrameEval.h"
-#include "runtime/Render.h"
+#include "runtime/output/Render.h"
 #include "runtime/view/Viewer.h"
 #include "runtime/vulkan/VulkanBackend.h"
 #include "runtime/vulkan/VulkanContext.h"
@@ -54,7 +54,7 @@ int view(const ViewArgs& args) {
         footprint.width = w;
         footprint.height = h;
         footprint.sink = FrameSink::Window;
-        if (!checkMemory(footprint)) return kExitUserError;
+        if (!checkMemory(footprint)) return kExitMachine;
     }
 
     std::unique_ptr<Backend> backend;
@@ -63,14 +63,20 @@ int view(const ViewArgs& args) {
             try {
                 backend = makeBackend("vulkan", BackendOptions{.device = gpu});
             } catch (const BackendError& e) {
-                fmt::print(stderr, "moire: note: {}; drawing with the JIT\n", e.what());
+                if (!args.verbosity.quiet)
+                    fmt::print(stderr, "moire: note: {}; drawing with the JIT\n", e.what());
             }
         }
         if (!backend) backend = openBackend("jit", -1);
     } else {
         backend = openBackend(args.backend.empty() ? "vulkan" : args.backend, args.device);
     }
-    if (!backend) return kExitUserError;
+    if (!backend) return kExitMachine;
+    if (args.verbosity.verbose)
+        fmt::print(stderr, "moire: view: drawing with {}{}\n", describe(*backend),
+                   args.backend.empty()
+                       ? " (chosen: a hardware GPU when there is one, else the JIT)"
+                       : "");
 
     view::ViewerOptions options;
     options.scenePath = args.scene;

@@ -4,8 +4,8 @@
 #include "runtime/cli/Commands.h"
 #include "runtime/cli/Shared.h"
 #include "runtime/live/WatchSession.h"
-#include "runtime/OutputFile.h"
-#include "runtime/Render.h"
+#include "runtime/output/OutputFile.h"
+#include "runtime/output/Render.h"
 
 #include <csignal>
 #include <cstdio>
@@ -25,19 +25,36 @@ void printReport(const WatchReport& r, const WatchArgs& args, const Backend& bac
         fmt::print(stderr, "{}", r.diagnostics);
         // "kept" only what is there: before the first good render there is no image.
         std::error_code ec;
-        if (!args.quiet && std::filesystem::is_regular_file(output, ec))
+        if (!args.verbosity.quiet && std::filesystem::is_regular_file(output, ec))
             fmt::print(stderr, "moire: watch: kept {} (the last good render)\n", output);
-        else if (!args.quiet)
+        else if (!args.verbosity.quiet)
             fmt::print(stderr, "moire: watch: {} not written (no good render yet)\n", output);
-    } else if (!args.quiet) {
+    } else if (!args.verbosity.quiet) {
         const BuildResult& b = r.result;
         std::string how = b.kind == BuildResult::Kind::Numbers
                               ? "numbers changed, kernel reused"
                               : fmt::format("kernel compiled in {:.0f} ms", b.kernelMs);
+        if (args.verbosity.verbose)
+            fmt::print(stderr, "moire: watch: read and checked the scene in {:.1f} ms\n",
+                       b.frontEndMs);
         fmt::print(stderr, "moire: watch: wrote {} ({}x{}, {}, {}, rendered in {:.0f} ms)\n",
                    output, r.width, r.height, describe(backend), how, r.renderMs);
     }
     std::fflush(stderr);
+}
+
+int exitStatusOf(const WatchReport& r) {
+    switch (r.failure) {
+    case WatchReport::Failure::None:
+        return kExitOk;
+    case WatchReport::Failure::Scene:
+        return kExitScene;
+    case WatchReport::Failure::File:
+        return kExitIo;
+    case WatchReport::Failure::Machine:
+        return kExitMachine;
+    }
+    return kExitInternal;
 }
 
 } // namespace
@@ -55,14 +72,14 @@ int watch(const WatchArgs& args) {
         return kExitUsage;
     const std::string& output = image.output;
     std::unique_ptr<Backend> backend = openBackend(args.backend, args.device);
-    if (!backend) return kExitUserError;
+    if (!backend) return kExitMachine;
     // The image's directory is created when missing, as render and clip do; temporaries
     // that a killed watch left there go.
     try {
         prepareOutputDirectory(output);
     } catch (const IoError& e) {
         fmt::print(stderr, "moire: error: {}\n", e.what());
-        return kExitUserError;
+        return kExitIo;
     }
     removeStaleTemporaries(output);
 
@@ -90,14 +107,14 @@ int watch(const WatchArgs& args) {
         session = std::make_unique<WatchSession>(*backend, options);
     } catch (const std::runtime_error& e) {
         fmt::print(stderr, "moire: error: {}\n", e.what());
-        return kExitUserError;
+        return kExitIo;
     }
     std::mutex printing;
     WatchReport first = session->processNow();
     printReport(first, args, *backend, output);
-    if (args.once) return first.good() ? kExitOk : kExitUserError;
+    if (args.once) return exitStatusOf(first);
 
-    if (!args.quiet) {
+    if (!args.verbosity.quiet) {
         fmt::print(stderr, "moire: watch: watching {} (Ctrl-C stops)\n", args.scene);
         std::fflush(stderr);
     }

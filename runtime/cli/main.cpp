@@ -1,4 +1,6 @@
-// The `moire` command line.
+// The `moire` command line. The options several commands share (the scene, -o, --size,
+// --time, --backend and --device, --depth, --threads, -q and -v) are declared once, below,
+// so that they read and behave the same in every command that takes them.
 #include "compiler/diag/Diagnostics.h"
 #include "runtime/cli/Commands.h"
 
@@ -6,6 +8,76 @@
 #include <csignal>
 #include <fmt/format.h>
 #include <new>
+
+namespace {
+
+using namespace moire;
+
+// The exit statuses, at the end of each command's --help (docs/cli.md has them all).
+std::string exitStatuses(const char* scene) {
+    return fmt::format("Exit status: 0 done; 1 {}; 2 a wrong command line; 3 a file that cannot "
+                       "be\nread or written; 4 no usable device or not enough memory; 130 "
+                       "interrupted.",
+                       scene);
+}
+
+CLI::Option* addScene(CLI::App* cmd, std::string& scene, bool stdinToo = true,
+                      bool defaultToo = true) {
+    return cmd->add_option("scene", scene,
+                           fmt::format("The .moire scene{}{}",
+                                       stdinToo ? ", - for standard input" : "",
+                                       defaultToo ? " (default: the embedded default scene)" : ""));
+}
+
+void addSize(CLI::App* cmd, std::string& size, const char* what = "Image") {
+    cmd->add_option("--size", size,
+                    fmt::format("{} size WIDTHxHEIGHT, replacing the scene's", what));
+}
+
+void addTime(CLI::App* cmd, double& time, const char* what = "Clock time t in seconds") {
+    cmd->add_option("--time", time, fmt::format("{} (default 0)", what));
+}
+
+void addBackend(CLI::App* cmd, std::string& backend, int& device,
+                const char* which = "jit (default), interp or vulkan") {
+    cmd->add_option("--backend", backend, which);
+    cmd->add_option("--device", device,
+                    "Vulkan device index for --backend vulkan (see 'moire devices'; default: "
+                    "the first discrete GPU, else the first device)")
+        ->check(CLI::NonNegativeNumber);
+}
+
+void addDepth(CLI::App* cmd, std::string& depth, const char* what = "Bits per channel") {
+    cmd->add_option("--depth", depth, fmt::format("{}: 8, 16, half or float", what));
+}
+
+void addThreads(CLI::App* cmd, int& threads) {
+    cmd->add_option("--threads", threads, "Worker threads (default: all cores)");
+}
+
+void addDebounce(CLI::App* cmd, int& ms) {
+    cmd->add_option("--debounce", ms,
+                    "Milliseconds of quiet after a change before rebuilding (default 30)")
+        ->check(CLI::Range(0, 10000));
+}
+
+void addVerbosity(CLI::App* cmd, cli::Verbosity& v, const char* quiet = "Print nothing but errors",
+                  const char* verbose = "Also print each stage and how long it took") {
+    CLI::Option* q = cmd->add_flag("-q,--quiet", v.quiet, quiet);
+    cmd->add_flag("-v,--verbose", v.verbose, verbose)->excludes(q);
+}
+
+// The options of the commands that draw one image of a scene (render, watch).
+template <class Args>
+void addImageOptions(CLI::App* cmd, Args& args) {
+    addSize(cmd, args.size);
+    addTime(cmd, args.time);
+    addBackend(cmd, args.backend, args.device);
+    addDepth(cmd, args.depth);
+    addThreads(cmd, args.threads);
+}
+
+} // namespace
 
 int main(int argc, char** argv) {
     using namespace moire;
@@ -16,49 +88,34 @@ int main(int argc, char** argv) {
     CLI::App app{"moire: a compiler and renderer for moire-pattern scenes (.moire files)", "moire"};
     app.set_version_flag("--version", "moire " MOIRE_VERSION);
     app.require_subcommand(0, 1);
-    app.footer(
-        "Run 'moire COMMAND --help' for a command's options. Without a scene, render uses the\n"
-        "embedded default scene.");
+    app.footer("Run 'moire COMMAND --help' for a command's options. Exit statuses: docs/cli.md.");
 
     cli::RenderArgs renderArgs;
     CLI::App* renderCmd = app.add_subcommand("render", "Render a scene to an image file");
-    renderCmd->add_option("scene", renderArgs.scene,
-                          "The .moire scene, - for standard input (default: the embedded "
-                          "default scene)");
-    renderCmd->add_option(
-        "-o,--output", renderArgs.output,
-        "Image to write: .png (8/16-bit), .tif (16/8-bit), .exr (float/half), .jpg");
-    renderCmd->add_option("--size", renderArgs.size,
-                          "Image size WIDTHxHEIGHT, replacing the scene's");
-    renderCmd->add_option("--time", renderArgs.time, "Clock time t in seconds (default 0)");
-    renderCmd->add_option("--backend", renderArgs.backend, "jit (default), interp or vulkan");
-    renderCmd
-        ->add_option("--device", renderArgs.device,
-                     "Vulkan device index for --backend vulkan (see 'moire devices'; default: "
-                     "the first discrete GPU, else the first device)")
-        ->check(CLI::NonNegativeNumber);
-    renderCmd->add_option("--depth", renderArgs.depth, "Bits per channel: 8, 16, half or float");
+    addScene(renderCmd, renderArgs.scene);
+    renderCmd->add_option("-o,--output", renderArgs.output,
+                          "Image to write: .png (8/16-bit), .tif (16/8-bit), .exr (float/half), "
+                          ".jpg; - for a PNG on standard output (default: <scene>.png)");
+    addImageOptions(renderCmd, renderArgs);
     renderCmd->add_option("--dpi", renderArgs.dpi,
                           "Print resolution to record in the file, in dots per inch (above 0, "
                           "at most 1000000; default 0: none recorded)");
-    renderCmd->add_option("--threads", renderArgs.threads, "Worker threads (default: all cores)");
-    renderCmd->add_flag("-q,--quiet", renderArgs.quiet, "Print nothing but errors");
+    addVerbosity(renderCmd, renderArgs.verbosity);
     renderCmd->footer(
         "The image is written beside its name and renamed into place when complete; a missing\n"
         "directory is created. A write that fails (a full disk) is an error and leaves any\n"
-        "earlier file as it was. Ctrl-C stops the render with status 130 and writes nothing.");
+        "earlier file as it was. Ctrl-C stops the render with status 130 and writes nothing.\n" +
+        exitStatuses("the scene has errors"));
 
     cli::ClipArgs clipArgs;
     CLI::App* clipCmd = app.add_subcommand(
         "clip", "Render an animation: numbered images or a video (.mp4, .webm, .gif)");
-    clipCmd->add_option("scene", clipArgs.scene,
-                        "The .moire scene, - for standard input (default: the embedded default "
-                        "scene)");
+    addScene(clipCmd, clipArgs.scene);
     clipCmd->add_option("-o,--output", clipArgs.output,
                         "Frames as a numbered image name (frame_%04d.png; .png, .tif, .exr, .jpg) "
                         "or one video file (.mp4, .webm, .gif; needs ffmpeg)");
     clipCmd->add_option("--fps", clipArgs.fps, "Frames per second")->required();
-    clipCmd->add_option("--size", clipArgs.size, "Frame size WIDTHxHEIGHT, replacing the scene's");
+    addSize(clipCmd, clipArgs.size, "Frame");
     clipCmd->add_option("--from", clipArgs.from, "Clock time of frame 0 in seconds (default 0)");
     CLI::Option* toOpt = clipCmd->add_option(
         "--to", clipArgs.to,
@@ -67,17 +124,12 @@ int main(int argc, char** argv) {
         clipCmd->add_option("--frames", clipArgs.frames,
                             "N frames, or frames A..B (inclusive) numbered as in the whole clip");
     toOpt->excludes(framesOpt);
-    clipCmd->add_option("--backend", clipArgs.backend, "jit (default), interp or vulkan");
-    clipCmd
-        ->add_option("--device", clipArgs.device,
-                     "Vulkan device index for --backend vulkan (see 'moire devices')")
-        ->check(CLI::NonNegativeNumber);
-    clipCmd->add_option("--depth", clipArgs.depth,
-                        "Bits per channel of image frames: 8, 16, half or float");
-    clipCmd->add_option("--threads", clipArgs.threads, "Worker threads (default: all cores)");
+    addBackend(clipCmd, clipArgs.backend, clipArgs.device);
+    addDepth(clipCmd, clipArgs.depth, "Bits per channel of image frames");
+    addThreads(clipCmd, clipArgs.threads);
     clipCmd->add_flag("--plan", clipArgs.plan,
                       "Print the frames the clip would have and why; render nothing");
-    clipCmd->add_flag("-q,--quiet", clipArgs.quiet, "Print nothing but errors");
+    addVerbosity(clipCmd, clipArgs.verbosity);
     clipCmd->footer(
         "Frame n is drawn at exactly t = FROM + n / FPS, so any range can be rendered apart\n"
         "(--frames A..B keeps the whole clip's numbering) and the same range twice gives the\n"
@@ -86,53 +138,41 @@ int main(int argc, char** argv) {
         "at most 10 minutes. Timings that run once extend it until they are at rest, and the\n"
         "clip then does not join seamlessly. A scene that does not move gives one frame.\n"
         "A missing output directory is created. Ctrl-C stops after the frame in hand: the\n"
-        "frames written are complete, a video is not written; the exit status is 130.");
+        "frames written are complete, a video is not written; the exit status is 130.\n" +
+        exitStatuses("the scene has errors, or a frame cannot be rendered"));
 
     cli::WatchArgs watchArgs;
     CLI::App* watchCmd = app.add_subcommand(
         "watch", "Re-render an image each time the scene is saved (headless live coding)");
-    watchCmd->add_option("scene", watchArgs.scene, "The .moire scene")->required();
+    addScene(watchCmd, watchArgs.scene, false, false)->required();
     watchCmd->add_option("-o,--output", watchArgs.output,
                          "Image to keep up to date (default: <scene>.png); replaced atomically");
-    watchCmd->add_option("--size", watchArgs.size,
-                         "Image size WIDTHxHEIGHT, replacing the scene's");
-    watchCmd->add_option("--time", watchArgs.time, "Clock time t in seconds (default 0)");
-    watchCmd->add_option("--backend", watchArgs.backend, "jit (default), interp or vulkan");
-    watchCmd->add_option("--device", watchArgs.device, "Vulkan device index for --backend vulkan")
-        ->check(CLI::NonNegativeNumber);
-    watchCmd->add_option("--depth", watchArgs.depth, "Bits per channel: 8, 16, half or float");
-    watchCmd->add_option("--threads", watchArgs.threads, "Worker threads (default: all cores)");
-    watchCmd
-        ->add_option("--debounce", watchArgs.debounceMs,
-                     "Milliseconds of quiet after a change before rebuilding (default 30)")
-        ->check(CLI::Range(0, 10000));
+    addImageOptions(watchCmd, watchArgs);
+    addDebounce(watchCmd, watchArgs.debounceMs);
     watchCmd->add_flag("--once", watchArgs.once, "Render the scene as it is now and exit");
-    watchCmd->add_flag("-q,--quiet", watchArgs.quiet, "Print nothing but diagnostics");
+    addVerbosity(watchCmd, watchArgs.verbosity, "Print nothing but diagnostics",
+                 "Also print how long each save took to read and compile");
     watchCmd->footer(
         "Each good save re-renders the image (written beside it, then renamed over it, so an\n"
         "image viewer never reads half a file); a save with errors prints them and leaves the\n"
         "last good image. Saves that change only numbers reuse the compiled kernel. Ctrl-C\n"
-        "stops (exit 0).");
+        "stops (exit 0). With --once: " +
+        exitStatuses("the scene has errors"));
 
     cli::ViewArgs viewArgs;
     CLI::App* viewCmd =
         app.add_subcommand("view", "Open a window on a scene that reloads as the file is saved");
-    viewCmd->add_option("scene", viewArgs.scene,
-                        "The .moire scene (default: the embedded default scene)");
-    viewCmd->add_option("--backend", viewArgs.backend,
-                        "vulkan or jit (default: vulkan on a GPU, else jit), or interp");
-    viewCmd->add_option("--device", viewArgs.device, "Vulkan device index for --backend vulkan")
-        ->check(CLI::NonNegativeNumber);
-    viewCmd->add_option("--size", viewArgs.size,
-                        "Window size WIDTHxHEIGHT in screen units (default: the scene's)");
-    viewCmd->add_option("--time", viewArgs.time, "Clock time t to start at (default 0)");
+    addScene(viewCmd, viewArgs.scene, false);
+    addBackend(viewCmd, viewArgs.backend, viewArgs.device,
+               "vulkan or jit (default: vulkan on a GPU, else jit), or interp");
+    addSize(viewCmd, viewArgs.size, "Window (in screen units)");
+    addTime(viewCmd, viewArgs.time, "Clock time t to start at");
     viewCmd->add_flag("--paused", viewArgs.paused, "Start with the clock stopped");
-    viewCmd->add_option("--threads", viewArgs.threads, "Worker threads (default: all cores)");
-    viewCmd
-        ->add_option("--debounce", viewArgs.debounceMs,
-                     "Milliseconds of quiet after a change before rebuilding (default 30)")
-        ->check(CLI::Range(0, 10000));
+    addThreads(viewCmd, viewArgs.threads);
+    addDebounce(viewCmd, viewArgs.debounceMs);
     viewCmd->add_flag("--trace", viewArgs.trace, "Print a line per frame shown")->group("");
+    addVerbosity(viewCmd, viewArgs.verbosity, "Print nothing but errors",
+                 "Also say which backend draws and why");
     viewCmd->footer(
         "Mouse: the wheel zooms about the cursor; a drag pans, or moves the selected layer;\n"
         "alt-drag (or ctrl-drag) turns the selected layer about the world origin; a click on a\n"
@@ -142,29 +182,38 @@ int main(int argc, char** argv) {
         "into the scene file; h hides the status line; q quits. Saves reload; a save with\n"
         "errors keeps the last good picture under the diagnostics.");
 
-    std::vector<std::string> checkScenes;
-    bool checkQuiet = false;
+    cli::CheckArgs checkArgs;
     CLI::App* checkCmd = app.add_subcommand("check", "Check scenes for errors without rendering");
-    checkCmd->add_option("scenes", checkScenes, "The .moire scenes, - for standard input")
+    checkCmd->add_option("scenes", checkArgs.scenes, "The .moire scenes, - for standard input")
         ->required();
-    checkCmd->add_flag("-q,--quiet", checkQuiet, "Print nothing but errors");
-    std::string checkFormat = "text";
     checkCmd
-        ->add_option("--format", checkFormat,
+        ->add_option("--format", checkArgs.format,
                      "text (default), or json: the diagnostics as JSON on standard output")
         ->check(CLI::IsMember({"text", "json"}));
+    addVerbosity(checkCmd, checkArgs.verbosity, "Print nothing but errors",
+                 "Also print each scene's size and timings, and how long it took to check");
+    checkCmd->footer("Exit status: 0 every scene is good; otherwise the first failing scene's: 1 "
+                     "it has\nerrors, 3 it cannot be read; 2 a wrong command line.");
 
+    cli::Verbosity devicesVerbosity;
     CLI::App* devicesCmd = app.add_subcommand("devices", "List the Vulkan devices");
+    addVerbosity(devicesCmd, devicesVerbosity,
+                 "Print nothing: the exit status says whether there is a device",
+                 "Also say why --device picks its default");
+    devicesCmd->footer("Exit status: 0 a usable device; 4 none (no driver, or no device).");
 
     cli::CompileArgs compileArgs;
     CLI::App* compileCmd = app.add_subcommand("compile", "Show a stage of the compiler");
-    compileCmd->add_option("scene", compileArgs.scene,
-                           "The .moire scene, - for standard input (default: the embedded "
-                           "default scene)");
+    addScene(compileCmd, compileArgs.scene);
     compileCmd->add_option("--dump", compileArgs.dump,
                            "ast, ir, ir-ad, frame, kernel, llvm, glsl or spirv (default ir)");
     compileCmd->add_flag("--fields", compileArgs.layerFields,
                          "Also output each layer's index and distance");
+    compileCmd->add_option("-o,--output", compileArgs.output,
+                           "The file to write the stage to (default -: standard output)");
+    addVerbosity(compileCmd, compileArgs.verbosity, "Print nothing but errors",
+                 "Also print how long the scene took to compile");
+    compileCmd->footer(exitStatuses("the scene has errors"));
 
     try {
         app.parse(argc, argv);
@@ -180,16 +229,16 @@ int main(int argc, char** argv) {
         }
         if (*watchCmd) return cli::watch(watchArgs);
         if (*viewCmd) return cli::view(viewArgs);
-        if (*checkCmd) return cli::check(checkScenes, checkQuiet, checkFormat);
+        if (*checkCmd) return cli::check(checkArgs);
         if (*compileCmd) return cli::compile(compileArgs);
-        if (*devicesCmd) return cli::devices();
+        if (*devicesCmd) return cli::devices(devicesVerbosity);
         fmt::print("{}", app.help());
         return 0;
     } catch (const std::bad_alloc&) {
         // The estimate before a render (MemoryBudget.h) catches the sizes known to be too
         // large; this is whatever else runs out, said as the user's problem, not ours.
         fmt::print(stderr, "moire: error: out of memory\n");
-        return cli::kExitUserError;
+        return cli::kExitMachine;
     } catch (const InternalError& e) {
         fmt::print(stderr, "moire: {}\nPlease report this with the scene that caused it.\n",
                    e.what());

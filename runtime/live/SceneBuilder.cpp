@@ -30,6 +30,7 @@ SceneBuilder::SceneBuilder(Backend& backend, CompileOptions options)
 BuildResult SceneBuilder::unreadable(const std::string& message) {
     BuildResult r;
     r.kind = BuildResult::Kind::Failed;
+    r.unreadable = true;
     r.diagnostics = message;
     // Whatever comes back next is new, even the bytes that were there before.
     haveLast_ = false;

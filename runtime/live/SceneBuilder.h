@@ -32,6 +32,7 @@ struct BuildResult {
     std::string diagnostics; // Failed: rendered `file:line:col: error:` lines; else any notes
     std::shared_ptr<const LiveProgram> build; // Numbers and Structure: the new current build
     double frontEndMs = 0.0, kernelMs = 0.0;
+    bool unreadable = false; // Failed because the file could not be read
 
     bool good() const { return kind == Kind::Numbers || kind == Kind::Structure; }
 };

@@ -1,7 +1,7 @@
 #include "runtime/live/WatchSession.h"
 
 #include "compiler/backend/Backend.h"
-#include "runtime/MemoryBudget.h"
+#include "runtime/output/MemoryBudget.h"
 
 #include <fmt/format.h>
 #include <new>
@@ -46,8 +46,10 @@ void WatchSession::stop() {
 WatchReport WatchSession::handle(const BuildResult& b) {
     WatchReport r;
     r.result = b;
+    using Failure = WatchReport::Failure;
     if (!b.good()) {
         r.diagnostics = b.diagnostics;
+        r.failure = b.unreadable ? Failure::File : Failure::Scene;
         return r;
     }
     // A good build can still describe a frame that cannot be drawn (a zero zoom, a size out of
@@ -55,7 +57,10 @@ WatchReport WatchSession::handle(const BuildResult& b) {
     FrameRequest req = options_.request;
     req.literals = nullptr;
     FrameValues frame;
-    if (!evaluateFrame(*b.build->program, req, frame, r.diagnostics)) return r;
+    if (!evaluateFrame(*b.build->program, req, frame, r.diagnostics)) {
+        r.failure = Failure::Scene;
+        return r;
+    }
     FrameFootprint footprint;
     footprint.width = frame.width;
     footprint.height = frame.height;
@@ -64,6 +69,7 @@ WatchReport WatchSession::handle(const BuildResult& b) {
     footprint.gpu = b.build->kernel->wholeFrame();
     if (std::string problem = memoryProblem(footprint); !problem.empty()) {
         r.diagnostics = fmt::format("moire: error: {}\n", problem);
+        r.failure = Failure::Machine;
         return r;
     }
     auto t0 = std::chrono::steady_clock::now();
@@ -79,9 +85,15 @@ WatchReport WatchSession::handle(const BuildResult& b) {
     } catch (const std::bad_alloc&) {
         r.diagnostics = fmt::format("moire: error: out of memory rendering a {}x{} image\n",
                                     frame.width, frame.height);
+        r.failure = Failure::Machine;
         return r;
-    } catch (const std::exception& e) { // a lost device, a full disk, a vanished directory
+    } catch (const BackendError& e) { // a lost device
         r.diagnostics = fmt::format("moire: error: {}\n", e.what());
+        r.failure = Failure::Machine;
+        return r;
+    } catch (const std::exception& e) { // a full disk, a vanished directory
+        r.diagnostics = fmt::format("moire: error: {}\n", e.what());
+        r.failure = Failure::File;
         return r;
     }
     r.wrote = true;

@@ -4,8 +4,8 @@
 #pragma once
 
 #include "runtime/FrameEval.h"
-#include "runtime/ImageIO.h"
 #include "runtime/live/SceneReloader.h"
+#include "runtime/output/ImageIO.h"
 #include "runtime/TileExecutor.h"
 
 #include <chrono>
@@ -28,6 +28,10 @@ struct WatchOptions {
 struct WatchReport {
     BuildResult result;      // what the build of this state gave
     bool wrote = false;      // the output now holds this state's render
+    // Why a bad state is bad: its text (errors, or a frame that cannot be drawn), a file (the
+    // scene unreadable, the image unwritable), or the machine (memory, the device).
+    enum class Failure { None, Scene, File, Machine };
+    Failure failure = Failure::None;
     std::string diagnostics; // bad states: `file:line:col: error:` lines (or an I/O error)
     int width = 0, height = 0;
     double renderMs = 0.0;

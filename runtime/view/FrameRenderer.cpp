@@ -1,7 +1,7 @@
 #include "runtime/view/FrameRenderer.h"
 
 #include "runtime/FrameEval.h"
-#include "runtime/ImageIO.h"
+#include "runtime/output/ImageIO.h"
 #include "runtime/TileExecutor.h"
 
 #include <algorithm>
@@ -53,11 +53,7 @@ bool evaluateViewFrame(const SceneProgram& program, const ViewAdjust& view, doub
 
 void toRgba8(const float* rgba, int channels, size_t pixels, uint8_t* out) {
     for (size_t i = 0; i < pixels; ++i)
-        for (int c = 0; c < 4; ++c) {
-            // OpenImageIO's float to uint8: scale by 255 and round to nearest, in float.
-            const float v = std::clamp(rgba[i * channels + c], 0.0f, 1.0f);
-            out[i * 4 + c] = static_cast<uint8_t>(std::nearbyint(v * 255.0f));
-        }
+        for (int c = 0; c < 4; ++c) out[i * 4 + c] = toByte(rgba[i * channels + c]);
 }
 
 FrameRenderer::FrameRenderer(int threads, std::function<void()> notify)

@@ -4,7 +4,7 @@
 // rather than literal slots. Only the newest of a burst of jobs matters; a frame whose
 // uniforms did not change is the last one again; a still is the frame, written beside the
 // scene.
-#include "runtime/ImageIO.h"
+#include "runtime/output/ImageIO.h"
 #include "runtime/view/FrameRenderer.h"
 #include "runtime/view/Placement.h"
 #include "tests/support/Support.h"

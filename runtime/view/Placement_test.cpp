@@ -3,7 +3,7 @@
 // (ramps of timings, functions of t) kept as the scene wrote them.
 #include "compiler/backend/interp/Interpreter.h"
 #include "runtime/FrameEval.h"
-#include "runtime/Render.h"
+#include "runtime/output/Render.h"
 #include "runtime/view/Placement.h"
 #include "tests/support/Support.h"
 

@@ -2,8 +2,8 @@
 
 #include "compiler/Compile.h"
 #include "runtime/FrameEval.h"
-#include "runtime/ImageIO.h"
-#include "runtime/OutputFile.h"
+#include "runtime/output/ImageIO.h"
+#include "runtime/output/OutputFile.h"
 #include "runtime/TextFile.h"
 #include "runtime/view/Placement.h"
 

@@ -1,7 +1,7 @@
 #include "tests/support/Support.h"
 
 #include "runtime/FrameEval.h"
-#include "runtime/Render.h"
+#include "runtime/output/Render.h"
 
 #include <algorithm>
 #include <cmath>

@@ -16,7 +16,7 @@
 //     that writes into its directory (removeStaleTemporaries).
 #pragma once
 
-#include "runtime/ImageIO.h"
+#include "runtime/output/ImageIO.h"
 
 #include <cstddef>
 #include <string>
@@ -26,6 +26,10 @@ namespace moire {
 // Writes `size` bytes to `path` through a temporary beside it; a file replaced keeps its
 // permissions. Throws IoError.
 void writeFileAtomically(const std::string& path, const void* data, size_t size);
+
+// Writes `size` bytes to standard output (render -o -), every write checked. Throws
+// IoError("cannot write to standard output: ...").
+void writeStandardOutput(const void* data, size_t size);
 
 // A fresh temporary name beside `target`, keeping its extension (ffmpeg chooses the
 // container by it), in the naming removeStaleTemporaries recognises.

@@ -1,109 +1,13 @@
-#include "runtime/Clip.h"
+#include "compiler/lower/ClipClock.h"
 
 #include "compiler/Compile.h"
 
 #include <algorithm>
-#include <charconv>
 #include <cmath>
 #include <fmt/format.h>
-#include <limits>
-#include <numeric>
 #include <vector>
 
 namespace moire::clip {
-
-namespace {
-
-using i128 = __int128;
-
-i128 gcd128(i128 a, i128 b) {
-    if (a < 0) a = -a;
-    if (b < 0) b = -b;
-    while (b != 0) {
-        i128 r = a % b;
-        a = b;
-        b = r;
-    }
-    return a;
-}
-
-// num / den reduced, or nullopt when it does not fit 64 bits.
-std::optional<Rational> reduce(i128 num, i128 den) {
-    if (den == 0) return std::nullopt;
-    if (den < 0) num = -num, den = -den;
-    i128 g = gcd128(num, den);
-    if (g > 1) num /= g, den /= g;
-    constexpr i128 kMax = std::numeric_limits<int64_t>::max();
-    if (num > kMax || num < -kMax || den > kMax) return std::nullopt;
-    return Rational{static_cast<int64_t>(num), static_cast<int64_t>(den)};
-}
-
-i128 abs128(i128 v) {
-    return v < 0 ? -v : v;
-}
-
-std::string describeRational(Rational r) {
-    if (r.den == 1) return fmt::format("{}", r.num);
-    return fmt::format("{}/{}", r.num, r.den);
-}
-
-} // namespace
-
-Rational approximate(double v, int64_t maxDen) {
-    if (!std::isfinite(v) || maxDen < 1) return {};
-    const bool negative = v < 0;
-    const double x = std::fabs(v);
-    // Below 2^-60 the nearest fraction with a small denominator is 0 anyway; stopping there
-    // keeps x's exact binary fraction p / 2^k within 128 bits.
-    if (x < std::ldexp(1.0, -60)) return {};
-    // x = p / q exactly: a 53-bit mantissa over a power of two (or an integer).
-    int exp = 0;
-    const double mant = std::frexp(x, &exp); // x = mant * 2^exp, mant in [0.5, 1)
-    i128 p = static_cast<i128>(std::ldexp(mant, 53));
-    i128 q = 1;
-    if (exp >= 53)
-        p <<= (exp - 53);
-    else
-        q <<= (53 - exp);
-    // Euclid on p / q gives the continued fraction [a0; a1, ...]; h / k are its convergents.
-    i128 h0 = 0, h1 = 1, k0 = 1, k1 = 0;
-    i128 num = p, den = q;
-    while (den != 0) {
-        i128 a = num / den;
-        i128 h2 = a * h1 + h0, k2 = a * k1 + k0;
-        if (k2 > maxDen) {
-            // The best fraction with a bounded denominator is the last convergent or the
-            // largest semiconvergent under the bound, whichever is nearer.
-            i128 m = (maxDen - k0) / k1;
-            i128 hs = m * h1 + h0, ks = m * k1 + k0;
-            // |p/q - hs/ks| < |p/q - h1/k1|  <=>  |p ks - hs q| k1 < |p k1 - h1 q| ks
-            if (m > 0 && abs128(p * ks - hs * q) * k1 < abs128(p * k1 - h1 * q) * ks)
-                h1 = hs, k1 = ks;
-            break;
-        }
-        h0 = h1, h1 = h2, k0 = k1, k1 = k2;
-        i128 r = num - a * den;
-        num = den;
-        den = r;
-    }
-    Rational out = reduce(h1, k1).value_or(Rational{});
-    if (negative) out.num = -out.num;
-    return out;
-}
-
-std::optional<Rational> add(Rational a, Rational b) {
-    return reduce(static_cast<i128>(a.num) * b.den + static_cast<i128>(b.num) * a.den,
-                  static_cast<i128>(a.den) * b.den);
-}
-
-std::optional<Rational> lcm(Rational a, Rational b) {
-    if (a.num <= 0 || b.num <= 0) return std::nullopt;
-    // For fractions in lowest terms, the common multiples of p1/q1 and p2/q2 are the
-    // multiples of lcm(p1, p2) / gcd(q1, q2).
-    i128 g = gcd128(a.num, b.num);
-    i128 num = static_cast<i128>(a.num) / g * b.num;
-    return reduce(num, std::gcd(a.den, b.den));
-}
 
 bool readsClock(const SceneProgram& program) {
     struct Walk {
@@ -145,10 +49,10 @@ namespace {
 // A timing's cycle as a fraction: the period and delay are each read as the nearest fraction
 // with a bounded denominator, then added exactly.
 std::optional<Rational> cycleOf(const TimingValues& t) {
-    Rational period = approximate(t.period);
+    Rational period = approximate(t.period, kMaxDenominator);
     // A period under half a millisecond rounds to 0 at kMaxDenominator: read it finer.
     if (period.num == 0) period = approximate(t.period, int64_t{1} << 40);
-    std::optional<Rational> c = approximate(t.delay);
+    std::optional<Rational> c = approximate(t.delay, kMaxDenominator);
     for (int i = 0; i < (t.mode == TimingValues::PingPong ? 2 : 1) && c; ++i) c = add(*c, period);
     return c;
 }
@@ -228,16 +132,14 @@ Length defaultLength(const Motion& motion, double t0, double fps) {
             double perLoop = out.loop.value() * fps;
             bool whole = std::fabs(perLoop - std::round(perLoop)) <= 1e-9 * perLoop;
             if (std::fabs(f.value() - fps) <= 1e-12 * fps) {
-                std::optional<Rational> n = reduce(static_cast<i128>(out.loop.num) * f.num,
-                                                   static_cast<i128>(out.loop.den) * f.den);
+                std::optional<Rational> n = multiply(out.loop, f);
                 if (n) whole = n->den == 1;
             }
             frames = std::max<int64_t>(1, std::llround(perLoop));
             const std::string head = fmt::format(
                 "the loop is {}{}, the least common multiple of the timings' cycles ({})",
                 describeSeconds(out.loop.value()),
-                out.loop.den == 1 ? "" : fmt::format(" ({} s)", describeRational(out.loop)),
-                cycles);
+                out.loop.den == 1 ? "" : fmt::format(" ({} s)", fractionText(out.loop)), cycles);
             if (whole) {
                 out.seamless = true;
                 out.notes.push_back(fmt::format("{}: {} frames at {:g} fps", head, frames, fps));
@@ -309,40 +211,11 @@ Length defaultLength(const Motion& motion, double t0, double fps) {
                     "timing '{}' has a cycle of {:.10g} s, read as {} s: the clip ends {:.2g}% of "
                     "that cycle from a whole number of them (write the period as a fraction, "
                     "like 1 / 3, to close the loop exactly)",
-                    t->name, t->cycle(), describeRational(*cycleOf(*t)), std::fabs(off) * 100));
+                    t->name, t->cycle(), fractionText(*cycleOf(*t)), std::fabs(off) * 100));
         }
     }
     out.frames = frames;
     return out;
-}
-
-std::optional<FrameRange> parseFrames(const std::string& text, std::string& error) {
-    // Frame numbers stay far below 2^53, where n / fps would stop being exact.
-    constexpr int64_t kMaxFrame = 999'999'999'999;
-    auto number = [](std::string_view s, int64_t& v) {
-        auto [end, ec] = std::from_chars(s.data(), s.data() + s.size(), v);
-        return ec == std::errc() && end == s.data() + s.size() && !s.empty() && v >= 0 &&
-               v <= kMaxFrame;
-    };
-    std::string_view s = text;
-    FrameRange r;
-    size_t dots = s.find("..");
-    bool ok;
-    if (dots == std::string_view::npos) {
-        int64_t n = 0;
-        ok = number(s, n) && n >= 1;
-        r = {0, n - 1};
-    } else {
-        ok = number(s.substr(0, dots), r.first) && number(s.substr(dots + 2), r.last) &&
-             r.first <= r.last;
-    }
-    if (!ok) {
-        error = fmt::format("--frames must be a count N (frames 0 to N-1) or a range A..B of "
-                            "frame numbers (A <= B, both included, at most {}), not '{}'",
-                            kMaxFrame, text);
-        return std::nullopt;
-    }
-    return r;
 }
 
 int64_t framesBefore(double t0, double t1, double fps) {
@@ -351,56 +224,6 @@ int64_t framesBefore(double t0, double t1, double fps) {
     double nearest = std::round(x);
     if (std::fabs(x - nearest) <= 1e-6 * std::max(1.0, x)) return static_cast<int64_t>(nearest);
     return static_cast<int64_t>(std::ceil(x));
-}
-
-std::string NamePattern::name(int64_t frame) const {
-    if (!numbered) return before;
-    return before +
-           (zeroPad ? fmt::format("{:0{}d}", frame, width) : fmt::format("{:{}d}", frame, width)) +
-           after;
-}
-
-std::optional<NamePattern> parseNamePattern(const std::string& path, std::string& error) {
-    NamePattern p;
-    // Only the file name is a pattern: a '%' in a directory is part of its name.
-    size_t slash = path.rfind('/');
-    size_t start = slash == std::string::npos ? 0 : slash + 1;
-    p.before = path.substr(0, start);
-    std::string* part = &p.before;
-    for (size_t i = start; i < path.size(); ++i) {
-        if (path[i] != '%') {
-            *part += path[i];
-            continue;
-        }
-        size_t j = i + 1;
-        if (j < path.size() && path[j] == '%') {
-            *part += '%';
-            i = j;
-            continue;
-        }
-        bool zero = j < path.size() && path[j] == '0';
-        if (zero) ++j;
-        int width = 0;
-        while (j < path.size() && std::isdigit(static_cast<unsigned char>(path[j])) && width < 100)
-            width = width * 10 + (path[j++] - '0');
-        if (j >= path.size() || path[j] != 'd' || width > 18) {
-            error = fmt::format("the output name '{}' has a '%' that is not a frame number: use "
-                                "%d or %04d (width and zero padding allowed), or %% for a "
-                                "percent sign",
-                                path);
-            return std::nullopt;
-        }
-        if (p.numbered) {
-            error = fmt::format("the output name '{}' has more than one frame number", path);
-            return std::nullopt;
-        }
-        p.numbered = true;
-        p.zeroPad = zero;
-        p.width = width;
-        part = &p.after;
-        i = j;
-    }
-    return p;
 }
 
 std::string describeSeconds(double s) {

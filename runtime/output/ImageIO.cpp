@@ -1,6 +1,6 @@
-#include "runtime/ImageIO.h"
+#include "runtime/output/ImageIO.h"
 
-#include "runtime/OutputFile.h"
+#include "runtime/output/OutputFile.h"
 
 #include <algorithm>
 #include <cerrno>
@@ -118,30 +118,29 @@ std::vector<unsigned char> encode(const std::string& path, const std::string& fo
 
 } // namespace
 
-void writeImage(const std::string& path, const Image& image, const WriteOptions& options) {
-    const std::string format = imageFormatOf(path);
-    if (format.empty())
-        throw IoError(fmt::format(
-            "cannot write '{}': unknown image format '{}'; use .png, .tif, .exr or .jpg", path,
-            fs::path(path).extension().string()));
+std::string depthProblem(const std::string& format, PixelDepth depth) {
+    if (format == "png" && depth != PixelDepth::Default && depth != PixelDepth::U8 &&
+        depth != PixelDepth::U16)
+        return "PNG holds 8 or 16 bits per channel; use .exr for float";
+    if (format == "exr" && (depth == PixelDepth::U8 || depth == PixelDepth::U16))
+        return "EXR holds half or float channels; use .png or .tif for 8 and 16 bits";
+    if (format == "jpeg" && depth != PixelDepth::Default && depth != PixelDepth::U8)
+        return "JPEG holds 8 bits per channel";
+    return "";
+}
+
+std::vector<unsigned char> encodeImage(const std::string& path, const std::string& format,
+                                       const Image& image, const WriteOptions& options) {
     if (image.channels < 4) throw IoError("internal: writeImage needs RGBA");
+    if (std::string problem = depthProblem(format, options.depth); !problem.empty())
+        throw IoError(problem);
 
     OIIO::TypeDesc type;
     PixelDepth depth = options.depth;
-    if (format == "png") {
-        if (depth == PixelDepth::Default) depth = PixelDepth::U8;
-        if (depth != PixelDepth::U8 && depth != PixelDepth::U16)
-            throw IoError("PNG holds 8 or 16 bits per channel; use .exr for float");
-    } else if (format == "tiff") {
-        if (depth == PixelDepth::Default) depth = PixelDepth::U16;
-    } else if (format == "exr") {
-        if (depth == PixelDepth::Default) depth = PixelDepth::Float;
-        if (depth != PixelDepth::Half && depth != PixelDepth::Float)
-            throw IoError("EXR holds half or float channels; use .png or .tif for 8 and 16 bits");
-    } else if (format == "jpeg") {
-        if (depth == PixelDepth::Default) depth = PixelDepth::U8;
-        if (depth != PixelDepth::U8) throw IoError("JPEG holds 8 bits per channel");
-    }
+    if (depth == PixelDepth::Default)
+        depth = format == "tiff"  ? PixelDepth::U16
+                : format == "exr" ? PixelDepth::Float
+                                  : PixelDepth::U8;
     switch (depth) {
     case PixelDepth::U8:
         type = OIIO::TypeDesc::UINT8;
@@ -190,7 +189,16 @@ void writeImage(const std::string& path, const Image& image, const WriteOptions&
     if (format == "tiff") spec.attribute("compression", "zip");
     if (format == "exr") spec.attribute("compression", "zip");
 
-    const std::vector<unsigned char> bytes = encode(path, format, spec, data.data());
+    return encode(path, format, spec, data.data());
+}
+
+void writeImage(const std::string& path, const Image& image, const WriteOptions& options) {
+    const std::string format = imageFormatOf(path);
+    if (format.empty())
+        throw IoError(fmt::format(
+            "cannot write '{}': unknown image format '{}'; use .png, .tif, .exr or .jpg", path,
+            fs::path(path).extension().string()));
+    const std::vector<unsigned char> bytes = encodeImage(path, format, image, options);
     writeFileAtomically(path, bytes.data(), bytes.size());
 }
 

@@ -7,13 +7,13 @@
 // interrupted leaves any earlier file of that name untouched. Video carries no alpha.
 #pragma once
 
-#include "runtime/Clip.h"
 #include "runtime/Image.h"
-#include "runtime/ImageIO.h"
+#include "runtime/output/ImageIO.h"
 
 #include <csignal>
 #include <cstdint>
 #include <deque>
+#include <functional>
 #include <future>
 #include <memory>
 #include <optional>
@@ -87,8 +87,8 @@ class VideoWriter {
 // (writeImage renames it into place).
 class ClipOutput {
   public:
-    // Numbered images, at most `inFlight` being written at any time.
-    ClipOutput(clip::NamePattern pattern, WriteOptions options, int inFlight);
+    // Numbered images, frame n to nameOf(n), at most `inFlight` being written at any time.
+    ClipOutput(std::function<std::string(int64_t)> nameOf, WriteOptions options, int inFlight);
     explicit ClipOutput(std::unique_ptr<VideoWriter> video);
     // Waits for writes in progress; discards a video that was not finished.
     ~ClipOutput();
@@ -110,7 +110,7 @@ class ClipOutput {
   private:
     void waitOldest();
 
-    clip::NamePattern pattern_;
+    std::function<std::string(int64_t)> nameOf_;
     WriteOptions options_;
     size_t inFlight_ = 1;
     std::unique_ptr<VideoWriter> video_;

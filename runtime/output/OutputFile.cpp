@@ -1,4 +1,4 @@
-#include "runtime/OutputFile.h"
+#include "runtime/output/OutputFile.h"
 
 #include <atomic>
 #include <cerrno>
@@ -81,6 +81,39 @@ std::string temporaryBeside(const std::string& target) {
     return t.has_parent_path() ? (t.parent_path() / name).string() : name;
 }
 
+namespace {
+
+// Writes every byte to `fd`; returns 0, or the errno of the write that failed.
+int writeAll(int fd, const void* data, size_t size) {
+    const char* p = static_cast<const char*>(data);
+    size_t left = size;
+    while (left > 0) {
+        // A file size limit (RLIMIT_FSIZE) shows up here as EFBIG because main() ignores
+        // SIGXFSZ; a full disk as ENOSPC, possibly after a short write.
+        ssize_t n = ::write(fd, p, left);
+        if (n < 0 && errno == EINTR) continue;
+        if (n < 0) return errno;
+        if (n == 0) return EIO;
+        p += n;
+        left -= static_cast<size_t>(n);
+    }
+    return 0;
+}
+
+} // namespace
+
+void writeStandardOutput(const void* data, size_t size) {
+    // A closed pipe is EPIPE here rather than a SIGPIPE that ends moire with nothing said.
+    struct sigaction ignore = {};
+    struct sigaction old = {};
+    ignore.sa_handler = SIG_IGN;
+    ::sigaction(SIGPIPE, &ignore, &old);
+    const int error = writeAll(STDOUT_FILENO, data, size);
+    ::sigaction(SIGPIPE, &old, nullptr);
+    if (error)
+        throw IoError(fmt::format("cannot write to standard output: {}", std::strerror(error)));
+}
+
 void writeFileAtomically(const std::string& path, const void* data, size_t size) {
     const std::string temp = temporaryBeside(path);
     // O_EXCL: the name is ours alone; never follow a link someone left in its place.
@@ -91,18 +124,7 @@ void writeFileAtomically(const std::string& path, const void* data, size_t size)
         removeQuietly(temp);
         return cannotWrite(path, error);
     };
-    const char* p = static_cast<const char*>(data);
-    size_t left = size;
-    while (left > 0) {
-        // A file size limit (RLIMIT_FSIZE) shows up here as EFBIG because main() ignores
-        // SIGXFSZ; a full disk as ENOSPC, possibly after a short write.
-        ssize_t n = ::write(fd, p, left);
-        if (n < 0 && errno == EINTR) continue;
-        if (n < 0) throw fail(errno);
-        if (n == 0) throw fail(EIO);
-        p += n;
-        left -= static_cast<size_t>(n);
-    }
+    if (int error = writeAll(fd, data, size)) throw fail(error);
     // A file that is replaced keeps its permissions (a scene the viewer writes the placement
     // into, an image someone made read-only for others); a new one gets 0666 less the umask.
     struct stat before {};

@@ -6,40 +6,41 @@
 // over fractions: each period and delay is read as the nearest fraction whose denominator is
 // at most kMaxDenominator (0.3333 and 1 / 3 both read as a third), and whatever that reading
 // costs the join is measured afterwards against the cycles as written and reported.
+//
+// These are questions about the compiled program's clock (which timings it uses, whether it
+// reads t itself), answered here so that every command asks them the same way.
 #pragma once
 
-#include "runtime/FrameEval.h"
+#include "compiler/lower/Rational.h"
 
 #include <cstdint>
-#include <optional>
 #include <string>
 #include <vector>
 
 namespace moire {
+
 struct SceneProgram;
-}
+
+// A timing the scene uses, as the frame program computes it (OutputLayout's timing settings:
+// period, delay, mode).
+struct TimingValues {
+    enum Mode { Once = 0, Loop = 1, PingPong = 2 };
+    std::string name;
+    double period = 0.0, delay = 0.0;
+    Mode mode = Loop;
+    // The time after which it repeats: delay + period (loop) or delay + 2 period (pingpong);
+    // for `once`, the time it comes to rest.
+    double cycle() const { return delay + (mode == PingPong ? 2.0 : 1.0) * period; }
+};
+
+} // namespace moire
 
 namespace moire::clip {
-
-// A fraction num / den in lowest terms with den > 0.
-struct Rational {
-    int64_t num = 0, den = 1;
-    double value() const { return static_cast<double>(num) / static_cast<double>(den); }
-    bool operator==(const Rational&) const = default;
-};
 
 constexpr int64_t kMaxDenominator = 1000;
 // The longest clip a length chosen from the timings may have: cycles such as 7, 11 and 13
 // seconds only all close after 1001 s, which is no loop anyone wants rendered unasked.
 constexpr double kMaxLoopSeconds = 600.0;
-
-// The fraction nearest to `v` among those with a denominator at most `maxDen`, from the
-// convergents and semiconvergents of v's continued fraction. Requires |v| < 2^53.
-Rational approximate(double v, int64_t maxDen = kMaxDenominator);
-// Exact sum and least common multiple (of positive fractions: the smallest value that is a
-// whole multiple of both); nullopt when a numerator or denominator would overflow.
-std::optional<Rational> add(Rational a, Rational b);
-std::optional<Rational> lcm(Rational a, Rational b);
 
 // The clock time of frame n: computed afresh from n, never accumulated from frame n - 1.
 inline double frameTime(double t0, int64_t n, double fps) {
@@ -73,29 +74,10 @@ struct Length {
 };
 Length defaultLength(const Motion& motion, double t0, double fps);
 
-// The frames of a clip, first to last inclusive, numbered as in the whole clip.
-struct FrameRange {
-    int64_t first = 0, last = 0;
-    int64_t count() const { return last - first + 1; }
-};
-// --frames: "N" (frames 0 to N - 1) or "A..B" (A to B inclusive). nullopt with `error` set
-// when it is neither.
-std::optional<FrameRange> parseFrames(const std::string& text, std::string& error);
 // --to: the number of frames from t0 that start before t1 (t1 itself is where the next clip
 // would begin). A product within a millionth of a whole number counts as that number, so
 // that --to 2 at 30 fps gives 60 frames even when (t1 - t0) * fps comes out as 59.9999...
 int64_t framesBefore(double t0, double t1, double fps);
-
-// An output name with an optional printf-style frame number in its file name: %d, %4d,
-// %04d (%% is a literal percent sign).
-struct NamePattern {
-    std::string before, after;
-    bool numbered = false;
-    int width = 0;
-    bool zeroPad = false;
-    std::string name(int64_t frame) const;
-};
-std::optional<NamePattern> parseNamePattern(const std::string& path, std::string& error);
 
 // Seconds for a person: "7.5 s", "2 min 5 s".
 std::string describeSeconds(double s);

@@ -1,6 +1,6 @@
 // The memory estimate before a render and the memory the process may have: the figures
 // counted by hand from the buffers a render holds, and the limits read back as they were set.
-#include "runtime/MemoryBudget.h"
+#include "runtime/output/MemoryBudget.h"
 #include "tests/support/Skip.h"
 
 #include <doctest/doctest.h>

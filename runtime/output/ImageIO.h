@@ -3,15 +3,18 @@
 //   .tif  16-bit (default) or 8-bit sRGB
 //   .exr  32-bit float (default) or half, linear colour
 //   .jpg  8-bit sRGB, no alpha
-// The image is encoded in memory and written by writeFileAtomically (runtime/OutputFile.h):
+// The image is encoded in memory and written by writeFileAtomically (runtime/output/OutputFile.h):
 // through a temporary beside the target, every write checked, renamed into place, so a
 // reader never sees half an image and a failed write leaves any existing file untouched.
 #pragma once
 
 #include "runtime/Image.h"
 
+#include <cmath>
+#include <cstdint>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 namespace moire {
 
@@ -30,9 +33,29 @@ class IoError : public std::runtime_error {
 // `image` holds straight sRGB-encoded RGBA (channels >= 4); throws IoError.
 void writeImage(const std::string& path, const Image& image, const WriteOptions& options = {});
 
+// The file's bytes in memory, as writeImage would write them (render -o -): `format` is
+// imageFormatOf's name; `path` names the image in errors. Throws IoError.
+std::vector<unsigned char> encodeImage(const std::string& path, const std::string& format,
+                                       const Image& image, const WriteOptions& options = {});
+
+// Why `format` (imageFormatOf's name) cannot hold `depth`, or "" when it can.
+std::string depthProblem(const std::string& format, PixelDepth depth);
+
 // Reads any image OpenImageIO understands into float RGBA (values as stored; sRGB files stay
 // sRGB-encoded, EXR stays linear). Throws IoError.
 Image readImage(const std::string& path);
+
+// A channel value as the 8-bit PNG writer stores it, for everything else that makes 8-bit
+// pixels from the same floats (the viewer's window, a video's frames): clamped to [0, 1],
+// scaled by 255 in float and rounded to nearest, ties away from zero. That is OpenImageIO
+// 2.4's float to uint8 conversion as built for x86-64 without SSE4.1 (simd::round is roundf
+// there; with SSE4.1 it would round ties to even); ByteRounding_test holds this to what
+// writeImage actually writes. NaN gives 0, as OpenImageIO's clamp does.
+inline uint8_t toByte(float v) {
+    if (!(v > 0.0f)) return 0; // and NaN
+    if (v >= 1.0f) return 255;
+    return static_cast<uint8_t>(std::round(v * 255.0f));
+}
 
 // The sRGB transfer function and its inverse.
 float srgbToLinear(float v);

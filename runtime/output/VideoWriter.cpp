@@ -1,7 +1,7 @@
-#include "runtime/VideoWriter.h"
+#include "runtime/output/VideoWriter.h"
 
-#include "runtime/Clip.h"
-#include "runtime/OutputFile.h"
+#include "compiler/lower/Rational.h"
+#include "runtime/output/OutputFile.h"
 
 #include <algorithm>
 #include <cerrno>
@@ -78,7 +78,7 @@ int64_t gifFinalDelay(double fps, int64_t frames) {
     // into the GIF's time base (to nearest, halves away from zero); the last frame lasts until
     // the clip's end, round(100 N / fps). Exact in integers when the rate is a fraction.
     if (frames < 1) return 0;
-    clip::Rational r = clip::approximate(fps, 1001);
+    Rational r = approximate(fps, 1001);
     auto start = [&](int64_t k) -> int64_t {
         if (std::fabs(r.value() - fps) <= 1e-12 * fps && r.num > 0) {
             __int128 num = static_cast<__int128>(k) * 100 * r.den; // k / fps = k den / num
@@ -93,7 +93,7 @@ std::vector<std::string> ffmpegArguments(VideoFormat format, int width, int heig
                                          int64_t frames, const std::string& output) {
     // The rate as a fraction when it is one (24, 30000/1001), so the container's time base
     // is exact; otherwise every digit of the double.
-    clip::Rational r = clip::approximate(fps, 1001);
+    Rational r = approximate(fps, 1001);
     std::string rate = std::fabs(r.value() - fps) <= 1e-12 * fps
                            ? fmt::format("{}/{}", r.num, r.den)
                            : fmt::format("{:.17g}", fps);
@@ -241,15 +241,12 @@ void VideoWriter::write(const Image& image) {
     if (done_ || stdin_ < 0) throw IoError("internal: writing to a finished video");
     if (image.width != width_ || image.height != height_ || image.channels < 4)
         throw IoError("internal: a video frame of the wrong size");
-    // 8 bits a channel, rounded to nearest as the 8-bit PNG writer rounds.
+    // 8 bits a channel, rounded as the 8-bit PNG writer rounds.
     unsigned char* dst = buffer_.data();
     for (int y = 0; y < height_; ++y) {
         const float* src = image.row(y);
         for (int x = 0; x < width_; ++x)
-            for (int c = 0; c < 4; ++c) {
-                float v = std::clamp(src[x * image.channels + c], 0.0f, 1.0f);
-                *dst++ = static_cast<unsigned char>(std::lround(v * 255.0f));
-            }
+            for (int c = 0; c < 4; ++c) *dst++ = toByte(src[x * image.channels + c]);
     }
     size_t off = 0;
     while (off < buffer_.size()) {
@@ -319,8 +316,9 @@ void VideoWriter::discard() {
     done_ = true;
 }
 
-ClipOutput::ClipOutput(clip::NamePattern pattern, WriteOptions options, int inFlight)
-    : pattern_(std::move(pattern)), options_(options),
+ClipOutput::ClipOutput(std::function<std::string(int64_t)> nameOf, WriteOptions options,
+                       int inFlight)
+    : nameOf_(std::move(nameOf)), options_(options),
       inFlight_(static_cast<size_t>(std::max(1, inFlight))) {}
 
 ClipOutput::ClipOutput(std::unique_ptr<VideoWriter> video) : video_(std::move(video)) {}
@@ -351,8 +349,9 @@ void ClipOutput::add(int64_t n, Image image) {
             std::launch::async, [v = video_.get(), img = std::move(image)] { v->write(img); }));
     else
         pending_.push_back(std::async(
-            std::launch::async, [name = pattern_.name(n), options = options_,
-                                 img = std::move(image)] { writeImage(name, img, options); }));
+            std::launch::async, [name = nameOf_(n), options = options_, img = std::move(image)] {
+                writeImage(name, img, options);
+            }));
 }
 
 void ClipOutput::finish() {

@@ -1,4 +1,4 @@
-#include "runtime/MemoryBudget.h"
+#include "runtime/output/MemoryBudget.h"
 
 #include <algorithm>
 #include <cstdio>

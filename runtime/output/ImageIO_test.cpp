@@ -1,4 +1,4 @@
-#include "runtime/ImageIO.h"
+#include "runtime/output/ImageIO.h"
 #include "tests/support/Support.h"
 
 #include <cmath>

@@ -1,4 +1,4 @@
-#include "runtime/Render.h"
+#include "runtime/output/Render.h"
 
 #include "compiler/backend/interp/Interpreter.h"
 #include "compiler/backend/llvm/LlvmJit.h"

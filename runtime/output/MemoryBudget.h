@@ -4,7 +4,7 @@
 // through (a 32768x32768 frame is 17 GB of float pixels before it is written).
 #pragma once
 
-#include "runtime/ImageIO.h"
+#include "runtime/output/ImageIO.h"
 
 #include <cstdint>
 #include <optional>

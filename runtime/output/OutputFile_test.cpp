@@ -1,4 +1,4 @@
-#include "runtime/OutputFile.h"
+#include "runtime/output/OutputFile.h"
 #include "tests/support/Support.h"
 
 #include <csignal>

@@ -1,6 +1,6 @@
-// The clip's schedule without rendering: fractions, loop lengths against a brute-force search,
-// frame ranges, output names, and what a compiled scene says about its clock.
-#include "runtime/Clip.h"
+// The clip's clock without rendering: loop lengths against a brute-force search, frame
+// times, and what a compiled scene says about its clock.
+#include "compiler/lower/ClipClock.h"
 #include "tests/support/Support.h"
 
 #include <cmath>
@@ -9,26 +9,8 @@
 #include <random>
 
 using namespace moire;
-using clip::Rational;
 
 namespace {
-
-// The nearest fraction with a denominator up to maxDen by trying every denominator; ties go
-// to the smaller denominator. Independent of the continued fraction in approximate().
-Rational nearestByScan(double v, int64_t maxDen) {
-    Rational best{0, 1};
-    long double bestErr = INFINITY;
-    for (int64_t q = 1; q <= maxDen; ++q) {
-        int64_t p = std::llround(v * static_cast<double>(q));
-        long double err = std::fabs(static_cast<long double>(v) - static_cast<long double>(p) / q);
-        if (err < bestErr) {
-            bestErr = err;
-            int64_t g = std::gcd(p, q);
-            best = {p / g, q / g};
-        }
-    }
-    return best;
-}
 
 TimingValues timing(const char* name, double period, double delay, TimingValues::Mode mode) {
     return TimingValues{name, period, delay, mode};
@@ -58,54 +40,6 @@ constexpr auto PingPong = TimingValues::PingPong;
 constexpr auto Once = TimingValues::Once;
 
 } // namespace
-
-TEST_CASE("decimals are read as the nearest fraction with a denominator up to 1000") {
-    CHECK(clip::approximate(1.5) == Rational{3, 2});
-    CHECK(clip::approximate(2.5) == Rational{5, 2});
-    CHECK(clip::approximate(0.1) == Rational{1, 10});
-    CHECK(clip::approximate(0.3333) == Rational{1, 3});
-    CHECK(clip::approximate(1.0 / 3.0) == Rational{1, 3});
-    CHECK(clip::approximate(0.6667) == Rational{2, 3});
-    CHECK(clip::approximate(0.333) == Rational{333, 1000}); // exactly representable: kept
-    CHECK(clip::approximate(10.0 / 7.0) == Rational{10, 7});
-    CHECK(clip::approximate(-2.25) == Rational{-9, 4});
-    CHECK(clip::approximate(0.0) == Rational{0, 1});
-    CHECK(clip::approximate(6.0) == Rational{6, 1});
-    CHECK(clip::approximate(30000.0 / 1001.0, 1001) == Rational{30000, 1001});
-
-    std::mt19937_64 rng(7);
-    std::uniform_real_distribution<double> dist(0.0, 20.0);
-    for (int i = 0; i < 200; ++i) {
-        double v = dist(rng);
-        CAPTURE(v);
-        for (int64_t maxDen : {7, 100, 1000}) {
-            CAPTURE(maxDen);
-            CHECK(clip::approximate(v, maxDen) == nearestByScan(v, maxDen));
-        }
-    }
-}
-
-TEST_CASE("exact sums and least common multiples of fractions") {
-    CHECK(clip::add({1, 3}, {1, 6}) == Rational{1, 2});
-    CHECK(clip::lcm({3, 2}, {5, 2}) == Rational{15, 2});
-    CHECK(clip::lcm({1, 3}, {3, 2}) == Rational{3, 1});
-    CHECK(clip::lcm({4, 3}, {1, 1}) == Rational{4, 1});
-    CHECK_FALSE(clip::lcm({0, 1}, {1, 1}).has_value());
-    CHECK_FALSE(clip::lcm({INT64_MAX - 1, 1}, {INT64_MAX - 2, 1}).has_value()); // overflow
-    // Against the smallest k for which k a is a whole multiple of b, found by counting.
-    for (int64_t an = 1; an <= 9; ++an)
-        for (int64_t ad = 1; ad <= 6; ++ad)
-            for (int64_t bn = 1; bn <= 9; ++bn)
-                for (int64_t bd = 1; bd <= 6; ++bd) {
-                    Rational a = clip::approximate(static_cast<double>(an) / ad);
-                    Rational b = clip::approximate(static_cast<double>(bn) / bd);
-                    int64_t k = 1;
-                    while ((k * a.num * b.den) % (a.den * b.num) != 0) ++k;
-                    int64_t g = std::gcd(k * a.num, a.den);
-                    INFO(an, "/", ad, " and ", bn, "/", bd);
-                    CHECK(clip::lcm(a, b) == Rational{k * a.num / g, a.den / g});
-                }
-}
 
 TEST_CASE("the loop length is the least common multiple of the timings' cycles") {
     struct Case {
@@ -201,7 +135,7 @@ TEST_CASE("a cycle read as a nearby fraction reports what that costs the join") 
     CHECK(lengthOf({timing("a", 1.0 / 3.0, 0, Loop)}, 24.0).notes.size() == 1);
 }
 
-TEST_CASE("frame times, --to and --frames") {
+TEST_CASE("frame times and --to") {
     CHECK(clip::frameTime(0.0, 30, 30.0) == 1.0);
     CHECK(clip::frameTime(0.5, 48, 24.0) == 2.5);
     CHECK(clip::frameTime(0.0, 3, 30.0) == 0.1);
@@ -209,45 +143,6 @@ TEST_CASE("frame times, --to and --frames") {
     CHECK(clip::framesBefore(0.1, 0.3, 30) == 6); // (0.3 - 0.1) * 30 = 5.999999999999999
     CHECK(clip::framesBefore(0, 1.01, 30) == 31);
     CHECK(clip::framesBefore(2, 1, 30) == 0);
-
-    std::string why;
-    auto r = clip::parseFrames("10", why);
-    REQUIRE(r);
-    CHECK((r->first == 0 && r->last == 9));
-    r = clip::parseFrames("5..7", why);
-    REQUIRE(r);
-    CHECK((r->first == 5 && r->last == 7 && r->count() == 3));
-    for (const char* bad : {"0", "7..5", "a", "3..", "..4", "-1..2", "1.5", "2..3..4", "",
-                            "0..9223372036854775807"}) {
-        CAPTURE(bad);
-        CHECK_FALSE(clip::parseFrames(bad, why));
-        CHECK(why.find("--frames") != std::string::npos);
-    }
-}
-
-TEST_CASE("output names: a printf-style frame number in the file name") {
-    std::string why;
-    auto p = clip::parseNamePattern("out/frame_%04d.png", why);
-    REQUIRE(p);
-    CHECK(p->name(7) == "out/frame_0007.png");
-    CHECK(p->name(12345) == "out/frame_12345.png");
-    p = clip::parseNamePattern("f%d.exr", why);
-    REQUIRE(p);
-    CHECK(p->name(42) == "f42.exr");
-    p = clip::parseNamePattern("f%3d.png", why);
-    REQUIRE(p);
-    CHECK(p->name(5) == "f  5.png");
-    p = clip::parseNamePattern("100%%/at_%%_%02d.png", why);
-    REQUIRE(p);
-    CHECK(p->name(3) == "100%%/at_%_03.png"); // the directory is taken as written
-    p = clip::parseNamePattern("still.png", why);
-    REQUIRE(p);
-    CHECK_FALSE(p->numbered);
-    CHECK(p->name(9) == "still.png");
-    for (const char* bad : {"f_%s.png", "f_%d_%d.png", "f_%.png", "f_%x.png", "f_%-4d.png"}) {
-        CAPTURE(bad);
-        CHECK_FALSE(clip::parseNamePattern(bad, why));
-    }
 }
 
 TEST_CASE("whether a scene moves, and whether it reads the clock itself") {

@@ -23,8 +23,8 @@
 #include <regex>
 
 using namespace moire;
-using bench::Scene;
 using bench::defaultScenes;
+using bench::Scene;
 using Clock = std::chrono::steady_clock;
 
 namespace {

@@ -21,8 +21,8 @@
 #include <thread>
 
 using namespace moire;
-using bench::Scene;
 using bench::defaultScenes;
+using bench::Scene;
 using Clock = std::chrono::steady_clock;
 
 namespace {

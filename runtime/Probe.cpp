@@ -14,7 +14,8 @@ Prober::Prober(const SceneProgram& program, Backend* backend)
 }
 
 void Prober::setLiteral(int slot, double value) {
-    MOIRE_CHECK(slot >= 0 && slot < program_.probeSlot, "literal slot {} is not a scene number", slot);
+    MOIRE_CHECK(slot >= 0 && slot < program_.probeSlot, "literal slot {} is not a scene number",
+                slot);
     literals_[slot] = value;
 }
 

@@ -38,4 +38,3 @@ TEST_CASE("text file: a scene is read whole, up to the limit, from a regular fil
     CHECK(!readWholeFile(dir.file("missing"), text, why));
     CHECK(why == "No such file or directory");
 }
-

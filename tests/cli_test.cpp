@@ -208,7 +208,8 @@ TEST_CASE("devices lists the Vulkan devices, one a line, or says there are none"
         std::string name;
         std::getline(in >> std::ws, name);
         const std::string mark = "  (default)";
-        if (name.size() > mark.size() && name.compare(name.size() - mark.size(), mark.size(), mark) == 0) {
+        if (name.size() > mark.size() &&
+            name.compare(name.size() - mark.size(), mark.size(), mark) == 0) {
             ++defaults;
             name.resize(name.size() - mark.size());
         }
@@ -240,8 +241,8 @@ TEST_CASE("--backend vulkan draws what the JIT draws") {
     CHECK(v.err.find("wrote vk.exr (64x40, vulkan") != std::string::npos);
     REQUIRE(w.moire("render s.moire -q -o jit.exr --depth float --backend jit").status == 0);
     // examples_test.cpp's criteria for Vulkan against the interpreter.
-    test::ImageDiff d = test::compareImages(readImage(w.file("jit.exr")),
-                                            readImage(w.file("vk.exr")), 2.0 / 255);
+    test::ImageDiff d =
+        test::compareImages(readImage(w.file("jit.exr")), readImage(w.file("vk.exr")), 2.0 / 255);
     INFO("max ", d.maxAbs * 255, "/255, mean ", d.meanAbs * 255, "/255");
     CHECK(d.fractionWithin() >= 0.999);
     CHECK(d.meanAbs < 0.5 / 255);
@@ -254,13 +255,13 @@ TEST_CASE("no Vulkan device: one line, status 4, and no image written") {
     for (const std::string& args :
          {std::string("render s.moire -o out.png --backend vulkan --device 99"),
           std::string("render s.moire -o kept.png --backend vulkan --device 99"),
-          std::string(kNoDriver) + test::moireBinary() + " render s.moire -o out.png --backend vulkan",
+          std::string(kNoDriver) + test::moireBinary() +
+              " render s.moire -o out.png --backend vulkan",
           std::string(kNoDriver) + test::moireBinary() + " devices"}) {
         CAPTURE(args);
         // The driverless runs name the binary themselves, after the variables.
-        auto r = args.rfind("VK_", 0) == 0
-                     ? test::runCommand("cd '" + w.path() + "' && " + args)
-                     : w.moire(args);
+        auto r = args.rfind("VK_", 0) == 0 ? test::runCommand("cd '" + w.path() + "' && " + args)
+                                           : w.moire(args);
         CHECK(r.status == 4);
         CHECK(oneLineError(r.err));
         CHECK(r.out.empty());

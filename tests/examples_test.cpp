@@ -74,8 +74,8 @@ TEST_CASE("every backend agrees with the interpreter on every example") {
                  d.fractionWithin());
             if (std::getenv("MOIRE_PARITY_REPORT"))
                 MESSAGE(s.name, " on ", name, ": max ", d.maxAbs * 255, "/255, mean ",
-                        d.meanAbs * 255, "/255, within ", (gpu ? 2 : 1), "/255: ",
-                        d.fractionWithin());
+                        d.meanAbs * 255, "/255, within ", (gpu ? 2 : 1),
+                        "/255: ", d.fractionWithin());
             CHECK(d.fractionWithin() >= 0.999);
             if (gpu) CHECK(d.meanAbs < 0.5 / 255.0);
         }

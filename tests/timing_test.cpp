@@ -137,12 +137,10 @@ TEST_CASE("timing: the easings keep their shapes: monotone, in-out symmetric, ou
         }
         std::string name = e.name;
         if (name.ends_with("_in_out") || name == "sine")
-            for (double u : {0.1, 0.3, 0.45})
-                near(zoomAt(*p, u) - 1 + zoomAt(*p, 1 - u) - 1, 1.0);
+            for (double u : {0.1, 0.3, 0.45}) near(zoomAt(*p, u) - 1 + zoomAt(*p, 1 - u) - 1, 1.0);
         if (name.ends_with("_out") && !name.ends_with("_in_out")) {
             std::string in = name.substr(0, name.size() - 4) + "_in";
-            for (double u : {0.1, 0.3, 0.7})
-                near(zoomAt(*p, u) - 1, 1 - ease(in, 1 - u));
+            for (double u : {0.1, 0.3, 0.7}) near(zoomAt(*p, u) - 1, 1 - ease(in, 1 - u));
         }
     }
 }
@@ -166,9 +164,9 @@ TEST_CASE("timing: a scene's own easing, and step") {
     CHECK(zoomAt(*step, 0.25) == 2);
     CHECK(zoomAt(*step, 7) == 2);
     // A hard cut as an easing: the timing's progress jumps half way through.
-    auto snap = test::compileOk("easing snap = step(0.5, u)\n" +
-                                timingSource(Mode::Once, 1, 2, "snap") +
-                                "camera { zoom = 1 + progress(tm) }");
+    auto snap =
+        test::compileOk("easing snap = step(0.5, u)\n" + timingSource(Mode::Once, 1, 2, "snap") +
+                        "camera { zoom = 1 + progress(tm) }");
     CHECK(zoomAt(*snap, 1.9) == 1);
     CHECK(zoomAt(*snap, 2.0) == 2);
 }
@@ -181,9 +179,9 @@ TEST_CASE("timing: once, loop and pingpong against their closed forms, before 0 
         bool dyadic; // boundaries exact in binary: the discontinuities can be hit exactly
     };
     const std::vector<Case> cases = {
-        {Mode::Once, 0.5, 1.25, "", true},       {Mode::Once, 0.1, 2.7, "cubic_in_out", false},
-        {Mode::Loop, 0.5, 1.25, "", true},       {Mode::Loop, 0, 0.75, "", true},
-        {Mode::Loop, 0.3, 0.7, "sine", false},   {Mode::PingPong, 0.25, 1.5, "", true},
+        {Mode::Once, 0.5, 1.25, "", true},           {Mode::Once, 0.1, 2.7, "cubic_in_out", false},
+        {Mode::Loop, 0.5, 1.25, "", true},           {Mode::Loop, 0, 0.75, "", true},
+        {Mode::Loop, 0.3, 0.7, "sine", false},       {Mode::PingPong, 0.25, 1.5, "", true},
         {Mode::PingPong, 0, 0.3, "quad_out", false},
     };
     for (const Case& c : cases) {
@@ -229,8 +227,8 @@ TEST_CASE("timing: once, loop and pingpong against their closed forms, before 0 
             near(zoomAt(*program, c.delay + c.period * (1 - 1e-9)) - 1, 1.0, 1e-8);
         }
         if (c.mode == Mode::Once) {
-            CHECK(zoomAt(*program, -50) == 1);  // not started
-            CHECK(zoomAt(*program, 1e4) == 2);  // at rest at the end
+            CHECK(zoomAt(*program, -50) == 1); // not started
+            CHECK(zoomAt(*program, 1e4) == 2); // at rest at the end
         } else {
             // Periodic both ways: the clock before 0 repeats the same cycles.
             for (double t : {0.37, 1.1, 2.9})
@@ -253,7 +251,9 @@ TEST_CASE("timing: once, loop and pingpong against their closed forms, before 0 
 namespace {
 
 // The colour channel `hex` (two hex digits) as the language reads it.
-double channel(const char* hex) { return std::stoi(hex, nullptr, 16) / 255.0; }
+double channel(const char* hex) {
+    return std::stoi(hex, nullptr, 16) / 255.0;
+}
 
 CompileOptions probing() {
     CompileOptions o;
@@ -275,7 +275,8 @@ TEST_CASE("timing: ramp is mix of its ends at the eased progress, for every type
         "scene { background = ramp(tm, #204060ff, #c0801040) }\n"
         "camera { zoom = 1 + ramp(tm, 10deg, 70deg) / 1deg }\n"
         "layer { family = lines; spacing = 1000; origin = ramp(tm, (1, 2), (4, 6)) }\n"
-        "layer { family = lines; angle = 90deg; spacing = 1000; origin = ramp(tm, (1, 2), (4, 6)) }\n"
+        "layer { family = lines; angle = 90deg; spacing = 1000; origin = ramp(tm, (1, 2), (4, 6)) "
+        "}\n"
         "layer { family = lines; spacing = 1000; phase = ramp(tm, 3, 7) }\n";
     auto program = test::compileOk(text, probing());
     Prober probe(*program, nullptr);
@@ -302,9 +303,9 @@ TEST_CASE("timing: a dozen parameters on one timing move as one") {
     // t each must be at the same fraction of its way, and that fraction must be the timing's
     // progress (the zoom shows progress(tm)).
     struct Param {
-        std::string layer;                    // the layer, with %A and %B for the ends
-        double a, b;                          // the ends
-        std::function<double(double)> value;  // the ramped value, from the layer's distance
+        std::string layer;                   // the layer, with %A and %B for the ends
+        double a, b;                         // the ends
+        std::function<double(double)> value; // the ramped value, from the layer's distance
     };
     auto direct = [](double d) { return d; };
     // angle layers: origin (-100, 0), so the probe point is at x = 100 in the layer and the
@@ -324,8 +325,9 @@ TEST_CASE("timing: a dozen parameters on one timing move as one") {
         {"origin = ramp(tm, (%A, 1), (%B, 2))", 3, 8, direct},
         {"angle = 90deg; origin = ramp(tm, (1, %A), (2, %B))", 9, 1, direct},
     };
-    std::string text = "timing tm { period = 2.5; delay = 0.75; mode = loop; easing = cubic_in_out }\n"
-                       "camera { zoom = 1 + progress(tm) }\n";
+    std::string text =
+        "timing tm { period = 2.5; delay = 0.75; mode = loop; easing = cubic_in_out }\n"
+        "camera { zoom = 1 + progress(tm) }\n";
     for (const Param& p : params) {
         std::string body = p.layer;
         body.replace(body.find("%A"), 2, fmt::format("{}", p.a));
@@ -343,7 +345,8 @@ TEST_CASE("timing: a dozen parameters on one timing move as one") {
         for (size_t k = 0; k < params.size(); ++k) {
             CAPTURE(k);
             const Param& p = params[k];
-            const double fraction = (p.value(v[program->layout.distanceSlot(static_cast<int>(k))]) - p.a) / (p.b - p.a);
+            const double fraction =
+                (p.value(v[program->layout.distanceSlot(static_cast<int>(k))]) - p.a) / (p.b - p.a);
             near(fraction, progress, 1e-10);
         }
     }

@@ -299,7 +299,8 @@ TEST_CASE("watch: 1000 random edits saved every way: no crash, no lost watch, la
                 // whole text is bad.
                 std::vector<std::string> passed;
                 if (how != Save::Rename) passed.push_back("");
-                if (how == Save::TruncateThenWrite) passed.push_back(text.substr(0, text.size() / 2));
+                if (how == Save::TruncateThenWrite)
+                    passed.push_back(text.substr(0, text.size() / 2));
                 const std::string* seen = nullptr;
                 for (const std::string& state : passed)
                     if (w->result.contentHash == contentHash(state)) seen = &state;

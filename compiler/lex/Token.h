@@ -36,9 +36,9 @@ struct Token {
     Tok kind = Tok::End;
     uint32_t offset = 0;
     uint32_t length = 0;
-    double number = 0.0;              // Number: value in canonical units (radians for angles)
-    Unit unit = Unit::None;           // Number: the written unit
-    std::array<double, 4> rgba{};     // Color
+    double number = 0.0;          // Number: value in canonical units (radians for angles)
+    Unit unit = Unit::None;       // Number: the written unit
+    std::array<double, 4> rgba{}; // Color
 };
 
 } // namespace moire

@@ -103,7 +103,13 @@ bool LayerLowering::walks(const sema::CheckedLayer& layer, const sema::CheckedFa
 FamilyInputs LayerLowering::inputs(const sema::CheckedLayer& layer, const LayerFrame& lf,
                                    const BoundFamily& bf, const StrokeBand& band,
                                    const Encoding& enc, bool wantIndex) {
-    FamilyInputs in{lf, bf.params, band, enc, wantIndex, ctx_.options.tally};
+    FamilyInputs in;
+    in.at = lf;
+    in.params = bf.params;
+    in.band = band;
+    in.enc = enc;
+    in.wantIndex = wantIndex;
+    in.tally = ctx_.options.tally;
     in.layerProp = [this, &layer](std::string_view name) { return ctx_.layerProp(layer, name); };
     return in;
 }

@@ -24,7 +24,7 @@ struct Frame {
     std::vector<Vals> params; // the layer's argument values
     std::vector<Vals> lets;   // lowered in order
     ir::ValueId spacing = ir::kNoValue;
-    ir::ValueId u = ir::kNoValue; // inside an easing: the progress it shapes
+    ir::ValueId u = ir::kNoValue;                      // inside an easing: the progress it shapes
     std::unordered_map<const ast::Decl*, Vals> fields; // fields already lowered here
 };
 
@@ -38,7 +38,9 @@ class ExprLowering {
     explicit ExprLowering(ir::Builder& b) : b_(b) {}
 
     // How `ramp` and `progress` reach a timing's progress (set by the scene's lowering).
-    void setTimings(std::function<Progress(const ast::Decl*)> progress) { progress_ = std::move(progress); }
+    void setTimings(std::function<Progress(const ast::Decl*)> progress) {
+        progress_ = std::move(progress);
+    }
 
     Vals lower(const ast::Expr& e, Frame& frame);
     ir::ValueId scalar(const ast::Expr& e, Frame& frame);

@@ -24,8 +24,8 @@ bool beginsValueOnly(Tok k) {
 } // namespace
 
 Parser::Parser(const SourceManager& sm, uint32_t fileId, DiagEngine& diags)
-    : file_(fileId), text_(sm.file(fileId).text()), isStdlib_(sm.file(fileId).isStdlib()), diags_(diags),
-      lexer_(fileId, sm.file(fileId).text(), diags) {
+    : file_(fileId), text_(sm.file(fileId).text()), isStdlib_(sm.file(fileId).isStdlib()),
+      diags_(diags), lexer_(fileId, sm.file(fileId).text(), diags) {
     advance();
 }
 
@@ -204,7 +204,8 @@ DeclPtr Parser::parseDecl() {
             found.text = describeCurrent() + found.text;
         }
         diags_.error(range(), Msg::Expected,
-                     "a declaration (scene, camera, layer, field, family, timing or easing)", found);
+                     "a declaration (scene, camera, layer, field, family, timing or easing)",
+                     found);
         advance();
         recoverTo(false);
         return nullptr;

@@ -63,7 +63,8 @@ Type Checker::checkExpr(Expr& e, const Scope& scope) {
     }
     int height = 0;
     // ramp and progress take a timing's name first: it names a declaration, not a value.
-    const bool timed = e.kind == ExprKind::Call && (e.name == "ramp" || e.name == "progress") && !e.args.empty();
+    const bool timed =
+        e.kind == ExprKind::Call && (e.name == "ramp" || e.name == "progress") && !e.args.empty();
     for (size_t i = 0; i < e.args.size(); ++i) {
         if (timed && i == 0) {
             if (!timingArgument(*e.args[0], e.name)) e.args[0]->type = Type::Error;

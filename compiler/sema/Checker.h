@@ -61,7 +61,10 @@ class Checker {
     void checkFamily(Decl& f);
     void checkEasing(Decl& e);
     std::vector<Decl*>& declList(DeclKind k) {
-        return k == DeclKind::Field ? fields_ : k == DeclKind::Family ? familyDecls_ : k == DeclKind::Timing ? timings_ : easings_;
+        return k == DeclKind::Field    ? fields_
+               : k == DeclKind::Family ? familyDecls_
+               : k == DeclKind::Timing ? timings_
+                                       : easings_;
     }
     void checkTiming(Decl& t);
     // The morph of a layer: `family = morph(timing, f0, f1, ...)`; false when it is not one.

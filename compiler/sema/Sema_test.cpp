@@ -256,9 +256,11 @@ TEST_CASE("sema: duplicates are reported with a note at the first") {
     CHECK(fields.msgs() == std::vector<Msg>{Msg::DuplicateDecl, Msg::FirstDefinedHere});
     CHECK(fields.firstText() == "there is already a field named 'f'");
     // A scene's own declaration hides the library's of the same name, rather than clashing.
-    CHECK(check("family circles = r * 2\nfield ripple = x\nlayer { family = circles; field = ripple }")
-              .msgs()
-              .empty());
+    CHECK(
+        check(
+            "family circles = r * 2\nfield ripple = x\nlayer { family = circles; field = ripple }")
+            .msgs()
+            .empty());
     CHECK(check("layer a { family = circles }\nlayer a { family = circles }").firstText() ==
           "there is already a layer named 'a'");
     Checked scenes = check("scene { }\nscene { }");
@@ -315,7 +317,8 @@ TEST_CASE("sema: layers and families need what they need") {
     Checked negative = ok("family f { phase = r; first = -2 }");
     CHECK(negative.scene.families.at(&negative.decl("f")).first == -2);
     CHECK(error("family f { phase = r; w = 2 }", Msg::UnknownProperty) ==
-          "'w' is not a property of a family (its properties are phase, first, facets, distance and index); to name a "
+          "'w' is not a property of a family (its properties are phase, first, facets, distance "
+          "and index); to name a "
           "value, write: let w = ...");
     CHECK(error("scene { sise = (1, 2) }", Msg::UnknownProperty) ==
           "'sise' is not a property of the scene; did you mean 'size'?");
@@ -360,7 +363,8 @@ TEST_CASE("sema: u is the progress inside an easing and nowhere else") {
     // An easing is a function of u alone.
     CHECK(error("easing w = u * x", Msg::MustBeConstant) ==
           "easing 'w' cannot depend on the position (x, y, r or theta)");
-    CHECK(error("easing w = u + t", Msg::MustBeConstant) == "easing 'w' cannot depend on the clock t");
+    CHECK(error("easing w = u + t", Msg::MustBeConstant) ==
+          "easing 'w' cannot depend on the clock t");
     CHECK(error("easing w = (u, u)", Msg::TypeMismatch) ==
           "easing 'w' expects a number, but this is a 2-vector");
 }
@@ -371,14 +375,15 @@ TEST_CASE("sema: timings: their properties, modes and easings") {
                    "easing mine = u\ntiming d { period = 1; mode = once; easing = mine }\n");
     const sema::CheckedTiming& a = c.scene.timings.at(&c.decl("a"));
     CHECK(a.mode == sema::TimingMode::Loop); // the default
-    CHECK(a.easing == nullptr);             // linear
+    CHECK(a.easing == nullptr);              // linear
     CHECK(a.delay == nullptr);
     const sema::CheckedTiming& b = c.scene.timings.at(&c.decl("b"));
     CHECK(b.mode == sema::TimingMode::PingPong);
     REQUIRE(b.easing);
     CHECK(b.easing->name == "sine");
     CHECK(c.scene.timings.at(&c.decl("d")).easing == &c.decl("mine"));
-    CHECK(c.scene.timingOrder == std::vector<const Decl*>{&c.decl("a"), &c.decl("b"), &c.decl("d")});
+    CHECK(c.scene.timingOrder ==
+          std::vector<const Decl*>{&c.decl("a"), &c.decl("b"), &c.decl("d")});
     CHECK(error("timing a { delay = 1 }", Msg::MissingProperty) ==
           "timing 'a' needs its period; add one, as in: period = 4");
     CHECK(error("timing a { period = 1; mode = forever }", Msg::BadMode) ==
@@ -399,7 +404,8 @@ TEST_CASE("sema: timings: their properties, modes and easings") {
           "quad_in, quad_in_out, quad_out, sine, sine_in and sine_out, or declare one, as in: "
           "easing mine = u * u");
     CHECK(error("timing a { period = 1; speed = 2 }", Msg::UnknownProperty) ==
-          "'speed' is not a property of a timing (its properties are period, delay, mode and easing)");
+          "'speed' is not a property of a timing (its properties are period, delay, mode and "
+          "easing)");
     // The period and delay set the clip's length: fixed for the whole animation.
     CHECK(error("timing a { period = 1 + t }", Msg::MustBeConstant) ==
           "'period' cannot depend on the clock t");
@@ -455,16 +461,17 @@ TEST_CASE("sema: ramp and progress take a timing and values of one type") {
 
 TEST_CASE("sema: a morph: a timing and two or more families, which share the layer's parameters") {
     const std::string tm = "timing tm { period = 3 }\n";
-    Checked c = ok(tm + "layer { family = morph(tm, lines, wave, circles); angle = 30deg; amplitude = 4 }");
+    Checked c =
+        ok(tm + "layer { family = morph(tm, lines, wave, circles); angle = 30deg; amplitude = 4 }");
     const sema::CheckedLayer& layer = c.scene.layers.at(0);
     CHECK(layer.morphTiming == &c.decl("tm"));
     REQUIRE(layer.morph.size() == 3);
     CHECK(layer.morph[0].family->decl->name == "lines");
     CHECK(layer.morph[1].family->decl->name == "wave");
     CHECK(layer.family == layer.morph[0].family); // the first member is the layer's family
-    CHECK(layer.morph[0].args[0] != nullptr);    // lines' angle
-    CHECK(layer.morph[1].args[0] != nullptr);    // wave's amplitude
-    CHECK(layer.morph[1].args[1] == nullptr);    // wave's frequency: its default
+    CHECK(layer.morph[0].args[0] != nullptr);     // lines' angle
+    CHECK(layer.morph[1].args[0] != nullptr);     // wave's amplitude
+    CHECK(layer.morph[1].args[1] == nullptr);     // wave's frequency: its default
     // A parameter of the same name in two members is one setting, checked against both.
     const std::string two = "family a(k = 1) = x * k\nfamily b(k = 0deg) = r * cos(k)\n";
     Checked shared = ok(tm + "family a2(k = 1) = x * k\nfamily b2(k = 2) = y * k\n"
@@ -476,7 +483,8 @@ TEST_CASE("sema: a morph: a timing and two or more families, which share the lay
           "'k' is an angle: write the number with a unit, as in 3deg or 3rad");
     error(tm + "family ring(radius) = abs(r - radius)\nlayer { family = morph(tm, circles, ring) }",
           Msg::MissingParam);
-    CHECK(error(tm + "layer { family = morph(tm, lines, wave); amplitud = 4 }", Msg::UnknownProperty) ==
+    CHECK(error(tm + "layer { family = morph(tm, lines, wave); amplitud = 4 }",
+                Msg::UnknownProperty) ==
           "'amplitud' is not a property of a layer; did you mean 'amplitude'?");
     // The arguments.
     CHECK(error(tm + "layer { family = morph(tm, circles) }", Msg::MorphArgs) ==

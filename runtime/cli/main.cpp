@@ -91,7 +91,8 @@ int main(int argc, char** argv) {
     app.footer("Run 'moire COMMAND --help' for a command's options. Exit statuses: docs/cli.md.");
 
     cli::RenderArgs renderArgs;
-    CLI::App* renderCmd = app.add_subcommand("render", "Render a scene to an image file");
+    CLI::App* renderCmd = app.add_subcommand(
+        "render", "Render a scene to an image file (--backend: jit, interp or vulkan)");
     addScene(renderCmd, renderArgs.scene);
     renderCmd->add_option("-o,--output", renderArgs.output,
                           "Image to write: .png (8/16-bit), .tif (16/8-bit), .exr (float/half), "
@@ -203,7 +204,8 @@ int main(int argc, char** argv) {
     devicesCmd->footer("Exit status: 0 a usable device; 4 none (no driver, or no device).");
 
     cli::CompileArgs compileArgs;
-    CLI::App* compileCmd = app.add_subcommand("compile", "Show a stage of the compiler");
+    CLI::App* compileCmd = app.add_subcommand(
+        "compile", "Show a compiler stage: the AST, the IR, LLVM IR, GLSL or SPIR-V (--dump)");
     addScene(compileCmd, compileArgs.scene);
     compileCmd->add_option("--dump", compileArgs.dump,
                            "ast, ir, ir-ad, frame, kernel, llvm, glsl or spirv (default ir)");

@@ -26,8 +26,8 @@ struct WatchOptions {
 
 // What happened to one state of the file.
 struct WatchReport {
-    BuildResult result;      // what the build of this state gave
-    bool wrote = false;      // the output now holds this state's render
+    BuildResult result; // what the build of this state gave
+    bool wrote = false; // the output now holds this state's render
     // Why a bad state is bad: its text (errors, or a frame that cannot be drawn), a file (the
     // scene unreadable, the image unwritable), or the machine (memory, the device).
     enum class Failure { None, Scene, File, Machine };

@@ -70,7 +70,8 @@ struct Built {
     explicit Built(const std::string& text) {
         backend = test::makeBackendOrSkip("jit");
         if (!backend) return;
-        builder = std::make_unique<SceneBuilder>(*backend, CompileOptions{.mode = CompileOptions::Mode::Interactive});
+        builder = std::make_unique<SceneBuilder>(
+            *backend, CompileOptions{.mode = CompileOptions::Mode::Interactive});
         BuildResult r = builder->build("s.moire", text);
         REQUIRE_MESSAGE(r.good(), r.diagnostics);
         build = r.build;

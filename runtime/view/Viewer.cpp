@@ -5,6 +5,7 @@
 #include "runtime/view/Viewer.h"
 
 #include "compiler/Compile.h"
+#include "compiler/sema/Properties.h"
 #include "runtime/live/SceneReloader.h"
 #include "runtime/TextFile.h"
 #include "runtime/view/FrameRenderer.h"
@@ -176,7 +177,7 @@ class Viewer {
         glfwUp_ = true;
         int w = options_.width, h = options_.height;
         if (w <= 0 || h <= 0) {
-            w = 1200, h = 800;
+            w = static_cast<int>(sema::kDefaultWidth), h = static_cast<int>(sema::kDefaultHeight);
             if (auto size = state_.sceneSize(Clock::now())) std::tie(w, h) = *size;
             // A scene larger than the screen opens at the most of it that fits, same aspect.
             int mx = 0, my = 0, mw = 0, mh = 0;

@@ -26,7 +26,9 @@ double residual(const Walking& w, double px, double py, int64_t n) {
     return radius(w.facets, qx, qy) - (n * w.spacing + w.phase);
 }
 
-double drift(const Walking& w) { return radius(w.facets, -w.offsetX, -w.offsetY); }
+double drift(const Walking& w) {
+    return radius(w.facets, -w.offsetX, -w.offsetY);
+}
 
 Nearest nearest(const Walking& w, double px, double py, double guard, int64_t maxMembers) {
     const double r = std::hypot(px, py);

@@ -15,7 +15,7 @@ struct Walking {
     double spacing = 10.0; // s
     double phase = 0.0;    // inradius of member 0
     double offsetX = 0.0, offsetY = 0.0; // delta
-    double turn = 0.0;     // theta, radians
+    double turn = 0.0;                   // theta, radians
 };
 
 // The support-function radius of the shape at q (Eqs. 17-20; the N-gon form for any N).
@@ -28,7 +28,7 @@ struct Nearest {
     double distance = 0.0; // min over scanned n of |h_p(n)|, clamped at the guard
     int64_t argmin = -1;   // the member attaining it (-1: none came under the guard)
     int64_t evaluations = 0;
-    bool complete = true;  // false when the scan hit `maxMembers` before the bound closed
+    bool complete = true; // false when the scan hit `maxMembers` before the bound closed
 };
 
 // The exhaustive scan, clamped at `guard`. Members beyond `maxMembers` are not looked at

@@ -231,6 +231,7 @@ int render(const RenderArgs& args) {
     if (!program) return kExitScene;
     stages.done(fmt::format("compiled {}", src.path));
     if (StopSignals::received()) return interrupted();
+    const double compiledAt = secondsSince(t0);
 
     FrameRequest req;
     req.time = args.time;
@@ -276,6 +277,7 @@ int render(const RenderArgs& args) {
     if (shown) fmt::print(stderr, "\n");
     if (StopSignals::received()) return interrupted();
     stages.done(fmt::format("rendered {}x{} on {}", frame.width, frame.height, describe(*backend)));
+    const double renderedAt = secondsSince(t0);
 
     WriteOptions wo;
     wo.depth = image.depth;
@@ -297,9 +299,16 @@ int render(const RenderArgs& args) {
     }
     stages.done(fmt::format("wrote {}", output));
     double seconds = secondsSince(t0);
+    // The whole time, then where it went: reading and compiling the scene, evaluating the
+    // frame and running the kernel (the backend's kernel compile included), and encoding and
+    // writing the file.
     if (!args.verbosity.quiet)
-        fmt::print(stderr, "moire: wrote {} ({}x{}, {}, {:.0f} ms)\n", output, frame.width,
-                   frame.height, describe(*backend), seconds * 1000.0);
+        fmt::print(stderr,
+                   "moire: wrote {} ({}x{}, {}, {:.0f} ms: compile {:.0f}, render {:.0f}, "
+                   "encode and write {:.0f})\n",
+                   output, frame.width, frame.height, describe(*backend), seconds * 1000.0,
+                   compiledAt * 1000.0, (renderedAt - compiledAt) * 1000.0,
+                   (seconds - renderedAt) * 1000.0);
     return kExitOk;
 }
 

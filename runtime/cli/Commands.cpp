@@ -144,7 +144,7 @@ void Stages::done(const std::string& what) {
 
 std::unique_ptr<Backend> openBackend(const std::string& name, int device) {
     try {
-        return makeBackend(name, BackendOptions{.device = device});
+        return makeBackend(name, BackendOptions{.device = device, .cacheKernels = true});
     } catch (const BackendError& e) {
         fmt::print(stderr, "moire: error: {}\n", e.what());
         return nullptr;
@@ -276,7 +276,12 @@ int render(const RenderArgs& args) {
     }
     if (shown) fmt::print(stderr, "\n");
     if (StopSignals::received()) return interrupted();
-    stages.done(fmt::format("rendered {}x{} on {}", frame.width, frame.height, describe(*backend)));
+    std::string cached;
+    if (auto* jit = dynamic_cast<const LlvmJitBackend*>(backend.get()); jit && jit->storeHits())
+        cached = fmt::format(" ({} module{} of compiled code from the cache)", jit->storeHits(),
+                             jit->storeHits() == 1 ? "" : "s");
+    stages.done(fmt::format("rendered {}x{} on {}{}", frame.width, frame.height, describe(*backend),
+                            cached));
     const double renderedAt = secondsSince(t0);
 
     WriteOptions wo;

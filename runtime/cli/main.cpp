@@ -3,6 +3,7 @@
 // so that they read and behave the same in every command that takes them.
 #include "compiler/diag/Diagnostics.h"
 #include "runtime/cli/Commands.h"
+#include "runtime/output/JitCache.h"
 
 #include <CLI/CLI.hpp>
 #include <csignal>
@@ -88,7 +89,12 @@ int main(int argc, char** argv) {
     CLI::App app{"moire: a compiler and renderer for moire-pattern scenes (.moire files)", "moire"};
     app.set_version_flag("--version", "moire " MOIRE_VERSION);
     app.require_subcommand(0, 1);
-    app.footer("Run 'moire COMMAND --help' for a command's options. Exit statuses: docs/cli.md.");
+    app.footer("Run 'moire COMMAND --help' for a command's options. Exit statuses: docs/cli.md.\n"
+               "The JIT keeps compiled kernels in " +
+               (JitCache::rootDirectory().empty() ? std::string("no folder (the cache is off)")
+                                                  : JitCache::rootDirectory()) +
+               " (MOIRE_CACHE_DIR moves it, MOIRE_CACHE_DIR=off turns it off); delete that "
+               "folder to clear it.");
 
     cli::RenderArgs renderArgs;
     CLI::App* renderCmd = app.add_subcommand(

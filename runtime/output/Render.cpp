@@ -2,6 +2,7 @@
 
 #include "compiler/backend/interp/Interpreter.h"
 #include "compiler/backend/llvm/LlvmJit.h"
+#include "runtime/output/JitCache.h"
 #include "runtime/vulkan/VulkanBackend.h"
 
 namespace moire {
@@ -13,7 +14,11 @@ const std::vector<std::string>& backendNames() {
 
 std::unique_ptr<Backend> makeBackend(const std::string& name, const BackendOptions& options) {
     if (name == "interp") return std::make_unique<InterpBackend>();
-    if (name == "jit") return std::make_unique<LlvmJitBackend>();
+    if (name == "jit") {
+        LlvmJitBackend::Options jit;
+        if (options.cacheKernels) jit.objects = JitCache::forThisBuild();
+        return std::make_unique<LlvmJitBackend>(jit);
+    }
     if (name == "vulkan")
         return std::make_unique<VulkanBackend>(VulkanBackend::Options{.device = options.device});
     return nullptr;

@@ -18,6 +18,7 @@ const std::vector<std::string>& backendNames();
 
 struct BackendOptions {
     int device = -1; // vulkan: the physical device (-1: the first discrete GPU, else the first)
+    bool cacheKernels = false; // jit: keep object code on disk between runs (JitCache.h)
 };
 // Creates a backend by name; returns null for an unknown name. Throws BackendError when the
 // backend cannot run here (vulkan: no driver, no usable device, no device `options.device`).

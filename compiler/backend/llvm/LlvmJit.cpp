@@ -8,12 +8,14 @@
 #include <fmt/format.h>
 #include <llvm/Analysis/TargetLibraryInfo.h>
 #include <llvm/Analysis/TargetTransformInfo.h>
+#include <llvm/Config/llvm-config.h>
 #include <llvm/ExecutionEngine/Orc/CompileUtils.h>
 #include <llvm/ExecutionEngine/Orc/ExecutionUtils.h>
 #include <llvm/ExecutionEngine/Orc/JITTargetMachineBuilder.h>
 #include <llvm/ExecutionEngine/Orc/LLJIT.h>
 #include <llvm/ExecutionEngine/Orc/ThreadSafeModule.h>
 #include <llvm/IR/LegacyPassManager.h>
+#include <llvm/Object/ObjectFile.h>
 #include <llvm/Passes/PassBuilder.h>
 #include <llvm/Support/DynamicLibrary.h>
 #include <llvm/Support/raw_ostream.h>
@@ -116,6 +118,13 @@ unsigned widestFloatVector(llvm::TargetMachine& tm) {
     return std::max<unsigned>(1, static_cast<unsigned>(bits.getFixedValue() / 32));
 }
 
+// FNV-1a: a hash that is the same in every build, for keys kept on disk.
+uint64_t fnv1a(std::string_view text) {
+    uint64_t h = 0xcbf29ce484222325ull;
+    for (unsigned char c : text) h = (h ^ c) * 0x100000001b3ull;
+    return h;
+}
+
 class JitKernel : public CompiledKernel {
   public:
     JitKernel(llvmbackend::TileFn fn, int numOutputs) : fn_(fn), numOutputs_(numOutputs) {}
@@ -154,6 +163,10 @@ struct LlvmJitBackend::Impl {
         chunkVectorWidth = options.chunkVectorWidth == Options::kWidestFloatVector
                                ? widestFloatVector(*tm)
                                : static_cast<unsigned>(std::max(0, options.chunkVectorWidth));
+        codeConfig =
+            fnv1a(fmt::format("{}|{}|{}|{}|{}|{}", LLVM_VERSION_STRING, tm->getTargetCPU().str(),
+                              tm->getTargetFeatureString().str(), options.chunkInsts,
+                              chunkVectorWidth, options.classicChunks));
         auto built = llvm::orc::LLJITBuilder().setJITTargetMachineBuilder(*jtmb).create();
         if (!built) MOIRE_ICE("cannot start the LLVM JIT: {}", errorText(built.takeError()));
         jit = std::move(*built);
@@ -186,26 +199,45 @@ struct LlvmJitBackend::Impl {
         optimise(m, machine);
     }
 
-    // Optimises and compiles the modules of a chunked kernel to object code on several
-    // threads (LLVM's time for a kernel of 1,000 layers is seconds; the chunks are
-    // independent), then hands the objects to the JIT to link.
-    void compileInParallel(std::vector<llvmbackend::OwnedModule>& modules) {
+    // The name a module's object code is kept under: the module's name (the kernel's
+    // structural hash, and the chunk) and a hash of everything else its code depends on.
+    std::string objectKey(const llvm::Module& m) const {
+        return fmt::format("{}-{:016x}", m.getModuleIdentifier(), codeConfig);
+    }
+
+    // Optimises and compiles a kernel's modules to object code (on several threads when it
+    // was chunked: LLVM's time for a kernel of 1,000 layers is seconds, and the chunks are
+    // independent), or takes it from the object store, then hands the objects to the JIT.
+    void compileModules(std::vector<llvmbackend::OwnedModule>& modules) {
         unsigned threads = options.compileThreads > 0
                                ? static_cast<unsigned>(options.compileThreads)
                                : std::max(1u, std::thread::hardware_concurrency());
         threads = std::min<unsigned>(threads, static_cast<unsigned>(modules.size()));
+        std::vector<std::string> keys;
+        for (auto& m : modules) keys.push_back(objectKey(*m.module));
         std::vector<std::unique_ptr<llvm::MemoryBuffer>> objects(modules.size());
         std::vector<std::string> errors(modules.size());
+        std::vector<char> compiled(modules.size(), 0);
+        ObjectStore* store = options.objects.get();
         std::atomic<size_t> next{0};
         auto work = [&](llvm::TargetMachine& machine) {
             llvm::orc::SimpleCompiler compile(machine);
             for (size_t i; (i = next++) < modules.size();) {
+                if (store) {
+                    if (auto object = loadObject(*store, keys[i])) {
+                        objects[i] = std::move(object);
+                        ++hits;
+                        continue;
+                    }
+                }
                 prepare(*modules[i].module, machine);
                 auto object = compile(*modules[i].module);
-                if (object)
+                if (object) {
                     objects[i] = std::move(*object);
-                else
+                    compiled[i] = 1;
+                } else {
                     errors[i] = errorText(object.takeError());
+                }
             }
         };
         // Target machines are made here: MOIRE_ICE must not throw on a worker thread.
@@ -217,18 +249,45 @@ struct LlvmJitBackend::Impl {
         for (std::thread& w : workers) w.join();
         for (size_t i = 0; i < modules.size(); ++i) {
             if (!errors[i].empty()) MOIRE_ICE("LLVM could not compile a chunk: {}", errors[i]);
+            if (store && compiled[i]) store->store(keys[i], objects[i]->getBuffer());
             if (auto err = jit->addObjectFile(std::move(objects[i])))
                 MOIRE_ICE("LLVM JIT rejected a chunk: {}", errorText(std::move(err)));
         }
     }
+
+    // An object from the store, if it is there and is an object file for this target.
+    static std::unique_ptr<llvm::MemoryBuffer> loadObject(ObjectStore& store,
+                                                          const std::string& key) {
+        std::optional<std::string> bytes = store.load(key);
+        if (!bytes) return nullptr;
+        auto buffer = llvm::MemoryBuffer::getMemBufferCopy(*bytes, key);
+        auto parsed = llvm::object::ObjectFile::createObjectFile(buffer->getMemBufferRef());
+        if (!parsed) {
+            llvm::consumeError(parsed.takeError());
+            return nullptr;
+        }
+        return buffer;
+    }
+
+    std::atomic<int> hits{0};
+    uint64_t codeConfig = 0;
 };
 
-LlvmJitBackend::LlvmJitBackend(size_t chunkInsts) : LlvmJitBackend(Options{chunkInsts, 0, false}) {}
+LlvmJitBackend::LlvmJitBackend(size_t chunkInsts)
+    : LlvmJitBackend([chunkInsts] {
+          Options o;
+          o.chunkInsts = chunkInsts;
+          return o;
+      }()) {}
 LlvmJitBackend::LlvmJitBackend(const Options& options) : impl_(std::make_unique<Impl>(options)) {}
 LlvmJitBackend::~LlvmJitBackend() = default;
 
 int LlvmJitBackend::compileCount() const {
     return impl_->compiled;
+}
+
+int LlvmJitBackend::storeHits() const {
+    return impl_->hits;
 }
 
 std::unique_ptr<CompiledKernel> LlvmJitBackend::compile(const ir::Function& kernel) {
@@ -238,15 +297,7 @@ std::unique_ptr<CompiledKernel> LlvmJitBackend::compile(const ir::Function& kern
     if (it == impl_->cache.end()) {
         std::string name = fmt::format("moire_kernel_{:016x}", hash);
         auto modules = impl_->translate(kernel, name);
-        if (modules.size() == 1) {
-            // One module (a kernel too small to chunk, or classic chunks): the JIT compiles it.
-            impl_->prepare(*modules[0].module, *impl_->tm);
-            if (auto err = impl_->jit->addIRModule(llvm::orc::ThreadSafeModule(
-                    std::move(modules[0].module), std::move(modules[0].ctx))))
-                MOIRE_ICE("LLVM JIT rejected the module: {}", errorText(std::move(err)));
-        } else {
-            impl_->compileInParallel(modules);
-        }
+        impl_->compileModules(modules);
         auto sym = impl_->jit->lookup(name);
         if (!sym) MOIRE_ICE("LLVM JIT lookup: {}", errorText(sym.takeError()));
         it = impl_->cache.emplace(hash, sym->toPtr<llvmbackend::TileFn>()).first;

@@ -4,6 +4,7 @@
 #pragma once
 
 #include "compiler/backend/Backend.h"
+#include "compiler/backend/llvm/ObjectStore.h"
 
 #include <cstddef>
 #include <memory>
@@ -31,6 +32,8 @@ class LlvmJitBackend : public Backend {
         // picks for these loops; 0, no hint.
         static constexpr int kWidestFloatVector = -1;
         int chunkVectorWidth = kWidestFloatVector;
+        // Object code kept between runs (ObjectStore.h); none: every kernel is compiled.
+        std::shared_ptr<ObjectStore> objects;
     };
 
     explicit LlvmJitBackend(size_t chunkInsts = kDefaultChunkInsts);
@@ -45,6 +48,8 @@ class LlvmJitBackend : public Backend {
 
     // How many kernels were actually compiled (cache misses), for tests and benchmarks.
     int compileCount() const;
+    // Modules whose object code came from `Options::objects` instead of being compiled.
+    int storeHits() const;
 
   private:
     struct Impl;

@@ -2,8 +2,7 @@
 // instead of compiling it, and draws the same pixels; an object that is not one is compiled
 // again and replaced; code built with other options is kept apart.
 #include "compiler/backend/llvm/LlvmJit.h"
-#include "compiler/Compile.h"
-#include "runtime/FrameEval.h"
+#include "tests/support/Support.h"
 
 #include <cstring>
 #include <doctest/doctest.h>
@@ -37,23 +36,11 @@ std::unique_ptr<SceneProgram> program(int layers) {
     for (int i = 0; i < layers; ++i)
         text += fmt::format("layer {{ family = circles; spacing = 5; origin = ({}, 1) }}\n", i);
     text += "layer { family = squares; spacing = 9; turn = 3deg }\n";
-    CompileResult r = compileScene("store.moire", text, {});
-    INFO(r.diagnostics);
-    REQUIRE(r.program);
-    return std::move(r.program);
+    return test::compileOk(text);
 }
 
 std::vector<float> pixels(LlvmJitBackend& jit, const SceneProgram& p) {
-    FrameValues frame;
-    std::string diags;
-    REQUIRE(evaluateFrame(p, FrameRequest{}, frame, diags));
-    auto kernel = jit.compile(p.kernel);
-    size_t n = static_cast<size_t>(kernel->numOutputs()) * frame.width * frame.height;
-    std::vector<float> out(n);
-    kernel->runTile({frame.uniforms.data(), frame.width, frame.height},
-                    {0, 0, frame.width, frame.height}, out.data(),
-                    static_cast<size_t>(kernel->numOutputs()) * frame.width);
-    return out;
+    return test::renderScene(p, jit).pixels;
 }
 
 bool same(const std::vector<float>& a, const std::vector<float>& b) {

@@ -8,6 +8,7 @@
 
 #include "compiler/backend/Backend.h"
 #include "compiler/backend/interp/Interpreter.h"
+#include "compiler/backend/llvm/LlvmJit.h"
 #include "compiler/ir/Builder.h"
 #include "compiler/ir/IR.h"
 #include "compiler/ir/Semantics.h"
@@ -292,11 +293,38 @@ inline bool withinVulkanPrecision(Op op, int64_t n, float a, float c, float got)
     return std::fabs(got - exact) <= bound;
 }
 
-// Every backend available here; a missing one is skipped with a message.
+// Every backend available here; a missing one is skipped with a message. The JIT comes in
+// each of its shapes: the host's lanes (as `moire` runs it), scalar, and 4 lanes (the SSE
+// shape, chosen on hosts without AVX2), so every op is translated each way.
 inline std::vector<std::unique_ptr<Backend>> allBackends() {
     std::vector<std::unique_ptr<Backend>> out;
     for (const std::string& name : test::availableBackends())
         if (auto b = test::makeBackendOrSkip(name)) out.push_back(std::move(b));
+    for (int lanes : {1, 4}) {
+        LlvmJitBackend::Options o;
+        o.lanes = lanes;
+        out.push_back(std::make_unique<LlvmJitBackend>(o));
+    }
     return out;
+}
+
+// Ops that the JIT computes with a libm call: with lanes, glibc's vector versions
+// (libmvec), documented within 4 ulp where the scalar ones are within 1.
+inline bool callsLibm(Op op) {
+    switch (op) {
+    case Op::Exp:
+    case Op::Log:
+    case Op::Pow:
+    case Op::Sin:
+    case Op::Cos:
+    case Op::Tan:
+    case Op::Asin:
+    case Op::Acos:
+    case Op::Atan:
+    case Op::Atan2:
+        return true;
+    default:
+        return false;
+    }
 }
 } // namespace moire::optest

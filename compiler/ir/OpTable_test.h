@@ -308,23 +308,4 @@ inline std::vector<std::unique_ptr<Backend>> allBackends() {
     return out;
 }
 
-// Ops that the JIT computes with a libm call: with lanes, glibc's vector versions
-// (libmvec), documented within 4 ulp where the scalar ones are within 1.
-inline bool callsLibm(Op op) {
-    switch (op) {
-    case Op::Exp:
-    case Op::Log:
-    case Op::Pow:
-    case Op::Sin:
-    case Op::Cos:
-    case Op::Tan:
-    case Op::Asin:
-    case Op::Acos:
-    case Op::Atan:
-    case Op::Atan2:
-        return true;
-    default:
-        return false;
-    }
-}
 } // namespace moire::optest

@@ -6,6 +6,7 @@
 // -0, huge values, inf and NaN, which all three must give as Semantics.h does. Ops are taken
 // from the explicit table in OpTable_test.h, whose completeness is checked first: an op added
 // to Ops.def fails here until it is classified, and then the checks of its kind apply to it.
+#include "compiler/backend/llvm/LlvmJit.h"
 #include "compiler/ir/Builder.h"
 #include "compiler/ir/OpTable_test.h"
 #include "compiler/ir/Semantics.h"
@@ -37,7 +38,7 @@ bool same(double got, double want) {
 }
 // The JIT against evalFloat<float>: the same value to within one float rounding (libm's
 // single-precision functions may be reached by a different call path), or within `ulps`
-// units in the last place where the JIT calls libmvec (OpTable_test.h: callsLibm).
+// units in the last place where the JIT calls libmvec (LlvmJitBackend::callsLibm).
 bool sameFloat(float got, float want, int ulps = 1) {
     if (std::isnan(want) || std::isinf(want) || want == 0.0f) return same(got, want);
     return std::fabs(got - want) <= ulps * std::numeric_limits<float>::epsilon() * std::fabs(want);
@@ -166,7 +167,7 @@ TEST_CASE(
                     [&](float got) {
                         return optest::withinVulkanPrecision(op, n, inF[0], inF[1], got);
                     },
-                    optest::callsLibm(op) ? 4 : 1);
+                    LlvmJitBackend::callsLibm(op) ? 4 : 1);
             }
         }
     }

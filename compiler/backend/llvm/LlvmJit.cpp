@@ -354,6 +354,10 @@ LlvmJitBackend::Seconds LlvmJitBackend::llvmSeconds() const {
     return {impl_->optimiseNs * 1e-9, impl_->codegenNs * 1e-9};
 }
 
+bool LlvmJitBackend::callsLibm(ir::Op op) {
+    return llvmbackend::callsLibm(op);
+}
+
 unsigned LlvmJitBackend::lanes() const {
     return impl_->lanes;
 }

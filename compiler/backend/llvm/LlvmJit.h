@@ -69,6 +69,9 @@ class LlvmJitBackend : public Backend {
         double optimise = 0, codegen = 0;
     };
     Seconds llvmSeconds() const;
+    // Whether the JIT computes `op` with a call to a libm function (with lanes, to its libmvec
+    // version: within 4 ulp, where the scalar functions are within 1).
+    static bool callsLibm(ir::Op op);
     // Pixels per step of the tile functions this backend makes (Options::lanes, resolved).
     unsigned lanes() const;
 

@@ -44,6 +44,10 @@ struct TranslateOptions {
     bool vectorMaths = false;
 };
 
+// Whether the translation computes `op` with a call to a libm function (with lanes, to its
+// libmvec version: within 4 ulp, where the scalar functions are within 1).
+bool callsLibm(ir::Op op);
+
 // The module of tile function NAME; for a chunked kernel, the driver's module first, then one
 // per chunk where options.separateModules.
 std::vector<OwnedModule> translate(const ir::Function& kernel, const std::string& name,

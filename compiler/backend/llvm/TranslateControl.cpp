@@ -117,12 +117,13 @@ llvm::Value* Translator::andMask(llvm::Value* mask, llvm::Value* cond) {
     return mask ? b_.CreateAnd(mask, cond) : cond;
 }
 
-// A region worth running for every lane rather than branching around: no loop, and few
-// instructions (counted against `budget`, shared by both arms of an `if`). Running it costs
-// less than the test and the branch, and lets LLVM schedule both arms together.
+// A region worth running for every lane rather than branching around: no loop, no call to
+// a maths function (a vector sine costs tens of instructions), and few instructions
+// (counted against `budget`, shared by both arms of an `if`). Running it costs less than
+// the test and the branch, and lets LLVM schedule both arms together.
 bool Translator::cheapRegion(ir::BlockId id, int& budget) const {
     for (const ir::Inst& inst : f_.blocks[id].insts) {
-        if (inst.op == Op::Loop || --budget < 0) return false;
+        if (inst.op == Op::Loop || callsLibm(inst.op) || --budget < 0) return false;
         for (ir::BlockId r : inst.regions)
             if (!cheapRegion(r, budget)) return false;
     }

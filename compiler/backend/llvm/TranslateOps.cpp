@@ -26,6 +26,24 @@ llvm::Value* Translator::intrinsic(llvm::Intrinsic::ID id,
     return b_.CreateCall(fn, args);
 }
 
+bool callsLibm(Op op) {
+    switch (op) {
+    case Op::Exp:
+    case Op::Log:
+    case Op::Pow:
+    case Op::Sin:
+    case Op::Cos:
+    case Op::Tan:
+    case Op::Asin:
+    case Op::Acos:
+    case Op::Atan:
+    case Op::Atan2:
+        return true;
+    default:
+        return false;
+    }
+}
+
 // A libm function of one or two floats (sinf, atan2f, ...), resolved in the host process.
 // With lanes, glibc's vector version of it (libmvec: _ZGVbN4v_sinf for 4 SSE lanes,
 // _ZGVdN8v_sinf for 8 AVX2 lanes, _ZGVeN16v_sinf for 16 AVX-512 lanes), or where that is

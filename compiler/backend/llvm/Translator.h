@@ -11,6 +11,7 @@
 #pragma once
 
 #include "compiler/backend/llvm/KernelChunks.h"
+#include "compiler/backend/llvm/LlvmTranslate.h"
 #include "compiler/ir/IR.h"
 
 #include <llvm/IR/IRBuilder.h>

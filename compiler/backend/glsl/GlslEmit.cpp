@@ -120,7 +120,7 @@ bool m_neg(float a) { return floatBitsToInt(a) < 0; }
 float m_copysign(float mag, float s) { return m_neg(s) ? -mag : mag; }
 float m_min(float a, float b) { return b < a ? b : a; }
 float m_max(float a, float b) { return b > a ? b : a; }
-float m_mulz(float a, float b) { return (a == 0.0 || b == 0.0) ? 0.0 : a * b; }
+float m_mulz(float a, float b) { return mix(a * b, 0.0, any(equal(vec2(a, b), vec2(0.0)))); }
 // Through integers: written with selects (a > 0 ? 1 : a < 0 ? -1 : 0), it gave -0 at 0 and
 // at NaN on lavapipe (Mesa 22.3), with SignedZeroInfNanPreserve or without.
 float m_sign(float a) { return float(int(a > 0.0) - int(a < 0.0)); }
@@ -158,11 +158,11 @@ float m_atan2(float y, float x) {
 float m_hypot(float a, float b) {
     vec2 v = abs(vec2(a, b));
     float big = max(v.x, v.y);
-    float s = big > 1.15292150e18 ? 8.27180613e-25 : (big < 8.67361738e-19 ? 1.26765060e30 : 1.0);
-    float back = big > 1.15292150e18 ? 1.20892582e24 : (big < 8.67361738e-19 ? 7.88860905e-31 : 1.0);
+    bool large = big > 1.15292150e18, small = big < 8.67361738e-19;
+    float s = mix(mix(1.0, 1.26765060e30, small), 8.27180613e-25, large);
+    float back = mix(mix(1.0, 7.88860905e-31, small), 1.20892582e24, large);
     vec2 w = v * s;
-    float r = sqrt(w.x * w.x + w.y * w.y) * back;
-    return any(isinf(v)) ? m_inf : r;
+    return mix(sqrt(w.x * w.x + w.y * w.y) * back, m_inf, any(isinf(v)));
 }
 float m_pow(float x, float y) {
     if (y == 0.0 || x == 1.0) return 1.0;
@@ -235,7 +235,7 @@ class Emitter {
             "{}\n"
             "void main() {{\n"
             "    int gx = int(gl_GlobalInvocationID.x), gy = int(gl_GlobalInvocationID.y);\n"
-            "    bool inside = gx < F.w && gy < F.h;\n"
+            "    bool inside = all(lessThan(ivec2(gx, gy), ivec2(F.w, F.h)));\n"
             "    gx = min(gx, F.w - 1);\n"
             "    gy = min(gy, F.h - 1);\n"
             "    float pixelX = float(F.x0 + gx) + 0.5, pixelY = float(F.y0 + gy) + 0.5;\n"

@@ -228,7 +228,10 @@ void vulkanBreakdown(int w, int h, int repeat, int device) {
                "Mpx/s", "cpu", "chunks", "submit", "wait", "copy-out", "shader", "dev-copy");
     printBreakdownRow("ours", o, mpx);
     printBreakdownRow("plain", p, mpx);
-    auto ratio = [](double a, double b) { return b > 0 ? fmt::format("{:.2f}x", a / b) : "-"; };
+    // No ratio of times too small to measure (a copy that did not happen).
+    auto ratio = [](double a, double b) {
+        return b >= 0.05 ? fmt::format("{:.2f}x", a / b) : std::string("-");
+    };
     const vk::RunTimes &ot = o.times, &pt = p.times;
     fmt::print("{:<8} {:>7} {:>8} {:>7} {:>7} {:>8} {:>8} {:>9} {:>8}  {:>8}\n", "ours/pl.",
                ratio(o.frameMs, p.frameMs), "", ratio(o.cpuMs, p.cpuMs), "",

@@ -582,7 +582,8 @@ void Context::finish(Slot& slot, const TileRect& rect, int numOutputs, float* ou
     if (slot.timed) {
         uint64_t ticks[3];
         check(vkGetQueryPoolResults(device_, slot.timestamps, 0, 3, sizeof ticks, ticks,
-                                    sizeof(uint64_t), VK_QUERY_RESULT_64_BIT),
+                                    sizeof(uint64_t),
+                                    VK_QUERY_RESULT_64_BIT | VK_QUERY_RESULT_WAIT_BIT),
               "reading timestamps");
         const double msPerTick = limits_.timestampPeriod / 1e6;
         times_->kernelMs += (ticks[1] - ticks[0]) * msPerTick;

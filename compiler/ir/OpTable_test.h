@@ -237,7 +237,7 @@ inline Precision vulkanPrecision(Op op, int64_t n, double a, double c) {
     case Op::Atan:
     case Op::Atan2:
         return {0.0, 4096.0 * kUlp};
-    case Op::Hypot: // big sqrt(1 + q^2), q = small / big: division 2.5, sqrt 4.5, roundings
+    case Op::Hypot: // sqrt(x^2 + y^2) of sides scaled by a power of two: sqrt 4.5, roundings
         return {0.0, 8.0 * kUlp};
     default:
         return {};

@@ -37,7 +37,8 @@ bool runWholeFrame(const CompiledKernel& kernel, const KernelFrame& frame,
 Image runKernel(const CompiledKernel& kernel, const KernelFrame& frame,
                 const ExecOptions& options) {
     const int n = kernel.numOutputs();
-    Image img(frame.imageW, frame.imageH, n);
+    // Every pixel is written by the kernel (Backend.h).
+    Image img = Image::forOverwrite(frame.imageW, frame.imageH, n);
     if (kernel.wholeFrame()) return runWholeFrame(kernel, frame, options, img) ? img : Image();
     const int ts = std::max(8, options.tileSize);
     const int tilesX = (frame.imageW + ts - 1) / ts;

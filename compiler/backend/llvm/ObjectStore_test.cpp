@@ -40,7 +40,8 @@ std::unique_ptr<SceneProgram> program(int layers) {
 }
 
 std::vector<float> pixels(LlvmJitBackend& jit, const SceneProgram& p) {
-    return test::renderScene(p, jit).pixels;
+    Image img = test::renderScene(p, jit);
+    return {img.pixels.begin(), img.pixels.end()};
 }
 
 bool same(const std::vector<float>& a, const std::vector<float>& b) {

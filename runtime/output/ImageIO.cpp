@@ -1,6 +1,8 @@
 #include "runtime/output/ImageIO.h"
 
 #include "runtime/output/OutputFile.h"
+#include "runtime/output/Parallel.h"
+#include "runtime/output/PngBands.h"
 
 #include <algorithm>
 #include <cerrno>
@@ -116,6 +118,32 @@ std::vector<unsigned char> encode(const std::string& path, const std::string& fo
                             : encodeInMemory(path, format, spec, pixels);
 }
 
+// PNG: the pixel data in bands on `threads` threads (PngBands.h), straight from the frame.
+// The chunks between the header and the pixels (colour space, text, resolution) are
+// OpenImageIO's own, taken from the same spec written at one pixel, so that a file reads back
+// with the attributes OpenImageIO's writer gives it.
+std::vector<unsigned char> encodePng(const std::string& path, const Image& image,
+                                     const OIIO::ImageSpec& spec, int level, int threads) {
+    OIIO::ImageSpec one = spec;
+    one.width = one.height = one.full_width = one.full_height = 1;
+    const float pixel[4] = {0.0f, 0.0f, 0.0f, 0.0f};
+    try {
+        const std::vector<unsigned char> chunks =
+            pngChunksBeforeData(encodeInMemory(path, "png", one, pixel));
+        PngBands png(image.width, image.height, spec.format == OIIO::TypeDesc::UINT16 ? 16 : 8,
+                     level);
+        forEachInParallel(png.bands(), threads, [&](int band) {
+            png.encode(band, image.row(png.firstRow(band)),
+                       static_cast<size_t>(image.width) * image.channels, image.channels);
+        });
+        return png.file(chunks);
+    } catch (const IoError&) {
+        throw;
+    } catch (const std::runtime_error& e) {
+        throw encodeFailure(path, e.what());
+    }
+}
+
 } // namespace
 
 std::string depthProblem(const std::string& format, PixelDepth depth) {
@@ -158,19 +186,6 @@ std::vector<unsigned char> encodeImage(const std::string& path, const std::strin
 
     const int outChannels = format == "jpeg" ? 3 : 4;
     const bool linear = format == "exr";
-    std::vector<float> data(static_cast<size_t>(image.width) * image.height * outChannels);
-    for (int y = 0; y < image.height; ++y) {
-        const float* src = image.row(y);
-        float* dst = data.data() + static_cast<size_t>(y) * image.width * outChannels;
-        for (int x = 0; x < image.width; ++x) {
-            for (int c = 0; c < outChannels; ++c) {
-                float v = src[x * image.channels + c];
-                if (c < 3 && linear) v = srgbToLinear(std::clamp(v, 0.0f, 1.0f));
-                dst[x * outChannels + c] = std::clamp(v, 0.0f, 1.0f);
-            }
-        }
-    }
-
     OIIO::ImageSpec spec(image.width, image.height, outChannels, type);
     if (outChannels == 4) {
         spec.alpha_channel = 3;
@@ -185,10 +200,30 @@ std::vector<unsigned char> encodeImage(const std::string& path, const std::strin
         spec.attribute("YResolution", static_cast<float>(options.dpi));
         spec.attribute("ResolutionUnit", "inch");
     }
-    if (format == "png") spec.attribute("png:compressionLevel", 6);
     if (format == "tiff") spec.attribute("compression", "zip");
     if (format == "exr") spec.attribute("compression", "zip");
+    if (format == "png")
+        return encodePng(path, image, spec,
+                         options.compression >= 0 ? options.compression : kPrintCompression,
+                         options.threads);
 
+    // The other writers take the whole image as floats in the file's channels, clamped (and
+    // linear for EXR), made in bands on every thread.
+    std::vector<float> data(static_cast<size_t>(image.width) * image.height * outChannels);
+    constexpr int kRows = 64;
+    forEachInParallel((image.height + kRows - 1) / kRows, options.threads, [&](int band) {
+        for (int y = band * kRows; y < std::min(image.height, (band + 1) * kRows); ++y) {
+            const float* src = image.row(y);
+            float* dst = data.data() + static_cast<size_t>(y) * image.width * outChannels;
+            for (int x = 0; x < image.width; ++x) {
+                for (int c = 0; c < outChannels; ++c) {
+                    float v = src[x * image.channels + c];
+                    if (c < 3 && linear) v = srgbToLinear(std::clamp(v, 0.0f, 1.0f));
+                    dst[x * outChannels + c] = std::clamp(v, 0.0f, 1.0f);
+                }
+            }
+        }
+    });
     return encode(path, format, spec, data.data());
 }
 

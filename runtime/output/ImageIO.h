@@ -20,9 +20,16 @@ namespace moire {
 
 enum class PixelDepth { Default, U8, U16, Half, Float };
 
+// zlib levels for PNG (bench/render_bench.cpp measures them): a file to keep (render's
+// default) and a frame soon replaced (watch, clip's frames).
+constexpr int kPrintCompression = 6;
+constexpr int kPreviewCompression = 1;
+
 struct WriteOptions {
     PixelDepth depth = PixelDepth::Default;
-    double dpi = 0.0; // resolution metadata for print; 0 leaves it unset
+    double dpi = 0.0;       // resolution metadata for print; 0 leaves it unset
+    int compression = -1;   // PNG's zlib level, 0 (none) to 9; -1: kPrintCompression
+    int threads = 0;        // threads that encode; 0: one per hardware thread
 };
 
 class IoError : public std::runtime_error {

@@ -38,8 +38,8 @@ double seconds(Clock::time_point t0) {
     return std::chrono::duration<double>(Clock::now() - t0).count();
 }
 
-// An 8-bit PNG at a given zlib level, written as writeImage writes one (straight RGBA, sRGB)
-// but with the level left free; writeImage itself always uses level 6.
+// An 8-bit PNG at a given zlib level, written by OpenImageIO's own PNG writer on one thread
+// (as writeImage wrote one before it encoded PNG in bands: straight RGBA, sRGB).
 void writePngAtLevel(const std::string& path, const Image& img, int level) {
     OIIO::ImageSpec spec(img.width, img.height, 4, OIIO::TypeDesc::UINT8);
     spec.alpha_channel = 3;
@@ -107,18 +107,20 @@ int main(int argc, char** argv) {
     // One after the other, as a clip without background writing would: each frame rendered
     // once, then written by writeImage and at each zlib level, every write timed alone.
     const std::vector<int> levels = {1, 3, 6, 9};
+    WriteOptions clipWrite; // as `moire clip` writes its numbered frames
+    clipWrite.compression = kPreviewCompression;
     double renderOnly = 0;
     std::vector<Row> sequential(1 + levels.size());
-    sequential[0].name = "png, writeImage (level 6)";
+    sequential[0].name = fmt::format("png, writeImage (level {})", kPreviewCompression);
     for (size_t i = 0; i < levels.size(); ++i)
-        sequential[i + 1].name = fmt::format("png, zlib level {}", levels[i]);
+        sequential[i + 1].name = fmt::format("png, OpenImageIO level {}", levels[i]);
     for (int n = 0; n < frames; ++n) {
         Image img = render(n, &renderOnly);
         for (size_t i = 0; i < sequential.size(); ++i) {
             std::string path = (dir / fmt::format("s{}_{:04}.png", i, n)).string();
             auto w0 = Clock::now();
             if (i == 0)
-                writeImage(path, img);
+                writeImage(path, img, clipWrite);
             else
                 writePngAtLevel(path, img, levels[i - 1]);
             sequential[i].write += seconds(w0);
@@ -143,10 +145,9 @@ int main(int argc, char** argv) {
                    : fmt::format("moire clip -> png ({} writing)", ClipOutput::defaultInFlight());
         auto t0 = Clock::now();
         {
-            ClipOutput out =
-                format ? ClipOutput(std::make_unique<VideoWriter>(ffmpeg, video, *format, width,
-                                                                  height, fps, frames))
-                       : ClipOutput(pattern, WriteOptions{}, ClipOutput::defaultInFlight());
+            ClipOutput out = format ? ClipOutput(std::make_unique<VideoWriter>(
+                                          ffmpeg, video, *format, width, height, fps, frames))
+                                    : ClipOutput(pattern, clipWrite, ClipOutput::defaultInFlight());
             for (int n = 0; n < frames; ++n) out.add(n, render(n, &row.render));
             out.finish();
         }

@@ -196,6 +196,9 @@ int clip(const ClipArgs& args) {
     std::unique_ptr<ClipOutput> output;
     WriteOptions wo;
     wo.depth = depth;
+    // Numbered frames are many and mostly made into something else: the fast level.
+    wo.compression = kPreviewCompression;
+    wo.threads = args.threads;
     try {
         kernel = backend->compile(program->kernel);
         output =

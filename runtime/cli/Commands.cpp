@@ -212,6 +212,19 @@ int render(const RenderArgs& args) {
                            "terminal; redirect it to a file or a pipe\n");
         return kExitUsage;
     }
+    if (args.compression != -1 && (args.compression < 0 || args.compression > 9)) {
+        fmt::print(stderr,
+                   "moire: error: --compression must be a zlib level from 0 (none) to 9 "
+                   "(smallest), not {}\n",
+                   args.compression);
+        return kExitUsage;
+    }
+    if (args.compression != -1 && image.format != "png") {
+        fmt::print(stderr,
+                   "moire: error: --compression sets a PNG's zlib level; '{}' is not a PNG\n",
+                   image.output);
+        return kExitUsage;
+    }
     const std::string output = toStdout ? std::string("standard output") : image.output;
     // From here on SIGINT and SIGTERM stop the render between tiles: status 128 + the
     // signal, a line saying so, and no file (and no temporary) written.
@@ -287,6 +300,8 @@ int render(const RenderArgs& args) {
     WriteOptions wo;
     wo.depth = image.depth;
     wo.dpi = args.dpi;
+    wo.compression = args.compression;
+    wo.threads = args.threads;
     try {
         if (toStdout) {
             const std::vector<unsigned char> bytes = encodeImage(output, "png", img, wo);

@@ -3,6 +3,7 @@
 //   .tif  16-bit (default) or 8-bit sRGB
 //   .exr  32-bit float (default) or half, linear colour
 //   .jpg  8-bit sRGB, no alpha
+// PNG is encoded in bands on several threads (PngBands.h); the other formats by OpenImageIO.
 // The image is encoded in memory and written by writeFileAtomically (runtime/output/OutputFile.h):
 // through a temporary beside the target, every write checked, renamed into place, so a
 // reader never sees half an image and a failed write leaves any existing file untouched.
@@ -20,16 +21,18 @@ namespace moire {
 
 enum class PixelDepth { Default, U8, U16, Half, Float };
 
-// zlib levels for PNG (bench/render_bench.cpp measures them): a file to keep (render's
-// default) and a frame soon replaced (watch, clip's frames).
-constexpr int kPrintCompression = 6;
+// zlib levels for PNG (moire_encode_bench --levels measures them): a file to keep (render's
+// default: level 4 made files within 1% of level 6's on the examples, in 0.6-0.7x the time)
+// and a frame soon replaced or made into something else (watch, clip's frames: level 1, in
+// 0.75-1x level 4's time for files 5-9% larger).
+constexpr int kPrintCompression = 4;
 constexpr int kPreviewCompression = 1;
 
 struct WriteOptions {
     PixelDepth depth = PixelDepth::Default;
-    double dpi = 0.0;       // resolution metadata for print; 0 leaves it unset
-    int compression = -1;   // PNG's zlib level, 0 (none) to 9; -1: kPrintCompression
-    int threads = 0;        // threads that encode; 0: one per hardware thread
+    double dpi = 0.0;     // resolution metadata for print; 0 leaves it unset
+    int compression = -1; // PNG's zlib level, 0 (none) to 9; -1: kPrintCompression
+    int threads = 0;      // threads that encode; 0: one per hardware thread
 };
 
 class IoError : public std::runtime_error {

@@ -107,11 +107,10 @@ int main(int argc, char** argv) {
     // One after the other, as a clip without background writing would: each frame rendered
     // once, then written by writeImage and at each zlib level, every write timed alone.
     const std::vector<int> levels = {1, 3, 6, 9};
-    WriteOptions clipWrite; // as `moire clip` writes its numbered frames
-    clipWrite.compression = kPreviewCompression;
+    const WriteOptions clipWrite; // as `moire clip` writes its numbered frames
     double renderOnly = 0;
     std::vector<Row> sequential(1 + levels.size());
-    sequential[0].name = fmt::format("png, writeImage (level {})", kPreviewCompression);
+    sequential[0].name = fmt::format("png, writeImage (level {})", kPrintCompression);
     for (size_t i = 0; i < levels.size(); ++i)
         sequential[i + 1].name = fmt::format("png, OpenImageIO level {}", levels[i]);
     for (int n = 0; n < frames; ++n) {

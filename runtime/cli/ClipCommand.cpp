@@ -196,8 +196,7 @@ int clip(const ClipArgs& args) {
     std::unique_ptr<ClipOutput> output;
     WriteOptions wo;
     wo.depth = depth;
-    // Numbered frames are many and mostly made into something else: the fast level.
-    wo.compression = kPreviewCompression;
+    // Frames at render's level: frame n is byte for byte the still `render` makes of it.
     wo.threads = args.threads;
     try {
         kernel = backend->compile(program->kernel);

@@ -23,8 +23,8 @@ enum class PixelDepth { Default, U8, U16, Half, Float };
 
 // zlib levels for PNG (moire_encode_bench --levels measures them): a file to keep (render's
 // default: level 4 made files within 1% of level 6's on the examples, in 0.6-0.7x the time)
-// and a frame soon replaced or made into something else (watch, clip's frames: level 1, in
-// 0.75-1x level 4's time for files 5-9% larger).
+// (and clip's frames) and an image soon replaced (watch: level 1, in 0.75-1x level 4's time for
+// files 5-9% larger).
 constexpr int kPrintCompression = 4;
 constexpr int kPreviewCompression = 1;
 

@@ -9,11 +9,13 @@
 // second runs the frames through ClipOutput as `moire clip` does, writing in the background
 // (PNGs on several threads, video through ffmpeg in its own process) while the next frame
 // renders, so writing costs only what the wall time exceeds rendering by.
+#include "bench/OiioPng.h"
 #include "compiler/backend/llvm/LlvmJit.h"
 #include "compiler/Compile.h"
 #include "compiler/lower/ClipClock.h"
 #include "runtime/FrameEval.h"
 #include "runtime/output/ImageIO.h"
+#include "runtime/output/OutputFile.h"
 #include "runtime/output/VideoWriter.h"
 #include "runtime/TileExecutor.h"
 
@@ -23,7 +25,6 @@
 #include <cstring>
 #include <filesystem>
 #include <fmt/format.h>
-#include <OpenImageIO/imageio.h>
 #include <optional>
 #include <thread>
 #include <unistd.h>
@@ -36,24 +37,6 @@ namespace {
 
 double seconds(Clock::time_point t0) {
     return std::chrono::duration<double>(Clock::now() - t0).count();
-}
-
-// An 8-bit PNG at a given zlib level, written by OpenImageIO's own PNG writer on one thread
-// (as writeImage wrote one before it encoded PNG in bands: straight RGBA, sRGB).
-void writePngAtLevel(const std::string& path, const Image& img, int level) {
-    OIIO::ImageSpec spec(img.width, img.height, 4, OIIO::TypeDesc::UINT8);
-    spec.alpha_channel = 3;
-    spec.attribute("oiio:UnassociatedAlpha", 1);
-    spec.attribute("oiio:ColorSpace", "sRGB");
-    spec.attribute("png:compressionLevel", level);
-    std::vector<float> data(img.pixels.size());
-    for (size_t i = 0; i < data.size(); ++i) data[i] = std::clamp(img.pixels[i], 0.0f, 1.0f);
-    auto out = OIIO::ImageOutput::create("png");
-    if (!out || !out->open(path, spec) || !out->write_image(OIIO::TypeDesc::FLOAT, data.data()) ||
-        !out->close()) {
-        fmt::print(stderr, "cannot write {}\n", path);
-        std::exit(1);
-    }
 }
 
 struct Row {
@@ -105,7 +88,8 @@ int main(int argc, char** argv) {
     };
 
     // One after the other, as a clip without background writing would: each frame rendered
-    // once, then written by writeImage and at each zlib level, every write timed alone.
+    // once, then written by writeImage and by OpenImageIO at each zlib level, every write
+    // timed alone.
     const std::vector<int> levels = {1, 3, 6, 9};
     const WriteOptions clipWrite; // as `moire clip` writes its numbered frames
     double renderOnly = 0;
@@ -120,8 +104,10 @@ int main(int argc, char** argv) {
             auto w0 = Clock::now();
             if (i == 0)
                 writeImage(path, img, clipWrite);
-            else
-                writePngAtLevel(path, img, levels[i - 1]);
+            else {
+                const std::vector<unsigned char> png = bench::oiioPng(img, levels[i - 1]);
+                writeFileAtomically(path, png.data(), png.size());
+            }
             sequential[i].write += seconds(w0);
             sequential[i].bytes += fs::file_size(path);
         }

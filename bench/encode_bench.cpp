@@ -16,6 +16,7 @@
 // Every figure is the fastest of --repeat runs (other work can only add time), with the
 // median beside it; the runs being compared are interleaved.
 #include "bench/BenchScenes.h"
+#include "bench/OiioPng.h"
 #include "compiler/backend/llvm/LlvmJit.h"
 #include "compiler/Compile.h"
 #include "runtime/FrameEval.h"
@@ -27,8 +28,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fmt/format.h>
-#include <OpenImageIO/filesystem.h>
-#include <OpenImageIO/imageio.h>
+#include <functional>
 #include <regex>
 #include <thread>
 #include <unistd.h>
@@ -52,28 +52,6 @@ struct Times {
         return s[s.size() / 2];
     }
 };
-
-// The PNG OpenImageIO's own writer makes of `img` at `level` (as writeImage did before it
-// encoded PNG in bands): bytes in memory, one thread.
-size_t oiioPng(const Image& img, int level) {
-    OIIO::ImageSpec spec(img.width, img.height, 4, OIIO::TypeDesc::UINT8);
-    spec.alpha_channel = 3;
-    spec.attribute("oiio:UnassociatedAlpha", 1);
-    spec.attribute("oiio:ColorSpace", "sRGB");
-    spec.attribute("png:compressionLevel", level);
-    std::vector<float> data(img.pixels.size());
-    for (size_t i = 0; i < data.size(); ++i) data[i] = std::clamp(img.pixels[i], 0.0f, 1.0f);
-    std::vector<unsigned char> bytes;
-    OIIO::Filesystem::IOVecOutput proxy(bytes);
-    auto out = OIIO::ImageOutput::create("png");
-    out->set_ioproxy(&proxy);
-    if (!out->open("bench.png", spec) || !out->write_image(OIIO::TypeDesc::FLOAT, data.data()) ||
-        !out->close()) {
-        fmt::print(stderr, "OpenImageIO could not write the PNG\n");
-        std::exit(1);
-    }
-    return bytes.size();
-}
 
 std::string moireBinary() {
     return (fs::read_symlink("/proc/self/exe").parent_path() / "moire").string();
@@ -162,8 +140,9 @@ int main(int argc, char** argv) {
         size_t bytes = 0;
     };
     std::vector<Row> rows;
-    rows.push_back({"OpenImageIO, level 6 (before)", [&] { return oiioPng(img, 6); }});
-    rows.push_back({"OpenImageIO, level 1", [&] { return oiioPng(img, 1); }});
+    rows.push_back(
+        {"OpenImageIO, level 6 (before)", [&] { return bench::oiioPng(img, 6).size(); }});
+    rows.push_back({"OpenImageIO, level 1", [&] { return bench::oiioPng(img, 1).size(); }});
     const std::vector<int> levels = levelsOnly ? std::vector<int>{0, 1, 2, 3, 4, 5, 6, 7, 9}
                                                : std::vector<int>{1, kPrintCompression, 6};
     for (int level : levels)

@@ -36,51 +36,53 @@ void putChunk(std::vector<unsigned char>& out, const char* type, const unsigned 
 
 enum Filter : unsigned char { None = 0, Sub = 1, Up = 2, Average = 3, Paeth = 4 };
 
-unsigned char paeth(int a, int b, int c) {
-    const int p = a + b - c;
-    const int pa = std::abs(p - a), pb = std::abs(p - b), pc = std::abs(p - c);
-    if (pa <= pb && pa <= pc) return static_cast<unsigned char>(a);
-    return static_cast<unsigned char>(pb <= pc ? b : c);
+// The Paeth predictor of the PNG specification, written without branches (so that the loops
+// below vectorise): p = a + b - c, and the one of a, b, c nearest p, ties in that order.
+inline int paeth(int a, int b, int c) {
+    const int pa = std::abs(b - c), pb = std::abs(a - c), pc = std::abs(a + b - 2 * c);
+    return pa <= pb && pa <= pc ? a : pb <= pc ? b : c;
+}
+
+// A filtered byte read as a signed difference, its size: the heuristic's measure.
+inline uint32_t mag(int d) {
+    return static_cast<uint32_t>(std::abs(static_cast<signed char>(d)));
 }
 
 // Writes the filter type byte and row `cur` filtered (n + 1 bytes) to `out`, choosing the
 // filter by the PNG specification's heuristic: the smallest sum of the filtered bytes read as
 // signed differences. `prev` is the row above, or null where it may not be used (the first
-// row of a band): then only None and Sub are tried.
-void filterRow(const unsigned char* cur, const unsigned char* prev, size_t n, int bpp,
+// row of a band): then only None and Sub are tried. The first pixel (bpp bytes) has no left
+// neighbour: a and c are 0 there. Sums fit 32 bits (a row is under 2^20 bytes).
+void filterRow(const unsigned char* cur, const unsigned char* prev, size_t n, size_t bpp,
                unsigned char* out) {
-    auto mag = [](int d) { return static_cast<uint64_t>(std::abs(static_cast<signed char>(d))); };
-    uint64_t none = 0, sub = 0, up = 0, pae = 0;
-    for (size_t i = 0; i < n; ++i) {
-        const int a = i >= size_t(bpp) ? cur[i - bpp] : 0;
-        none += mag(cur[i]);
-        sub += mag(cur[i] - a);
-        if (prev) {
-            const int c = i >= size_t(bpp) ? prev[i - bpp] : 0;
-            up += mag(cur[i] - prev[i]);
-            pae += mag(cur[i] - paeth(a, prev[i], c));
-        }
+    uint32_t none = 0, sub = 0, up = 0, pae = 0;
+    for (size_t i = 0; i < n; ++i) none += mag(cur[i]);
+    for (size_t i = 0; i < bpp; ++i) sub += mag(cur[i]);
+    for (size_t i = bpp; i < n; ++i) sub += mag(cur[i] - cur[i - bpp]);
+    if (prev) {
+        for (size_t i = 0; i < n; ++i) up += mag(cur[i] - prev[i]);
+        for (size_t i = 0; i < bpp; ++i) pae += mag(cur[i] - prev[i]); // Paeth(0, b, 0) = b
+        for (size_t i = bpp; i < n; ++i)
+            pae += mag(cur[i] - paeth(cur[i - bpp], prev[i], prev[i - bpp]));
     }
     Filter f = sub < none ? Sub : None;
-    uint64_t best = std::min(sub, none);
+    uint32_t best = std::min(sub, none);
     if (prev && up < best) f = Up, best = up;
     if (prev && pae < best) f = Paeth;
     out[0] = f;
     unsigned char* o = out + 1;
     switch (f) {
     case Sub:
-        for (size_t i = 0; i < n; ++i)
-            o[i] = static_cast<unsigned char>(cur[i] - (i >= size_t(bpp) ? cur[i - bpp] : 0));
+        std::memcpy(o, cur, bpp);
+        for (size_t i = bpp; i < n; ++i) o[i] = static_cast<unsigned char>(cur[i] - cur[i - bpp]);
         break;
     case Up:
         for (size_t i = 0; i < n; ++i) o[i] = static_cast<unsigned char>(cur[i] - prev[i]);
         break;
     case Paeth:
-        for (size_t i = 0; i < n; ++i) {
-            const bool left = i >= size_t(bpp);
-            o[i] = static_cast<unsigned char>(
-                cur[i] - paeth(left ? cur[i - bpp] : 0, prev[i], left ? prev[i - bpp] : 0));
-        }
+        for (size_t i = 0; i < bpp; ++i) o[i] = static_cast<unsigned char>(cur[i] - prev[i]);
+        for (size_t i = bpp; i < n; ++i)
+            o[i] = static_cast<unsigned char>(cur[i] - paeth(cur[i - bpp], prev[i], prev[i - bpp]));
         break;
     default:
         std::memcpy(o, cur, n);
@@ -95,24 +97,32 @@ inline uint32_t roundHalfAway(float x) {
     return static_cast<uint32_t>(t) + (x - static_cast<float>(t) >= 0.5f ? 1u : 0u);
 }
 
+// v clamped to [0, 1] (NaN to 0), scaled and rounded.
+inline uint32_t quantize(float v, float scale) {
+    v = v > 0.0f ? v : 0.0f;
+    v = v < 1.0f ? v : 1.0f;
+    return roundHalfAway(v * scale);
+}
+
 } // namespace
 
 void quantizeRow(const float* src, int width, int channels, int bits, unsigned char* out) {
-    const float scale = bits == 8 ? 255.0f : 65535.0f;
-    for (int x = 0; x < width; ++x)
-        for (int c = 0; c < 4; ++c) {
-            float v = src[static_cast<size_t>(x) * channels + c];
-            v = v > 0.0f ? v : 0.0f; // NaN too
-            v = v < 1.0f ? v : 1.0f;
-            const uint32_t q = roundHalfAway(v * scale);
-            const size_t i = static_cast<size_t>(x) * 4 + c;
-            if (bits == 8) {
-                out[i] = static_cast<unsigned char>(q);
-            } else {
-                out[2 * i] = static_cast<unsigned char>(q >> 8);
-                out[2 * i + 1] = static_cast<unsigned char>(q);
-            }
+    const size_t count = static_cast<size_t>(width) * 4;
+    // RGBA alone in the frame (the common case) is one run of floats: a loop that vectorises.
+    if (channels == 4 && bits == 8) {
+        for (size_t i = 0; i < count; ++i)
+            out[i] = static_cast<unsigned char>(quantize(src[i], 255.0f));
+        return;
+    }
+    for (size_t i = 0; i < count; ++i) {
+        const uint32_t q = quantize(src[i / 4 * channels + i % 4], bits == 8 ? 255.0f : 65535.0f);
+        if (bits == 8) {
+            out[i] = static_cast<unsigned char>(q);
+        } else { // big-endian
+            out[2 * i] = static_cast<unsigned char>(q >> 8);
+            out[2 * i + 1] = static_cast<unsigned char>(q);
         }
+    }
 }
 
 PngBands::PngBands(int width, int height, int bits, int level, int bandRows)
@@ -138,7 +148,8 @@ void PngBands::encode(int band, const float* rows, size_t stride, int channels) 
     for (int r = 0; r < count; ++r) {
         unsigned char* cur = raw[r % 2].data();
         quantizeRow(rows + static_cast<size_t>(r) * stride, width_, channels, bits_, cur);
-        filterRow(cur, r > 0 ? raw[(r + 1) % 2].data() : nullptr, rowBytes, bpp,
+        filterRow(cur, r > 0 ? raw[(r + 1) % 2].data() : nullptr, rowBytes,
+                  static_cast<size_t>(bpp),
                   filtered.data() + static_cast<size_t>(r) * (rowBytes + 1));
     }
 

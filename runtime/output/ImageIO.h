@@ -22,9 +22,9 @@ namespace moire {
 enum class PixelDepth { Default, U8, U16, Half, Float };
 
 // zlib levels for PNG (moire_encode_bench --levels measures them): a file to keep (render's
-// default: level 4 made files within 1% of level 6's on the examples, in 0.6-0.7x the time)
-// (and clip's frames) and an image soon replaced (watch: level 1, in 0.75-1x level 4's time for
-// files 5-9% larger).
+// default: level 4 made files within 1% of level 6's on the examples, in 0.55-0.8x the time)
+// (and clip's frames) and an image soon replaced (watch: level 1, in 0.6-0.75x level 4's time
+// for files 5-9% larger).
 constexpr int kPrintCompression = 4;
 constexpr int kPreviewCompression = 1;
 

@@ -68,3 +68,24 @@ TEST_CASE("render refuses a --compression that is no zlib level, or not for a PN
     CHECK(!fs::exists(d.file("a.png")));
     CHECK(!fs::exists(d.file("a.exr")));
 }
+
+TEST_CASE("render's PNG, encoded band by band as they are rendered, is the frame's PNG") {
+    // The command encodes each band as a worker finishes it, without an image of the whole
+    // frame; writeImage's encoder here takes the frame rendered whole. The same bytes.
+    test::TempDir d("render_encode_pipeline");
+    const std::string scene = "scene { size = (97, 203) }\n"
+                              "layer a { family = circles; spacing = 3; origin = (-20, 0) }\n"
+                              "layer b { family = circles; spacing = 4; color = #80204060 }\n";
+    d.write("s.moire", scene);
+    auto program = test::compileOk(scene);
+    auto jit = test::makeBackendOrSkip("jit");
+    const Image frame = test::renderScene(*program, *jit);
+    for (const char* depth : {"8", "16"}) {
+        CAPTURE(depth);
+        REQUIRE(render(d, std::string("--threads 2 --depth ") + depth + " -o p.png").status == 0);
+        WriteOptions wo;
+        wo.depth = depth[0] == '8' ? PixelDepth::U8 : PixelDepth::U16;
+        const std::vector<unsigned char> whole = encodeImage("p.png", "png", frame, wo);
+        CHECK(test::readFile(d.file("p.png")) == std::string(whole.begin(), whole.end()));
+    }
+}

@@ -118,32 +118,6 @@ std::vector<unsigned char> encode(const std::string& path, const std::string& fo
                             : encodeInMemory(path, format, spec, pixels);
 }
 
-// PNG: the pixel data in bands on `threads` threads (PngBands.h), straight from the frame.
-// The chunks between the header and the pixels (colour space, text, resolution) are
-// OpenImageIO's own, taken from the same spec written at one pixel, so that a file reads back
-// with the attributes OpenImageIO's writer gives it.
-std::vector<unsigned char> encodePng(const std::string& path, const Image& image,
-                                     const OIIO::ImageSpec& spec, int level, int threads) {
-    OIIO::ImageSpec one = spec;
-    one.width = one.height = one.full_width = one.full_height = 1;
-    const float pixel[4] = {0.0f, 0.0f, 0.0f, 0.0f};
-    try {
-        const std::vector<unsigned char> chunks =
-            pngChunksBeforeData(encodeInMemory(path, "png", one, pixel));
-        PngBands png(image.width, image.height, spec.format == OIIO::TypeDesc::UINT16 ? 16 : 8,
-                     level);
-        forEachInParallel(png.bands(), threads, [&](int band) {
-            png.encode(band, image.row(png.firstRow(band)),
-                       static_cast<size_t>(image.width) * image.channels, image.channels);
-        });
-        return png.file(chunks);
-    } catch (const IoError&) {
-        throw;
-    } catch (const std::runtime_error& e) {
-        throw encodeFailure(path, e.what());
-    }
-}
-
 } // namespace
 
 std::string depthProblem(const std::string& format, PixelDepth depth) {
@@ -157,12 +131,14 @@ std::string depthProblem(const std::string& format, PixelDepth depth) {
     return "";
 }
 
-std::vector<unsigned char> encodeImage(const std::string& path, const std::string& format,
-                                       const Image& image, const WriteOptions& options) {
-    if (image.channels < 4) throw IoError("internal: writeImage needs RGBA");
+namespace {
+
+// The file's spec as OpenImageIO's writer for `format` takes it: type, alpha, colour space,
+// resolution, compression. Throws IoError when the format cannot hold the depth.
+OIIO::ImageSpec specFor(const std::string& format, int width, int height,
+                        const WriteOptions& options) {
     if (std::string problem = depthProblem(format, options.depth); !problem.empty())
         throw IoError(problem);
-
     OIIO::TypeDesc type;
     PixelDepth depth = options.depth;
     if (depth == PixelDepth::Default)
@@ -185,15 +161,14 @@ std::vector<unsigned char> encodeImage(const std::string& path, const std::strin
     }
 
     const int outChannels = format == "jpeg" ? 3 : 4;
-    const bool linear = format == "exr";
-    OIIO::ImageSpec spec(image.width, image.height, outChannels, type);
+    OIIO::ImageSpec spec(width, height, outChannels, type);
     if (outChannels == 4) {
         spec.alpha_channel = 3;
         // Our colour is straight (unassociated); without this OpenImageIO would treat it as
         // premultiplied and divide it by alpha on the way into PNG and TIFF.
         spec.attribute("oiio:UnassociatedAlpha", 1);
     }
-    spec.attribute("oiio:ColorSpace", linear ? "Linear" : "sRGB");
+    spec.attribute("oiio:ColorSpace", format == "exr" ? "Linear" : "sRGB");
     spec.attribute("Software", "moire " MOIRE_VERSION);
     if (options.dpi > 0) {
         spec.attribute("XResolution", static_cast<float>(options.dpi));
@@ -202,10 +177,72 @@ std::vector<unsigned char> encodeImage(const std::string& path, const std::strin
     }
     if (format == "tiff") spec.attribute("compression", "zip");
     if (format == "exr") spec.attribute("compression", "zip");
-    if (format == "png")
-        return encodePng(path, image, spec,
-                         options.compression >= 0 ? options.compression : kPrintCompression,
-                         options.threads);
+    return spec;
+}
+
+} // namespace
+
+BandedPng::BandedPng(const std::string& path, int width, int height, const WriteOptions& options)
+    : path_(path) {
+    const OIIO::ImageSpec spec = specFor("png", width, height, options);
+    // The chunks between the header and the pixels (colour space, text, resolution) are
+    // OpenImageIO's own, taken from the same spec written at one pixel, so that a file reads
+    // back with the attributes OpenImageIO's writer gives it.
+    OIIO::ImageSpec one = spec;
+    one.width = one.height = one.full_width = one.full_height = 1;
+    const float pixel[4] = {0.0f, 0.0f, 0.0f, 0.0f};
+    try {
+        chunks_ = pngChunksBeforeData(encodeInMemory(path, "png", one, pixel));
+        png_ = std::make_unique<PngBands>(
+            width, height, spec.format == OIIO::TypeDesc::UINT16 ? 16 : 8,
+            options.compression >= 0 ? options.compression : kPrintCompression);
+    } catch (const IoError&) {
+        throw;
+    } catch (const std::exception& e) {
+        throw encodeFailure(path, e.what());
+    }
+}
+
+BandedPng::~BandedPng() = default;
+
+int BandedPng::bands() const {
+    return png_->bands();
+}
+int BandedPng::bandRows() const {
+    return png_->bandRows();
+}
+
+void BandedPng::add(int band, const float* rows, size_t stride, int channels) {
+    try {
+        png_->encode(band, rows, stride, channels);
+    } catch (const std::exception& e) {
+        throw encodeFailure(path_, e.what());
+    }
+}
+
+std::vector<unsigned char> BandedPng::file() const {
+    try {
+        return png_->file(chunks_);
+    } catch (const std::exception& e) {
+        throw encodeFailure(path_, e.what());
+    }
+}
+
+std::vector<unsigned char> encodeImage(const std::string& path, const std::string& format,
+                                       const Image& image, const WriteOptions& options) {
+    if (image.channels < 4) throw IoError("internal: writeImage needs RGBA");
+    if (format == "png") {
+        // The bands on `options.threads` threads, straight from the frame.
+        BandedPng png(path, image.width, image.height, options);
+        forEachInParallel(png.bands(), options.threads, [&](int band) {
+            png.add(band, image.row(band * png.bandRows()),
+                    static_cast<size_t>(image.width) * image.channels, image.channels);
+        });
+        return png.file();
+    }
+    const OIIO::ImageSpec spec = specFor(format, image.width, image.height, options);
+    const int outChannels = spec.nchannels;
+    const bool linear = format == "exr";
 
     // The other writers take the whole image as floats in the file's channels, clamped (and
     // linear for EXR), made in bands on every thread.

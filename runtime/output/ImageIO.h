@@ -13,11 +13,14 @@
 
 #include <cmath>
 #include <cstdint>
+#include <memory>
 #include <stdexcept>
 #include <string>
 #include <vector>
 
 namespace moire {
+
+class PngBands;
 
 enum class PixelDepth { Default, U8, U16, Half, Float };
 
@@ -47,6 +50,26 @@ void writeImage(const std::string& path, const Image& image, const WriteOptions&
 // imageFormatOf's name; `path` names the image in errors. Throws IoError.
 std::vector<unsigned char> encodeImage(const std::string& path, const std::string& format,
                                        const Image& image, const WriteOptions& options = {});
+
+// A PNG made from its bands as they come (render's pipeline, runKernelInBands): the pixel
+// data of each band of bandRows() rows encoded on the thread that hands it over, in any order
+// (PngBands.h), then the whole file's bytes, as encodeImage would make them. Throws IoError
+// naming `path`.
+class BandedPng {
+  public:
+    BandedPng(const std::string& path, int width, int height, const WriteOptions& options);
+    ~BandedPng();
+    int bands() const;
+    int bandRows() const;
+    // Band `band`'s rows: `channels` floats a pixel (RGBA first), `stride` floats a row.
+    void add(int band, const float* rows, size_t stride, int channels);
+    std::vector<unsigned char> file() const; // every band added
+
+  private:
+    std::string path_;
+    std::vector<unsigned char> chunks_;
+    std::unique_ptr<PngBands> png_;
+};
 
 // Why `format` (imageFormatOf's name) cannot hold `depth`, or "" when it can.
 std::string depthProblem(const std::string& format, PixelDepth depth);

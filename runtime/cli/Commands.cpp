@@ -263,6 +263,12 @@ int render(const RenderArgs& args) {
     footprint.channels = program->kernel.numOutputs;
     footprint.format = image.format;
     footprint.gpu = args.backend == "vulkan";
+    // A PNG from a CPU kernel is encoded band by band, the frame never whole (below).
+    if (image.format == "png" && !footprint.gpu) {
+        footprint.sink = FrameSink::PngBands;
+        footprint.threads = args.threads;
+        footprint.bytesPerSample = image.depth == PixelDepth::U16 ? 2 : 1;
+    }
     if (!checkMemory(footprint)) return kExitMachine;
 
     ExecOptions exec;

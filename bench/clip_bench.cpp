@@ -9,11 +9,13 @@
 // second runs the frames through ClipOutput as `moire clip` does, writing in the background
 // (PNGs on several threads, video through ffmpeg in its own process) while the next frame
 // renders, so writing costs only what the wall time exceeds rendering by.
+#include "bench/OiioPng.h"
 #include "compiler/backend/llvm/LlvmJit.h"
 #include "compiler/Compile.h"
 #include "compiler/lower/ClipClock.h"
 #include "runtime/FrameEval.h"
 #include "runtime/output/ImageIO.h"
+#include "runtime/output/OutputFile.h"
 #include "runtime/output/VideoWriter.h"
 #include "runtime/TileExecutor.h"
 
@@ -23,7 +25,6 @@
 #include <cstring>
 #include <filesystem>
 #include <fmt/format.h>
-#include <OpenImageIO/imageio.h>
 #include <optional>
 #include <thread>
 #include <unistd.h>
@@ -36,24 +37,6 @@ namespace {
 
 double seconds(Clock::time_point t0) {
     return std::chrono::duration<double>(Clock::now() - t0).count();
-}
-
-// An 8-bit PNG at a given zlib level, written as writeImage writes one (straight RGBA, sRGB)
-// but with the level left free; writeImage itself always uses level 6.
-void writePngAtLevel(const std::string& path, const Image& img, int level) {
-    OIIO::ImageSpec spec(img.width, img.height, 4, OIIO::TypeDesc::UINT8);
-    spec.alpha_channel = 3;
-    spec.attribute("oiio:UnassociatedAlpha", 1);
-    spec.attribute("oiio:ColorSpace", "sRGB");
-    spec.attribute("png:compressionLevel", level);
-    std::vector<float> data(img.pixels.size());
-    for (size_t i = 0; i < data.size(); ++i) data[i] = std::clamp(img.pixels[i], 0.0f, 1.0f);
-    auto out = OIIO::ImageOutput::create("png");
-    if (!out || !out->open(path, spec) || !out->write_image(OIIO::TypeDesc::FLOAT, data.data()) ||
-        !out->close()) {
-        fmt::print(stderr, "cannot write {}\n", path);
-        std::exit(1);
-    }
 }
 
 struct Row {
@@ -105,22 +88,26 @@ int main(int argc, char** argv) {
     };
 
     // One after the other, as a clip without background writing would: each frame rendered
-    // once, then written by writeImage and at each zlib level, every write timed alone.
+    // once, then written by writeImage and by OpenImageIO at each zlib level, every write
+    // timed alone.
     const std::vector<int> levels = {1, 3, 6, 9};
+    const WriteOptions clipWrite; // as `moire clip` writes its numbered frames
     double renderOnly = 0;
     std::vector<Row> sequential(1 + levels.size());
-    sequential[0].name = "png, writeImage (level 6)";
+    sequential[0].name = fmt::format("png, writeImage (level {})", kPrintCompression);
     for (size_t i = 0; i < levels.size(); ++i)
-        sequential[i + 1].name = fmt::format("png, zlib level {}", levels[i]);
+        sequential[i + 1].name = fmt::format("png, OpenImageIO level {}", levels[i]);
     for (int n = 0; n < frames; ++n) {
         Image img = render(n, &renderOnly);
         for (size_t i = 0; i < sequential.size(); ++i) {
             std::string path = (dir / fmt::format("s{}_{:04}.png", i, n)).string();
             auto w0 = Clock::now();
             if (i == 0)
-                writeImage(path, img);
-            else
-                writePngAtLevel(path, img, levels[i - 1]);
+                writeImage(path, img, clipWrite);
+            else {
+                const std::vector<unsigned char> png = bench::oiioPng(img, levels[i - 1]);
+                writeFileAtomically(path, png.data(), png.size());
+            }
             sequential[i].write += seconds(w0);
             sequential[i].bytes += fs::file_size(path);
         }
@@ -143,10 +130,9 @@ int main(int argc, char** argv) {
                    : fmt::format("moire clip -> png ({} writing)", ClipOutput::defaultInFlight());
         auto t0 = Clock::now();
         {
-            ClipOutput out =
-                format ? ClipOutput(std::make_unique<VideoWriter>(ffmpeg, video, *format, width,
-                                                                  height, fps, frames))
-                       : ClipOutput(pattern, WriteOptions{}, ClipOutput::defaultInFlight());
+            ClipOutput out = format ? ClipOutput(std::make_unique<VideoWriter>(
+                                          ffmpeg, video, *format, width, height, fps, frames))
+                                    : ClipOutput(pattern, clipWrite, ClipOutput::defaultInFlight());
             for (int n = 0; n < frames; ++n) out.add(n, render(n, &row.render));
             out.finish();
         }

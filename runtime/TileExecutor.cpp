@@ -5,8 +5,10 @@
 #include <chrono>
 #include <cstdint>
 #include <exception>
+#include <functional>
 #include <mutex>
 #include <thread>
+#include <vector>
 
 namespace moire {
 
@@ -32,7 +34,93 @@ bool runWholeFrame(const CompiledKernel& kernel, const KernelFrame& frame,
     return true;
 }
 
+// Both CPU paths: `total` items taken in order by `threads` workers, each as
+// item(index, worker) with worker in [0, threads). With a progress callback and more than one
+// worker, the calling thread only reports progress (about ten times a second); otherwise it
+// is one of the workers. A cancel is heard between items (and inside one, where the item
+// returns false); the first exception stops the others and is rethrown. False when
+// cancelled.
+bool runItems(int total, int threads, const ExecOptions& options,
+              const std::function<bool(int, int)>& item) {
+    std::atomic<int> next{0}, done{0};
+    std::exception_ptr failure;
+    std::mutex failureMutex;
+    std::atomic<bool> failed{false}, cancelled{false};
+    auto worker = [&](int w) {
+        try {
+            for (int i; (i = next.fetch_add(1)) < total;) {
+                if ((options.cancelled && options.cancelled()) || !item(i, w)) {
+                    cancelled.store(true);
+                    next.store(total);
+                    return;
+                }
+                done.fetch_add(1);
+            }
+        } catch (...) {
+            std::lock_guard<std::mutex> lock(failureMutex);
+            if (!failure) failure = std::current_exception();
+            failed.store(true);
+            next.store(total);
+        }
+    };
+    std::vector<std::thread> pool;
+    if (options.progress && threads > 1) {
+        for (int i = 0; i < threads; ++i) pool.emplace_back(worker, i);
+        while (done.load() < total && !failed.load() && !cancelled.load()) {
+            std::this_thread::sleep_for(std::chrono::milliseconds(100));
+            options.progress(static_cast<double>(done.load()) / total);
+        }
+    } else {
+        for (int i = 1; i < threads; ++i) pool.emplace_back(worker, i);
+        worker(0);
+    }
+    for (std::thread& t : pool) t.join();
+    if (failure) std::rethrow_exception(failure);
+    if (cancelled.load()) return false;
+    if (options.progress) options.progress(1.0);
+    return true;
+}
+
+int threadsFor(const ExecOptions& options, int items) {
+    const int threads = options.threads > 0 ? options.threads
+                                            : static_cast<int>(std::thread::hardware_concurrency());
+    return std::max(1, std::min(threads, items));
+}
+
 } // namespace
+
+bool runKernelInBands(const CompiledKernel& kernel, const KernelFrame& frame,
+                      const ExecOptions& options, int bandRows, const BandSink& sink,
+                      BandTimes* times) {
+    const int n = kernel.numOutputs();
+    bandRows = std::max(1, bandRows);
+    const int total = (frame.imageH + bandRows - 1) / bandRows;
+    const int ts = std::max(8, options.tileSize);
+    const int threads = threadsFor(options, total);
+    const size_t stride = static_cast<size_t>(frame.imageW) * n;
+    std::vector<std::vector<float>> buffers(static_cast<size_t>(threads));
+    std::mutex timesMutex;
+    using Clock = std::chrono::steady_clock;
+    return runItems(total, threads, options, [&](int b, int w) {
+        std::vector<float>& rows = buffers[static_cast<size_t>(w)];
+        rows.resize(static_cast<size_t>(bandRows) * stride);
+        const int y0 = b * bandRows, y1 = std::min(frame.imageH, y0 + bandRows);
+        const auto t0 = Clock::now();
+        for (int x0 = 0; x0 < frame.imageW; x0 += ts) {
+            if (x0 > 0 && options.cancelled && options.cancelled()) return false;
+            kernel.runTile(frame, TileRect{x0, y0, std::min(x0 + ts, frame.imageW), y1},
+                           rows.data() + static_cast<size_t>(x0) * n, stride);
+        }
+        const auto t1 = Clock::now();
+        sink(b, rows.data(), stride);
+        if (times) {
+            std::lock_guard<std::mutex> lock(timesMutex);
+            times->kernel += std::chrono::duration<double>(t1 - t0).count();
+            times->sink += std::chrono::duration<double>(Clock::now() - t1).count();
+        }
+        return true;
+    });
+}
 
 Image runKernel(const CompiledKernel& kernel, const KernelFrame& frame,
                 const ExecOptions& options) {
@@ -44,59 +132,17 @@ Image runKernel(const CompiledKernel& kernel, const KernelFrame& frame,
     const int tilesX = (frame.imageW + ts - 1) / ts;
     const int tilesY = (frame.imageH + ts - 1) / ts;
     const int total = tilesX * tilesY;
-    int threads = options.threads > 0 ? options.threads
-                                      : static_cast<int>(std::thread::hardware_concurrency());
-    threads = std::max(1, std::min(threads, total));
-
-    std::atomic<int> next{0};
-    std::atomic<int> done{0};
-    std::exception_ptr failure;
-    std::mutex failureMutex;
-    std::atomic<bool> failed{false}, cancelled{false};
     const size_t rowStride = static_cast<size_t>(frame.imageW) * n;
-
-    auto worker = [&] {
-        try {
-            for (int t; (t = next.fetch_add(1)) < total;) {
-                if (options.cancelled && options.cancelled()) {
-                    cancelled.store(true);
-                    next.store(total);
-                    return;
-                }
-                TileRect r;
-                r.x0 = (t % tilesX) * ts;
-                r.y0 = (t / tilesX) * ts;
-                r.x1 = std::min(r.x0 + ts, frame.imageW);
-                r.y1 = std::min(r.y0 + ts, frame.imageH);
-                float* out = img.row(r.y0) + static_cast<size_t>(r.x0) * n;
-                kernel.runTile(frame, r, out, rowStride);
-                done.fetch_add(1);
-            }
-        } catch (...) {
-            std::lock_guard<std::mutex> lock(failureMutex);
-            if (!failure) failure = std::current_exception();
-            failed.store(true);
-            next.store(total);
-        }
-    };
-
-    std::vector<std::thread> pool;
-    if (options.progress && threads > 1) {
-        // The calling thread only reports progress; `threads` workers take the tiles.
-        for (int i = 0; i < threads; ++i) pool.emplace_back(worker);
-        while (done.load() < total && !failed.load() && !cancelled.load()) {
-            std::this_thread::sleep_for(std::chrono::milliseconds(100));
-            options.progress(static_cast<double>(done.load()) / total);
-        }
-    } else {
-        for (int i = 1; i < threads; ++i) pool.emplace_back(worker);
-        worker();
-    }
-    for (std::thread& t : pool) t.join();
-    if (failure) std::rethrow_exception(failure);
-    if (cancelled.load()) return Image();
-    if (options.progress) options.progress(1.0);
-    return img;
+    const bool finished = runItems(total, threadsFor(options, total), options, [&](int t, int) {
+        TileRect r;
+        r.x0 = (t % tilesX) * ts;
+        r.y0 = (t / tilesX) * ts;
+        r.x1 = std::min(r.x0 + ts, frame.imageW);
+        r.y1 = std::min(r.y0 + ts, frame.imageH);
+        kernel.runTile(frame, r, img.row(r.y0) + static_cast<size_t>(r.x0) * n, rowStride);
+        return true;
+    });
+    return finished ? img : Image();
 }
 
 } // namespace moire

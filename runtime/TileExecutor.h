@@ -26,4 +26,26 @@ struct ExecOptions {
 Image runKernel(const CompiledKernel& kernel, const KernelFrame& frame,
                 const ExecOptions& options = {});
 
+// Thread time spent in runKernelInBands, summed over its threads, in seconds.
+struct BandTimes {
+    double kernel = 0.0; // running the kernel's tiles
+    double sink = 0.0;   // in the sink
+};
+
+// Called with band `band`'s rows (from row band * bandRows; numOutputs() floats a pixel,
+// `stride` floats from one row to the next), on the thread that rendered them.
+using BandSink = std::function<void(int band, const float* rows, size_t stride)>;
+
+// Evaluates a CPU kernel (not wholeFrame()) in whole-width bands of `bandRows` rows, each
+// worker taking the next band in order, rendering it tile by tile into a buffer of its own
+// and handing it to `sink` as soon as it is done, so that a band is encoded while it is
+// still in the cache and no image of the whole frame is ever made: memory holds one band a
+// thread. Bands reach the sink once each, in any order. Progress and cancellation as for
+// runKernel (progress in bands); returns false when cancelled. An exception from the kernel
+// or the sink stops the other workers and is rethrown. `times`, when given, receives where
+// the threads' time went.
+bool runKernelInBands(const CompiledKernel& kernel, const KernelFrame& frame,
+                      const ExecOptions& options, int bandRows, const BandSink& sink,
+                      BandTimes* times = nullptr);
+
 } // namespace moire

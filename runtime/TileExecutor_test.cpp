@@ -1,9 +1,13 @@
 // The tile executor: every pixel once, whatever the tiling and thread count; and a frame
-// abandoned part way when asked.
+// abandoned part way when asked. runKernelInBands: every band once with every pixel of it; a
+// failure in the sink stops the frame; a cancelled frame says so.
 #include "runtime/TileExecutor.h"
 
 #include <atomic>
 #include <doctest/doctest.h>
+#include <mutex>
+#include <stdexcept>
+#include <vector>
 
 namespace moire {
 namespace {
@@ -72,6 +76,73 @@ TEST_CASE("tile executor: a cancelled frame stops between tiles and comes back e
         o.cancelled = [] { return false; };
         CHECK(runKernel(k, f, o).width == 640);
     }
+}
+
+TEST_CASE("runKernelInBands hands every band over once, every pixel in it") {
+    const int w = 131, h = 77;
+    for (int bandRows : {1, 16, 64, 100})
+        for (int threads : {1, 2, 5})
+            for (int tile : {8, 64}) {
+                CAPTURE(bandRows);
+                CAPTURE(threads);
+                CAPTURE(tile);
+                CoordinateKernel k(false);
+                ExecOptions o;
+                o.threads = threads;
+                o.tileSize = tile;
+                std::vector<int> seen((h + bandRows - 1) / bandRows, 0);
+                std::mutex m;
+                int wrong = 0;
+                BandTimes times;
+                CHECK(runKernelInBands(
+                    k, KernelFrame{nullptr, w, h}, o, bandRows,
+                    [&](int band, const float* rows, size_t stride) {
+                        CHECK(stride == size_t{w} * 2);
+                        int bad = 0;
+                        for (int y = band * bandRows; y < std::min(h, (band + 1) * bandRows); ++y)
+                            for (int x = 0; x < w; ++x) {
+                                const float* p = rows + (y - band * bandRows) * stride + x * 2;
+                                bad += p[0] != x || p[1] != y;
+                            }
+                        std::lock_guard<std::mutex> lock(m);
+                        ++seen.at(static_cast<size_t>(band));
+                        wrong += bad;
+                    },
+                    &times));
+                CHECK(wrong == 0);
+                for (int s : seen) CHECK(s == 1);
+                CHECK(times.kernel >= 0.0);
+                CHECK(times.sink >= 0.0);
+            }
+}
+
+TEST_CASE("runKernelInBands stops on the sink's failure and rethrows it") {
+    CoordinateKernel k(false);
+    ExecOptions o;
+    o.threads = 1;
+    std::atomic<int> calls{0};
+    CHECK_THROWS_AS(runKernelInBands(k, KernelFrame{nullptr, 64, 640}, o, 8,
+                                     [&](int band, const float*, size_t) {
+                                         ++calls;
+                                         if (band == 2) throw std::runtime_error("disk full");
+                                     }),
+                    std::runtime_error);
+    CHECK(calls.load() == 3);
+}
+
+TEST_CASE("runKernelInBands: a cancelled frame hands over no band after the cancel") {
+    CoordinateKernel k(false);
+    ExecOptions o;
+    o.threads = 2;
+    std::atomic<int> bands{0};
+    std::atomic<bool> stop{false};
+    o.cancelled = [&] { return stop.load(); };
+    CHECK_FALSE(
+        runKernelInBands(k, KernelFrame{nullptr, 64, 6400}, o, 8, [&](int, const float*, size_t) {
+            if (++bands == 3) stop.store(true);
+        }));
+    // The two workers may each have been in a band when the third arrived.
+    CHECK(bands.load() <= 4);
 }
 
 } // namespace moire

@@ -196,6 +196,8 @@ int clip(const ClipArgs& args) {
     std::unique_ptr<ClipOutput> output;
     WriteOptions wo;
     wo.depth = depth;
+    // Frames at render's level: frame n is byte for byte the still `render` makes of it.
+    wo.threads = args.threads;
     try {
         kernel = backend->compile(program->kernel);
         output =

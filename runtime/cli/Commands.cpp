@@ -21,6 +21,7 @@
 #include <filesystem>
 #include <fmt/format.h>
 #include <fmt/ranges.h>
+#include <optional>
 #include <unistd.h>
 
 namespace moire::cli {
@@ -212,6 +213,19 @@ int render(const RenderArgs& args) {
                            "terminal; redirect it to a file or a pipe\n");
         return kExitUsage;
     }
+    if (args.compression != -1 && (args.compression < 0 || args.compression > 9)) {
+        fmt::print(stderr,
+                   "moire: error: --compression must be a zlib level from 0 (none) to 9 "
+                   "(smallest), not {}\n",
+                   args.compression);
+        return kExitUsage;
+    }
+    if (args.compression != -1 && image.format != "png") {
+        fmt::print(stderr,
+                   "moire: error: --compression sets a PNG's zlib level; '{}' is not a PNG\n",
+                   image.output);
+        return kExitUsage;
+    }
     const std::string output = toStdout ? std::string("standard output") : image.output;
     // From here on SIGINT and SIGTERM stop the render between tiles: status 128 + the
     // signal, a line saying so, and no file (and no temporary) written.
@@ -249,6 +263,12 @@ int render(const RenderArgs& args) {
     footprint.channels = program->kernel.numOutputs;
     footprint.format = image.format;
     footprint.gpu = args.backend == "vulkan";
+    // A PNG from a CPU kernel is encoded band by band, the frame never whole (below).
+    if (image.format == "png" && !footprint.gpu) {
+        footprint.sink = FrameSink::PngBands;
+        footprint.threads = args.threads;
+        footprint.bytesPerSample = image.depth == PixelDepth::U16 ? 2 : 1;
+    }
     if (!checkMemory(footprint)) return kExitMachine;
 
     ExecOptions exec;
@@ -266,13 +286,42 @@ int render(const RenderArgs& args) {
             shown = true;
         };
     }
+    WriteOptions wo;
+    wo.depth = image.depth;
+    wo.dpi = args.dpi;
+    wo.compression = args.compression;
+    wo.threads = args.threads;
+    // A PNG from a CPU kernel is encoded band by band as the workers finish them, and no
+    // image of the whole frame is made; otherwise the frame is rendered whole, then encoded.
     Image img;
+    std::optional<BandedPng> png;
+    BandTimes times;
+    double kernelCompile = 0.0;
     try {
-        img = renderFrame(*program, *backend, frame, exec);
+        const auto c0 = std::chrono::steady_clock::now();
+        std::unique_ptr<CompiledKernel> kernel = backend->compile(program->kernel);
+        kernelCompile = secondsSince(c0);
+        const KernelFrame kf{frame.uniforms.data(), frame.width, frame.height};
+        if (image.format == "png" && !kernel->wholeFrame()) {
+            png.emplace(output, frame.width, frame.height, wo);
+            const int channels = kernel->numOutputs();
+            runKernelInBands(
+                *kernel, kf, exec, png->bandRows(),
+                [&](int band, const float* rows, size_t stride) {
+                    png->add(band, rows, stride, channels);
+                },
+                &times);
+        } else {
+            img = runKernel(*kernel, kf, exec);
+        }
     } catch (const BackendError& e) { // the device lost, or out of memory
         if (shown) fmt::print(stderr, "\n");
         fmt::print(stderr, "moire: error: {}\n", e.what());
         return kExitMachine;
+    } catch (const IoError& e) {
+        if (shown) fmt::print(stderr, "\n");
+        fmt::print(stderr, "moire: error: {}\n", e.what());
+        return kExitIo;
     }
     if (shown) fmt::print(stderr, "\n");
     if (StopSignals::received()) return interrupted();
@@ -282,21 +331,30 @@ int render(const RenderArgs& args) {
                              jit->storeHits() == 1 ? "" : "s");
     stages.done(fmt::format("rendered {}x{} on {}{}", frame.width, frame.height, describe(*backend),
                             cached));
-    const double renderedAt = secondsSince(t0);
+    double renderedAt = secondsSince(t0);
+    if (png && times.kernel + times.sink > 0) {
+        // Kernel and encoder ran interleaved on the same threads: their wall time (the
+        // kernel's compile aside) is split in proportion to the thread time each took.
+        const double pipeline = renderedAt - compiledAt - kernelCompile;
+        renderedAt -= pipeline * times.sink / (times.kernel + times.sink);
+    }
 
-    WriteOptions wo;
-    wo.depth = image.depth;
-    wo.dpi = args.dpi;
     try {
         if (toStdout) {
-            const std::vector<unsigned char> bytes = encodeImage(output, "png", img, wo);
+            const std::vector<unsigned char> bytes =
+                png ? png->file() : encodeImage(output, "png", img, wo);
             writeStandardOutput(bytes.data(), bytes.size());
         } else {
             // A missing directory is created, as clip creates one; temporaries that renders
             // killed there earlier left behind go.
             prepareOutputDirectory(output);
             removeStaleTemporaries(output);
-            writeImage(output, img, wo);
+            if (png) {
+                const std::vector<unsigned char> bytes = png->file();
+                writeFileAtomically(output, bytes.data(), bytes.size());
+            } else {
+                writeImage(output, img, wo);
+            }
         }
     } catch (const IoError& e) {
         fmt::print(stderr, "moire: error: {}\n", e.what());
@@ -306,7 +364,7 @@ int render(const RenderArgs& args) {
     double seconds = secondsSince(t0);
     // The whole time, then where it went: reading and compiling the scene, evaluating the
     // frame and running the kernel (the backend's kernel compile included), and encoding and
-    // writing the file.
+    // writing the file (for a PNG encoded in bands, the encoder's share of the pipeline too).
     if (!args.verbosity.quiet)
         fmt::print(stderr,
                    "moire: wrote {} ({}x{}, {}, {:.0f} ms: compile {:.0f}, render {:.0f}, "

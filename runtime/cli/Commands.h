@@ -29,6 +29,7 @@ struct RenderArgs {
     int device = -1;   // --device (vulkan): -1 the first discrete GPU, else the first device
     std::string depth; // 8, 16, half, float
     double dpi = 0.0;
+    int compression = -1; // --compression: PNG's zlib level, -1 the default (ImageIO.h)
     int threads = 0;
     Verbosity verbosity;
 };

@@ -90,6 +90,9 @@ int watch(const WatchArgs& args) {
     options.request.width = image.width;
     options.request.height = image.height;
     options.write.depth = image.depth;
+    // Rewritten on every save: the fast level.
+    options.write.compression = kPreviewCompression;
+    options.write.threads = args.threads;
     options.exec.threads = args.threads;
     options.watch.debounce = std::chrono::milliseconds(args.debounceMs);
 

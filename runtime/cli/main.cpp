@@ -3,6 +3,7 @@
 // so that they read and behave the same in every command that takes them.
 #include "compiler/diag/Diagnostics.h"
 #include "runtime/cli/Commands.h"
+#include "runtime/output/ImageIO.h"
 #include "runtime/output/JitCache.h"
 
 #include <CLI/CLI.hpp>
@@ -107,6 +108,10 @@ int main(int argc, char** argv) {
     renderCmd->add_option("--dpi", renderArgs.dpi,
                           "Print resolution to record in the file, in dots per inch (above 0, "
                           "at most 1000000; default 0: none recorded)");
+    renderCmd->add_option("--compression", renderArgs.compression,
+                          fmt::format("PNG's zlib level, 0 (none, fastest) to 9 (smallest, "
+                                      "slowest); default {}",
+                                      kPrintCompression));
     addVerbosity(renderCmd, renderArgs.verbosity);
     renderCmd->footer(
         "The image is written beside its name and renamed into place when complete; a missing\n"

@@ -1,6 +1,8 @@
 #include "runtime/output/ImageIO.h"
 
 #include "runtime/output/OutputFile.h"
+#include "runtime/output/Parallel.h"
+#include "runtime/output/PngBands.h"
 
 #include <algorithm>
 #include <cerrno>
@@ -129,12 +131,14 @@ std::string depthProblem(const std::string& format, PixelDepth depth) {
     return "";
 }
 
-std::vector<unsigned char> encodeImage(const std::string& path, const std::string& format,
-                                       const Image& image, const WriteOptions& options) {
-    if (image.channels < 4) throw IoError("internal: writeImage needs RGBA");
+namespace {
+
+// The file's spec as OpenImageIO's writer for `format` takes it: type, alpha, colour space,
+// resolution, compression. Throws IoError when the format cannot hold the depth.
+OIIO::ImageSpec specFor(const std::string& format, int width, int height,
+                        const WriteOptions& options) {
     if (std::string problem = depthProblem(format, options.depth); !problem.empty())
         throw IoError(problem);
-
     OIIO::TypeDesc type;
     PixelDepth depth = options.depth;
     if (depth == PixelDepth::Default)
@@ -157,38 +161,106 @@ std::vector<unsigned char> encodeImage(const std::string& path, const std::strin
     }
 
     const int outChannels = format == "jpeg" ? 3 : 4;
-    const bool linear = format == "exr";
-    std::vector<float> data(static_cast<size_t>(image.width) * image.height * outChannels);
-    for (int y = 0; y < image.height; ++y) {
-        const float* src = image.row(y);
-        float* dst = data.data() + static_cast<size_t>(y) * image.width * outChannels;
-        for (int x = 0; x < image.width; ++x) {
-            for (int c = 0; c < outChannels; ++c) {
-                float v = src[x * image.channels + c];
-                if (c < 3 && linear) v = srgbToLinear(std::clamp(v, 0.0f, 1.0f));
-                dst[x * outChannels + c] = std::clamp(v, 0.0f, 1.0f);
-            }
-        }
-    }
-
-    OIIO::ImageSpec spec(image.width, image.height, outChannels, type);
+    OIIO::ImageSpec spec(width, height, outChannels, type);
     if (outChannels == 4) {
         spec.alpha_channel = 3;
         // Our colour is straight (unassociated); without this OpenImageIO would treat it as
         // premultiplied and divide it by alpha on the way into PNG and TIFF.
         spec.attribute("oiio:UnassociatedAlpha", 1);
     }
-    spec.attribute("oiio:ColorSpace", linear ? "Linear" : "sRGB");
+    spec.attribute("oiio:ColorSpace", format == "exr" ? "Linear" : "sRGB");
     spec.attribute("Software", "moire " MOIRE_VERSION);
     if (options.dpi > 0) {
         spec.attribute("XResolution", static_cast<float>(options.dpi));
         spec.attribute("YResolution", static_cast<float>(options.dpi));
         spec.attribute("ResolutionUnit", "inch");
     }
-    if (format == "png") spec.attribute("png:compressionLevel", 6);
     if (format == "tiff") spec.attribute("compression", "zip");
     if (format == "exr") spec.attribute("compression", "zip");
+    return spec;
+}
 
+} // namespace
+
+BandedPng::BandedPng(const std::string& path, int width, int height, const WriteOptions& options)
+    : path_(path) {
+    const OIIO::ImageSpec spec = specFor("png", width, height, options);
+    // The chunks between the header and the pixels (colour space, text, resolution) are
+    // OpenImageIO's own, taken from the same spec written at one pixel, so that a file reads
+    // back with the attributes OpenImageIO's writer gives it.
+    OIIO::ImageSpec one = spec;
+    one.width = one.height = one.full_width = one.full_height = 1;
+    const float pixel[4] = {0.0f, 0.0f, 0.0f, 0.0f};
+    try {
+        chunks_ = pngChunksBeforeData(encodeInMemory(path, "png", one, pixel));
+        png_ = std::make_unique<PngBands>(
+            width, height, spec.format == OIIO::TypeDesc::UINT16 ? 16 : 8,
+            options.compression >= 0 ? options.compression : kPrintCompression);
+    } catch (const IoError&) {
+        throw;
+    } catch (const std::exception& e) {
+        throw encodeFailure(path, e.what());
+    }
+}
+
+BandedPng::~BandedPng() = default;
+
+int BandedPng::bands() const {
+    return png_->bands();
+}
+int BandedPng::bandRows() const {
+    return png_->bandRows();
+}
+
+void BandedPng::add(int band, const float* rows, size_t stride, int channels) {
+    try {
+        png_->encode(band, rows, stride, channels);
+    } catch (const std::exception& e) {
+        throw encodeFailure(path_, e.what());
+    }
+}
+
+std::vector<unsigned char> BandedPng::file() const {
+    try {
+        return png_->file(chunks_);
+    } catch (const std::exception& e) {
+        throw encodeFailure(path_, e.what());
+    }
+}
+
+std::vector<unsigned char> encodeImage(const std::string& path, const std::string& format,
+                                       const Image& image, const WriteOptions& options) {
+    if (image.channels < 4) throw IoError("internal: writeImage needs RGBA");
+    if (format == "png") {
+        // The bands on `options.threads` threads, straight from the frame.
+        BandedPng png(path, image.width, image.height, options);
+        forEachInParallel(png.bands(), options.threads, [&](int band) {
+            png.add(band, image.row(band * png.bandRows()),
+                    static_cast<size_t>(image.width) * image.channels, image.channels);
+        });
+        return png.file();
+    }
+    const OIIO::ImageSpec spec = specFor(format, image.width, image.height, options);
+    const int outChannels = spec.nchannels;
+    const bool linear = format == "exr";
+
+    // The other writers take the whole image as floats in the file's channels, clamped (and
+    // linear for EXR), made in bands on every thread.
+    std::vector<float> data(static_cast<size_t>(image.width) * image.height * outChannels);
+    constexpr int kRows = 64;
+    forEachInParallel((image.height + kRows - 1) / kRows, options.threads, [&](int band) {
+        for (int y = band * kRows; y < std::min(image.height, (band + 1) * kRows); ++y) {
+            const float* src = image.row(y);
+            float* dst = data.data() + static_cast<size_t>(y) * image.width * outChannels;
+            for (int x = 0; x < image.width; ++x) {
+                for (int c = 0; c < outChannels; ++c) {
+                    float v = src[x * image.channels + c];
+                    if (c < 3 && linear) v = srgbToLinear(std::clamp(v, 0.0f, 1.0f));
+                    dst[x * outChannels + c] = std::clamp(v, 0.0f, 1.0f);
+                }
+            }
+        }
+    });
     return encode(path, format, spec, data.data());
 }
 

@@ -3,6 +3,7 @@
 //   .tif  16-bit (default) or 8-bit sRGB
 //   .exr  32-bit float (default) or half, linear colour
 //   .jpg  8-bit sRGB, no alpha
+// PNG is encoded in bands on several threads (PngBands.h); the other formats by OpenImageIO.
 // The image is encoded in memory and written by writeFileAtomically (runtime/output/OutputFile.h):
 // through a temporary beside the target, every write checked, renamed into place, so a
 // reader never sees half an image and a failed write leaves any existing file untouched.
@@ -12,17 +13,29 @@
 
 #include <cmath>
 #include <cstdint>
+#include <memory>
 #include <stdexcept>
 #include <string>
 #include <vector>
 
 namespace moire {
 
+class PngBands;
+
 enum class PixelDepth { Default, U8, U16, Half, Float };
+
+// zlib levels for PNG (moire_encode_bench --levels measures them): a file to keep (render's
+// default: level 4 made files within 1% of level 6's on the examples, in 0.55-0.8x the time)
+// (and clip's frames) and an image soon replaced (watch: level 1, in 0.6-0.75x level 4's time
+// for files 5-9% larger).
+constexpr int kPrintCompression = 4;
+constexpr int kPreviewCompression = 1;
 
 struct WriteOptions {
     PixelDepth depth = PixelDepth::Default;
-    double dpi = 0.0; // resolution metadata for print; 0 leaves it unset
+    double dpi = 0.0;     // resolution metadata for print; 0 leaves it unset
+    int compression = -1; // PNG's zlib level, 0 (none) to 9; -1: kPrintCompression
+    int threads = 0;      // threads that encode; 0: one per hardware thread
 };
 
 class IoError : public std::runtime_error {
@@ -37,6 +50,26 @@ void writeImage(const std::string& path, const Image& image, const WriteOptions&
 // imageFormatOf's name; `path` names the image in errors. Throws IoError.
 std::vector<unsigned char> encodeImage(const std::string& path, const std::string& format,
                                        const Image& image, const WriteOptions& options = {});
+
+// A PNG made from its bands as they come (render's pipeline, runKernelInBands): the pixel
+// data of each band of bandRows() rows encoded on the thread that hands it over, in any order
+// (PngBands.h), then the whole file's bytes, as encodeImage would make them. Throws IoError
+// naming `path`.
+class BandedPng {
+  public:
+    BandedPng(const std::string& path, int width, int height, const WriteOptions& options);
+    ~BandedPng();
+    int bands() const;
+    int bandRows() const;
+    // Band `band`'s rows: `channels` floats a pixel (RGBA first), `stride` floats a row.
+    void add(int band, const float* rows, size_t stride, int channels);
+    std::vector<unsigned char> file() const; // every band added
+
+  private:
+    std::string path_;
+    std::vector<unsigned char> chunks_;
+    std::unique_ptr<PngBands> png_;
+};
 
 // Why `format` (imageFormatOf's name) cannot hold `depth`, or "" when it can.
 std::string depthProblem(const std::string& format, PixelDepth depth);

@@ -6,6 +6,7 @@
 #include <fstream>
 #include <sstream>
 #include <sys/resource.h>
+#include <thread>
 #include <vector>
 
 namespace moire {
@@ -22,6 +23,8 @@ constexpr uint64_t kWriterChunkBytes = 64ull << 20;
 // The Vulkan executor's two slots, each a device buffer and a host readback buffer of at most
 // 64 MiB (VulkanContext's budget); on a CPU device both live in host memory.
 constexpr uint64_t kVulkanStagingBytes = 4 * (64ull << 20);
+// The rows of a band of render's PNG pipeline (PngBands' default).
+constexpr uint64_t kBandRows = 64;
 
 uint64_t pixelsOf(const FrameFootprint& f) {
     return static_cast<uint64_t>(std::max(f.width, 0)) *
@@ -46,6 +49,22 @@ uint64_t sinkBytes(const FrameFootprint& f) {
         return imageWriterBytes(f);
     case FrameSink::Video:
         return px * 4; // the 8-bit RGBA frame written to ffmpeg's pipe
+    case FrameSink::PngBands: {
+        // The compressed bands and the file made of them: zlib's output is at most the
+        // filtered samples and a little (incompressible data is stored), each counted at the
+        // samples' full size. A thread's band: its floats, the filtered band and its
+        // compressed copy, and zlib's state (under 1 MiB).
+        const uint64_t sampleBytes = static_cast<uint64_t>(std::clamp(f.bytesPerSample, 1, 2));
+        const uint64_t width = static_cast<uint64_t>(std::max(f.width, 0));
+        const uint64_t rowFloats = width * static_cast<uint64_t>(std::max(f.channels, 1));
+        const uint64_t rowSamples = 1 + width * 4 * sampleBytes;
+        const uint64_t band =
+            kBandRows * (rowFloats * sizeof(float) + 2 * rowSamples) + (1ull << 20);
+        const uint64_t threads = static_cast<uint64_t>(
+            f.threads > 0 ? f.threads : std::max(1u, std::thread::hardware_concurrency()));
+        const uint64_t file = px * 4 * sampleBytes + px * 4 * sampleBytes / 500 + (1ull << 16);
+        return 2 * file + threads * band;
+    }
     case FrameSink::Window:
         // The frame in 8 bits as rendered, as shown and as kept for reuse, the window's
         // canvas, the texture, and the GL drawable's front and back buffers (host memory on
@@ -56,6 +75,7 @@ uint64_t sinkBytes(const FrameFootprint& f) {
 }
 
 uint64_t frameBytes(const FrameFootprint& f) {
+    if (f.sink == FrameSink::PngBands) return 0; // never made whole
     return pixelsOf(f) * static_cast<uint64_t>(std::max(f.channels, 1)) * sizeof(float);
 }
 

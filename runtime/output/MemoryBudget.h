@@ -17,6 +17,9 @@ enum class FrameSink {
     ImageFile, // writeImage: a float copy of the picture in the file's channels
     Video,     // ffmpeg's pipe: one 8-bit RGBA frame
     Window,    // the viewer: 8-bit copies for the window, the last frame and the texture
+    // render's PNG from a CPU kernel, encoded band by band (runKernelInBands, BandedPng): no
+    // frame, a band of floats and its encoding buffers a thread, and the compressed file
+    PngBands,
 };
 
 struct FrameFootprint {
@@ -27,7 +30,9 @@ struct FrameFootprint {
     // Frames held while the next one renders (clip: the writes in flight), each with its own
     // writer's buffers.
     int queued = 0;
-    bool gpu = false; // the Vulkan executor: its staging buffers
+    bool gpu = false;       // the Vulkan executor: its staging buffers
+    int threads = 0;        // PngBands: the workers (0: one per hardware thread)
+    int bytesPerSample = 1; // PngBands: 1 (8-bit) or 2 (16-bit)
 };
 
 // An upper bound, in bytes, of the memory the process holds at its peak while rendering and

@@ -56,6 +56,28 @@ TEST_CASE("memory budget: the estimate counts the frame and each copy of it") {
     CHECK(estimateFrameBytes(small) < 400'000'000u);
 }
 
+TEST_CASE("memory budget: a PNG encoded in bands holds no frame, only the file and bands") {
+    // 32768x32768 at 8 bits: 4 GiB of samples, counted twice (the compressed bands and the
+    // file made of them, each at most the samples when nothing compresses); 16 GiB of float
+    // frame that is never made; a band of 64 rows a thread, 32 MiB of floats here.
+    FrameFootprint png;
+    png.width = png.height = 32768;
+    png.sink = FrameSink::PngBands;
+    png.threads = 4;
+    const double samples = double(uint64_t{1} << 30) * 4;
+    const double bytes = double(estimateFrameBytes(png));
+    CHECK(bytes >= 2 * samples + 4 * 64 * 32768.0 * 16);
+    CHECK(bytes <= 2 * samples + 1e9);
+    CHECK(bytes < double(uint64_t{1} << 30) * 16); // less than the float frame alone
+    // 16-bit samples double the file; more threads, more bands in flight.
+    FrameFootprint deep = png;
+    deep.bytesPerSample = 2;
+    CHECK(double(estimateFrameBytes(deep)) == doctest::Approx(bytes + 2 * samples).epsilon(1e-2));
+    FrameFootprint more = png;
+    more.threads = 8;
+    CHECK(estimateFrameBytes(more) > estimateFrameBytes(png));
+}
+
 TEST_CASE("memory budget: the address space limit lowers what is available") {
     std::optional<MemoryAvailable> free = availableMemory();
     REQUIRE(free); // /proc/meminfo is there on Linux

@@ -1,5 +1,5 @@
 // The walking scan's carried rotation (compiler/lower/WalkingFamily, scan()): a skip of 2 to
-// 15 strides turns the carried point by Rot(k sigma theta) built from the powers
+// 7 strides turns the carried point by Rot(k sigma theta) built from the powers
 // Rot(2^j sigma theta) of k's binary digits, where it used to take a fresh cosine and sine
 // of n theta. Held to independent expectations: the brute-force reference (double, every
 // member turned afresh) on the interpreter, and the interpreter on the single-precision JIT,
@@ -13,7 +13,7 @@ using namespace moire::walktest;
 TEST_CASE("walking: skips of several members keep the carried turn exact") {
     // Points far from every member skip the most (the Lipschitz bound grows with the
     // residual), and the turns here make Rot(k theta) differ from Rot(theta) by up to a
-    // half turn and more within one 15-member jump.
+    // half turn and more within one 7-member jump.
     std::mt19937_64 rng(23);
     long checked = 0;
     for (int n : {0, 3, 4, 6})

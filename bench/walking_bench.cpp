@@ -128,6 +128,17 @@ SweepResult sweep(const ref::Walking& w, double px, double py, double guard) {
     return {std::min(best, guard), evals};
 }
 
+// The interpreter's environment for a w x h frame's uniforms, writing into `out`.
+InterpEnv frameEnv(const FrameValues& fv, int w, int h, std::vector<double>& out) {
+    InterpEnv env;
+    env.imageW = w;
+    env.imageH = h;
+    env.uniforms = fv.uniforms.data();
+    env.numUniforms = fv.uniforms.size();
+    env.outputs = out.data();
+    return env;
+}
+
 struct Row {
     double refEvals = 0, sweepEvals = 0, windowEvals = 0;
     double sweepDiffer = 0, windowDiffer = 0;
@@ -151,12 +162,7 @@ Row measure(const Scene& s, int w, int h) {
     }
     Interpreter interp(p.kernel);
     std::vector<double> out(p.kernel.numOutputs), regs;
-    InterpEnv env;
-    env.imageW = w;
-    env.imageH = h;
-    env.uniforms = fv.uniforms.data();
-    env.numUniforms = fv.uniforms.size();
-    env.outputs = out.data();
+    InterpEnv env = frameEnv(fv, w, h, out);
 
     // The scene's size is the image's, so the camera fits it at one world unit a pixel.
     lower::CameraT<double> cam;
@@ -296,12 +302,7 @@ double evaluationsPerPixel(const bench::Scene& s, int w, int h) {
     if (!r.program || !frameOf(*r.program, w, h, fv)) return -1;
     Interpreter interp(r.program->kernel);
     std::vector<double> out(r.program->kernel.numOutputs), regs;
-    InterpEnv env;
-    env.imageW = w;
-    env.imageH = h;
-    env.uniforms = fv.uniforms.data();
-    env.numUniforms = fv.uniforms.size();
-    env.outputs = out.data();
+    InterpEnv env = frameEnv(fv, w, h, out);
     double evals = 0, pixels = 0;
     for (int y = 1; y < h; y += 4)
         for (int x = 1; x < w; x += 4) {
@@ -367,12 +368,9 @@ int main(int argc, char** argv) {
     bool costOnly = false;
     std::vector<bench::Scene> given;
     for (int i = 1; i < argc; ++i) {
+        if (bench::sizeOrRepeat(argc, argv, i, w, h, repeat)) continue;
         std::string a = argv[i];
-        if (a == "--size" && i + 1 < argc)
-            std::sscanf(argv[++i], "%dx%d", &w, &h);
-        else if (a == "--repeat" && i + 1 < argc)
-            repeat = std::max(1, std::atoi(argv[++i]));
-        else if (a == "--cost-only")
+        if (a == "--cost-only")
             costOnly = true;
         else
             given.push_back(bench::sceneFile(a));

@@ -46,7 +46,7 @@ TEST_CASE("walking: skips of several members keep the carried turn exact") {
 }
 
 TEST_CASE("walking: the JIT's carried turn draws what the interpreter draws at large turns") {
-    // Coverage within 2/255, as the JIT is held elsewhere (walking_index_test.cpp); the
+    // Coverage within 2/255 (checkJitDrawsLikeInterpreter), as in walking_index_test.cpp; the
     // second scene is zoomed out until the scan strides, so the powers there come from
     // Rot(sigma theta) by squaring.
     const std::vector<std::pair<std::string, std::string>> scenes = {
@@ -60,21 +60,5 @@ TEST_CASE("walking: the JIT's carried turn draws what the interpreter draws at l
          "camera { zoom = 0.6 }\nlayer { family = circles; spacing = 9; offset = (2, -3); "
          "turn = -61deg; stroke = 2 }"},
     };
-    auto interp = test::makeBackendOrSkip("interp");
-    auto jit = test::makeBackendOrSkip("jit");
-    if (!interp || !jit) return;
-    for (const auto& [name, body] : scenes) {
-        SHOW(name);
-        auto program = test::compileOk("scene { size = (200, 140) }\n" + std::string(body) + "\n");
-        Image exact = test::renderScene(*program, *interp);
-        Image fast = test::renderScene(*program, *jit);
-        test::ImageDiff d = test::compareImages(exact, fast, 2.0 / 255.0);
-        double ink = 0.0;
-        for (float v : exact.pixels) ink += 1.0 - v;
-        ink /= exact.pixels.size() * 3.0 / 4.0; // black ink on white; alpha stays 1
-        REPORT(name, ": ink ", ink, ", max difference ", d.maxAbs,
-               ", within 2/255: ", d.fractionWithin());
-        CHECK(ink > 0.05);
-        CHECK(d.fractionWithin() >= 0.999);
-    }
+    checkJitDrawsLikeInterpreter(scenes, 200, 140);
 }

@@ -1,11 +1,13 @@
 // Render throughput and compile latency, measured side by side in one run.
 //
-//   build/bin/moire_bench [--size WxH] [--repeat N] [scene.moire ...]
+//   build/bin/moire_bench [--size WxH] [--repeat N] [--lanes N] [--interp] [scene.moire ...]
 //
 // For the default scene and every example (or the scenes given): the time from source text
-// to callable JIT code, then Mpx/s of the reference interpreter and of the JIT at 1920x1080,
-// and their ratio. Each render is repeated and the fastest run kept (other work on the
-// machine can only add time).
+// to callable JIT code, then Mpx/s at 1920x1080 of the JIT in its two shapes side by side,
+// scalar (one pixel a step, left to LLVM's loop vectoriser) and in lanes (the host's SIMD
+// width, control flow under masks: what `moire` runs), and their ratio; with --interp, the
+// reference interpreter too. Each render is repeated and the fastest run kept (other work on
+// the machine can only add time).
 #include "bench/BenchScenes.h"
 #include "compiler/backend/interp/Interpreter.h"
 #include "compiler/backend/llvm/LlvmJit.h"
@@ -31,21 +33,12 @@ double seconds(Clock::time_point t0) {
     return std::chrono::duration<double>(Clock::now() - t0).count();
 }
 
-// Fastest of `repeat` renders, in seconds.
-double timeRender(const CompiledKernel& kernel, const KernelFrame& frame, int repeat) {
-    double best = 1e30;
-    for (int i = 0; i < repeat; ++i) {
-        auto t0 = Clock::now();
-        Image img = runKernel(kernel, frame);
-        best = std::min(best, seconds(t0));
-    }
-    return best;
-}
-
 } // namespace
 
 int main(int argc, char** argv) {
     int width = 1920, height = 1080, repeat = 3;
+    bool withInterp = false;
+    int lanesOption = LlvmJitBackend::Options::kHostLanes;
     std::vector<Scene> scenes;
     for (int i = 1; i < argc; ++i) {
         std::string a = argv[i];
@@ -53,6 +46,10 @@ int main(int argc, char** argv) {
             std::sscanf(argv[++i], "%dx%d", &width, &height);
         else if (a == "--repeat" && i + 1 < argc)
             repeat = std::max(1, std::atoi(argv[++i]));
+        else if (a == "--lanes" && i + 1 < argc)
+            lanesOption = std::atoi(argv[++i]);
+        else if (a == "--interp")
+            withInterp = true;
         else
             scenes.push_back(bench::sceneFile(a));
     }
@@ -60,8 +57,15 @@ int main(int argc, char** argv) {
 
     fmt::print("moire render benchmark: {}x{}, best of {}, {} threads\n\n", width, height, repeat,
                std::max(1u, std::thread::hardware_concurrency()));
-    fmt::print("{:<18} {:>10} {:>10} {:>12} {:>12} {:>9}\n", "scene", "front ms", "jit ms",
-               "interp Mpx/s", "jit Mpx/s", "jit/int");
+    LlvmJitBackend::Options scalarOptions;
+    scalarOptions.lanes = 1;
+    LlvmJitBackend::Options jitOptions;
+    jitOptions.lanes = lanesOption;
+    const unsigned lanes = LlvmJitBackend(jitOptions).lanes();
+    fmt::print("{:<20} {:>8} {:>8} {:>8} {:>12} {:>12} {:>8}", "scene", "front ms", "jit ms",
+               "x1 ms", "scalar Mpx/s", fmt::format("x{} Mpx/s", lanes), "ratio");
+    if (withInterp) fmt::print(" {:>12} {:>8}", "interp Mpx/s", "jit/int");
+    fmt::print("\n");
     const double mpx = width * static_cast<double>(height) / 1e6;
     for (const Scene& s : scenes) {
         // Source to callable code: parse, check, lower, AD, passes, then LLVM (a fresh JIT so
@@ -73,10 +77,13 @@ int main(int argc, char** argv) {
             return 1;
         }
         double front = seconds(t0);
-        LlvmJitBackend jit;
+        LlvmJitBackend jit(jitOptions), scalar(scalarOptions);
         auto t1 = Clock::now();
         auto jitKernel = jit.compile(r.program->kernel);
         double codegen = seconds(t1);
+        auto t2 = Clock::now();
+        auto scalarKernel = scalar.compile(r.program->kernel);
+        double scalarCodegen = seconds(t2);
 
         FrameRequest req;
         req.width = width;
@@ -88,15 +95,22 @@ int main(int argc, char** argv) {
             return 1;
         }
         KernelFrame frame{fv.uniforms.data(), fv.width, fv.height};
-        InterpBackend interp;
-        auto interpKernel = interp.compile(r.program->kernel);
-        double tInterp = timeRender(*interpKernel, frame, 1); // slow: once is enough
-        double tJit = timeRender(*jitKernel, frame, repeat);
-        fmt::print("{:<18} {:>10.2f} {:>10.2f} {:>12.2f} {:>12.1f} {:>8.0f}x\n", s.name,
-                   front * 1e3, codegen * 1e3, mpx / tInterp, mpx / tJit, tInterp / tJit);
+        double tScalar = bench::bestRender(*scalarKernel, frame, repeat);
+        double tJit = bench::bestRender(*jitKernel, frame, repeat);
+        fmt::print("{:<20} {:>8.2f} {:>8.2f} {:>8.2f} {:>12.1f} {:>12.1f} {:>7.2f}x", s.name,
+                   front * 1e3, codegen * 1e3, scalarCodegen * 1e3, mpx / tScalar, mpx / tJit,
+                   tScalar / tJit);
+        if (withInterp) {
+            InterpBackend interp;
+            auto interpKernel = interp.compile(r.program->kernel);
+            double tInterp = bench::bestRender(*interpKernel, frame, 1); // slow: once is enough
+            fmt::print(" {:>12.2f} {:>7.0f}x", mpx / tInterp, tInterp / tJit);
+        }
+        fmt::print("\n");
     }
     fmt::print(
         "\nfront: parse, checks, lowering, AD and IR passes; jit: LLVM translation, -O2 and\n"
-        "machine code. Parse to callable code is their sum.\n");
+        "machine code in lanes (x1: scalar). Parse to callable code is front + jit. ratio: the\n"
+        "lanes' Mpx/s over the scalar JIT's, on the same kernel and frame.\n");
     return 0;
 }

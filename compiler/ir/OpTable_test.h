@@ -8,6 +8,7 @@
 
 #include "compiler/backend/Backend.h"
 #include "compiler/backend/interp/Interpreter.h"
+#include "compiler/backend/llvm/LlvmJit.h"
 #include "compiler/ir/Builder.h"
 #include "compiler/ir/IR.h"
 #include "compiler/ir/Semantics.h"
@@ -236,7 +237,7 @@ inline Precision vulkanPrecision(Op op, int64_t n, double a, double c) {
     case Op::Atan:
     case Op::Atan2:
         return {0.0, 4096.0 * kUlp};
-    case Op::Hypot: // big sqrt(1 + q^2), q = small / big: division 2.5, sqrt 4.5, roundings
+    case Op::Hypot: // sqrt(x^2 + y^2) of sides scaled by a power of two: sqrt 4.5, roundings
         return {0.0, 8.0 * kUlp};
     default:
         return {};
@@ -292,11 +293,19 @@ inline bool withinVulkanPrecision(Op op, int64_t n, float a, float c, float got)
     return std::fabs(got - exact) <= bound;
 }
 
-// Every backend available here; a missing one is skipped with a message.
+// Every backend available here; a missing one is skipped with a message. The JIT comes in
+// each of its shapes: the host's lanes (as `moire` runs it), scalar, and 4 lanes (the SSE
+// shape, chosen on hosts without AVX2), so every op is translated each way.
 inline std::vector<std::unique_ptr<Backend>> allBackends() {
     std::vector<std::unique_ptr<Backend>> out;
     for (const std::string& name : test::availableBackends())
         if (auto b = test::makeBackendOrSkip(name)) out.push_back(std::move(b));
+    for (int lanes : {1, 4}) {
+        LlvmJitBackend::Options o;
+        o.lanes = lanes;
+        out.push_back(std::make_unique<LlvmJitBackend>(o));
+    }
     return out;
 }
+
 } // namespace moire::optest

@@ -35,8 +35,11 @@ int uniformCount(const ir::Function& f) {
 
 class VulkanKernel : public CompiledKernel {
   public:
-    VulkanKernel(std::shared_ptr<const Pipeline> p, int numOutputs, uint64_t maxChunkBytes)
-        : pipeline_(std::move(p)), numOutputs_(numOutputs), maxChunkBytes_(maxChunkBytes) {}
+    VulkanKernel(std::shared_ptr<const Pipeline> p, int numOutputs, const VulkanOptions& options)
+        : pipeline_(std::move(p)), numOutputs_(numOutputs) {
+        run_.maxChunkBytes = options.maxChunkBytes;
+        run_.staged = options.staged;
+    }
     int numOutputs() const override { return numOutputs_; }
     bool wholeFrame() const override { return true; }
     void runTile(const KernelFrame& frame, TileRect t, float* out,
@@ -48,13 +51,13 @@ class VulkanKernel : public CompiledKernel {
         for (int i = 0; i < pipeline_->numUniforms; ++i)
             uniforms[i] = static_cast<float>(frame.uniforms[i]);
         pipeline_->context->run(pipeline_->pipeline, uniforms, frame.imageW, frame.imageH, t,
-                                numOutputs_, out, rowStride, maxChunkBytes_);
+                                numOutputs_, out, rowStride, run_);
     }
 
   private:
     std::shared_ptr<const Pipeline> pipeline_;
     int numOutputs_;
-    uint64_t maxChunkBytes_;
+    vk::RunOptions run_;
 };
 
 } // namespace
@@ -97,8 +100,7 @@ std::unique_ptr<CompiledKernel> VulkanBackend::compile(const ir::Function& kerne
         it = impl_->cache.emplace(hash, std::move(pipeline)).first;
         ++impl_->compiled;
     }
-    return std::make_unique<VulkanKernel>(it->second, kernel.numOutputs,
-                                          impl_->options.maxChunkBytes);
+    return std::make_unique<VulkanKernel>(it->second, kernel.numOutputs, impl_->options);
 }
 
 } // namespace moire

@@ -19,6 +19,9 @@ class Context;
 struct VulkanOptions {
     int device = -1;            // physical device index; -1: first discrete GPU, else first
     uint64_t maxChunkBytes = 0; // output bytes per dispatch; 0: the device's own budget
+    // Copy each output through a host-visible buffer on the device, as a discrete GPU must,
+    // even where the device's memory is the host's (lavapipe): for tests of that path.
+    bool staged = false;
 };
 
 class VulkanBackend : public Backend {

@@ -3,6 +3,7 @@
 #include "compiler/backend/glsl/GlslKernel.h"
 
 #include <algorithm>
+#include <chrono>
 #include <cstring>
 #include <fmt/format.h>
 #include <map>
@@ -147,6 +148,10 @@ DeviceInfo describe(VkPhysicalDevice pd, int index) {
 // sub-allocating.
 constexpr VkDeviceSize kMinAllocation = 1 << 20;
 
+constexpr VkMemoryPropertyFlags kSharedMemory = VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT |
+                                                VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT |
+                                                VK_MEMORY_PROPERTY_HOST_CACHED_BIT;
+
 struct InstanceGuard {
     VkInstance instance;
     ~InstanceGuard() { vkDestroyInstance(instance, nullptr); }
@@ -242,6 +247,8 @@ void Context::release() {
             freeBuffer(s.device);
             freeBuffer(s.readback);
             if (s.fence) vkDestroyFence(device_, s.fence, nullptr);
+            if (s.timestamps) vkDestroyQueryPool(device_, s.timestamps, nullptr);
+            s.timestamps = VK_NULL_HANDLE;
             // Destroying the pool frees the command buffer taken from it.
             if (s.pool) vkDestroyCommandPool(device_, s.pool, nullptr);
             s.fence = VK_NULL_HANDLE, s.pool = VK_NULL_HANDLE, s.commands = VK_NULL_HANDLE;
@@ -286,6 +293,11 @@ void Context::createDevice() {
     dci.pQueueCreateInfos = &qci;
     check(vkCreateDevice(physical_, &dci, nullptr, &device_), "creating the logical device");
     vkGetDeviceQueue(device_, queueFamily_, 0, &queue_);
+    uint32_t familyCount = 0;
+    vkGetPhysicalDeviceQueueFamilyProperties(physical_, &familyCount, nullptr);
+    std::vector<VkQueueFamilyProperties> families(familyCount);
+    vkGetPhysicalDeviceQueueFamilyProperties(physical_, &familyCount, families.data());
+    timestamps_ = families[queueFamily_].timestampValidBits > 0;
 
     auto m3 = vkStruct<VkPhysicalDeviceMaintenance3Properties>(
         VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_MAINTENANCE_3_PROPERTIES);
@@ -302,6 +314,11 @@ void Context::createDevice() {
         if (f & VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT) hostHeap = std::max(hostHeap, heap);
     }
     if (!deviceHeap) deviceHeap = hostHeap;
+    // Where the device's own memory is also the host's, cached (lavapipe, most integrated
+    // GPUs), the shader writes its output straight into memory the host reads: no copy on
+    // the device, and no second buffer. (Not for a discrete GPU's host-visible VRAM: host
+    // reads of it are uncached and slow.)
+    direct_ = memoryType(memory_, ~0u, kSharedMemory) >= 0;
     // 64 MiB a chunk (4M pixels of RGBA): large enough that a submission's fixed cost vanishes
     // in its work, small enough that the two slots' buffers (4 x 64 MiB at most) fit any
     // device and host beside what else runs there; never above what the device can bind.
@@ -366,6 +383,13 @@ void Context::createShared() {
         check(vkAllocateCommandBuffers(device_, &cbai, &s.commands), "allocating commands");
         auto fci = vkStruct<VkFenceCreateInfo>(VK_STRUCTURE_TYPE_FENCE_CREATE_INFO);
         check(vkCreateFence(device_, &fci, nullptr, &s.fence), "creating a fence");
+        if (timestamps_) {
+            auto qpci = vkStruct<VkQueryPoolCreateInfo>(VK_STRUCTURE_TYPE_QUERY_POOL_CREATE_INFO);
+            qpci.queryType = VK_QUERY_TYPE_TIMESTAMP;
+            qpci.queryCount = 3;
+            check(vkCreateQueryPool(device_, &qpci, nullptr, &s.timestamps),
+                  "creating a query pool");
+        }
     }
 }
 
@@ -405,7 +429,8 @@ void Context::destroyPipeline(VkPipeline pipeline) {
     vkDestroyPipeline(device_, pipeline, nullptr);
 }
 
-Context::Buffer Context::makeBuffer(VkDeviceSize size, VkBufferUsageFlags usage, bool hostVisible) {
+Context::Buffer Context::makeBuffer(VkDeviceSize size, VkBufferUsageFlags usage, Memory kind) {
+    const bool hostVisible = kind != Memory::Device;
     Buffer b;
     b.size = size;
     auto bci = vkStruct<VkBufferCreateInfo>(VK_STRUCTURE_TYPE_BUFFER_CREATE_INFO);
@@ -419,7 +444,9 @@ Context::Buffer Context::makeBuffer(VkDeviceSize size, VkBufferUsageFlags usage,
         // Readback wants memory the CPU reads fast (cached); the shader's own buffer wants
         // device-local memory (VRAM on a discrete GPU; everything is, on lavapipe).
         int type = -1;
-        if (hostVisible) {
+        if (kind == Memory::Shared) {
+            type = memoryType(memory_, req.memoryTypeBits, kSharedMemory);
+        } else if (hostVisible) {
             type = memoryType(memory_, req.memoryTypeBits,
                               VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT |
                                   VK_MEMORY_PROPERTY_HOST_CACHED_BIT);
@@ -452,16 +479,24 @@ void Context::freeBuffer(Buffer& b) {
     b = Buffer{};
 }
 
-void Context::reserve(Slot& slot, VkDeviceSize bytes) {
-    if (slot.device.size >= bytes && slot.readback.size >= bytes) return;
+void Context::reserve(Slot& slot, VkDeviceSize bytes, bool direct) {
+    if (slot.direct == direct && slot.device.size >= bytes &&
+        (direct || slot.readback.size >= bytes))
+        return;
     freeBuffer(slot.device);
     freeBuffer(slot.readback);
+    slot.direct = direct;
     // A run's first chunk is its largest, so one allocation serves the whole run. The floor
     // keeps small renders and 1 x 1 probes from reallocating as their output count varies.
     VkDeviceSize size = std::max<VkDeviceSize>(bytes, kMinAllocation);
-    slot.device = makeBuffer(
-        size, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_SRC_BIT, false);
-    slot.readback = makeBuffer(size, VK_BUFFER_USAGE_TRANSFER_DST_BIT, true);
+    if (direct) {
+        slot.device = makeBuffer(size, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, Memory::Shared);
+        return;
+    }
+    slot.device =
+        makeBuffer(size, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_SRC_BIT,
+                   Memory::Device);
+    slot.readback = makeBuffer(size, VK_BUFFER_USAGE_TRANSFER_DST_BIT, Memory::Readback);
 }
 
 void Context::submit(Slot& slot, VkPipeline pipeline, const TileRect& chunk, int imageW, int imageH,
@@ -488,6 +523,11 @@ void Context::submit(Slot& slot, VkPipeline pipeline, const TileRect& chunk, int
     auto begin = vkStruct<VkCommandBufferBeginInfo>(VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO);
     begin.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
     check(vkBeginCommandBuffer(cb, &begin), "recording commands");
+    slot.timed = times_ && slot.timestamps;
+    if (slot.timed) {
+        vkCmdResetQueryPool(cb, slot.timestamps, 0, 3);
+        vkCmdWriteTimestamp(cb, VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT, slot.timestamps, 0);
+    }
     vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline);
     vkCmdBindDescriptorSets(cb, VK_PIPELINE_BIND_POINT_COMPUTE, pipelineLayout_, 0, 1,
                             &slot.descriptors, 0, nullptr);
@@ -495,23 +535,31 @@ void Context::submit(Slot& slot, VkPipeline pipeline, const TileRect& chunk, int
     vkCmdPushConstants(cb, pipelineLayout_, VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof pc, &pc);
     vkCmdDispatch(cb, (w + glsl::kLocalSizeX - 1) / glsl::kLocalSizeX,
                   (h + glsl::kLocalSizeY - 1) / glsl::kLocalSizeY, 1);
-    // The shader's writes, then the copy to host-visible memory, then the host's reads.
-    auto toCopy = vkStruct<VkBufferMemoryBarrier>(VK_STRUCTURE_TYPE_BUFFER_MEMORY_BARRIER);
-    toCopy.srcAccessMask = VK_ACCESS_SHADER_WRITE_BIT;
-    toCopy.dstAccessMask = VK_ACCESS_TRANSFER_READ_BIT;
-    toCopy.srcQueueFamilyIndex = toCopy.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
-    toCopy.buffer = slot.device.buffer;
-    toCopy.size = bytes;
-    vkCmdPipelineBarrier(cb, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT,
-                         0, 0, nullptr, 1, &toCopy, 0, nullptr);
-    VkBufferCopy region{0, 0, bytes};
-    vkCmdCopyBuffer(cb, slot.device.buffer, slot.readback.buffer, 1, &region);
-    VkBufferMemoryBarrier toHost = toCopy;
-    toHost.srcAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT;
-    toHost.dstAccessMask = VK_ACCESS_HOST_READ_BIT;
-    toHost.buffer = slot.readback.buffer;
-    vkCmdPipelineBarrier(cb, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_HOST_BIT, 0, 0,
-                         nullptr, 1, &toHost, 0, nullptr);
+    if (slot.timed)
+        vkCmdWriteTimestamp(cb, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, slot.timestamps, 1);
+    // The shader's writes, then (on a device with memory of its own) the copy to host-visible
+    // memory, then the host's reads.
+    auto barrier = vkStruct<VkBufferMemoryBarrier>(VK_STRUCTURE_TYPE_BUFFER_MEMORY_BARRIER);
+    barrier.srcQueueFamilyIndex = barrier.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
+    barrier.size = bytes;
+    barrier.srcAccessMask = VK_ACCESS_SHADER_WRITE_BIT;
+    barrier.buffer = slot.device.buffer;
+    VkPipelineStageFlagBits written = VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT;
+    if (!slot.direct) {
+        barrier.dstAccessMask = VK_ACCESS_TRANSFER_READ_BIT;
+        vkCmdPipelineBarrier(cb, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
+                             VK_PIPELINE_STAGE_TRANSFER_BIT, 0, 0, nullptr, 1, &barrier, 0,
+                             nullptr);
+        VkBufferCopy region{0, 0, bytes};
+        vkCmdCopyBuffer(cb, slot.device.buffer, slot.readback.buffer, 1, &region);
+        barrier.srcAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT;
+        barrier.buffer = slot.readback.buffer;
+        written = VK_PIPELINE_STAGE_TRANSFER_BIT;
+    }
+    if (slot.timed) vkCmdWriteTimestamp(cb, written, slot.timestamps, 2);
+    barrier.dstAccessMask = VK_ACCESS_HOST_READ_BIT;
+    vkCmdPipelineBarrier(cb, written, VK_PIPELINE_STAGE_HOST_BIT, 0, 0, nullptr, 1, &barrier, 0,
+                         nullptr);
     check(vkEndCommandBuffer(cb), "recording commands");
 
     check(vkResetFences(device_, 1, &slot.fence), "resetting a fence");
@@ -527,31 +575,58 @@ void Context::finish(Slot& slot, const TileRect& rect, int numOutputs, float* ou
                      size_t rowStride) {
     // No timeout: a large chunk of an expensive scene on a CPU device legitimately takes long,
     // and work still in flight could not be abandoned safely anyway.
+    auto t0 = std::chrono::steady_clock::now();
     check(vkWaitForFences(device_, 1, &slot.fence, VK_TRUE, UINT64_MAX), "running a dispatch");
     slot.busy = false;
-    if (!slot.readback.coherent) {
+    auto t1 = std::chrono::steady_clock::now();
+    if (slot.timed) {
+        uint64_t ticks[3];
+        check(vkGetQueryPoolResults(device_, slot.timestamps, 0, 3, sizeof ticks, ticks,
+                                    sizeof(uint64_t),
+                                    VK_QUERY_RESULT_64_BIT | VK_QUERY_RESULT_WAIT_BIT),
+              "reading timestamps");
+        const double msPerTick = limits_.timestampPeriod / 1e6;
+        times_->kernelMs += (ticks[1] - ticks[0]) * msPerTick;
+        times_->deviceCopyMs += (ticks[2] - ticks[1]) * msPerTick;
+        times_->deviceTimes = true;
+    }
+    const Buffer& result = slot.direct ? slot.device : slot.readback;
+    if (!result.coherent) {
         auto range = vkStruct<VkMappedMemoryRange>(VK_STRUCTURE_TYPE_MAPPED_MEMORY_RANGE);
-        range.memory = slot.readback.memory;
+        range.memory = result.memory;
         range.size = VK_WHOLE_SIZE;
         check(vkInvalidateMappedMemoryRanges(device_, 1, &range), "reading back");
     }
     const TileRect& c = slot.chunk;
     const size_t rowFloats = static_cast<size_t>(c.x1 - c.x0) * numOutputs;
-    const float* src = static_cast<const float*>(slot.readback.mapped);
+    const float* src = static_cast<const float*>(result.mapped);
     for (int y = c.y0; y < c.y1; ++y)
         std::memcpy(out + static_cast<size_t>(y - rect.y0) * rowStride +
                         static_cast<size_t>(c.x0 - rect.x0) * numOutputs,
                     src + static_cast<size_t>(y - c.y0) * rowFloats, rowFloats * sizeof(float));
+    if (times_) {
+        auto t2 = std::chrono::steady_clock::now();
+        times_->waitMs += std::chrono::duration<double, std::milli>(t1 - t0).count();
+        times_->copyOutMs += std::chrono::duration<double, std::milli>(t2 - t1).count();
+    }
 }
 
 void Context::run(VkPipeline pipeline, const std::vector<float>& uniforms, int imageW, int imageH,
                   TileRect rect, int numOutputs, float* out, size_t rowStride,
-                  uint64_t maxChunkBytes) {
+                  const RunOptions& options) {
     std::lock_guard<std::mutex> lock(mutex_);
+    RunTimes* const times = options.times;
+    struct Clear {
+        RunTimes*& times;
+        ~Clear() { times = nullptr; }
+    } clear{times_};
+    times_ = times;
+    const bool direct = direct_ && !options.staged;
     if (lost_)
         throw BackendError(
             fmt::format("the Vulkan device {} ({}) was lost earlier", info_.index, info_.name));
-    const std::vector<TileRect> chunks = planChunks(rect, numOutputs, chunkLimits(maxChunkBytes));
+    const std::vector<TileRect> chunks =
+        planChunks(rect, numOutputs, chunkLimits(options.maxChunkBytes));
     if (chunks.empty()) return;
 
     // A zero-sized buffer is not allowed: a kernel without uniforms still binds one float.
@@ -563,7 +638,7 @@ void Context::run(VkPipeline pipeline, const std::vector<float>& uniforms, int i
     if (uniforms_.size < uniformBytes_) {
         freeBuffer(uniforms_);
         uniforms_ = makeBuffer(std::max<VkDeviceSize>(uniformBytes_, kMinAllocation),
-                               VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, true);
+                               VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, Memory::Readback);
     }
     // Nothing is in flight between runs, so the buffer is free to overwrite.
     std::memset(uniforms_.mapped, 0, uniformBytes_);
@@ -582,9 +657,18 @@ void Context::run(VkPipeline pipeline, const std::vector<float>& uniforms, int i
             Slot& slot = slots_[i % 2];
             if (slot.busy) finish(slot, rect, numOutputs, out, rowStride);
             const TileRect& c = chunks[i];
-            reserve(slot, static_cast<VkDeviceSize>(c.x1 - c.x0) * (c.y1 - c.y0) * numOutputs *
-                              sizeof(float));
+            reserve(slot,
+                    static_cast<VkDeviceSize>(c.x1 - c.x0) * (c.y1 - c.y0) * numOutputs *
+                        sizeof(float),
+                    direct);
+            auto t0 = std::chrono::steady_clock::now();
             submit(slot, pipeline, c, imageW, imageH, numOutputs);
+            if (times) {
+                times->submitMs +=
+                    std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0)
+                        .count();
+                ++times->chunks;
+            }
         }
         for (size_t i = chunks.size() >= 2 ? chunks.size() - 2 : 0; i < chunks.size(); ++i)
             if (slots_[i % 2].busy) finish(slots_[i % 2], rect, numOutputs, out, rowStride);

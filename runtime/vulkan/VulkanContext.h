@@ -42,6 +42,26 @@ std::vector<DeviceInfo> listDevices();
 int defaultDevice(const std::vector<DeviceInfo>& devices);
 std::string versionString(uint32_t apiVersion);
 
+// Where a run()'s time went, for benchmarks: host milliseconds spent recording and
+// submitting command buffers, blocked on fences, and copying results out to the caller; and,
+// where the queue has timestamps, device milliseconds in the shader and in the copy to
+// host-visible memory (0 when the output needs none). Summed over the run's chunks.
+struct RunTimes {
+    double submitMs = 0, waitMs = 0, copyOutMs = 0;
+    double kernelMs = 0, deviceCopyMs = 0;
+    bool deviceTimes = false; // kernelMs and deviceCopyMs were measured
+    int chunks = 0;
+};
+
+struct RunOptions {
+    uint64_t maxChunkBytes = 0; // output bytes per chunk; 0: the device's own budget
+    // Copy the output through a host-visible buffer on the device even where the shader could
+    // write into memory the host reads (Context::Slot): the path a discrete GPU takes, for
+    // tests on a device that does not need it.
+    bool staged = false;
+    RunTimes* times = nullptr; // where the time went, when given
+};
+
 class Context {
   public:
     // The context of device `index` (-1: defaultDevice), opened on first use and shared while
@@ -60,12 +80,12 @@ class Context {
 
     // Runs `pipeline` over `rect` of an imageW x imageH frame and writes its numOutputs
     // floats per pixel to out[(y - rect.y0) * rowStride + (x - rect.x0) * numOutputs + k].
-    // The rectangle goes in chunks (planChunks) of at most `maxChunkBytes` of output (0: the
-    // device's own budget), two in flight so that one is copied out while the next runs.
-    // Calls are serialised: one queue, one set of buffers.
+    // The rectangle goes in chunks (planChunks) of at most `options.maxChunkBytes` of output,
+    // two in flight so that one is copied out while the next runs. Calls are serialised: one
+    // queue, one set of buffers.
     void run(VkPipeline pipeline, const std::vector<float>& uniforms, int imageW, int imageH,
              TileRect rect, int numOutputs, float* out, size_t rowStride,
-             uint64_t maxChunkBytes = 0);
+             const RunOptions& options = {});
 
     // The chunk limits run() uses for a given budget (for tests and reports).
     ChunkLimits chunkLimits(uint64_t maxChunkBytes = 0) const;
@@ -78,17 +98,21 @@ class Context {
         void* mapped = nullptr; // host-visible buffers stay mapped
         bool coherent = true;
     };
-    // A chunk's resources; two of them take turns. The output always comes back through a
-    // copy into host memory, even on a device whose device-local memory the CPU can read
-    // (lavapipe, integrated GPUs): one path, and the one a discrete GPU needs is the one CI
-    // runs. The copy costs a memcpy next to the shading.
+    // A chunk's resources; two of them take turns. On a device whose own memory the host
+    // reads cached (direct_: lavapipe, integrated GPUs) the shader writes into mapped memory
+    // and the host copies the rows out from there; elsewhere (or when staged) the device
+    // first copies the output into a host-visible buffer. (On lavapipe that copy was a tenth
+    // of a simple scene's frame.)
     struct Slot {
-        Buffer device;   // the shader's output buffer, device-local where there is such memory
-        Buffer readback; // host-visible copy of it
+        bool direct = false; // the buffers are direct_'s kind (no readback)
+        Buffer device;       // the shader's output buffer, device-local; mapped when direct
+        Buffer readback;     // host-visible copy of it; none when direct
         VkCommandPool pool = VK_NULL_HANDLE;
         VkCommandBuffer commands = VK_NULL_HANDLE;
         VkFence fence = VK_NULL_HANDLE;
         VkDescriptorSet descriptors = VK_NULL_HANDLE;
+        VkQueryPool timestamps = VK_NULL_HANDLE; // three: dispatch, shader done, copy done
+        bool timed = false;                      // this submission wrote them
         bool busy = false;
         TileRect chunk;
     };
@@ -97,9 +121,14 @@ class Context {
     void release();
     void createDevice();
     void createShared();
-    Buffer makeBuffer(VkDeviceSize size, VkBufferUsageFlags usage, bool hostVisible);
+    enum class Memory {
+        Device,   // the device's own (VRAM on a discrete GPU)
+        Readback, // host-visible, cached where offered
+        Shared,   // device-local, host-visible and cached: both at once (direct_)
+    };
+    Buffer makeBuffer(VkDeviceSize size, VkBufferUsageFlags usage, Memory kind);
     void freeBuffer(Buffer& b);
-    void reserve(Slot& slot, VkDeviceSize bytes);
+    void reserve(Slot& slot, VkDeviceSize bytes, bool direct);
     void submit(Slot& slot, VkPipeline pipeline, const TileRect& chunk, int imageW, int imageH,
                 int numOutputs);
     void finish(Slot& slot, const TileRect& rect, int numOutputs, float* out, size_t rowStride);
@@ -113,7 +142,9 @@ class Context {
     uint32_t queueFamily_ = 0;
     VkPhysicalDeviceMemoryProperties memory_{};
     VkPhysicalDeviceLimits limits_{};
-    uint64_t budget_ = 0; // default bytes per chunk buffer
+    bool timestamps_ = false; // the compute queue writes timestamps
+    bool direct_ = false;     // the shader writes into memory the host reads (Slot)
+    uint64_t budget_ = 0;     // default bytes per chunk buffer
     VkPipelineCache pipelineCache_ = VK_NULL_HANDLE;
     VkDescriptorSetLayout setLayout_ = VK_NULL_HANDLE;
     VkPipelineLayout pipelineLayout_ = VK_NULL_HANDLE;
@@ -123,6 +154,7 @@ class Context {
     Buffer uniforms_;
     VkDeviceSize uniformBytes_ = 0; // of this run's uniforms
     Slot slots_[2];
+    RunTimes* times_ = nullptr;     // of the run in progress, when asked for
     std::atomic<bool> lost_{false}; // after VK_ERROR_DEVICE_LOST every call fails at once
 };
 

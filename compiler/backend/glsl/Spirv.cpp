@@ -22,8 +22,11 @@ void initialiseGlslangOnce() {
 } // namespace
 
 std::vector<uint32_t> compileSpirv(const ir::Function& kernel) {
+    return compileGlsl(emitGlsl(kernel));
+}
+
+std::vector<uint32_t> compileGlsl(const std::string& source) {
     initialiseGlslangOnce();
-    const std::string source = emitGlsl(kernel);
     const char* text = source.c_str();
     glslang::TShader shader(EShLangCompute);
     shader.setStrings(&text, 1);
@@ -32,11 +35,11 @@ std::vector<uint32_t> compileSpirv(const ir::Function& kernel) {
     shader.setEnvTarget(glslang::EShTargetSpv, glslang::EShTargetSpv_1_5);
     const EShMessages messages = static_cast<EShMessages>(EShMsgSpvRules | EShMsgVulkanRules);
     if (!shader.parse(GetDefaultResources(), 450, false, messages))
-        MOIRE_ICE("glslang rejected the generated shader:\n{}\n{}", shader.getInfoLog(), source);
+        MOIRE_ICE("glslang rejected the shader:\n{}\n{}", shader.getInfoLog(), source);
     glslang::TProgram program;
     program.addShader(&shader);
     if (!program.link(messages))
-        MOIRE_ICE("glslang could not link the generated shader:\n{}", program.getInfoLog());
+        MOIRE_ICE("glslang could not link the shader:\n{}", program.getInfoLog());
     std::vector<uint32_t> spirv;
     glslang::SpvOptions options;
     options.validate = false;

@@ -149,10 +149,12 @@ TEST_CASE("jit chunks: the pixel loop is vectorised at the width it is given") {
     // The hint saves the vectoriser costing every width; 4 floats is legal on every x86-64
     // and no cost model would pick it on a host with AVX, so the width seen is the hint's.
     auto p = compiled(circles(40).substr(0, circles(40).find("layer { family = squares")));
-    LlvmJitBackend::Options four, none;
+    // (The hint is for scalar chunks: a chunk in lanes is vectors already.)
+    LlvmJitBackend::Options four, none, scalar;
     four.chunkVectorWidth = 4;
     none.chunkVectorWidth = 0;
-    LlvmJitBackend hinted(four), unhinted(none), widest;
+    four.lanes = none.lanes = scalar.lanes = 1;
+    LlvmJitBackend hinted(four), unhinted(none), widest(scalar);
     CHECK(chunkVectorWidth(hinted.dumpLlvm(p->kernel)) == 4);
     // With no hint, or the default one, the cost model's width and the default agree.
     int chosen = chunkVectorWidth(unhinted.dumpLlvm(p->kernel));

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <atomic>
+#include <chrono>
 #include <fmt/format.h>
 #include <llvm/Analysis/TargetLibraryInfo.h>
 #include <llvm/Analysis/TargetTransformInfo.h>
@@ -50,18 +51,18 @@ std::string errorText(llvm::Error e) {
 // glibc's vector maths library (libmvec): 8-lane (AVX2) and 4-lane (SSE) versions of the
 // libm functions kernels call, so the loop vectoriser can run pixels in SIMD lanes even when
 // the kernel calls sinf or atan2f. Accuracy: within 4 ulp, like the scalar functions.
-constexpr const char* kLibmvec[][3] = {
-    // scalar, 4 lanes, 8 lanes
-    {"sinf", "_ZGVbN4v_sinf", "_ZGVdN8v_sinf"},
-    {"cosf", "_ZGVbN4v_cosf", "_ZGVdN8v_cosf"},
-    {"tanf", "_ZGVbN4v_tanf", "_ZGVdN8v_tanf"},
-    {"asinf", "_ZGVbN4v_asinf", "_ZGVdN8v_asinf"},
-    {"acosf", "_ZGVbN4v_acosf", "_ZGVdN8v_acosf"},
-    {"atanf", "_ZGVbN4v_atanf", "_ZGVdN8v_atanf"},
-    {"atan2f", "_ZGVbN4vv_atan2f", "_ZGVdN8vv_atan2f"},
-    {"expf", "_ZGVbN4v_expf", "_ZGVdN8v_expf"},
-    {"logf", "_ZGVbN4v_logf", "_ZGVdN8v_logf"},
-    {"powf", "_ZGVbN4vv_powf", "_ZGVdN8vv_powf"},
+constexpr const char* kLibmvec[][4] = {
+    // scalar, 4 lanes, 8 lanes, 16 lanes (AVX-512; used by the translation in lanes only)
+    {"sinf", "_ZGVbN4v_sinf", "_ZGVdN8v_sinf", "_ZGVeN16v_sinf"},
+    {"cosf", "_ZGVbN4v_cosf", "_ZGVdN8v_cosf", "_ZGVeN16v_cosf"},
+    {"tanf", "_ZGVbN4v_tanf", "_ZGVdN8v_tanf", "_ZGVeN16v_tanf"},
+    {"asinf", "_ZGVbN4v_asinf", "_ZGVdN8v_asinf", "_ZGVeN16v_asinf"},
+    {"acosf", "_ZGVbN4v_acosf", "_ZGVdN8v_acosf", "_ZGVeN16v_acosf"},
+    {"atanf", "_ZGVbN4v_atanf", "_ZGVdN8v_atanf", "_ZGVeN16v_atanf"},
+    {"atan2f", "_ZGVbN4vv_atan2f", "_ZGVdN8vv_atan2f", "_ZGVeN16vv_atan2f"},
+    {"expf", "_ZGVbN4v_expf", "_ZGVdN8v_expf", "_ZGVeN16v_expf"},
+    {"logf", "_ZGVbN4v_logf", "_ZGVdN8v_logf", "_ZGVeN16v_logf"},
+    {"powf", "_ZGVbN4vv_powf", "_ZGVdN8vv_powf", "_ZGVeN16vv_powf"},
 };
 
 // Loads libmvec into the process once; false where it is missing (kernels stay scalar).
@@ -70,16 +71,29 @@ bool libmvecAvailable() {
         std::string err;
         if (llvm::sys::DynamicLibrary::LoadLibraryPermanently("libmvec.so.1", &err)) return false;
         for (const auto& f : kLibmvec)
-            if (!llvm::sys::DynamicLibrary::SearchForAddressOfSymbol(f[1]) ||
-                !llvm::sys::DynamicLibrary::SearchForAddressOfSymbol(f[2]))
-                return false;
+            for (int w = 1; w < 4; ++w)
+                if (!llvm::sys::DynamicLibrary::SearchForAddressOfSymbol(f[w])) return false;
         return true;
     }();
     return loaded;
 }
 
-// The standard -O2 pipeline, for the host CPU.
-void optimise(llvm::Module& m, llvm::TargetMachine& tm) {
+// What a kernel translated in lanes needs, and no more. Its code arrives nearly in final
+// form: every op already a vector instruction, no calls to inline, no loop to vectorise.
+// What is left: promote the output slots' allocas to registers (SROA), fold the
+// translation's redundancies (CSE, instcombine, CFG clean-up), and hoist what depends only on
+// uniforms out of the pixel loop and the solver's loops (LICM), which is most of a walking
+// kernel's set-up. The order follows LLVM's own function simplification pipeline.
+//
+// Given as text for LLVM's parser, not built from pass classes here: instantiating LLVM's
+// pass templates in moire's binary exports them, and a second LLVM in the process (Mesa's
+// OpenGL, in `moire view`) would then bind its own passes to these, of another version.
+constexpr const char* kLeanPipeline =
+    "function(sroa<modify-cfg>,early-cse,instcombine,simplifycfg,loop-mssa(licm),early-cse,"
+    "instcombine,simplifycfg)";
+
+// The optimisation pipeline, for the host CPU (LlvmJitBackend::Pipeline).
+void optimise(llvm::Module& m, llvm::TargetMachine& tm, LlvmJitBackend::Pipeline pipeline) {
     llvm::LoopAnalysisManager lam;
     llvm::FunctionAnalysisManager fam;
     llvm::CGSCCAnalysisManager cgam;
@@ -101,7 +115,20 @@ void optimise(llvm::Module& m, llvm::TargetMachine& tm) {
     pb.registerFunctionAnalyses(fam);
     pb.registerLoopAnalyses(lam);
     pb.crossRegisterProxies(lam, fam, cgam, mam);
-    llvm::ModulePassManager mpm = pb.buildPerModuleDefaultPipeline(llvm::OptimizationLevel::O2);
+    llvm::ModulePassManager mpm;
+    switch (pipeline) {
+    case LlvmJitBackend::Pipeline::Auto: // resolved by the backend before this point
+    case LlvmJitBackend::Pipeline::O2:
+        mpm = pb.buildPerModuleDefaultPipeline(llvm::OptimizationLevel::O2);
+        break;
+    case LlvmJitBackend::Pipeline::O1:
+        mpm = pb.buildPerModuleDefaultPipeline(llvm::OptimizationLevel::O1);
+        break;
+    case LlvmJitBackend::Pipeline::Lean:
+        if (auto err = pb.parsePassPipeline(mpm, kLeanPipeline))
+            MOIRE_ICE("LLVM rejected the lean pipeline: {}", errorText(std::move(err)));
+        break;
+    }
     mpm.run(m, mam);
 }
 
@@ -116,6 +143,15 @@ unsigned widestFloatVector(llvm::TargetMachine& tm) {
     llvm::TargetTransformInfo tti = tm.getTargetTransformInfo(*fn);
     auto bits = tti.getRegisterBitWidth(llvm::TargetTransformInfo::RGK_FixedWidthVector);
     return std::max<unsigned>(1, static_cast<unsigned>(bits.getFixedValue() / 32));
+}
+
+// Pixels per step where the options leave it to the host: the floats of its widest vector
+// register as LLVM's cost model counts it (16 with AVX-512 unless the CPU is tuned to prefer
+// 256-bit vectors, 8 with AVX2, 4 with SSE or NEON), the width the loop vectoriser picks for
+// straight-line kernels too; libmvec has functions of each of these widths.
+unsigned hostLanes(llvm::TargetMachine& tm) {
+    unsigned widest = widestFloatVector(tm);
+    return widest >= 16 ? 16 : widest >= 8 ? 8 : 4;
 }
 
 // FNV-1a: a hash that is the same in every build, for keys kept on disk.
@@ -151,6 +187,8 @@ struct LlvmJitBackend::Impl {
     int compiled = 0;
     Options options;
     unsigned chunkVectorWidth = 0;
+    unsigned lanes = 1;
+    bool vectorMaths = false;
 
     explicit Impl(const Options& o) : options(o) {
         initialiseLlvmOnce();
@@ -158,15 +196,23 @@ struct LlvmJitBackend::Impl {
         if (!detected)
             MOIRE_ICE("LLVM cannot target this host: {}", errorText(detected.takeError()));
         jtmb = std::move(*detected);
-        jtmb->setCodeGenOptLevel(llvm::CodeGenOpt::Default);
+        jtmb->setCodeGenOptLevel(options.codegenLess ? llvm::CodeGenOpt::Less
+                                                     : llvm::CodeGenOpt::Default);
         tm = targetMachine();
         chunkVectorWidth = options.chunkVectorWidth == Options::kWidestFloatVector
                                ? widestFloatVector(*tm)
                                : static_cast<unsigned>(std::max(0, options.chunkVectorWidth));
+        lanes = options.lanes == Options::kHostLanes ? hostLanes(*tm)
+                                                     : static_cast<unsigned>(options.lanes);
+        if (lanes != 1 && lanes != 4 && lanes != 8 && lanes != 16)
+            MOIRE_ICE("the JIT runs 1, 4, 8 or 16 lanes, not {}", options.lanes);
+        vectorMaths = tm->getTargetTriple().isX86() && libmvecAvailable() &&
+                      (lanes != 16 || tm->getTargetFeatureString().contains("+avx512f"));
         codeConfig =
-            fnv1a(fmt::format("{}|{}|{}|{}|{}|{}", LLVM_VERSION_STRING, tm->getTargetCPU().str(),
-                              tm->getTargetFeatureString().str(), options.chunkInsts,
-                              chunkVectorWidth, options.classicChunks));
+            fnv1a(fmt::format("{}|{}|{}|{}|{}|{}|{}|{}|{}|{}", LLVM_VERSION_STRING,
+                              tm->getTargetCPU().str(), tm->getTargetFeatureString().str(),
+                              options.chunkInsts, chunkVectorWidth, options.classicChunks, lanes,
+                              vectorMaths, static_cast<int>(pipeline()), options.codegenLess));
         auto built = llvm::orc::LLJITBuilder().setJITTargetMachineBuilder(*jtmb).create();
         if (!built) MOIRE_ICE("cannot start the LLVM JIT: {}", errorText(built.takeError()));
         jit = std::move(*built);
@@ -190,13 +236,21 @@ struct LlvmJitBackend::Impl {
         t.chunkInsts = options.chunkInsts;
         t.wholeStrips = t.separateModules = !options.classicChunks;
         t.chunkVectorWidth = chunkVectorWidth;
+        t.lanes = lanes;
+        t.vectorMaths = vectorMaths;
         return llvmbackend::translate(kernel, name, t);
+    }
+
+    // The lean pipeline is for code in lanes; scalar code needs the vectoriser (-O2).
+    LlvmJitBackend::Pipeline pipeline() const {
+        if (options.pipeline != Pipeline::Auto) return options.pipeline;
+        return lanes > 1 ? Pipeline::Lean : Pipeline::O2;
     }
 
     void prepare(llvm::Module& m, llvm::TargetMachine& machine) {
         m.setDataLayout(jit->getDataLayout());
         m.setTargetTriple(machine.getTargetTriple().str());
-        optimise(m, machine);
+        optimise(m, machine, pipeline());
     }
 
     // The name a module's object code is kept under: the module's name (the kernel's
@@ -230,8 +284,13 @@ struct LlvmJitBackend::Impl {
                         continue;
                     }
                 }
+                auto t0 = std::chrono::steady_clock::now();
                 prepare(*modules[i].module, machine);
+                auto t1 = std::chrono::steady_clock::now();
                 auto object = compile(*modules[i].module);
+                auto t2 = std::chrono::steady_clock::now();
+                optimiseNs += std::chrono::nanoseconds(t1 - t0).count();
+                codegenNs += std::chrono::nanoseconds(t2 - t1).count();
                 if (object) {
                     objects[i] = std::move(*object);
                     compiled[i] = 1;
@@ -270,6 +329,7 @@ struct LlvmJitBackend::Impl {
     }
 
     std::atomic<int> hits{0};
+    std::atomic<int64_t> optimiseNs{0}, codegenNs{0};
     uint64_t codeConfig = 0;
 };
 
@@ -288,6 +348,18 @@ int LlvmJitBackend::compileCount() const {
 
 int LlvmJitBackend::storeHits() const {
     return impl_->hits;
+}
+
+LlvmJitBackend::Seconds LlvmJitBackend::llvmSeconds() const {
+    return {impl_->optimiseNs * 1e-9, impl_->codegenNs * 1e-9};
+}
+
+bool LlvmJitBackend::callsLibm(ir::Op op) {
+    return llvmbackend::callsLibm(op);
+}
+
+unsigned LlvmJitBackend::lanes() const {
+    return impl_->lanes;
 }
 
 std::unique_ptr<CompiledKernel> LlvmJitBackend::compile(const ir::Function& kernel) {

@@ -16,6 +16,10 @@ class LlvmJitBackend : public Backend {
   public:
     static constexpr size_t kDefaultChunkInsts = 600;
 
+    // LLVM's optimisation of a kernel: Auto, Lean for code in lanes and O2 for scalar code;
+    // or one of them for every kernel (moire_pipeline_bench weighs them).
+    enum class Pipeline { Auto, O2, O1, Lean };
+
     struct Options {
         // A kernel of more than `chunkInsts` instructions is compiled as chunks of about that
         // size (backend/llvm/KernelChunks.h), so compile time stays linear in the kernel's size.
@@ -32,6 +36,15 @@ class LlvmJitBackend : public Backend {
         // picks for these loops; 0, no hint.
         static constexpr int kWidestFloatVector = -1;
         int chunkVectorWidth = kWidestFloatVector;
+        // Pixels per step of the tile function (LlvmTranslate.h): kHostLanes, the floats in
+        // the host's widest vector register (16 with AVX-512, 8 with AVX2, 4 with SSE); 1,
+        // scalar code (which LLVM's loop vectoriser may still widen where the kernel has no
+        // control flow); or 4, 8 or 16.
+        static constexpr int kHostLanes = -1;
+        int lanes = kHostLanes;
+        Pipeline pipeline = Pipeline::Auto;
+        // Instruction selection and register allocation at LLVM's -O1 instead of -O2.
+        bool codegenLess = false;
         // Object code kept between runs (ObjectStore.h); none: every kernel is compiled.
         std::shared_ptr<ObjectStore> objects;
     };
@@ -50,6 +63,17 @@ class LlvmJitBackend : public Backend {
     int compileCount() const;
     // Modules whose object code came from `Options::objects` instead of being compiled.
     int storeHits() const;
+    // Time spent in LLVM's optimisation and in its code generation, summed over the
+    // modules compiled (on every thread), for benchmarks.
+    struct Seconds {
+        double optimise = 0, codegen = 0;
+    };
+    Seconds llvmSeconds() const;
+    // Whether the JIT computes `op` with a call to a libm function (with lanes, to its libmvec
+    // version: within 4 ulp, where the scalar functions are within 1).
+    static bool callsLibm(ir::Op op);
+    // Pixels per step of the tile functions this backend makes (Options::lanes, resolved).
+    unsigned lanes() const;
 
   private:
     struct Impl;

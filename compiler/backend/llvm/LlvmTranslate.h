@@ -35,7 +35,18 @@ struct TranslateOptions {
     // given as a hint (not where the chunk calls libm); 0 leaves the choice to the vectoriser's
     // cost model.
     unsigned chunkVectorWidth = 0;
+    // Pixels per step of the tile function's own translation (Translator.h): 1, scalar
+    // values (the vectoriser may widen straight-line kernels); 4 or 8, vectors of that many
+    // pixels, with `if` and `loop` run under masks.
+    unsigned lanes = 1;
+    // Lane-wide libm calls go to glibc's libmvec (loaded in the process; 4 or 8 lanes);
+    // otherwise each lane calls the scalar function.
+    bool vectorMaths = false;
 };
+
+// Whether the translation computes `op` with a call to a libm function (with lanes, to its
+// libmvec version: within 4 ulp, where the scalar functions are within 1).
+bool callsLibm(ir::Op op);
 
 // The module of tile function NAME; for a chunked kernel, the driver's module first, then one
 // per chunk where options.separateModules.

@@ -1,0 +1,331 @@
+// The IR's ops in LLVM IR: one case per op, the same code for one lane or many (a value's
+// type is a float or a vector of floats; LLVM's instructions and intrinsics take either).
+#include "compiler/backend/llvm/Translator.h"
+#include "compiler/diag/Diagnostics.h"
+#include "compiler/ir/Semantics.h"
+
+#include <llvm/IR/Intrinsics.h>
+
+namespace moire::llvmbackend {
+
+using ir::Op;
+using ir::ValueId;
+
+llvm::Constant* Translator::cf(double v) {
+    return llvm::ConstantFP::get(fTy_, v);
+}
+
+llvm::Value* Translator::v(ValueId id) {
+    MOIRE_CHECK(vals_[id], "LLVM: %{} used before definition", id);
+    return vals_[id];
+}
+
+llvm::Value* Translator::intrinsic(llvm::Intrinsic::ID id,
+                                   std::initializer_list<llvm::Value*> args) {
+    llvm::Function* fn = llvm::Intrinsic::getDeclaration(&m_, id, {args.begin()[0]->getType()});
+    return b_.CreateCall(fn, args);
+}
+
+bool callsLibm(Op op) {
+    switch (op) {
+    case Op::Exp:
+    case Op::Log:
+    case Op::Pow:
+    case Op::Sin:
+    case Op::Cos:
+    case Op::Tan:
+    case Op::Asin:
+    case Op::Acos:
+    case Op::Atan:
+    case Op::Atan2:
+        return true;
+    default:
+        return false;
+    }
+}
+
+// A libm function of one or two floats (sinf, atan2f, ...), resolved in the host process.
+// With lanes, glibc's vector version of it (libmvec: _ZGVbN4v_sinf for 4 SSE lanes,
+// _ZGVdN8v_sinf for 8 AVX2 lanes, _ZGVeN16v_sinf for 16 AVX-512 lanes), or where that is
+// missing, the scalar one lane by lane.
+llvm::Value* Translator::libm(const char* name, std::initializer_list<llvm::Value*> args) {
+    callsLibm_ = true;
+    const unsigned lanes = shape_.lanes;
+    auto declare = [&](const std::string& fnName, llvm::Type* ty) {
+        std::vector<llvm::Type*> params(args.size(), ty);
+        auto callee = m_.getOrInsertFunction(fnName, llvm::FunctionType::get(ty, params, false));
+        if (auto* fn = llvm::dyn_cast<llvm::Function>(callee.getCallee())) {
+            // Kernels never read errno, so to them these are pure functions; saying so lets
+            // LLVM hoist and vectorise the calls.
+            fn->setDoesNotThrow();
+            fn->setDoesNotAccessMemory();
+            fn->setWillReturn();
+        }
+        return callee;
+    };
+    if (lanes == 1) return b_.CreateCall(declare(name, sf_), args);
+    if (shape_.vectorMaths && (lanes == 4 || lanes == 8 || lanes == 16)) {
+        std::string mangled = lanes == 4 ? "_ZGVbN4" : lanes == 8 ? "_ZGVdN8" : "_ZGVeN16";
+        mangled += args.size() == 2 ? "vv_" : "v_";
+        return b_.CreateCall(declare(mangled + name, fTy_), args);
+    }
+    auto scalar = declare(name, sf_);
+    llvm::Value* r = llvm::PoisonValue::get(fTy_);
+    for (unsigned i = 0; i < lanes; ++i) {
+        std::vector<llvm::Value*> laneArgs;
+        for (llvm::Value* a : args) laneArgs.push_back(b_.CreateExtractElement(a, i));
+        r = b_.CreateInsertElement(r, b_.CreateCall(scalar, laneArgs), i);
+    }
+    return r;
+}
+
+// The shared semantics' min and max (Semantics.h): b < a ? b : a, b > a ? b : a.
+llvm::Value* Translator::semMin(llvm::Value* a, llvm::Value* bv) {
+    return b_.CreateSelect(b_.CreateFCmpOLT(bv, a), bv, a);
+}
+llvm::Value* Translator::semMax(llvm::Value* a, llvm::Value* bv) {
+    return b_.CreateSelect(b_.CreateFCmpOGT(bv, a), bv, a);
+}
+llvm::Value* Translator::floorOf(llvm::Value* a) {
+    return intrinsic(llvm::Intrinsic::floor, {a});
+}
+// hypot without libm's call: big * sqrt(1 + (small / big)^2), which neither overflows
+// nor underflows; 0 at the origin and inf when either side is infinite, as hypotf.
+llvm::Value* Translator::hypot(llvm::Value* a, llvm::Value* bv) {
+    llvm::Value* x = intrinsic(llvm::Intrinsic::fabs, {a});
+    llvm::Value* y = intrinsic(llvm::Intrinsic::fabs, {bv});
+    llvm::Value* big = intrinsic(llvm::Intrinsic::maxnum, {x, y});
+    llvm::Value* small = intrinsic(llvm::Intrinsic::minnum, {x, y});
+    llvm::Value* q = b_.CreateFDiv(small, big);
+    llvm::Value* h = b_.CreateFMul(
+        big, intrinsic(llvm::Intrinsic::sqrt, {b_.CreateFAdd(cf(1), b_.CreateFMul(q, q))}));
+    llvm::Value* inf = llvm::ConstantFP::getInfinity(fTy_);
+    h = b_.CreateSelect(b_.CreateFCmpOEQ(big, cf(0)), cf(0), h);
+    // Fix: maxnum/minnum drop a NaN operand, so hypot(a, NaN) came out as |a| sqrt(2)
+    // instead of NaN (Semantics.h: std::hypot). NaN unless the other side is infinite.
+    h = b_.CreateSelect(b_.CreateFCmpUNO(x, y), llvm::ConstantFP::getNaN(fTy_), h);
+    return b_.CreateSelect(b_.CreateFCmpOEQ(big, inf), inf, h);
+}
+
+void Translator::instruction(const ir::Inst& inst) {
+    auto A = [&](int i) { return v(inst.args[i]); };
+    llvm::Value* r = nullptr;
+    switch (inst.op) {
+    case Op::ConstF:
+        r = cf(inst.imm);
+        break;
+    case Op::ConstI:
+        r = llvm::ConstantInt::get(iTy_, inst.iimm);
+        break;
+    case Op::ConstB:
+        r = llvm::ConstantInt::get(bTy_, inst.iimm != 0);
+        break;
+    case Op::PixelX:
+        r = pixelX_;
+        break;
+    case Op::PixelY:
+        r = pixelY_;
+        break;
+    case Op::ImageW:
+        r = imageW_;
+        break;
+    case Op::ImageH:
+        r = imageH_;
+        break;
+    case Op::Uniform: {
+        // Loaded once, in the entry block (and made a vector there with lanes).
+        auto it = uniformLoads_.find(inst.iimm);
+        if (it == uniformLoads_.end()) {
+            llvm::IRBuilder<> eb(entryInsert_);
+            llvm::Value* p =
+                eb.CreateConstGEP1_64(llvm::Type::getDoubleTy(ctx_), uniforms_, inst.iimm);
+            llvm::Value* d = eb.CreateLoad(llvm::Type::getDoubleTy(ctx_), p);
+            llvm::Value* u = eb.CreateFPTrunc(d, sf_, "u" + std::to_string(inst.iimm));
+            if (shape_.lanes > 1) u = eb.CreateVectorSplat(shape_.lanes, u);
+            it = uniformLoads_.emplace(inst.iimm, u).first;
+        }
+        r = it->second;
+        break;
+    }
+    case Op::Time:
+    case Op::Param:
+        MOIRE_ICE("'{}' belongs to the frame program, not the kernel", ir::spelling(inst.op));
+    case Op::DerivX:
+    case Op::DerivY:
+        MOIRE_ICE("derivative markers must be removed by the AD pass");
+    case Op::Indep:
+        r = A(0);
+        break;
+    case Op::Add:
+        r = b_.CreateFAdd(A(0), A(1));
+        break;
+    case Op::Sub:
+        r = b_.CreateFSub(A(0), A(1));
+        break;
+    case Op::Mul:
+        r = b_.CreateFMul(A(0), A(1));
+        break;
+    case Op::MulZ: {
+        llvm::Value* zero =
+            b_.CreateOr(b_.CreateFCmpOEQ(A(0), cf(0)), b_.CreateFCmpOEQ(A(1), cf(0)));
+        r = b_.CreateSelect(zero, cf(0), b_.CreateFMul(A(0), A(1)));
+        break;
+    }
+    case Op::Div:
+        r = b_.CreateFDiv(A(0), A(1));
+        break;
+    case Op::Neg:
+        r = b_.CreateFNeg(A(0));
+        break;
+    case Op::Abs:
+        r = intrinsic(llvm::Intrinsic::fabs, {A(0)});
+        break;
+    case Op::Sign:
+        r = b_.CreateSelect(b_.CreateFCmpOGT(A(0), cf(0)), cf(1),
+                            b_.CreateSelect(b_.CreateFCmpOLT(A(0), cf(0)), cf(-1), cf(0)));
+        break;
+    case Op::Floor:
+        r = floorOf(A(0));
+        break;
+    case Op::Round:
+        r = floorOf(b_.CreateFAdd(A(0), cf(0.5)));
+        break;
+    case Op::Fract:
+        r = b_.CreateFSub(A(0), floorOf(A(0)));
+        break;
+    case Op::Mod:
+        r = b_.CreateFSub(A(0), b_.CreateFMul(A(1), floorOf(b_.CreateFDiv(A(0), A(1)))));
+        break;
+    case Op::Min:
+        r = semMin(A(0), A(1));
+        break;
+    case Op::Max:
+        r = semMax(A(0), A(1));
+        break;
+    case Op::Sqrt:
+        r = intrinsic(llvm::Intrinsic::sqrt, {semMax(A(0), cf(0))});
+        break;
+    case Op::Exp:
+        r = libm("expf", {A(0)});
+        break;
+    case Op::Log:
+        r = libm("logf", {semMax(A(0), cf(ir::kTiny))});
+        break;
+    case Op::Pow:
+        r = libm("powf", {A(0), A(1)});
+        break;
+    case Op::PowI: {
+        // The same binary exponentiation as semPowI.
+        int64_t n = inst.iimm;
+        llvm::Value* base = n < 0 ? b_.CreateFDiv(cf(1), A(0)) : A(0);
+        uint64_t e = static_cast<uint64_t>(n < 0 ? -n : n);
+        llvm::Value* acc = nullptr;
+        while (e) {
+            if (e & 1) acc = acc ? b_.CreateFMul(acc, base) : base;
+            e >>= 1;
+            if (e) base = b_.CreateFMul(base, base);
+        }
+        r = acc ? acc : cf(1);
+        break;
+    }
+    case Op::Sin:
+        r = libm("sinf", {A(0)});
+        break;
+    case Op::Cos:
+        r = libm("cosf", {A(0)});
+        break;
+    case Op::Tan:
+        r = libm("tanf", {A(0)});
+        break;
+    case Op::Asin:
+        r = libm("asinf", {semMin(semMax(A(0), cf(-1)), cf(1))});
+        break;
+    case Op::Acos:
+        r = libm("acosf", {semMin(semMax(A(0), cf(-1)), cf(1))});
+        break;
+    case Op::Atan:
+        r = libm("atanf", {A(0)});
+        break;
+    case Op::Atan2:
+        r = libm("atan2f", {A(0), A(1)});
+        break;
+    case Op::Hypot:
+        r = hypot(A(0), A(1));
+        break;
+    case Op::Select:
+        r = b_.CreateSelect(A(0), A(1), A(2));
+        break;
+    case Op::Lt:
+        r = b_.CreateFCmpOLT(A(0), A(1));
+        break;
+    case Op::Le:
+        r = b_.CreateFCmpOLE(A(0), A(1));
+        break;
+    case Op::Gt:
+        r = b_.CreateFCmpOGT(A(0), A(1));
+        break;
+    case Op::Ge:
+        r = b_.CreateFCmpOGE(A(0), A(1));
+        break;
+    case Op::Eq:
+        r = b_.CreateFCmpOEQ(A(0), A(1));
+        break;
+    case Op::Ne:
+        r = b_.CreateFCmpUNE(A(0), A(1));
+        break;
+    case Op::And:
+        r = b_.CreateAnd(A(0), A(1));
+        break;
+    case Op::Or:
+        r = b_.CreateOr(A(0), A(1));
+        break;
+    case Op::Not:
+        r = b_.CreateNot(A(0));
+        break;
+    case Op::IAdd:
+        r = b_.CreateAdd(A(0), A(1));
+        break;
+    case Op::ISub:
+        r = b_.CreateSub(A(0), A(1));
+        break;
+    case Op::IMul:
+        r = b_.CreateMul(A(0), A(1));
+        break;
+    case Op::ILt:
+        r = b_.CreateICmpSLT(A(0), A(1));
+        break;
+    case Op::ILe:
+        r = b_.CreateICmpSLE(A(0), A(1));
+        break;
+    case Op::IEq:
+        r = b_.CreateICmpEQ(A(0), A(1));
+        break;
+    case Op::FToI: {
+        const double lim = static_cast<double>(ir::kIntClamp);
+        llvm::Value* f = semMin(semMax(floorOf(A(0)), cf(-lim)), cf(lim));
+        r = b_.CreateSelect(b_.CreateFCmpUNO(A(0), A(0)), llvm::ConstantInt::get(iTy_, 0),
+                            b_.CreateFPToSI(f, iTy_));
+        break;
+    }
+    case Op::IToF:
+        r = b_.CreateSIToFP(A(0), fTy_);
+        break;
+    case Op::Tally:
+        return; // a count for the interpreter's benchmarks; nothing to do in native code
+    case Op::Output:
+        output(inst);
+        return;
+    case Op::If:
+        ifInst(inst);
+        return;
+    case Op::Loop:
+        loopInst(inst);
+        return;
+    case Op::Yield:
+        MOIRE_ICE("stray yield");
+    }
+    MOIRE_CHECK(r, "LLVM: op '{}' produced nothing", ir::spelling(inst.op));
+    vals_[inst.results[0]] = r;
+}
+
+} // namespace moire::llvmbackend

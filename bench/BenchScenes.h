@@ -56,44 +56,45 @@ inline bool sizeOrRepeat(int argc, char** argv, int& i, int& w, int& h, int& rep
     else
         return false;
     return true;
+}
 
-    // A scene compiled to its program, with its frame at t = 0 at width x height evaluated;
-    // exits with the diagnostics when either fails.
-    struct CompiledScene {
-        std::unique_ptr<SceneProgram> program;
-        FrameValues values;
-        KernelFrame frame() const { return {values.uniforms.data(), values.width, values.height}; }
-    };
-    inline CompiledScene compileFrame(const Scene& s, int width, int height) {
-        CompiledScene out;
-        CompileResult r = compileScene(s.path, s.text);
-        if (!r.program) {
-            std::fprintf(stderr, "%s", r.diagnostics.c_str());
-            std::exit(1);
-        }
-        out.program = std::move(r.program);
-        FrameRequest req;
-        req.width = width;
-        req.height = height;
-        std::string diags;
-        if (!evaluateFrame(*out.program, req, out.values, diags)) {
-            std::fprintf(stderr, "%s", diags.c_str());
-            std::exit(1);
-        }
-        return out;
+// A scene compiled to its program, with its frame at t = 0 at width x height evaluated;
+// exits with the diagnostics when either fails.
+struct CompiledScene {
+    std::unique_ptr<SceneProgram> program;
+    FrameValues values;
+    KernelFrame frame() const { return {values.uniforms.data(), values.width, values.height}; }
+};
+inline CompiledScene compileFrame(const Scene& s, int width, int height) {
+    CompiledScene out;
+    CompileResult r = compileScene(s.path, s.text);
+    if (!r.program) {
+        std::fprintf(stderr, "%s", r.diagnostics.c_str());
+        std::exit(1);
     }
+    out.program = std::move(r.program);
+    FrameRequest req;
+    req.width = width;
+    req.height = height;
+    std::string diags;
+    if (!evaluateFrame(*out.program, req, out.values, diags)) {
+        std::fprintf(stderr, "%s", diags.c_str());
+        std::exit(1);
+    }
+    return out;
+}
 
-    // The fastest of `repeat` renders of the frame, in seconds (other work on the machine can
-    // only add time).
-    inline double bestRender(const CompiledKernel& kernel, const KernelFrame& frame, int repeat) {
-        double best = 1e30;
-        for (int i = 0; i < repeat; ++i) {
-            auto t0 = std::chrono::steady_clock::now();
-            Image img = runKernel(kernel, frame);
-            best = std::min(
-                best, std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
-        }
-        return best;
+// The fastest of `repeat` renders of the frame, in seconds (other work on the machine can
+// only add time).
+inline double bestRender(const CompiledKernel& kernel, const KernelFrame& frame, int repeat) {
+    double best = 1e30;
+    for (int i = 0; i < repeat; ++i) {
+        auto t0 = std::chrono::steady_clock::now();
+        Image img = runKernel(kernel, frame);
+        best = std::min(
+            best, std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
     }
+    return best;
+}
 
 } // namespace moire::bench

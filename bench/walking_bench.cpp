@@ -13,10 +13,10 @@
 // than 8/255, for Sweep and Window, and the JIT's throughput on the default scene.
 //
 // Then the JIT's cost per evaluation, for the default scene and the walking examples (or the
-// scenes given) at 1920x1080 on one thread: the frame time, the interpreter's count of
-// evaluations per pixel (on every fourth pixel of every fourth row), and from them and the
-// clock the core cycles each evaluation of rho costs, so the distance to what the machine
-// can do is visible. --cost-only prints that table alone.
+// scenes given) at 1920x1080 on one thread, scalar and in lanes: the frame's CPU time, the
+// interpreter's count of evaluations per pixel (on every fourth pixel of every fourth row),
+// and from them and the clock the core cycles each evaluation of rho costs, so the distance
+// to what the machine can do is visible. --cost-only prints that table alone.
 #include "bench/BenchScenes.h"
 #include "compiler/backend/interp/Interpreter.h"
 #include "compiler/backend/llvm/LlvmJit.h"
@@ -315,12 +315,15 @@ double evaluationsPerPixel(const bench::Scene& s, int w, int h) {
     return evals / pixels;
 }
 
-// CPU seconds for the JIT to render one frame on one thread: the fastest of `repeat`.
-double jitFrameSeconds(const bench::Scene& s, int w, int h, int repeat) {
+// CPU seconds for the JIT (with `lanes` pixels a step) to render one frame on one thread:
+// the fastest of `repeat`.
+double jitFrameSeconds(const bench::Scene& s, int w, int h, int repeat, int lanes) {
     CompileResult r = compileScene(s.path, s.text);
     FrameValues fv;
     if (!r.program || !frameOf(*r.program, w, h, fv)) return -1;
-    LlvmJitBackend jit;
+    LlvmJitBackend::Options options;
+    options.lanes = lanes;
+    LlvmJitBackend jit(options);
     auto kernel = jit.compile(r.program->kernel);
     KernelFrame frame{fv.uniforms.data(), fv.width, fv.height};
     ExecOptions one;
@@ -335,29 +338,34 @@ double jitFrameSeconds(const bench::Scene& s, int w, int h, int repeat) {
 }
 
 // The cost table: cycles per evaluation of rho = frame CPU seconds x clock / (pixels x
-// evaluations per pixel). The scalar JIT runs one lane; a kernel of L lanes that spends C
-// cycles per evaluation here keeps each lane L x C cycles on one.
+// evaluations per pixel), for the scalar JIT (one pixel a step) and the JIT in lanes. A
+// kernel of L lanes spending C core cycles per evaluation keeps each lane L x C cycles on
+// one: the "per lane" figure, which is the scalar one when the lanes buy nothing.
 void costTable(const std::vector<bench::Scene>& scenes, int repeat) {
     constexpr int w = 1920, h = 1080;
     const double clock = measuredClockHz(), nominal = cpuinfoClockHz();
+    const int lanes = static_cast<int>(LlvmJitBackend().lanes());
     fmt::print("JIT cost per evaluation of rho, {}x{}, one thread, CPU time, best of {}\n", w, h,
                repeat);
-    fmt::print("clock {:.0f} MHz (dependent additions), /proc/cpuinfo says {:.0f} MHz\n\n",
-               clock / 1e6, nominal / 1e6);
-    fmt::print("{:<18} {:>9} {:>8} {:>9} {:>10} {:>11}\n", "scene", "ms/frame", "Mpx/s", "evals/px",
-               "Meval/s", "cycles/eval");
+    fmt::print(
+        "clock {:.0f} MHz (dependent additions), /proc/cpuinfo says {:.0f} MHz; lanes: {}\n\n",
+        clock / 1e6, nominal / 1e6, lanes);
+    fmt::print("{:<18} {:>8} | {:>9} {:>11} | {:>9} {:>11} {:>9} | {:>8}\n", "", "", "scalar", "",
+               "lanes", "", "", "");
+    fmt::print("{:<18} {:>8} | {:>9} {:>11} | {:>9} {:>11} {:>9} | {:>8}\n", "scene", "evals/px",
+               "ms/frame", "cycles/eval", "ms/frame", "cycles/eval", "per lane", "speed-up");
     const double pixels = static_cast<double>(w) * h;
     for (const bench::Scene& s : scenes) {
         double evals = evaluationsPerPixel(s, w, h);
-        double t = jitFrameSeconds(s, w, h, repeat);
-        if (evals < 0 || t < 0) std::exit(1);
-        if (evals == 0) {
-            fmt::print("{:<18} {:>9.1f} {:>8.2f} {:>9} (no walking layer)\n", s.name, t * 1e3,
-                       pixels / t / 1e6, 0);
-            continue;
-        }
-        fmt::print("{:<18} {:>9.1f} {:>8.2f} {:>9.2f} {:>10.1f} {:>11.0f}\n", s.name, t * 1e3,
-                   pixels / t / 1e6, evals, pixels * evals / t / 1e6, t * clock / (pixels * evals));
+        double scalar = jitFrameSeconds(s, w, h, repeat, 1);
+        double inLanes = jitFrameSeconds(s, w, h, repeat, lanes);
+        if (evals < 0 || scalar < 0 || inLanes < 0) std::exit(1);
+        // With no walking layer there is nothing to divide by: the cycles read 0.
+        double perEval = evals > 0 ? clock / (pixels * evals) : 0.0;
+        fmt::print(
+            "{:<18} {:>8.2f} | {:>9.1f} {:>11.0f} | {:>9.1f} {:>11.1f} {:>9.0f} | {:>7.2f}x\n",
+            s.name, evals, scalar * 1e3, scalar * perEval, inLanes * 1e3, inLanes * perEval,
+            inLanes * perEval * lanes, scalar / inLanes);
     }
 }
 

@@ -45,6 +45,19 @@ inline std::vector<Scene> defaultScenes() {
     return out;
 }
 
+// Reads the options every benchmark takes, --size WxH and --repeat N, at argv[i] (moving i
+// past a value); false when argv[i] is neither.
+inline bool sizeOrRepeat(int argc, char** argv, int& i, int& w, int& h, int& repeat) {
+    std::string a = argv[i];
+    if (a == "--size" && i + 1 < argc)
+        std::sscanf(argv[++i], "%dx%d", &w, &h);
+    else if (a == "--repeat" && i + 1 < argc)
+        repeat = std::max(1, std::atoi(argv[++i]));
+    else
+        return false;
+    return true;
+}
+
 // A scene compiled to its program, with its frame at t = 0 at width x height evaluated;
 // exits with the diagnostics when either fails.
 struct CompiledScene {

@@ -1,6 +1,6 @@
 // The walking-family solver's work, measured side by side (spec §9.1-9.2, Table 4).
 //
-//   build/bin/moire_walking_bench [--size WxH]
+//   build/bin/moire_walking_bench [--size WxH] [--cost-only] [--repeat N] [scene.moire ...]
 //
 // For seven scenes, every pixel is solved three ways and the evaluations of the radius rho
 // are counted:
@@ -11,6 +11,13 @@
 //  - Window: the shipped solver, run by the interpreter in its counting mode.
 // It also reports the share of pixels whose coverage differs from the reference's by more
 // than 8/255, for Sweep and Window, and the JIT's throughput on the default scene.
+//
+// Then the JIT's cost per evaluation, for the default scene and the walking examples (or the
+// scenes given) at 1920x1080 on one thread, scalar and in lanes: the frame's CPU time, the
+// interpreter's count of evaluations per pixel (on every fourth pixel of every fourth row),
+// and from them and the clock the core cycles each evaluation of rho costs, so the distance
+// to what the machine can do is visible. --cost-only prints that table alone.
+#include "bench/BenchScenes.h"
 #include "compiler/backend/interp/Interpreter.h"
 #include "compiler/backend/llvm/LlvmJit.h"
 #include "compiler/Compile.h"
@@ -24,7 +31,9 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <ctime>
 #include <fmt/format.h>
+#include <fstream>
 #include <numbers>
 #include <string>
 #include <vector>
@@ -119,6 +128,17 @@ SweepResult sweep(const ref::Walking& w, double px, double py, double guard) {
     return {std::min(best, guard), evals};
 }
 
+// The interpreter's environment for a w x h frame's uniforms, writing into `out`.
+InterpEnv frameEnv(const FrameValues& fv, int w, int h, std::vector<double>& out) {
+    InterpEnv env;
+    env.imageW = w;
+    env.imageH = h;
+    env.uniforms = fv.uniforms.data();
+    env.numUniforms = fv.uniforms.size();
+    env.outputs = out.data();
+    return env;
+}
+
 struct Row {
     double refEvals = 0, sweepEvals = 0, windowEvals = 0;
     double sweepDiffer = 0, windowDiffer = 0;
@@ -142,12 +162,7 @@ Row measure(const Scene& s, int w, int h) {
     }
     Interpreter interp(p.kernel);
     std::vector<double> out(p.kernel.numOutputs), regs;
-    InterpEnv env;
-    env.imageW = w;
-    env.imageH = h;
-    env.uniforms = fv.uniforms.data();
-    env.numUniforms = fv.uniforms.size();
-    env.outputs = out.data();
+    InterpEnv env = frameEnv(fv, w, h, out);
 
     // The scene's size is the image's, so the camera fits it at one world unit a pixel.
     lower::CameraT<double> cam;
@@ -216,12 +231,162 @@ double defaultSceneMpxPerSecond() {
     return 1920.0 * 1080.0 / 1e6 / best;
 }
 
+// The "cpu MHz" of /proc/cpuinfo's first processor, in Hz (0 when there is none).
+double cpuinfoClockHz() {
+    std::ifstream in("/proc/cpuinfo");
+    std::string line;
+    while (std::getline(in, line))
+        if (line.rfind("cpu MHz", 0) == 0) {
+            auto colon = line.find(':');
+            if (colon != std::string::npos) return std::atof(line.c_str() + colon + 1) * 1e6;
+        }
+    return 0.0;
+}
+
+// CPU seconds this process has run, on every thread: unlike the wall clock, it does not count
+// the time other work on a shared machine holds the core.
+double cpuSeconds() {
+    timespec t{};
+    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
+    return static_cast<double>(t.tv_sec) + 1e-9 * static_cast<double>(t.tv_nsec);
+}
+
+// The core clock in Hz. Measured: a chain of dependent integer additions retires one a
+// cycle, so additions per second is the clock the kernel actually ran at (a virtual machine's
+// /proc/cpuinfo gives the nominal rate, and turbo moves it). Elsewhere, /proc/cpuinfo.
+double measuredClockHz() {
+#if defined(__x86_64__)
+    uint64_t x = 0;
+    constexpr int kRounds = 2'000'000;
+    double best = 0;
+    for (int trial = 0; trial < 5; ++trial) {
+        double t0 = cpuSeconds();
+        for (int i = 0; i < kRounds; ++i)
+            asm volatile(".rept 100\n\taddq $1, %0\n\t.endr" : "+r"(x)); // 100 in a chain
+        double t = cpuSeconds() - t0;
+        best = std::max(best, 100.0 * kRounds / t);
+    }
+    return best;
+#else
+    return cpuinfoClockHz();
+#endif
+}
+
+// The scenes whose layers walk: the default scene and the walking examples.
+std::vector<bench::Scene> walkingScenes() {
+    EmbeddedScene d = defaultScene();
+    std::vector<bench::Scene> out{{"default", d.path, d.text}};
+    for (const char* name : {"walking_triangles", "walking_squares", "unwinding_walk"})
+        out.push_back(
+            bench::sceneFile(fmt::format("{}/examples/{}.moire", MOIRE_SOURCE_DIR, name)));
+    return out;
+}
+
+bool frameOf(const SceneProgram& p, int w, int h, FrameValues& fv) {
+    FrameRequest req;
+    req.width = w;
+    req.height = h;
+    std::string diags;
+    if (evaluateFrame(p, req, fv, diags)) return true;
+    fmt::print(stderr, "{}", diags);
+    return false;
+}
+
+// Evaluations of rho per pixel, counted by the interpreter on every fourth pixel of every
+// fourth row (the tally counts every layer's evaluations); -1 when the scene fails.
+double evaluationsPerPixel(const bench::Scene& s, int w, int h) {
+    CompileOptions opt;
+    opt.tally = true;
+    CompileResult r = compileScene(s.path, s.text, opt);
+    FrameValues fv;
+    if (!r.program || !frameOf(*r.program, w, h, fv)) return -1;
+    Interpreter interp(r.program->kernel);
+    std::vector<double> out(r.program->kernel.numOutputs), regs;
+    InterpEnv env = frameEnv(fv, w, h, out);
+    double evals = 0, pixels = 0;
+    for (int y = 1; y < h; y += 4)
+        for (int x = 1; x < w; x += 4) {
+            env.pixelX = x + 0.5;
+            env.pixelY = y + 0.5;
+            interp.run(env, regs);
+            evals += static_cast<double>(Interpreter::lastTally(lower::kRadiusTally));
+            ++pixels;
+        }
+    return evals / pixels;
+}
+
+// CPU seconds for the JIT (with `lanes` pixels a step) to render one frame on one thread:
+// the fastest of `repeat`.
+double jitFrameSeconds(const bench::Scene& s, int w, int h, int repeat, int lanes) {
+    CompileResult r = compileScene(s.path, s.text);
+    FrameValues fv;
+    if (!r.program || !frameOf(*r.program, w, h, fv)) return -1;
+    LlvmJitBackend::Options options;
+    options.lanes = lanes;
+    LlvmJitBackend jit(options);
+    auto kernel = jit.compile(r.program->kernel);
+    KernelFrame frame{fv.uniforms.data(), fv.width, fv.height};
+    ExecOptions one;
+    one.threads = 1;
+    double best = 1e30;
+    for (int i = 0; i < repeat; ++i) {
+        double t0 = cpuSeconds();
+        runKernel(*kernel, frame, one);
+        best = std::min(best, cpuSeconds() - t0);
+    }
+    return best;
+}
+
+// The cost table: cycles per evaluation of rho = frame CPU seconds x clock / (pixels x
+// evaluations per pixel), for the scalar JIT (one pixel a step) and the JIT in lanes. A
+// kernel of L lanes spending C core cycles per evaluation keeps each lane L x C cycles on
+// one: the "per lane" figure, which is the scalar one when the lanes buy nothing.
+void costTable(const std::vector<bench::Scene>& scenes, int repeat) {
+    constexpr int w = 1920, h = 1080;
+    const double clock = measuredClockHz(), nominal = cpuinfoClockHz();
+    const int lanes = static_cast<int>(LlvmJitBackend().lanes());
+    fmt::print("JIT cost per evaluation of rho, {}x{}, one thread, CPU time, best of {}\n", w, h,
+               repeat);
+    fmt::print(
+        "clock {:.0f} MHz (dependent additions), /proc/cpuinfo says {:.0f} MHz; lanes: {}\n\n",
+        clock / 1e6, nominal / 1e6, lanes);
+    fmt::print("{:<18} {:>8} | {:>9} {:>11} | {:>9} {:>11} {:>9} | {:>8}\n", "", "", "scalar", "",
+               "lanes", "", "", "");
+    fmt::print("{:<18} {:>8} | {:>9} {:>11} | {:>9} {:>11} {:>9} | {:>8}\n", "scene", "evals/px",
+               "ms/frame", "cycles/eval", "ms/frame", "cycles/eval", "per lane", "speed-up");
+    const double pixels = static_cast<double>(w) * h;
+    for (const bench::Scene& s : scenes) {
+        double evals = evaluationsPerPixel(s, w, h);
+        double scalar = jitFrameSeconds(s, w, h, repeat, 1);
+        double inLanes = jitFrameSeconds(s, w, h, repeat, lanes);
+        if (evals < 0 || scalar < 0 || inLanes < 0) std::exit(1);
+        // With no walking layer there is nothing to divide by: the cycles read 0.
+        double perEval = evals > 0 ? clock / (pixels * evals) : 0.0;
+        fmt::print(
+            "{:<18} {:>8.2f} | {:>9.1f} {:>11.0f} | {:>9.1f} {:>11.1f} {:>9.0f} | {:>7.2f}x\n",
+            s.name, evals, scalar * 1e3, scalar * perEval, inLanes * 1e3, inLanes * perEval,
+            inLanes * perEval * lanes, scalar / inLanes);
+    }
+}
+
 } // namespace
 
 int main(int argc, char** argv) {
-    int w = 320, h = 200;
-    for (int i = 1; i + 1 < argc; ++i)
-        if (std::string(argv[i]) == "--size") std::sscanf(argv[++i], "%dx%d", &w, &h);
+    int w = 320, h = 200, repeat = 3;
+    bool costOnly = false;
+    std::vector<bench::Scene> given;
+    for (int i = 1; i < argc; ++i) {
+        if (bench::sizeOrRepeat(argc, argv, i, w, h, repeat)) continue;
+        std::string a = argv[i];
+        if (a == "--cost-only")
+            costOnly = true;
+        else
+            given.push_back(bench::sceneFile(a));
+    }
+    if (costOnly) {
+        costTable(given.empty() ? walkingScenes() : given, repeat);
+        return 0;
+    }
 
     fmt::print("Walking-family solver: evaluations of rho per pixel and layer, {}x{} pixels\n\n", w,
                h);
@@ -243,6 +408,7 @@ int main(int argc, char** argv) {
                "(target >= 15x),\n"
                "worst share of Window pixels off the reference by > 8/255: {:.3f}% (target 0)\n",
                meanWindow, meanSweep / meanWindow, 100 * worstDiffer);
-    fmt::print("JIT, default scene at 1920x1080: {:.1f} Mpx/s\n", defaultSceneMpxPerSecond());
+    fmt::print("JIT, default scene at 1920x1080: {:.1f} Mpx/s\n\n", defaultSceneMpxPerSecond());
+    costTable(given.empty() ? walkingScenes() : given, repeat);
     return 0;
 }

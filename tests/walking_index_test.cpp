@@ -119,10 +119,8 @@ TEST_CASE("walking: past the budget the scan samples the global lattice of its s
 }
 
 TEST_CASE("walking: the single-precision JIT draws what the exact interpreter draws") {
-    // Rendered coverage, not raw distances: f32 moves a residual by about an ulp of the
-    // member's radius, which matters to the picture only where it moves a pixel across the
-    // antialias band. The scenes cover each branch, a zoomed-out strided scan, the marginal
-    // drift, and large indices.
+    // Rendered coverage (checkJitDrawsLikeInterpreter). The scenes cover each branch, a
+    // zoomed-out strided scan, the marginal drift, and large indices.
     const std::vector<std::pair<std::string, std::string>> scenes = {
         {"rotated triangles", "camera { zoom = 1 }\nlayer { family = triangles; spacing = 8; "
                               "offset = (1.5, 0.5); turn = 1.5deg; stroke = 1.5 }"},
@@ -160,23 +158,7 @@ TEST_CASE("walking: the single-precision JIT draws what the exact interpreter dr
         {"rotated nonagons", "camera { zoom = 1; center = (400, -300) }\nlayer { family = ngon; "
                              "sides = 9; spacing = 9; turn = 2deg; stroke = 1 }"},
     };
-    auto interp = test::makeBackendOrSkip("interp");
-    auto jit = test::makeBackendOrSkip("jit");
-    if (!interp || !jit) return;
-    for (const auto& [name, body] : scenes) {
-        SHOW(name);
-        auto program = test::compileOk("scene { size = (240, 160) }\n" + std::string(body) + "\n");
-        Image exact = test::renderScene(*program, *interp);
-        Image fast = test::renderScene(*program, *jit);
-        test::ImageDiff d = test::compareImages(exact, fast, 2.0 / 255.0);
-        double ink = 0.0; // the picture is not blank (precision loses ink, as above)
-        for (float v : exact.pixels) ink += 1.0 - v;
-        ink /= exact.pixels.size() * 3.0 / 4.0; // black ink on white; alpha stays 1
-        REPORT(name, ": ink ", ink, ", max difference ", d.maxAbs,
-               ", within 2/255: ", d.fractionWithin());
-        CHECK(ink > 0.05);
-        CHECK(d.fractionWithin() >= 0.999);
-    }
+    checkJitDrawsLikeInterpreter(scenes, 240, 160);
 }
 
 TEST_CASE("walking: degenerate parameters give finite outputs") {

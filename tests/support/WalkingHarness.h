@@ -181,4 +181,32 @@ inline bool agrees(const Setting& st, double got, double want, double x, double 
     return std::fabs(got - want) <= tol || (got <= st.accept() && want <= st.accept());
 }
 
+// Renders each (name, scene body) at w x h on the exact interpreter and the single-precision
+// JIT: the picture must have ink (precision loses ink) and the JIT must draw it within 2/255
+// at 99.9% of samples. Rendered coverage, not raw distances: f32 moves a residual by about an
+// ulp of the member's radius, which matters to the picture only where it moves a pixel
+// across the antialias band.
+inline void
+checkJitDrawsLikeInterpreter(const std::vector<std::pair<std::string, std::string>>& scenes, int w,
+                             int h) {
+    auto interp = test::makeBackendOrSkip("interp");
+    auto jit = test::makeBackendOrSkip("jit");
+    if (!interp || !jit) return;
+    for (const auto& [name, body] : scenes) {
+        SHOW(name);
+        auto program = test::compileOk("scene { size = (" + std::to_string(w) + ", " +
+                                       std::to_string(h) + ") }\n" + body + "\n");
+        Image exact = test::renderScene(*program, *interp);
+        Image fast = test::renderScene(*program, *jit);
+        test::ImageDiff d = test::compareImages(exact, fast, 2.0 / 255.0);
+        double ink = 0.0; // the picture is not blank (precision loses ink, as above)
+        for (float v : exact.pixels) ink += 1.0 - v;
+        ink /= exact.pixels.size() * 3.0 / 4.0; // black ink on white; alpha stays 1
+        REPORT(name, ": ink ", ink, ", max difference ", d.maxAbs,
+               ", within 2/255: ", d.fractionWithin());
+        CHECK(ink > 0.05);
+        CHECK(d.fractionWithin() >= 0.999);
+    }
+}
+
 } // namespace moire::walktest

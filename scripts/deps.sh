@@ -11,6 +11,7 @@ packages=(
   llvm-16-dev libzstd-dev        # the JIT backend (LLVM's CMake package needs zstd)
   re2c                           # the lexer generator
   libopenimageio-dev             # image output
+  zlib1g-dev                     # deflate for the banded PNG encoder (runtime/output/PngBands)
   glslang-dev glslang-tools spirv-tools  # the GPU backend: GLSL -> SPIR-V, spirv-val (glslang's CMake package names glslangValidator)
   libvulkan-dev                  # the Vulkan loader and headers
   mesa-vulkan-drivers            # lavapipe: a software Vulkan device where there is no GPU

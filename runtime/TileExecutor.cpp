@@ -127,7 +127,12 @@ Image runKernel(const CompiledKernel& kernel, const KernelFrame& frame,
     const int n = kernel.numOutputs();
     // Every pixel is written by the kernel (Backend.h).
     Image img = Image::forOverwrite(frame.imageW, frame.imageH, n);
-    if (kernel.wholeFrame()) return runWholeFrame(kernel, frame, options, img) ? img : Image();
+    // (`return ok ? img : Image()` would copy the frame: a conditional of an lvalue and a
+    // prvalue is a prvalue, so no move.)
+    if (kernel.wholeFrame()) {
+        if (!runWholeFrame(kernel, frame, options, img)) return Image();
+        return img;
+    }
     const int ts = std::max(8, options.tileSize);
     const int tilesX = (frame.imageW + ts - 1) / ts;
     const int tilesY = (frame.imageH + ts - 1) / ts;
@@ -142,7 +147,8 @@ Image runKernel(const CompiledKernel& kernel, const KernelFrame& frame,
         kernel.runTile(frame, r, img.row(r.y0) + static_cast<size_t>(r.x0) * n, rowStride);
         return true;
     });
-    return finished ? img : Image();
+    if (!finished) return Image();
+    return img;
 }
 
 } // namespace moire

@@ -8,6 +8,7 @@
 #include <cmath>
 #include <cstring>
 #include <doctest/doctest.h>
+#include <random>
 
 using namespace moire;
 using ir::Builder;
@@ -188,4 +189,42 @@ TEST_CASE("jit lanes: the host's lane count is a SIMD width, and 1 is scalar") {
     LlvmJitBackend::Options o;
     o.lanes = 1;
     CHECK(LlvmJitBackend(o).lanes() == 1);
+}
+
+// hypot is computed as sqrt(x^2 + y^2) with power-of-two scaling where the squares would
+// overflow or underflow: within one float rounding of the exact value (std::hypot in double,
+// rounded) across float's range, at the scaling thresholds, and with inf and NaN as hypotf.
+TEST_CASE("jit hypot: one rounding of the exact value from subnormals to the float maximum") {
+    ir::Function f =
+        optest::build(1, [](Builder& b) { b.output(0, b.hypot(b.uniform(0), b.uniform(1))); });
+    std::vector<double> values = {
+        0.0,    1.0,  3.0,  0x1p60,         0x1.000002p60, 0x1p-60, 0x1.fffffep-61, 0x1p-149, 1e-40,
+        3.4e38, 1e30, -7.5, 0x1.fffffep127, 1e-30,         0.1};
+    std::mt19937 rng(11);
+    std::uniform_real_distribution<double> mant(0.5, 1.0), expo(-140.0, 127.0);
+    for (int i = 0; i < 120; ++i) values.push_back(std::ldexp(mant(rng), int(expo(rng))));
+    for (int lanes : {1, 4, LlvmJitBackend::Options::kHostLanes}) {
+        LlvmJitBackend::Options o;
+        o.lanes = lanes;
+        LlvmJitBackend jit(o);
+        auto k = jit.compile(f);
+        for (size_t i = 0; i < values.size(); ++i)
+            for (size_t j = i; j < values.size(); j += 7) {
+                float a = static_cast<float>(values[i]), c = static_cast<float>(values[j]);
+                float want = static_cast<float>(std::hypot(double(a), double(c)));
+                float got = optest::runPixel(*k, {a, c})[0];
+                CAPTURE(lanes);
+                CAPTURE(a);
+                CAPTURE(c);
+                CAPTURE(got);
+                CAPTURE(want);
+                CHECK((got == want ||
+                       std::fabs(got - want) <= std::nextafter(want, INFINITY) - want));
+            }
+        const float inf = INFINITY, nan = NAN;
+        CHECK(optest::runPixel(*k, {inf, nan})[0] == inf);
+        CHECK(optest::runPixel(*k, {nan, -inf})[0] == inf);
+        CHECK(std::isnan(optest::runPixel(*k, {nan, 2.0})[0]));
+        CHECK(optest::runPixel(*k, {0.0, -0.0})[0] == 0.0f);
+    }
 }

@@ -89,21 +89,29 @@ llvm::Value* Translator::semMax(llvm::Value* a, llvm::Value* bv) {
 llvm::Value* Translator::floorOf(llvm::Value* a) {
     return intrinsic(llvm::Intrinsic::floor, {a});
 }
-// hypot without libm's call: big * sqrt(1 + (small / big)^2), which neither overflows
-// nor underflows; 0 at the origin and inf when either side is infinite, as hypotf.
+// hypot without libm's call and without a division: sqrt(x^2 + y^2) on x and y scaled by a
+// power of two (exact) where their squares would overflow or underflow, and scaled back.
+// A division before the square root made hypot the walking solver's longest dependency
+// chain (each step's distance waits for it). 0 at the origin, inf when either side is
+// infinite (even with a NaN on the other), otherwise NaN with a NaN, as hypotf.
 llvm::Value* Translator::hypot(llvm::Value* a, llvm::Value* bv) {
     llvm::Value* x = intrinsic(llvm::Intrinsic::fabs, {a});
     llvm::Value* y = intrinsic(llvm::Intrinsic::fabs, {bv});
+    // maxnum drops a NaN operand: big is the larger of the numbers, NaN only if both are.
     llvm::Value* big = intrinsic(llvm::Intrinsic::maxnum, {x, y});
-    llvm::Value* small = intrinsic(llvm::Intrinsic::minnum, {x, y});
-    llvm::Value* q = b_.CreateFDiv(small, big);
-    llvm::Value* h = b_.CreateFMul(
-        big, intrinsic(llvm::Intrinsic::sqrt, {b_.CreateFAdd(cf(1), b_.CreateFMul(q, q))}));
+    llvm::Value* huge = b_.CreateFCmpOGT(big, cf(0x1p60));
+    llvm::Value* tiny = b_.CreateFCmpOLT(big, cf(0x1p-60));
+    auto pick = [&](double ifHuge, double ifTiny) {
+        return b_.CreateSelect(huge, cf(ifHuge), b_.CreateSelect(tiny, cf(ifTiny), cf(1)));
+    };
+    llvm::Value* scale = pick(0x1p-64, 0x1p100);
+    llvm::Value* xs = b_.CreateFMul(x, scale);
+    llvm::Value* ys = b_.CreateFMul(y, scale);
+    llvm::Value* sum =
+        b_.CreateCall(llvm::Intrinsic::getDeclaration(&m_, llvm::Intrinsic::fmuladd, {fTy_}),
+                      {xs, xs, b_.CreateFMul(ys, ys)});
+    llvm::Value* h = b_.CreateFMul(intrinsic(llvm::Intrinsic::sqrt, {sum}), pick(0x1p64, 0x1p-100));
     llvm::Value* inf = llvm::ConstantFP::getInfinity(fTy_);
-    h = b_.CreateSelect(b_.CreateFCmpOEQ(big, cf(0)), cf(0), h);
-    // Fix: maxnum/minnum drop a NaN operand, so hypot(a, NaN) came out as |a| sqrt(2)
-    // instead of NaN (Semantics.h: std::hypot). NaN unless the other side is infinite.
-    h = b_.CreateSelect(b_.CreateFCmpUNO(x, y), llvm::ConstantFP::getNaN(fTy_), h);
     return b_.CreateSelect(b_.CreateFCmpOEQ(big, inf), inf, h);
 }
 

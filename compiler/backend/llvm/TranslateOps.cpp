@@ -60,6 +60,7 @@ llvm::Value* Translator::libm(const char* name, std::initializer_list<llvm::Valu
             fn->setDoesNotThrow();
             fn->setDoesNotAccessMemory();
             fn->setWillReturn();
+            fn->addFnAttr(llvm::Attribute::Speculatable);
         }
         return callee;
     };

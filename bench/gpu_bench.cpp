@@ -291,7 +291,8 @@ int main(int argc, char** argv) {
     }
     fmt::print(
         "\ncodegen: GLSL and glslang (Vulkan only; the JIT's LLVM work is all in 'compile').\n"
-        "compile: the backend's compile call (LLVM -O2 and machine code; or SPIR-V and the Vulkan\n"
+        "compile: the backend's compile call (LLVM's passes and machine code; or SPIR-V and the "
+        "Vulkan\n"
         "pipeline). rebuild: the scene with a number changed, front end included, kernel from the\n"
         "cache ('!' marks a rebuild that missed it).\n");
     vulkanBreakdown(w, h, repeat, device);

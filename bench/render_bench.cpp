@@ -109,7 +109,7 @@ int main(int argc, char** argv) {
         fmt::print("\n");
     }
     fmt::print(
-        "\nfront: parse, checks, lowering, AD and IR passes; jit: LLVM translation, -O2 and\n"
+        "\nfront: parse, checks, lowering, AD and IR passes; jit: LLVM translation, passes and\n"
         "machine code in lanes (x1: scalar). Parse to callable code is front + jit. ratio: the\n"
         "lanes' Mpx/s over the scalar JIT's, on the same kernel and frame.\n");
     return 0;

@@ -49,10 +49,8 @@ int main(int argc, char** argv) {
     std::vector<bench::Scene> scenes;
     for (int i = 1; i < argc; ++i) {
         std::string a = argv[i];
-        if (a == "--size" && i + 1 < argc)
-            std::sscanf(argv[++i], "%dx%d", &width, &height);
-        else if (a == "--repeat" && i + 1 < argc)
-            repeat = std::max(1, std::atoi(argv[++i]));
+        if (bench::sizeOrRepeat(argc, argv, i, width, height, repeat))
+            continue;
         else
             scenes.push_back(bench::sceneFile(a));
     }

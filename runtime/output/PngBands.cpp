@@ -4,6 +4,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <stdexcept>
+#include <string>
 #include <zlib.h>
 
 namespace moire {
@@ -220,6 +221,40 @@ std::vector<unsigned char> PngBands::file(const std::vector<unsigned char>& chun
                      std::min(kMaxChunk, b.deflated.size() - at));
     putChunk(out, "IDAT", trailer.data(), trailer.size());
     putChunk(out, "IEND", nullptr, 0);
+    return out;
+}
+
+std::vector<unsigned char> pngColourChunks(double dpi, const std::string& software) {
+    std::vector<unsigned char> out;
+    auto chunk = [&](const char* type, const std::vector<unsigned char>& data) {
+        putChunk(out, type, data.data(), data.size());
+    };
+    auto be32 = [](std::initializer_list<uint32_t> values) {
+        std::vector<unsigned char> data;
+        for (uint32_t v : values) put32(data, v);
+        return data;
+    };
+    // sRGB with its fallbacks for readers that ignore the sRGB chunk: gamma 1/2.2 and the
+    // sRGB primaries and white point, as the PNG specification recommends (values x 100000).
+    chunk("gAMA", be32({45455}));
+    chunk("sRGB", {3}); // rendering intent: absolute colorimetric, as OpenImageIO writes it
+    chunk("cHRM", be32({31270, 32900, 64000, 33000, 30000, 60000, 15000, 6000}));
+    chunk("oFFs", {0, 0, 0, 0, 0, 0, 0, 0, 0}); // no offset, in pixels
+    if (dpi > 0) {
+        // Pixels per metre, truncated as OpenImageIO converts dots per inch.
+        const auto perMetre = static_cast<uint32_t>(static_cast<float>(dpi) * (100.0 / 2.54));
+        std::vector<unsigned char> phys = be32({perMetre, perMetre});
+        phys.push_back(1); // the unit is the metre
+        chunk("pHYs", phys);
+    }
+    auto text = [&](const std::string& key, const std::string& value) {
+        std::vector<unsigned char> data(key.begin(), key.end());
+        data.push_back(0);
+        data.insert(data.end(), value.begin(), value.end());
+        chunk("tEXt", data);
+    };
+    text("oiio:ColorSpace", "sRGB");
+    text("Software", software);
     return out;
 }
 

@@ -20,6 +20,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <string>
 #include <vector>
 
 namespace moire {
@@ -62,6 +63,14 @@ class PngBands {
 // uint16 (see toByte in ImageIO.h); 16-bit samples big-endian. `out` holds width * 4 * bits / 8
 // bytes.
 void quantizeRow(const float* src, int width, int channels, int bits, unsigned char* out);
+
+// The chunks moire writes between a PNG's IHDR and its pixel data: the sRGB colour space
+// (sRGB, with gAMA and cHRM for readers that ignore it), no offset, the resolution when
+// `dpi` > 0, and text naming the colour space and the software, the very chunks and bytes
+// OpenImageIO 2.4's writer gives the same image (PngBands_test holds the two together), so
+// that a file reads back with the same attributes; written here, so that writing a PNG does
+// not load OpenImageIO.
+std::vector<unsigned char> pngColourChunks(double dpi, const std::string& software);
 
 // The chunks between IHDR and the first IDAT of a PNG file (whole chunks: length, type, data,
 // CRC); empty when there are none. Throws std::runtime_error on a file that is not a PNG.

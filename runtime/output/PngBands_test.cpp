@@ -238,3 +238,26 @@ TEST_CASE("pngChunksBeforeData refuses what is not a PNG") {
     CHECK_THROWS(PngBands(0, 4, 8, 6));
     CHECK_THROWS(PngBands(4, 4, 12, 6));
 }
+
+// The chunks moire writes itself (so that a PNG never loads OpenImageIO) are byte for byte
+// those OpenImageIO's writer gives the same spec, at every resolution and bit depth.
+TEST_CASE("pngColourChunks are OpenImageIO's chunks for the same spec") {
+    const float pixel[4] = {0.25f, 0.5f, 0.75f, 1.0f};
+    for (int bits : {8, 16})
+        for (double dpi : {0.0, 72.0, 96.0, 150.0, 299.7, 300.0, 600.0, 2400.0, 1.0}) {
+            CAPTURE(bits);
+            CAPTURE(dpi);
+            OIIO::ImageSpec spec(1, 1, 4,
+                                 bits == 8 ? OIIO::TypeDesc::UINT8 : OIIO::TypeDesc::UINT16);
+            spec.alpha_channel = 3;
+            spec.attribute("oiio:UnassociatedAlpha", 1);
+            spec.attribute("oiio:ColorSpace", "sRGB");
+            spec.attribute("Software", "moire 9.8.7");
+            if (dpi > 0) {
+                spec.attribute("XResolution", static_cast<float>(dpi));
+                spec.attribute("YResolution", static_cast<float>(dpi));
+                spec.attribute("ResolutionUnit", "inch");
+            }
+            CHECK(pngColourChunks(dpi, "moire 9.8.7") == pngChunksBeforeData(oiioPng(spec, pixel)));
+        }
+}

@@ -18,7 +18,7 @@ namespace {
 // allocator's slack. Measured at 204 MB peak resident for a one-layer scene rendered at 16x16
 // on the JIT to TIFF, and 65-80 MB to PNG (getrusage of the child, 2 cores).
 constexpr uint64_t kProcessBytes = 256ull << 20;
-constexpr uint64_t kProcessBytesWithoutOiio = 128ull << 20;
+constexpr uint64_t kProcessBytesWithoutOiio = 96ull << 20;
 // OpenImageIO writes a scanline file in chunks of about 64 MB of the caller's pixels, each
 // converted to the file's type in a buffer of its own; the codecs keep a few rows besides.
 constexpr uint64_t kWriterChunkBytes = 64ull << 20;

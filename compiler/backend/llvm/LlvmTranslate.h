@@ -36,10 +36,10 @@ struct TranslateOptions {
     // cost model.
     unsigned chunkVectorWidth = 0;
     // Pixels per step of the tile function's own translation (Translator.h): 1, scalar
-    // values (the vectoriser may widen straight-line kernels); 4 or 8, vectors of that many
+    // values (the vectoriser may widen straight-line kernels); 4, 8 or 16, vectors of that many
     // pixels, with `if` and `loop` run under masks.
     unsigned lanes = 1;
-    // Lane-wide libm calls go to glibc's libmvec (loaded in the process; 4 or 8 lanes);
+    // Lane-wide libm calls go to glibc's libmvec (loaded in the process; 4, 8 or 16 lanes);
     // otherwise each lane calls the scalar function.
     bool vectorMaths = false;
 };

@@ -24,7 +24,7 @@ namespace moire::llvmbackend {
 
 struct TranslatorShape {
     unsigned lanes = 1;       // pixels per step; 1: scalar values
-    bool vectorMaths = false; // libm calls go to glibc's libmvec (4 or 8 lanes only)
+    bool vectorMaths = false; // libm calls go to glibc's libmvec (4, 8 or 16 lanes)
 };
 
 class Translator {

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cstdlib>
 #include <cstring>
+#include <memory>
 #include <stdexcept>
 #include <string>
 #include <zlib.h>
@@ -138,47 +139,100 @@ int PngBands::rowsIn(int band) const {
     return std::min(bandRows_, height_ - firstRow(band));
 }
 
+namespace {
+
+// A thread's working memory for its bands, kept from one band to the next: a frame's bands
+// come on the same few threads, and fresh buffers for each (with zlib's own state, about
+// 256 KiB at level 4) cost a page fault for every 4 KiB touched and a zero-fill the encoder
+// then overwrites; they were a fifth of a 1080p render's time.
+class Scratch {
+  public:
+    ~Scratch() {
+        if (level_ >= 0) deflateEnd(&z_);
+    }
+    // Room for `n` bytes, contents not kept.
+    unsigned char* filtered(size_t n) { return reserve(filtered_, filteredSize_, n); }
+    unsigned char* raw(int which, size_t n) { return reserve(raw_[which], rawSize_[which], n); }
+    // The deflate output: room for `n` bytes; grow() doubles it, keeping what was written.
+    unsigned char* deflated(size_t n) { return reserve(deflated_, deflatedSize_, n); }
+    unsigned char* grow() {
+        auto bigger = std::make_unique_for_overwrite<unsigned char[]>(2 * deflatedSize_);
+        std::memcpy(bigger.get(), deflated_.get(), deflatedSize_);
+        deflated_ = std::move(bigger);
+        deflatedSize_ *= 2;
+        return deflated_.get();
+    }
+    size_t deflatedSize() const { return deflatedSize_; }
+    // A raw deflate stream at `level`, fresh (reset when it was used before).
+    z_stream& stream(int level) {
+        if (level_ != level) {
+            if (level_ >= 0) deflateEnd(&z_);
+            z_ = z_stream{};
+            level_ = -1;
+            if (deflateInit2(&z_, level, Z_DEFLATED, -15, 8, Z_DEFAULT_STRATEGY) != Z_OK)
+                throw std::runtime_error("zlib cannot start a deflate stream");
+            level_ = level;
+        } else if (deflateReset(&z_) != Z_OK) {
+            throw std::runtime_error("zlib cannot reset a deflate stream");
+        }
+        return z_;
+    }
+
+  private:
+    using Buffer = std::unique_ptr<unsigned char[]>;
+    static unsigned char* reserve(Buffer& buffer, size_t& size, size_t n) {
+        if (size < n) {
+            buffer = std::make_unique_for_overwrite<unsigned char[]>(n);
+            size = n;
+        }
+        return buffer.get();
+    }
+    Buffer filtered_, raw_[2], deflated_;
+    size_t filteredSize_ = 0, rawSize_[2] = {0, 0}, deflatedSize_ = 0;
+    z_stream z_{};
+    int level_ = -1;
+};
+
+thread_local Scratch scratch;
+
+} // namespace
+
 void PngBands::encode(int band, const float* rows, size_t stride, int channels) {
     const int bpp = 4 * bits_ / 8;
     const size_t rowBytes = static_cast<size_t>(width_) * bpp;
     const int count = rowsIn(band);
 
-    std::vector<unsigned char> raw[2] = {std::vector<unsigned char>(rowBytes),
-                                         std::vector<unsigned char>(rowBytes)};
-    std::vector<unsigned char> filtered(static_cast<size_t>(count) * (rowBytes + 1));
+    unsigned char* raw[2] = {scratch.raw(0, rowBytes), scratch.raw(1, rowBytes)};
+    const size_t filteredSize = static_cast<size_t>(count) * (rowBytes + 1);
+    unsigned char* filtered = scratch.filtered(filteredSize);
     for (int r = 0; r < count; ++r) {
-        unsigned char* cur = raw[r % 2].data();
+        unsigned char* cur = raw[r % 2];
         quantizeRow(rows + static_cast<size_t>(r) * stride, width_, channels, bits_, cur);
-        filterRow(cur, r > 0 ? raw[(r + 1) % 2].data() : nullptr, rowBytes,
-                  static_cast<size_t>(bpp),
-                  filtered.data() + static_cast<size_t>(r) * (rowBytes + 1));
+        filterRow(cur, r > 0 ? raw[(r + 1) % 2] : nullptr, rowBytes, static_cast<size_t>(bpp),
+                  filtered + static_cast<size_t>(r) * (rowBytes + 1));
     }
 
     Band& b = bands_[static_cast<size_t>(band)];
-    b.adler =
-        static_cast<uint32_t>(adler32(1, filtered.data(), static_cast<uInt>(filtered.size())));
-    z_stream z{};
-    if (deflateInit2(&z, level_, Z_DEFLATED, -15, 8, Z_DEFAULT_STRATEGY) != Z_OK)
-        throw std::runtime_error("zlib cannot start a deflate stream");
+    b.adler = static_cast<uint32_t>(adler32(1, filtered, static_cast<uInt>(filteredSize)));
+    z_stream& z = scratch.stream(level_);
     const bool lastBand = band + 1 == bands();
     const int flush = lastBand ? Z_FINISH : Z_SYNC_FLUSH;
     // Room for the whole band in one call; a sync flush adds an empty stored block.
-    b.deflated.resize(deflateBound(&z, static_cast<uLong>(filtered.size())) + 64);
-    z.next_in = filtered.data();
-    z.avail_in = static_cast<uInt>(filtered.size());
+    unsigned char* out = scratch.deflated(deflateBound(&z, static_cast<uLong>(filteredSize)) + 64);
+    z.next_in = filtered;
+    z.avail_in = static_cast<uInt>(filteredSize);
     size_t used = 0;
     int status = Z_OK;
     do {
-        if (used == b.deflated.size()) b.deflated.resize(b.deflated.size() * 2);
-        z.next_out = b.deflated.data() + used;
-        z.avail_out = static_cast<uInt>(b.deflated.size() - used);
+        if (used == scratch.deflatedSize()) out = scratch.grow();
+        z.next_out = out + used;
+        z.avail_out = static_cast<uInt>(scratch.deflatedSize() - used);
         status = deflate(&z, flush);
-        used = b.deflated.size() - z.avail_out;
+        used = scratch.deflatedSize() - z.avail_out;
     } while (status == Z_OK && (lastBand || z.avail_in > 0 || z.avail_out == 0));
-    deflateEnd(&z);
     if (status != (lastBand ? Z_STREAM_END : Z_OK) && !(status == Z_BUF_ERROR && !lastBand))
         throw std::runtime_error("zlib failed to compress the image");
-    b.deflated.resize(used);
+    b.deflated.assign(out, out + used);
     b.done = true;
 }
 

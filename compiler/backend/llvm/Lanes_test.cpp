@@ -1,7 +1,8 @@
 // The JIT in lanes (Translator.h) computes, pixel by pixel, what the scalar JIT computes,
 // where neighbouring pixels take different arms of an `if` and run a `loop` different numbers
-// of times; and both agree with the reference interpreter. Kernels here call no libm function,
-// so lanes and scalar code must agree bit for bit (libmvec may round apart from libm).
+// of times; and both agree with the reference interpreter. Kernels here call no libm function
+// on values that differ from lane to lane, so lanes and scalar code must agree bit for bit
+// (libmvec may round apart from libm; a call on a value the same in every lane is libm's).
 #include "compiler/backend/llvm/LlvmJit.h"
 #include "compiler/ir/OpTable_test.h"
 
@@ -226,5 +227,41 @@ TEST_CASE("jit hypot: one rounding of the exact value from subnormals to the flo
         CHECK(optest::runPixel(*k, {nan, -inf})[0] == inf);
         CHECK(std::isnan(optest::runPixel(*k, {nan, 2.0})[0]));
         CHECK(optest::runPixel(*k, {0.0, -0.0})[0] == 0.0f);
+    }
+}
+
+// A maths call whose arguments are the same in every lane (the row, a uniform) is one call of
+// the scalar function, splatted: the code in lanes calls sinf, not libmvec, for it (and so
+// gives scalar code's bits), also inside a divergent arm; a call on the column stays in lanes.
+TEST_CASE("jit lanes: maths of a row's or a frame's value is one scalar call") {
+    ir::Function invariant = optest::build(3, [](Builder& b) {
+        ValueId row = b.sub(b.leaf(Op::PixelY), b.constF(0.5)), u = b.uniform(0);
+        b.output(0, b.emit(Op::Sin, {b.mul(row, u)}));
+        b.output(1, b.emit(Op::Atan2, {row, b.add(u, b.constF(1.0))}));
+        ValueId odd = b.gt(modF(b, column(b), 2.0), b.constF(0.5));
+        auto arm = b.ifThenElse(
+            odd, [&] { return std::vector<ValueId>{b.emit(Op::Cos, {b.mul(u, row)})}; },
+            [&] { return std::vector<ValueId>{b.constF(2.0)}; });
+        b.output(2, arm[0]);
+    });
+    ir::Function varying = optest::build(
+        1, [](Builder& b) { b.output(0, b.emit(Op::Sin, {b.mul(column(b), b.uniform(0))})); });
+    for (unsigned lanes : {4u, 8u, 16u}) {
+        LlvmJitBackend::Options o;
+        o.lanes = static_cast<int>(lanes);
+        LlvmJitBackend wide(o);
+        CAPTURE(lanes);
+        const std::string code = wide.dumpLlvm(invariant);
+        CHECK(code.find("@_ZGV") == std::string::npos);
+        CHECK(code.find("call float @sinf(") != std::string::npos);
+        CHECK(code.find("call float @atan2f(") != std::string::npos);
+        CHECK(code.find("call float @cosf(") != std::string::npos);
+        // The column's sine: libmvec, or without it one scalar call per lane; never one call.
+        const std::string column = wide.dumpLlvm(varying);
+        size_t scalarCalls = 0;
+        for (size_t at = 0; (at = column.find("call float @sinf(", at)) != std::string::npos; ++at)
+            ++scalarCalls;
+        CHECK((column.find("@_ZGV") != std::string::npos || scalarCalls == lanes));
+        for (TileRect t : kTiles) checkTile(invariant, t, lanes, [](int, double) { return true; });
     }
 }

@@ -16,7 +16,8 @@ using ir::Op;
 using ir::ValueId;
 
 Translator::Translator(const ir::Function& f, llvm::Module& m, TranslatorShape shape)
-    : f_(f), m_(m), ctx_(m.getContext()), b_(ctx_), vals_(f.numValues(), nullptr), shape_(shape) {
+    : f_(f), m_(m), ctx_(m.getContext()), b_(ctx_), vals_(f.numValues(), nullptr),
+      invariant_(f.numValues(), 0), shape_(shape) {
     sf_ = llvm::Type::getFloatTy(ctx_);
     si32_ = llvm::Type::getInt32Ty(ctx_);
     i64_ = llvm::Type::getInt64Ty(ctx_);
@@ -106,9 +107,11 @@ llvm::Function* Translator::run(const std::string& name, const Chunk* chunk, boo
         }
         pixelX_ = b_.CreateFAdd(splat(pxf), llvm::ConstantVector::get(offsets), "px");
         // The lanes still inside the tile: i < x1 - x (all of them in a whole strip).
-        if (!wholeStrip)
-            tail_ = b_.CreateICmpSGT(splat(b_.CreateSub(arg(5), x)),
-                                     llvm::ConstantVector::get(index), "inside");
+        if (!wholeStrip) {
+            llvm::Value* left = b_.CreateSub(arg(5), x);
+            tail_ = b_.CreateICmpSGT(splat(left), llvm::ConstantVector::get(index), "inside");
+            wholeRun_ = b_.CreateICmpSGE(left, b_.getInt32(static_cast<int>(lanes)), "whole");
+        }
         exec_ = tail_;
     }
     pixelBase_ = b_.CreateMul(b_.CreateSExt(b_.CreateSub(px, arg(3)), i64_),
@@ -252,10 +255,24 @@ void Translator::flushOutputs() {
                               : b_.CreateShuffleVector(llvm::concatenateVectors(b_, slots),
                                                        llvm::createInterleaveMask(lanes, n));
     llvm::Value* at = b_.CreateGEP(sf_, row_, pixelBase_);
-    if (tail_)
-        b_.CreateMaskedStore(run, at, llvm::Align(4), runMask());
-    else
+    if (!tail_) {
         b_.CreateAlignedStore(run, at, llvm::Align(4));
+        return;
+    }
+    // Every run but the last of a tile's row is whole: a plain store there, and the masked
+    // one (with its mask widened to every output slot) only at the tile's edge.
+    llvm::Function* fn = b_.GetInsertBlock()->getParent();
+    auto* whole = llvm::BasicBlock::Create(ctx_, "store.whole", fn);
+    auto* edge = llvm::BasicBlock::Create(ctx_, "store.edge", fn);
+    auto* stored = llvm::BasicBlock::Create(ctx_, "stored", fn);
+    b_.CreateCondBr(wholeRun_, whole, edge);
+    b_.SetInsertPoint(whole);
+    b_.CreateAlignedStore(run, at, llvm::Align(4));
+    b_.CreateBr(stored);
+    b_.SetInsertPoint(edge);
+    b_.CreateMaskedStore(run, at, llvm::Align(4), runMask());
+    b_.CreateBr(stored);
+    b_.SetInsertPoint(stored);
 }
 
 std::vector<OwnedModule> translate(const ir::Function& kernel, const std::string& name,

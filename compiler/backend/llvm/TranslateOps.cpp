@@ -4,6 +4,8 @@
 #include "compiler/diag/Diagnostics.h"
 #include "compiler/ir/Semantics.h"
 
+#include <algorithm>
+#include <llvm/Analysis/VectorUtils.h>
 #include <llvm/IR/Intrinsics.h>
 
 namespace moire::llvmbackend {
@@ -48,23 +50,42 @@ bool callsLibm(Op op) {
 // With lanes, glibc's vector version of it (libmvec: _ZGVbN4v_sinf for 4 SSE lanes,
 // _ZGVdN8v_sinf for 8 AVX2 lanes, _ZGVeN16v_sinf for 16 AVX-512 lanes), or where that is
 // missing, the scalar one lane by lane.
+namespace {
+
+// A libm function of `arity` arguments of type `ty`, declared in `m`. Kernels never read
+// errno, so to them these are pure functions; saying so lets LLVM hoist and vectorise the
+// calls.
+llvm::FunctionCallee declareMaths(llvm::Module& m, const std::string& name, llvm::Type* ty,
+                                  size_t arity) {
+    std::vector<llvm::Type*> params(arity, ty);
+    auto callee = m.getOrInsertFunction(name, llvm::FunctionType::get(ty, params, false));
+    if (auto* fn = llvm::dyn_cast<llvm::Function>(callee.getCallee())) {
+        fn->setDoesNotThrow();
+        fn->setDoesNotAccessMemory();
+        fn->setWillReturn();
+        fn->addFnAttr(llvm::Attribute::Speculatable);
+    }
+    return callee;
+}
+
+} // namespace
+
 llvm::Value* Translator::libm(const char* name, std::initializer_list<llvm::Value*> args) {
     callsLibm_ = true;
     const unsigned lanes = shape_.lanes;
     auto declare = [&](const std::string& fnName, llvm::Type* ty) {
-        std::vector<llvm::Type*> params(args.size(), ty);
-        auto callee = m_.getOrInsertFunction(fnName, llvm::FunctionType::get(ty, params, false));
-        if (auto* fn = llvm::dyn_cast<llvm::Function>(callee.getCallee())) {
-            // Kernels never read errno, so to them these are pure functions; saying so lets
-            // LLVM hoist and vectorise the calls.
-            fn->setDoesNotThrow();
-            fn->setDoesNotAccessMemory();
-            fn->setWillReturn();
-            fn->addFnAttr(llvm::Attribute::Speculatable);
-        }
-        return callee;
+        return declareMaths(m_, fnName, ty, args.size());
     };
     if (lanes == 1) return b_.CreateCall(declare(name, sf_), args);
+    // Arguments the same in every lane (a row's or a frame's value): one scalar call, its
+    // result splatted. libmvec's 16-lane sine costs about what sixteen pixels' do, and LICM
+    // puts such a call on every row of every tile; the scalar function is also the one scalar
+    // code calls.
+    if (argsInvariant_) {
+        std::vector<llvm::Value*> scalars;
+        for (llvm::Value* a : args) scalars.push_back(b_.CreateExtractElement(a, uint64_t{0}));
+        return b_.CreateVectorSplat(lanes, b_.CreateCall(declare(name, sf_), scalars));
+    }
     if (shape_.vectorMaths && (lanes == 4 || lanes == 8 || lanes == 16)) {
         std::string mangled = lanes == 4 ? "_ZGVbN4" : lanes == 8 ? "_ZGVdN8" : "_ZGVeN16";
         mangled += args.size() == 2 ? "vv_" : "v_";
@@ -116,9 +137,37 @@ llvm::Value* Translator::hypot(llvm::Value* a, llvm::Value* bv) {
     return b_.CreateSelect(b_.CreateFCmpOEQ(big, inf), inf, h);
 }
 
+// Whether an instruction's result is the same in every lane: the pixel's row, the image size,
+// uniforms and constants are; an op of such values is too. Region parameters, the results of
+// `if` and `loop` and values carried in from another chunk are taken to vary.
+bool Translator::laneInvariant(const ir::Inst& inst) const {
+    switch (inst.op) {
+    case Op::ConstF:
+    case Op::ConstI:
+    case Op::ConstB:
+    case Op::PixelY:
+    case Op::ImageW:
+    case Op::ImageH:
+    case Op::Uniform:
+        return true;
+    case Op::PixelX:
+    case Op::If:
+    case Op::Loop:
+    case Op::Output:
+    case Op::Tally:
+    case Op::Yield:
+        return false;
+    default:
+        return !inst.args.empty() && std::all_of(inst.args.begin(), inst.args.end(),
+                                                 [&](ValueId a) { return invariant_[a] != 0; });
+    }
+}
+
 void Translator::instruction(const ir::Inst& inst) {
     auto A = [&](int i) { return v(inst.args[i]); };
     llvm::Value* r = nullptr;
+    const bool invariant = shape_.lanes > 1 && laneInvariant(inst);
+    argsInvariant_ = invariant;
     switch (inst.op) {
     case Op::ConstF:
         r = cf(inst.imm);
@@ -335,6 +384,7 @@ void Translator::instruction(const ir::Inst& inst) {
     }
     MOIRE_CHECK(r, "LLVM: op '{}' produced nothing", ir::spelling(inst.op));
     vals_[inst.results[0]] = r;
+    invariant_[inst.results[0]] = invariant;
 }
 
 } // namespace moire::llvmbackend

@@ -57,6 +57,7 @@ class Translator {
 
     // --- ops (TranslateOps.cpp)
     void instruction(const ir::Inst& inst);
+    bool laneInvariant(const ir::Inst& inst) const;
     llvm::Constant* cf(double v);
     llvm::Value* v(ir::ValueId id);
     llvm::Value* intrinsic(llvm::Intrinsic::ID id, std::initializer_list<llvm::Value*> args);
@@ -81,6 +82,10 @@ class Translator {
     llvm::LLVMContext& ctx_;
     llvm::IRBuilder<> b_;
     std::vector<llvm::Value*> vals_;
+    // With lanes: whether each value is the same in every lane (laneInvariant), and whether
+    // every argument of the instruction being translated is.
+    std::vector<char> invariant_;
+    bool argsInvariant_ = false;
     TranslatorShape shape_;
     llvm::Type *sf_, *si32_, *i64_; // scalars
     llvm::Type *fTy_, *iTy_, *bTy_; // the types of IR values (vectors with lanes)
@@ -98,6 +103,7 @@ class Translator {
     // alloca (promoted to registers by LLVM) until the run's pixels are stored together.
     llvm::Value* exec_ = nullptr;
     llvm::Value* tail_ = nullptr;
+    llvm::Value* wholeRun_ = nullptr; // with tail_: every lane of the run is inside the tile
     int regionDepth_ = 0;
     std::vector<llvm::AllocaInst*> outSlots_;
     bool writesOutputs_ = false;

@@ -182,7 +182,10 @@ class JitKernel : public CompiledKernel {
 struct LlvmJitBackend::Impl {
     std::unique_ptr<llvm::orc::LLJIT> jit;
     std::optional<llvm::orc::JITTargetMachineBuilder> jtmb;
+    // The backend's target machine, which also compiles on the calling thread; and one for
+    // each further compiling thread (a TargetMachine is not safe to share between threads).
     std::unique_ptr<llvm::TargetMachine> tm;
+    std::vector<std::unique_ptr<llvm::TargetMachine>> workerMachines;
     std::mutex mutex;
     std::unordered_map<uint64_t, llvmbackend::TileFn> cache;
     int compiled = 0;
@@ -300,12 +303,13 @@ struct LlvmJitBackend::Impl {
                 }
             }
         };
-        // Target machines are made here: MOIRE_ICE must not throw on a worker thread.
-        std::vector<std::unique_ptr<llvm::TargetMachine>> machines;
-        for (unsigned t = 0; t < threads; ++t) machines.push_back(targetMachine());
+        // Target machines are made here (MOIRE_ICE must not throw on a worker thread) and kept
+        // for the next kernel: each builds its subtarget's tables on first use.
+        while (workerMachines.size() + 1 < threads) workerMachines.push_back(targetMachine());
         std::vector<std::thread> workers;
-        for (unsigned t = 1; t < threads; ++t) workers.emplace_back(work, std::ref(*machines[t]));
-        work(*machines[0]);
+        for (unsigned t = 1; t < threads; ++t)
+            workers.emplace_back(work, std::ref(*workerMachines[t - 1]));
+        work(*tm);
         for (std::thread& w : workers) w.join();
         for (size_t i = 0; i < modules.size(); ++i) {
             if (!errors[i].empty()) MOIRE_ICE("LLVM could not compile a chunk: {}", errors[i]);

@@ -294,6 +294,7 @@ int render(const RenderArgs& args) {
     // A PNG from a CPU kernel is encoded band by band as the workers finish them, and no
     // image of the whole frame is made; otherwise the frame is rendered whole, then encoded.
     Image img;
+    std::optional<AtomicFile> file; // a PNG written to a file as its bands come
     std::optional<BandedPng> png;
     BandTimes times;
     double kernelCompile = 0.0;
@@ -303,7 +304,14 @@ int render(const RenderArgs& args) {
         kernelCompile = secondsSince(c0);
         const KernelFrame kf{frame.uniforms.data(), frame.width, frame.height};
         if (image.format == "png" && !kernel->wholeFrame()) {
-            png.emplace(output, frame.width, frame.height, wo);
+            if (!toStdout) {
+                // A missing directory is created, as clip creates one; temporaries that
+                // renders killed there earlier left behind go.
+                prepareOutputDirectory(output);
+                removeStaleTemporaries(output);
+                file.emplace(output);
+            }
+            png.emplace(output, frame.width, frame.height, wo, file ? &*file : nullptr);
             const int channels = kernel->numOutputs();
             runKernelInBands(
                 *kernel, kf, exec, png->bandRows(),
@@ -344,17 +352,14 @@ int render(const RenderArgs& args) {
             const std::vector<unsigned char> bytes =
                 png ? png->file() : encodeImage(output, "png", img, wo);
             writeStandardOutput(bytes.data(), bytes.size());
+        } else if (png) {
+            png->finish(); // the bands are in the file already
         } else {
             // A missing directory is created, as clip creates one; temporaries that renders
             // killed there earlier left behind go.
             prepareOutputDirectory(output);
             removeStaleTemporaries(output);
-            if (png) {
-                const std::vector<unsigned char> bytes = png->file();
-                writeFileAtomically(output, bytes.data(), bytes.size());
-            } else {
-                writeImage(output, img, wo);
-            }
+            writeImage(output, img, wo);
         }
     } catch (const IoError& e) {
         fmt::print(stderr, "moire: error: {}\n", e.what());

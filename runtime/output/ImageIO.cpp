@@ -49,8 +49,9 @@ std::string depthProblem(const std::string& format, PixelDepth depth) {
     return "";
 }
 
-BandedPng::BandedPng(const std::string& path, int width, int height, const WriteOptions& options)
-    : path_(path) {
+BandedPng::BandedPng(const std::string& path, int width, int height, const WriteOptions& options,
+                     AtomicFile* stream)
+    : path_(path), stream_(stream) {
     if (std::string problem = depthProblem("png", options.depth); !problem.empty())
         throw IoError(problem);
     chunks_ = pngColourChunks(options.dpi, "moire " MOIRE_VERSION);
@@ -60,6 +61,11 @@ BandedPng::BandedPng(const std::string& path, int width, int height, const Write
                                                                    : kPrintCompression);
     } catch (const std::exception& e) {
         throw encodeFailure(path, e.what());
+    }
+    if (stream_) {
+        added_.assign(static_cast<size_t>(png_->bands()), 0);
+        const std::vector<unsigned char> head = png_->head(chunks_);
+        stream_->write(head.data(), head.size());
     }
 }
 
@@ -78,14 +84,38 @@ void BandedPng::add(int band, const float* rows, size_t stride, int channels) {
     } catch (const std::exception& e) {
         throw encodeFailure(path_, e.what());
     }
+    if (!stream_) return;
+    // Whoever completes the run of encoded bands from the top writes it, in order; the others
+    // only mark theirs. A write that fails throws IoError from here.
+    std::lock_guard<std::mutex> lock(streamMutex_);
+    added_[static_cast<size_t>(band)] = 1;
+    while (written_ < png_->bands() && added_[static_cast<size_t>(written_)]) {
+        const std::vector<unsigned char> data = png_->bandData(written_);
+        stream_->write(data.data(), data.size());
+        png_->release(written_++);
+    }
 }
 
 std::vector<unsigned char> BandedPng::file() const {
+    if (stream_) throw IoError("internal: BandedPng::file of a streamed PNG");
     try {
         return png_->file(chunks_);
     } catch (const std::exception& e) {
         throw encodeFailure(path_, e.what());
     }
+}
+
+void BandedPng::finish() {
+    if (!stream_ || written_ != png_->bands())
+        throw IoError(fmt::format("internal: '{}' finished before every band was written", path_));
+    std::vector<unsigned char> end;
+    try {
+        end = png_->tail();
+    } catch (const std::exception& e) {
+        throw encodeFailure(path_, e.what());
+    }
+    stream_->write(end.data(), end.size());
+    stream_->commit();
 }
 
 std::vector<unsigned char> encodeImage(const std::string& path, const std::string& format,

@@ -14,6 +14,7 @@
 #include <cmath>
 #include <cstdint>
 #include <memory>
+#include <mutex>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -51,24 +52,34 @@ void writeImage(const std::string& path, const Image& image, const WriteOptions&
 std::vector<unsigned char> encodeImage(const std::string& path, const std::string& format,
                                        const Image& image, const WriteOptions& options = {});
 
+class AtomicFile;
+
 // A PNG made from its bands as they come (render's pipeline, runKernelInBands): the pixel
 // data of each band of bandRows() rows encoded on the thread that hands it over, in any order
-// (PngBands.h), then the whole file's bytes, as encodeImage would make them. Throws IoError
-// naming `path`.
+// (PngBands.h). Then either the whole file's bytes, as encodeImage would make them (file()),
+// or, with `stream`, the file written as the bands come: each band's data goes to `stream`
+// (from the thread that finished it) as soon as every band above it has gone, and is freed;
+// finish() writes the end and commits the file. Throws IoError naming `path`.
 class BandedPng {
   public:
-    BandedPng(const std::string& path, int width, int height, const WriteOptions& options);
+    BandedPng(const std::string& path, int width, int height, const WriteOptions& options,
+              AtomicFile* stream = nullptr);
     ~BandedPng();
     int bands() const;
     int bandRows() const;
     // Band `band`'s rows: `channels` floats a pixel (RGBA first), `stride` floats a row.
     void add(int band, const float* rows, size_t stride, int channels);
-    std::vector<unsigned char> file() const; // every band added
+    std::vector<unsigned char> file() const; // every band added; not when streamed
+    void finish();                           // every band added; streamed only
 
   private:
     std::string path_;
     std::vector<unsigned char> chunks_;
     std::unique_ptr<PngBands> png_;
+    AtomicFile* stream_;
+    std::mutex streamMutex_;
+    std::vector<char> added_; // with a stream: which bands are encoded
+    int written_ = 0;         // with a stream: the bands written, from the top
 };
 
 // Why `format` (imageFormatOf's name) cannot hold `depth`, or "" when it can.

@@ -114,31 +114,61 @@ void writeStandardOutput(const void* data, size_t size) {
         throw IoError(fmt::format("cannot write to standard output: {}", std::strerror(error)));
 }
 
-void writeFileAtomically(const std::string& path, const void* data, size_t size) {
-    const std::string temp = temporaryBeside(path);
+AtomicFile::AtomicFile(const std::string& path) : path_(path), temp_(temporaryBeside(path)) {
     // O_EXCL: the name is ours alone; never follow a link someone left in its place.
-    int fd = ::open(temp.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
-    if (fd < 0) throw cannotWrite(path, errno);
-    auto fail = [&](int error) {
-        if (fd >= 0) ::close(fd);
-        removeQuietly(temp);
-        return cannotWrite(path, error);
-    };
-    if (int error = writeAll(fd, data, size)) throw fail(error);
+    fd_ = ::open(temp_.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
+    if (fd_ < 0) throw cannotWrite(path_, errno);
+}
+
+AtomicFile::~AtomicFile() {
+    if (fd_ >= 0) {
+        ::close(fd_);
+        removeQuietly(temp_);
+    }
+}
+
+void AtomicFile::fail(int error) {
+    if (fd_ >= 0) ::close(fd_);
+    fd_ = -1;
+    removeQuietly(temp_);
+    throw cannotWrite(path_, error);
+}
+
+void AtomicFile::write(const void* data, size_t size) {
+    if (fd_ < 0) throw cannotWrite(path_, EBADF);
+    if (int error = writeAll(fd_, data, size)) fail(error);
+}
+
+void AtomicFile::commit() {
+    if (fd_ < 0) throw cannotWrite(path_, EBADF);
     // A file that is replaced keeps its permissions (a scene the viewer writes the placement
     // into, an image someone made read-only for others); a new one gets 0666 less the umask.
     struct stat before {};
-    if (::stat(path.c_str(), &before) == 0 && S_ISREG(before.st_mode) &&
-        ::fchmod(fd, before.st_mode & 07777) != 0)
-        throw fail(errno);
+    if (::stat(path_.c_str(), &before) == 0 && S_ISREG(before.st_mode) &&
+        ::fchmod(fd_, before.st_mode & 07777) != 0)
+        fail(errno);
     // Delayed allocation can leave ENOSPC for fsync or close to report; and without the
     // fsync a crash soon after the rename could leave an empty file under the final name.
-    if (::fsync(fd) != 0) throw fail(errno);
-    int rc = ::close(fd);
-    fd = -1;
+    if (::fsync(fd_) != 0) fail(errno);
+    int rc = ::close(fd_);
+    fd_ = -1;
     // On Linux the descriptor is released even when close reports EINTR; nothing was lost.
-    if (rc != 0 && errno != EINTR) throw fail(errno);
-    if (::rename(temp.c_str(), path.c_str()) != 0) throw fail(errno);
+    if (rc != 0 && errno != EINTR) {
+        int error = errno;
+        removeQuietly(temp_);
+        throw cannotWrite(path_, error);
+    }
+    if (::rename(temp_.c_str(), path_.c_str()) != 0) {
+        int error = errno;
+        removeQuietly(temp_);
+        throw cannotWrite(path_, error);
+    }
+}
+
+void writeFileAtomically(const std::string& path, const void* data, size_t size) {
+    AtomicFile file(path);
+    file.write(data, size);
+    file.commit();
 }
 
 void commitTemporary(const std::string& temp, const std::string& path) {

@@ -23,8 +23,27 @@
 
 namespace moire {
 
-// Writes `size` bytes to `path` through a temporary beside it; a file replaced keeps its
-// permissions. Throws IoError.
+// A file written piece by piece under the same rules: the pieces go to a temporary beside
+// `path`, and commit() moves it into place (a file replaced keeps its permissions). Dropped
+// without a commit (a failed write, an exception on the way), the temporary is removed and
+// any earlier file is left as it was. Every failure throws IoError naming `path`.
+class AtomicFile {
+  public:
+    explicit AtomicFile(const std::string& path);
+    ~AtomicFile();
+    AtomicFile(const AtomicFile&) = delete;
+    AtomicFile& operator=(const AtomicFile&) = delete;
+
+    void write(const void* data, size_t size);
+    void commit(); // fsync, close, rename into place
+
+  private:
+    [[noreturn]] void fail(int error);
+    std::string path_, temp_;
+    int fd_ = -1;
+};
+
+// Writes `size` bytes to `path` through a temporary beside it (one AtomicFile). Throws IoError.
 void writeFileAtomically(const std::string& path, const void* data, size_t size);
 
 // Writes `size` bytes to standard output (render -o -), every write checked. Throws

@@ -236,19 +236,8 @@ void PngBands::encode(int band, const float* rows, size_t stride, int channels) 
     b.done = true;
 }
 
-std::vector<unsigned char> PngBands::file(const std::vector<unsigned char>& chunks) const {
-    size_t size = sizeof kSignature + 25 + chunks.size() + 12 + 6;
-    uint32_t adler = 1;
-    for (size_t i = 0; i < bands_.size(); ++i) {
-        if (!bands_[i].done) throw std::logic_error("PngBands: a band was not encoded");
-        size += bands_[i].deflated.size() + 12 * (1 + bands_[i].deflated.size() / kMaxChunk);
-        const size_t length =
-            static_cast<size_t>(rowsIn(static_cast<int>(i))) * (1 + size_t(width_) * 4 * bits_ / 8);
-        adler = static_cast<uint32_t>(
-            adler32_combine(adler, bands_[i].adler, static_cast<z_off_t>(length)));
-    }
+std::vector<unsigned char> PngBands::head(const std::vector<unsigned char>& chunks) const {
     std::vector<unsigned char> out(std::begin(kSignature), std::end(kSignature));
-    out.reserve(size);
     std::vector<unsigned char> ihdr;
     put32(ihdr, static_cast<uint32_t>(width_));
     put32(ihdr, static_cast<uint32_t>(height_));
@@ -258,7 +247,6 @@ std::vector<unsigned char> PngBands::file(const std::vector<unsigned char>& chun
         ihdr.push_back(v);
     putChunk(out, "IHDR", ihdr.data(), ihdr.size());
     out.insert(out.end(), chunks.begin(), chunks.end());
-
     // The zlib header: deflate with a 32 KiB window, the level class, and the check bits
     // that make the two bytes a multiple of 31.
     const unsigned cmf = 0x78;
@@ -266,15 +254,52 @@ std::vector<unsigned char> PngBands::file(const std::vector<unsigned char>& chun
     flg += 31 - (cmf * 256 + flg) % 31;
     const unsigned char header[2] = {static_cast<unsigned char>(cmf),
                                      static_cast<unsigned char>(flg)};
-    std::vector<unsigned char> trailer;
-    put32(trailer, adler);
     putChunk(out, "IDAT", header, 2);
-    for (const Band& b : bands_)
-        for (size_t at = 0; at < b.deflated.size(); at += kMaxChunk)
-            putChunk(out, "IDAT", b.deflated.data() + at,
-                     std::min(kMaxChunk, b.deflated.size() - at));
+    return out;
+}
+
+std::vector<unsigned char> PngBands::bandData(int band) const {
+    const Band& b = bands_.at(static_cast<size_t>(band));
+    if (!b.done) throw std::logic_error("PngBands: a band was not encoded");
+    std::vector<unsigned char> out;
+    out.reserve(b.deflated.size() + 12 * (1 + b.deflated.size() / kMaxChunk));
+    for (size_t at = 0; at < b.deflated.size(); at += kMaxChunk)
+        putChunk(out, "IDAT", b.deflated.data() + at, std::min(kMaxChunk, b.deflated.size() - at));
+    return out;
+}
+
+std::vector<unsigned char> PngBands::tail() const {
+    uint32_t adler = 1;
+    for (size_t i = 0; i < bands_.size(); ++i) {
+        if (!bands_[i].done) throw std::logic_error("PngBands: a band was not encoded");
+        const size_t length =
+            static_cast<size_t>(rowsIn(static_cast<int>(i))) * (1 + size_t(width_) * 4 * bits_ / 8);
+        adler = static_cast<uint32_t>(
+            adler32_combine(adler, bands_[i].adler, static_cast<z_off_t>(length)));
+    }
+    std::vector<unsigned char> trailer, out;
+    put32(trailer, adler);
     putChunk(out, "IDAT", trailer.data(), trailer.size());
     putChunk(out, "IEND", nullptr, 0);
+    return out;
+}
+
+void PngBands::release(int band) {
+    std::vector<unsigned char>().swap(bands_.at(static_cast<size_t>(band)).deflated);
+}
+
+std::vector<unsigned char> PngBands::file(const std::vector<unsigned char>& chunks) const {
+    std::vector<unsigned char> out = head(chunks);
+    size_t size = out.size() + 24;
+    for (const Band& b : bands_)
+        size += b.deflated.size() + 12 * (1 + b.deflated.size() / kMaxChunk);
+    out.reserve(size);
+    for (int i = 0; i < bands(); ++i) {
+        std::vector<unsigned char> data = bandData(i);
+        out.insert(out.end(), data.begin(), data.end());
+    }
+    std::vector<unsigned char> end = tail();
+    out.insert(out.end(), end.begin(), end.end());
     return out;
 }
 

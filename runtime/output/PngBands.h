@@ -47,6 +47,15 @@ class PngBands {
     // must have been encoded.
     std::vector<unsigned char> file(const std::vector<unsigned char>& chunks) const;
 
+    // The same file in pieces, to be written as the bands come (BandedPng): head() is every
+    // byte before the first band's data; bandData(band) that band's data as IDAT chunks (the
+    // band encoded); tail() the Adler-32 of all the data and IEND (every band encoded).
+    // release(band) frees a band's compressed bytes once they are written.
+    std::vector<unsigned char> head(const std::vector<unsigned char>& chunks) const;
+    std::vector<unsigned char> bandData(int band) const;
+    std::vector<unsigned char> tail() const;
+    void release(int band);
+
   private:
     struct Band {
         std::vector<unsigned char> deflated;

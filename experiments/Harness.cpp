@@ -1,5 +1,7 @@
 #include "experiments/Harness.h"
 
+#include "compiler/backend/interp/Interpreter.h"
+
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -82,9 +84,49 @@ std::vector<Fraction> convergents(double x, int64_t maxQ) {
     return out;
 }
 
+Shipped stackKernel(const std::vector<G>& g) {
+    // The kernel: the layers' gradients are uniforms; the stack's character is built by
+    // stackCharacter, exactly as a view builds it, and run on the reference interpreter.
+    ir::Function f;
+    f.name = "characters";
+    f.numOutputs = 4;
+    ir::Builder b(f);
+    std::vector<lower::LayerFields> layers;
+    for (size_t i = 0; i < g.size(); ++i) {
+        lower::LayerFields l;
+        l.index = l.distance = b.constF(0.0);
+        l.gradX = b.uniform(static_cast<int>(2 * i));
+        l.gradY = b.uniform(static_cast<int>(2 * i + 1));
+        layers.push_back(l);
+    }
+    lower::Character c = lower::stackCharacter(b, layers);
+    b.output(0, c.mu);
+    for (int i = 0; i < 3; ++i)
+        b.output(1 + i, i < c.count ? c.k[static_cast<size_t>(i)] : b.constF(0.0));
+    ir::verify(f);
+    std::vector<double> u;
+    for (const G& v : g) {
+        u.push_back(v.x);
+        u.push_back(v.y);
+    }
+    const std::vector<double> out = Interpreter(f).atPixel(u, 0.5, 0.5, 1, 1);
+    return {out[0], static_cast<int>(std::lround(out[1])), static_cast<int>(std::lround(out[2])),
+            static_cast<int>(std::lround(out[3]))};
+}
+
 Shipped shippedPair(G g1, G g2) {
     const lower::PairCharacterT<double> c = lower::bestPairCharacter<double>(g1, g2);
-    return {c.mu, static_cast<int>(std::lround(c.k1)), static_cast<int>(std::lround(c.k2))};
+    return {c.mu, static_cast<int>(std::lround(c.k1)), static_cast<int>(std::lround(c.k2)), 0};
+}
+
+std::string characterName(int k1, int k2, int k3, bool three) {
+    const int sign = (k1 != 0 ? k1 : (k2 != 0 ? k2 : k3)) < 0 ? -1 : 1;
+    char buf[64];
+    if (three)
+        std::snprintf(buf, sizeof buf, "(%d, %d, %d)", sign * k1, sign * k2, sign * k3);
+    else
+        std::snprintf(buf, sizeof buf, "(%d, %d)", sign * k1, sign * k2);
+    return buf;
 }
 
 bool sameCharacter(int a1, int a2, int b1, int b2) {
@@ -96,11 +138,11 @@ G gradientOf(double pitch, double angle) {
 }
 
 void printTitle(const std::string& title) {
-    std::printf("%s\n%-58s %-16s %s\n", title.c_str(), "", "paper", "ours");
+    std::printf("%s\n%-58s %-22s %s\n", title.c_str(), "", "paper", "ours");
 }
 
 void printRow(const std::string& what, const std::string& paper, const std::string& ours) {
-    std::printf("  %-56s %-16s %s\n", what.c_str(), paper.c_str(), ours.c_str());
+    std::printf("  %-56s %-22s %s\n", what.c_str(), paper.c_str(), ours.c_str());
 }
 
 std::string percent(double fraction) {

@@ -44,9 +44,15 @@ std::vector<Fraction> convergents(double x, int64_t maxQ);
 // The shipped per-pixel search, in double (Characters.h's bestPairCharacter).
 struct Shipped {
     double mu;
-    int k1, k2;
+    int k1, k2, k3; // k3: the third layer's, for a stack of three
 };
 Shipped shippedPair(G g1, G g2);
+// The same search as the kernel's IR (stackCharacter over layers with these gradients,
+// bottom to top), run on the reference interpreter.
+Shipped stackKernel(const std::vector<G>& g);
+
+// "(k1, k2)" or "(k1, k2, k3)", signed so that the first nonzero coefficient is positive.
+std::string characterName(int k1, int k2, int k3 = 0, bool three = false);
 
 // True when characters a and b are the same (k and -k are one character).
 bool sameCharacter(int a1, int a2, int b1, int b2);

@@ -189,3 +189,30 @@ TEST_CASE("characters: a sole layer and a zero gradient have no character") {
         CHECK(two.run({0.1, 0.0, 0.0, 0.0})[0] >= 1.0); // a beat with nothing is no fringe
     }
 }
+
+TEST_CASE("characters: exactly commensurate parallel families keep their low-order fringe") {
+    // Parallel line families at rational pitch ratios beat exactly (eta = 0) in characters
+    // of every multiple order; the visible fringe is the lowest of them, which the merit's
+    // floor on eta keeps ahead of the high orders (10 : 10.5 is 20 : 21, whose (21, -20)
+    // also has eta 0). The expected winners are solved by hand.
+    struct Case {
+        double s1, s2;
+        int k1, k2; // up to sign
+    };
+    test::KernelProbe probe = stackProbe(2);
+    for (const std::string& backend : test::probeBackends()) {
+        if (!probe.use(backend)) continue;
+        INFO(backend);
+        for (const Case& c : {Case{10, 10.5, 1, -1}, Case{15, 5, 3, -1}, Case{10, 20, 1, -2},
+                              Case{12, 8, 3, -2}, Case{7, 7, 1, -1}})
+            for (double angle : {0.0, 0.4, 2.2}) {
+                INFO(c.s1, " : ", c.s2, " at ", angle);
+                const Grad<double> g1 = gradientOf(c.s1, angle), g2 = gradientOf(c.s2, angle);
+                const std::vector<double> got = probe.run({g1.x, g1.y, g2.x, g2.y});
+                const double sign = got[1] * c.k1 > 0 ? 1.0 : -1.0;
+                CHECK(sign * got[1] == c.k1);
+                CHECK(sign * got[2] == c.k2);
+                CHECK(got[0] < lower::kFringeMerit);
+            }
+    }
+}

@@ -48,9 +48,10 @@ class KernelProbe {
     std::unique_ptr<CompiledKernel> kernel_; // compiled by backend_
 };
 
-// The backends these tests hold to the reference: the interpreter and the JIT.
+// The backends these tests hold to the same expectations: the reference interpreter, the JIT
+// and the GPU (each skipped where it cannot run).
 inline const std::vector<std::string>& probeBackends() {
-    static const std::vector<std::string> names = {"interp", "jit"};
+    static const std::vector<std::string> names = {"interp", "jit", "vulkan"};
     return names;
 }
 

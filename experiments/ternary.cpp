@@ -33,8 +33,10 @@ struct Tally {
 };
 
 Tally survey(double s1, double s2, double s3, int grid) {
-    // Centres 180 units apart on a line, the third family's midway; a 480-unit frame.
-    const double c1x = -90, c2x = 90, c3x = 0, cy = 0, half = 240;
+    // Centres 160 units apart on a line, the third family's midway; a 480-unit frame. (The
+    // share of the frame the ternary holds depends on the spacing, which the spec leaves
+    // open: 98% at 40 apart, 60% at 160, 50% at 180.)
+    const double c1x = -80, c2x = 80, c3x = 0, cy = 0, half = 240;
     Tally t;
     for (int iy = 0; iy < grid; ++iy)
         for (int ix = 0; ix < grid; ++ix) {
@@ -71,15 +73,15 @@ int main(int argc, char** argv) {
     const Tally on = survey(s1, s2, harmonic, grid);
     const Tally off = survey(s1, s2, harmonic * 1.1, grid);
     // The kernel itself (IR on the interpreter) at one point of the predicted region.
-    const G p1 = ringGradient(230, 30, -90, 0, s1), p2 = ringGradient(230, 30, 90, 0, s2),
+    const G p1 = ringGradient(230, 30, -80, 0, s1), p2 = ringGradient(230, 30, 80, 0, s2),
             p3 = ringGradient(230, 30, 0, 0, harmonic);
     const Shipped kernel = stackKernel({p1, p2, p3});
     char buf[96];
     printTitle("ternary: rings of pitches 7 and 11 and their harmonic mean 8.56 between them, "
-               "outer centres 180 apart");
+               "outer centres 160 apart");
     std::snprintf(buf, sizeof buf, "%s of %d points", percent(double(on.named) / on.points).c_str(),
                   on.points);
-    printRow("frame where the shipped search names (1, 1, -2)", "about half the frame", buf);
+    printRow("frame where the shipped search names (1, 1, -2)", "over half the frame", buf);
     std::snprintf(buf, sizeof buf, "%s", percent(double(on.predicted) / on.points).c_str());
     printRow("frame where the prediction puts it", "-", buf);
     std::snprintf(buf, sizeof buf, "%s", percent(double(on.agree) / on.points).c_str());

@@ -30,7 +30,7 @@ int main(int argc, char** argv) {
     std::uniform_real_distribution<double> unit(0.0, 1.0);
     int visible = 0, floorMisses = 0, shippedMisses = 0, agree = 0, agreeVisible = 0,
         slowerBeyond = 0;
-    int nearThree = 0;
+    int nearThree = 0, irAgrees = 0;
     for (int t = 0; t < trials; ++t) {
         const double s1 = 4.0 * std::pow(10.0, unit(rng));
         const double s2 = s1 * std::pow(4.0, 2.0 * unit(rng) - 1.0);
@@ -41,6 +41,9 @@ int main(int argc, char** argv) {
         const Exhaustive all = exhaustiveMinimum(g1, g2, kMaxOrder);
         const Exhaustive low = exhaustiveMinimum(g1, g2, 2);
         const Shipped got = shippedPair(g1, g2);
+        const Shipped kernel = stackKernel({g1, g2}); // the same search as IR, interpreted
+        irAgrees += sameCharacter(kernel.k1, kernel.k2, got.k1, got.k2) &&
+                    std::abs(kernel.mu - got.mu) <= 1e-12 * std::max(1.0, got.mu);
         const bool same = sameCharacter(got.k1, got.k2, all.k1, all.k2);
         agree += same;
         if (!same && got.mu < all.mu) ++slowerBeyond; // a slower beat past order 48
@@ -68,6 +71,8 @@ int main(int argc, char** argv) {
              num(floorMisses) + " (" + percent(double(floorMisses) / visible) + ")");
     printRow("  of them at a pitch ratio within 0.25 of 3", "clustered near 3", num(nearThree));
     printRow("visible fringes the shipped reduction misses", "1", num(shippedMisses));
+    printRow("kernel IR (interpreter) = the search in double", "-",
+             num(irAgrees) + " of " + num(trials));
     printRow("shipped winner = exhaustive winner, all pairs", "99.8%",
              percent(double(agree) / trials));
     printRow("shipped winner = exhaustive winner, visible pairs", "-",

@@ -41,7 +41,7 @@ Combination characterCombination(ir::Builder& b, const Character& c,
     for (int i = 0; i < c.count; ++i) {
         const LayerFields& f = layers[static_cast<size_t>(c.layer[static_cast<size_t>(i)])];
         ValueId k = c.k[static_cast<size_t>(i)];
-        value = b.add(value, b.mul(k, f.index));
+        value = b.add(value, b.mul(k, orZero(b, f.index)));
         gx = b.add(gx, b.mul(k, orZero(b, f.gradX)));
         gy = b.add(gy, b.mul(k, orZero(b, f.gradY)));
     }

@@ -60,5 +60,40 @@ inline BuiltValue cos(BuiltValue x) {
 inline BuiltValue sin(BuiltValue x) {
     return {*x.b, x.b->sin(x.id)};
 }
+inline BuiltValue operator*(double x, BuiltValue y) {
+    return y.constant(x) * y;
+}
+inline BuiltValue abs(BuiltValue x) {
+    return {*x.b, x.b->abs(x.id)};
+}
+inline BuiltValue floor(BuiltValue x) {
+    return {*x.b, x.b->floor(x.id)};
+}
+inline BuiltValue hypot(BuiltValue x, BuiltValue y) {
+    return {*x.b, x.b->hypot(x.id, y.id)};
+}
+
+// Branch-free choices, for maths that must stay straight-line IR: a comparison gives a
+// boolean value, and select picks by it. The double overloads are the same choices made
+// directly (call them qualified, ir::select, so that a template finds both).
+inline BuiltValue lessThan(BuiltValue x, BuiltValue y) {
+    return {*x.b, x.b->lt(x.id, y.id)};
+}
+inline BuiltValue select(BuiltValue cond, BuiltValue x, BuiltValue y) {
+    return {*x.b, x.b->select(cond.id, x.id, y.id)};
+}
+inline bool lessThan(double x, double y) {
+    return x < y;
+}
+inline double select(bool cond, double x, double y) {
+    return cond ? x : y;
+}
+// The number v in the kind of `like`: a constant of the function being built, or v itself.
+inline BuiltValue literal(BuiltValue like, double v) {
+    return like.constant(v);
+}
+inline double literal(double, double v) {
+    return v;
+}
 
 } // namespace moire::ir

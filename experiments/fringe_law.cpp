@@ -16,8 +16,9 @@ using namespace moire::exp;
 
 namespace {
 
-// Every pair draws its strokes 2.56 wide (w = 0.16 of a period at pitch 8, the paper's
-// parallel-rotate swing of 0.32) at zoom 1, so the antialias half-band is 0.7 world units.
+// Every pair draws its strokes 2.56 wide (w = 0.16 of a period at pitch 8: the hard-edged
+// tent's swing 2w is the paper's parallel-rotate 0.32) at zoom 1, so the antialias
+// half-band is 0.7 world units (docs/fringe-law.md says what the soft edge does to the swing).
 constexpr double kStroke = 2.56, kAntialias = 0.7;
 
 struct PaperRow {
@@ -38,8 +39,8 @@ struct Pair {
 };
 
 // The scenes, as the paper's descriptions say (pitch 8 unless the description mismatches
-// it). The frames are the paper's unstated choice; ours are squares of 480 units (the
-// hyperbola pairs': 400, to keep clear of the asymptotes' far reaches).
+// it). The paper does not give its frames; ours are squares of 480 units about the origin
+// (the hyperbola pairs': 400).
 const std::vector<Pair>& pairs() {
     static const std::vector<Pair> all = {
         {"parallel-rotate",

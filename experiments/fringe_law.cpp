@@ -207,13 +207,18 @@ std::string fixed(double v, int digits) {
 
 void printOurs(int n, double mean, double p99, const std::string& swing, double light, double dark,
                const std::string& inRegime) {
+    char line[160];
     if (n > 0)
-        std::printf("%-20s %-6s %7s %7s %7s %6s %14s %9s\n", "", "ours", count(n).c_str(),
-                    fixed(mean, 4).c_str(), fixed(p99, 4).c_str(), swing.c_str(),
-                    (fixed(light, 3) + " / " + fixed(dark, 3)).c_str(), inRegime.c_str());
+        std::snprintf(line, sizeof line, "%-20s %-6s %7s %7s %7s %6s %14s %9s", "", "ours",
+                      count(n).c_str(), fixed(mean, 4).c_str(), fixed(p99, 4).c_str(),
+                      swing.c_str(), (fixed(light, 3) + " / " + fixed(dark, 3)).c_str(),
+                      inRegime.c_str());
     else
-        std::printf("%-20s %-6s %7s %7s %7s %6s %14s %9s\n", "", "ours", "0", "-", "-", "-", "-",
-                    inRegime.c_str());
+        std::snprintf(line, sizeof line, "%-20s %-6s %7s %7s %7s %6s %14s %9s", "", "ours", "0",
+                      "-", "-", "-", "-", inRegime.c_str());
+    std::string text = line;
+    text.erase(text.find_last_not_of(' ') + 1);
+    std::printf("%s\n", text.c_str());
 }
 
 } // namespace

@@ -47,7 +47,8 @@ class Solver {
         // second is NaN, so a radius that is NaN everywhere (a shape with no sides, say) draws
         // nothing at a finite distance instead of writing NaN.
         out.distance = b_.min(guard_, found[0]);
-        out.index = in_.wantIndex ? searchedIndex(found[1]) : found[1];
+        out.index = found[1];
+        if (in_.wantIndex) searchedIndex(found[1], out);
         out.aux0 = nLo_;
         out.aux1 = nHiRaw_;
         return out;
@@ -438,9 +439,18 @@ class Solver {
     }
 
     // The searched index field of §4.1: the nearest index plus the fractional residual
-    // h(n*) / (h(n*) - h(n* + 1)) (or towards n* - 1 inside member n*).
-    ValueId searchedIndex(ValueId argmin) {
-        ValueId n = b_.denan(b_.min(argmin, c(kFarIndex)), c(0.0));
+    // h(n*) / (h(n*) - h(n* + 1)) (or towards n* - 1 inside member n*), and its gradient.
+    //
+    // The gradient is exact, by forward-mode AD through the solver's result rather than by
+    // differences across pixels: n* is piecewise constant in p (it changes only where another
+    // member becomes the nearest), so it is held fixed, and the fraction is differentiated
+    // through h(n*) and h(neighbour) as functions of p. Taking n* through a floor (exact: it
+    // is a whole number) is what holds it: a floor's derivative is zero without reading its
+    // argument's tangent, so AD carries no tangent into the search loops that found n*. Where
+    // the fraction falls back (no crossing towards the neighbour, or clamped to one member),
+    // the gradient is that fallback's own, as AD of the selects gives it.
+    void searchedIndex(ValueId argmin, LayerFields& out) {
+        ValueId n = b_.floor(b_.denan(b_.min(argmin, c(kFarIndex)), c(0.0)));
         ValueId h0 = residual(n);
         ValueId outside = b_.emit(Op::Ge, {h0, c(0.0)});
         ValueId neighbour = member(b_.select(outside, b_.add(n, c(1.0)), b_.sub(n, c(1.0))));
@@ -458,7 +468,9 @@ class Solver {
             b_.select(usable, toward,
                       b_.select(eq(n, c(0.0)), alone, b_.max(c(-1.0), b_.min(c(1.0), alone))));
         // A NaN radius (see run()) leaves the index at the searched member (or at 0).
-        return b_.denan(b_.add(n, frac), n);
+        out.index = b_.denan(b_.add(n, frac), n);
+        out.gradX = b_.emit(Op::DerivX, {out.index});
+        out.gradY = b_.emit(Op::DerivY, {out.index});
     }
 
     ir::Builder& b_;

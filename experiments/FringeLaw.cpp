@@ -11,10 +11,6 @@ namespace moire::exp {
 
 namespace {
 
-// The central-difference step for a layer without a kernel gradient, in world units: small
-// against any pitch the experiments draw (8), large against double rounding of the index.
-constexpr double kDifferenceStep = 1e-3;
-
 double smoothstep(double e0, double e1, double v) {
     // As the IR's smoothstep (ir::Builder::smoothstep), which draws every stroke.
     const double u = std::clamp((v - e0) / (e1 - e0), 0.0, 1.0);
@@ -63,12 +59,6 @@ FieldProbe::FieldProbe(const std::string& name, const std::string& text) {
                      name.c_str());
         std::exit(2);
     }
-    // A walking layer (LayerLowering::walks: it walks and its family has facets) has its
-    // index by search, and its kernel outputs no gradient for it (0 in the gradient slots).
-    for (int i = 0; i < 2; ++i) {
-        const sema::CheckedLayer& layer = program_->checked.layers[static_cast<size_t>(i)];
-        differenced_[i] = layer.walking && layer.family && layer.family->facets;
-    }
     kernel_ = std::make_unique<Interpreter>(program_->kernel);
     outputs_.resize(program_->kernel.numOutputs);
 }
@@ -92,25 +82,6 @@ void FieldProbe::at(double x, double y, LayerSample out[2]) {
     for (int i = 0; i < 2; ++i)
         out[i] = {outputs_[l.indexSlot(i)], outputs_[l.distanceSlot(i)], outputs_[l.gradXSlot(i)],
                   outputs_[l.gradYSlot(i)]};
-}
-
-void FieldProbe::withGradients(double x, double y, LayerSample out[2]) {
-    at(x, y, out);
-    for (int i = 0; i < 2; ++i) {
-        if (!differenced_[i]) continue;
-        LayerSample s[2];
-        const double e = kDifferenceStep;
-        at(x + e, y, s);
-        double gx = s[i].index;
-        at(x - e, y, s);
-        gx -= s[i].index;
-        at(x, y + e, s);
-        double gy = s[i].index;
-        at(x, y - e, s);
-        gy -= s[i].index;
-        out[i].gx = gx / (2 * e);
-        out[i].gy = gy / (2 * e);
-    }
 }
 
 double periodicDistance(double v) {
@@ -140,7 +111,7 @@ Window measureWindow(FieldProbe& probe, double x, double y, const Stroke stroke[
                      const WindowSettings& settings) {
     Window win;
     LayerSample c[2];
-    probe.withGradients(x, y, c);
+    probe.at(x, y, c);
     if (!finite(c[0]) || !finite(c[1])) {
         win.excluded = "undefined";
         return win;
@@ -171,7 +142,7 @@ Window measureWindow(FieldProbe& probe, double x, double y, const Stroke stroke[
     for (int k = 0; k < m && !win.excluded; ++k) {
         const double t = T * (double(k) / (m - 1) - 0.5);
         LayerSample s[2];
-        probe.withGradients(x + t * ux, y + t * uy, s);
+        probe.at(x + t * ux, y + t * uy, s);
         if (!finite(s[0]) || !finite(s[1])) {
             win.excluded = "undefined";
             break;

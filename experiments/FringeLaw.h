@@ -20,8 +20,8 @@ struct LayerSample {
 };
 
 // A two-layer scene compiled with its layers' fields as outputs, evaluated at any world
-// point. A walking layer, whose index is found by search and whose kernel gives no index
-// gradient, gets one by central differences of its index field, and says so (`differenced`).
+// point. Every layer's gradient is the kernel's own, from AD: a walking layer's too, through
+// its solver's result (its index is found by search).
 class FieldProbe {
   public:
     // Compiles `text`; on an error in it, prints the diagnostics and exits with status 2.
@@ -30,9 +30,6 @@ class FieldProbe {
 
     // Both layers' fields at world point (x, y).
     void at(double x, double y, LayerSample out[2]);
-    // The same, where a missing gradient is filled in by central differences.
-    void withGradients(double x, double y, LayerSample out[2]);
-    bool differenced(int layer) const { return differenced_[layer]; }
 
   private:
     void run(double x, double y);
@@ -41,7 +38,6 @@ class FieldProbe {
     std::unique_ptr<Interpreter> kernel_;
     std::vector<double> uniforms_, outputs_, regs_;
     double zoom_ = 1.0;
-    bool differenced_[2] = {false, false};
 };
 
 // The renderer's stroke in world units: half-width h = stroke / 2 (the true width, no

@@ -133,7 +133,6 @@ struct Result {
     int n = 0, admissible = 0;
     double mean = 0, p99 = 0, swing = 0, light = 0, dark = 0;
     std::map<std::string, int> excluded;
-    bool differenced = false;
 };
 
 Result measure(const Pair& pair, int grid, const WindowSettings& settings) {
@@ -157,7 +156,6 @@ Result measure(const Pair& pair, int grid, const WindowSettings& settings) {
             else
                 ++r.excluded["out of regime"];
         }
-    r.differenced = probe.differenced(0) || probe.differenced(1);
     r.n = static_cast<int>(kept.size());
     if (kept.empty()) return r;
     std::vector<double> err;
@@ -240,7 +238,6 @@ int main(int argc, char** argv) {
                 "light / dark", "in regime");
     bool ok = true;
     std::string why;
-    std::vector<std::string> notes;
     Result all; // the paper's summary: pooled mean, worst p99, n-weighted light and dark
     double lowSwing = INFINITY, highSwing = 0;
     for (const Pair& pair : pairs()) {
@@ -263,10 +260,6 @@ int main(int argc, char** argv) {
         for (const auto& [reason, count] : r.excluded)
             ex += " " + reason + " " + std::to_string(count);
         std::printf("%s\n", ex.c_str());
-        if (r.differenced)
-            notes.push_back(std::string(pair.name) +
-                            ": the walking layer's kernel gives no index gradient; it is taken "
-                            "by central differences of its index field (step 1e-3)");
 
         const std::string name = pair.name;
         if (name == "hyperbola-parallel") {
@@ -289,7 +282,6 @@ int main(int argc, char** argv) {
         printOurs(all.n, all.mean / all.n, all.p99, fixed(lowSwing, 2) + "-" + fixed(highSwing, 2),
                   all.light / all.n, all.dark / all.n, "");
     }
-    for (const std::string& note : notes) std::printf("note: %s\n", note.c_str());
     const double tent = hardEdgedDeparture();
     std::printf("Phi at b -> 0 against the tent of Eq. 8: worst departure %.1e\n", tent);
     if (!(tent < 1e-3)) {

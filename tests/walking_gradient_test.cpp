@@ -14,7 +14,10 @@
 //    index, or its two step sizes disagree), never the gradient under test;
 //  - against the closed form inside member 0, where the fraction falls back to the residual
 //    in spacings: for circles the gradient is p / (|p| s);
-//  - on the JIT (single precision) against the interpreter.
+//  - on the JIT (single precision) against the interpreter;
+//  - and structurally: AD leaves the solver's search loops as they are (n* is held fixed, so
+//    no tangent is carried through the search that found it).
+#include "compiler/passes/AutoDiff.h"
 #include "runtime/output/Render.h"
 #include "runtime/Probe.h"
 #include "tests/support/Support.h"
@@ -113,6 +116,14 @@ struct Stats {
     int compared = 0, skipped = 0;
     double worst = 0; // the largest relative error of the gradient's length
 };
+
+// The number of values each loop carries, in program order (regions in place).
+void loopWidths(const ir::Function& f, ir::BlockId block, std::vector<size_t>& out) {
+    for (const ir::Inst& inst : f.blocks[block].insts) {
+        if (inst.op == ir::Op::Loop) out.push_back(inst.results.size());
+        for (ir::BlockId r : inst.regions) loopWidths(f, r, out);
+    }
+}
 
 } // namespace
 
@@ -219,4 +230,22 @@ TEST_CASE("walking gradient: the JIT's gradient agrees with the interpreter's") 
         MESSAGE(name << ": " << compared << " points compared (" << nearMember
                      << " on a member), worst relative difference " << worst);
     }
+}
+
+TEST_CASE("walking gradient: AD carries no tangent through the solver's loops") {
+    size_t loops = 0;
+    for (const Scene& s : scenes()) {
+        const std::string name = s.name;
+        CAPTURE(name);
+        auto program =
+            test::compileOk(s.text, {.mode = CompileOptions::Mode::Probe, .layerFields = true});
+        std::vector<size_t> before, after;
+        loopWidths(program->lowered, 0, before);
+        loopWidths(passes::autoDiff(program->lowered), 0, after);
+        CHECK(after == before);
+        loops += before.size();
+    }
+    // The scan's stride and walk, the polygon's two passes: there are loops to leave alone
+    // (a scene whose parameters fold to the concentric or the circle's branch has none).
+    CHECK(loops >= 8);
 }

@@ -1,12 +1,15 @@
 // Render throughput and compile latency, measured side by side in one run.
 //
-//   build/bin/moire_bench [--size WxH] [--repeat N] [--lanes N] [--interp] [scene.moire ...]
+//   build/bin/moire_bench [--size WxH] [--repeat N] [--lanes N] [--interp] [--fields]
+//                         [scene.moire ...]
 //
 // For the default scene and every example (or the scenes given): the time from source text
 // to callable JIT code, then Mpx/s at 1920x1080 of the JIT in its two shapes side by side,
 // scalar (one pixel a step, left to LLVM's loop vectoriser) and in lanes (the host's SIMD
 // width, control flow under masks: what `moire` runs), and their ratio; with --interp, the
-// reference interpreter too. Each render is repeated and the fastest run kept (other work on
+// reference interpreter too; with --fields, the kernel also outputs every layer's index,
+// distance and index gradient (CompileOptions::layerFields, what the probes and the views that
+// read the fields ask for). Each render is repeated and the fastest run kept (other work on
 // the machine can only add time).
 #include "bench/BenchScenes.h"
 #include "compiler/backend/interp/Interpreter.h"
@@ -38,6 +41,7 @@ double seconds(Clock::time_point t0) {
 int main(int argc, char** argv) {
     int width = 1920, height = 1080, repeat = 3;
     bool withInterp = false;
+    CompileOptions compileOptions;
     int lanesOption = LlvmJitBackend::Options::kHostLanes;
     std::vector<Scene> scenes;
     for (int i = 1; i < argc; ++i) {
@@ -48,6 +52,8 @@ int main(int argc, char** argv) {
             lanesOption = std::atoi(argv[++i]);
         else if (a == "--interp")
             withInterp = true;
+        else if (a == "--fields")
+            compileOptions.layerFields = true;
         else
             scenes.push_back(bench::sceneFile(a));
     }
@@ -69,7 +75,7 @@ int main(int argc, char** argv) {
         // Source to callable code: parse, check, lower, AD, passes, then LLVM (a fresh JIT so
         // nothing is cached).
         auto t0 = Clock::now();
-        CompileResult r = compileScene(s.path, s.text);
+        CompileResult r = compileScene(s.path, s.text, compileOptions);
         if (!r.program) {
             fmt::print(stderr, "{}", r.diagnostics);
             return 1;

@@ -125,6 +125,26 @@ void loopWidths(const ir::Function& f, ir::BlockId block, std::vector<size_t>& o
     }
 }
 
+// A scene compiled with its layers' fields as outputs.
+std::unique_ptr<SceneProgram> compileFields(const std::string& text) {
+    return test::compileOk(text, {.mode = CompileOptions::Mode::Probe, .layerFields = true});
+}
+
+// Calls fn(layer, x, y) at `count` seeded points of the scene's box for each of its layers.
+template <class Fn>
+void forEachPoint(const Scene& s, const SceneProgram& program, std::mt19937& rng, int count,
+                  Fn&& fn) {
+    std::uniform_real_distribution<double> ux(-s.halfX, s.halfX), uy(-s.halfY, s.halfY);
+    for (int layer = 0; layer < program.layout.numLayers; ++layer)
+        for (int i = 0; i < count; ++i) {
+            const double x = ux(rng), y = uy(rng);
+            CAPTURE(layer);
+            CAPTURE(x);
+            CAPTURE(y);
+            fn(layer, x, y);
+        }
+}
+
 } // namespace
 
 TEST_CASE("walking gradient: the exact index gradient matches finite differences of the index") {
@@ -136,36 +156,28 @@ TEST_CASE("walking gradient: the exact index gradient matches finite differences
     for (const Scene& s : scenes()) {
         const std::string name = s.name;
         CAPTURE(name);
-        auto program =
-            test::compileOk(s.text, {.mode = CompileOptions::Mode::Probe, .layerFields = true});
+        auto program = compileFields(s.text);
         Fields exact(*program, nullptr);
-        std::uniform_real_distribution<double> ux(-s.halfX, s.halfX), uy(-s.halfY, s.halfY);
         Stats st;
-        for (int layer = 0; layer < program->layout.numLayers; ++layer) {
-            for (int i = 0; i < 400; ++i) {
-                const double x = ux(rng), y = uy(rng);
-                CAPTURE(layer);
-                CAPTURE(x);
-                CAPTURE(y);
-                const Sample g = exact.at(layer, x, y);
-                REQUIRE(std::isfinite(g.index));
-                REQUIRE(std::isfinite(g.gx));
-                REQUIRE(std::isfinite(g.gy));
-                const Difference dx = difference(exact, layer, x, y, 1, 0, h);
-                const Difference dy = difference(exact, layer, x, y, 0, 1, h);
-                const Difference dx2 = difference(exact, layer, x, y, 1, 0, 2 * h);
-                const Difference dy2 = difference(exact, layer, x, y, 0, 1, 2 * h);
-                if (!smooth(dx, dx2, g.index) || !smooth(dy, dy2, g.index)) {
-                    ++st.skipped;
-                    continue;
-                }
-                ++st.compared;
-                const double len = std::hypot(dx.slope, dy.slope);
-                const double err = std::hypot(g.gx - dx.slope, g.gy - dy.slope) / len;
-                st.worst = std::max(st.worst, err);
-                CHECK(err < 1e-7);
+        forEachPoint(s, *program, rng, 400, [&](int layer, double x, double y) {
+            const Sample g = exact.at(layer, x, y);
+            REQUIRE(std::isfinite(g.index));
+            REQUIRE(std::isfinite(g.gx));
+            REQUIRE(std::isfinite(g.gy));
+            const Difference dx = difference(exact, layer, x, y, 1, 0, h);
+            const Difference dy = difference(exact, layer, x, y, 0, 1, h);
+            const Difference dx2 = difference(exact, layer, x, y, 1, 0, 2 * h);
+            const Difference dy2 = difference(exact, layer, x, y, 0, 1, 2 * h);
+            if (!smooth(dx, dx2, g.index) || !smooth(dy, dy2, g.index)) {
+                ++st.skipped;
+                return;
             }
-        }
+            ++st.compared;
+            const double len = std::hypot(dx.slope, dy.slope);
+            const double err = std::hypot(g.gx - dx.slope, g.gy - dy.slope) / len;
+            st.worst = std::max(st.worst, err);
+            CHECK(err < 1e-7);
+        });
         MESSAGE(name << ": " << st.compared << " points compared, " << st.skipped
                      << " skipped, worst relative error " << st.worst);
         // The skips are the rare points near a kink, not the rule.
@@ -176,9 +188,8 @@ TEST_CASE("walking gradient: the exact index gradient matches finite differences
 TEST_CASE("walking gradient: inside member 0 the fallback's own gradient, p / (|p| s)") {
     // Member 0 is the circle of radius `phase` about the origin; inside it the fraction falls
     // back to the residual in spacings, (|p| - phase) / s.
-    auto program = test::compileOk(
-        layerScene("family = circles\nspacing = 8\nphase = 20\noffset = (1.0, 0.4)"),
-        {.mode = CompileOptions::Mode::Probe, .layerFields = true});
+    auto program =
+        compileFields(layerScene("family = circles\nspacing = 8\nphase = 20\noffset = (1.0, 0.4)"));
     Fields exact(*program, nullptr);
     for (int i = 0; i < 24; ++i) {
         const double a = 0.37 + 0.26 * i, r = 4.0 + 0.55 * i; // |p| from 4 to 16.7
@@ -199,34 +210,26 @@ TEST_CASE("walking gradient: the JIT's gradient agrees with the interpreter's") 
     for (const Scene& s : scenes()) {
         const std::string name = s.name;
         CAPTURE(name);
-        auto program =
-            test::compileOk(s.text, {.mode = CompileOptions::Mode::Probe, .layerFields = true});
+        auto program = compileFields(s.text);
         Fields exact(*program, nullptr), single(*program, jit.get());
-        std::uniform_real_distribution<double> ux(-s.halfX, s.halfX), uy(-s.halfY, s.halfY);
         int compared = 0, nearMember = 0;
         double worst = 0;
-        for (int layer = 0; layer < program->layout.numLayers; ++layer) {
-            for (int i = 0; i < 600; ++i) {
-                const double x = ux(rng), y = uy(rng);
-                CAPTURE(layer);
-                CAPTURE(x);
-                CAPTURE(y);
-                const Sample want = exact.at(layer, x, y), got = single.at(layer, x, y);
-                // The same index to single precision (of an index of order 100)...
-                CHECK(got.index == doctest::Approx(want.index).epsilon(1e-5).scale(100));
-                // ...and the same gradient, but on a member: the index has a kink there, and
-                // which side of it single precision lands on is a matter of rounding.
-                if (std::abs(want.index - std::round(want.index)) < 1e-3) {
-                    ++nearMember;
-                    continue;
-                }
-                ++compared;
-                const double err =
-                    std::hypot(got.gx - want.gx, got.gy - want.gy) / std::hypot(want.gx, want.gy);
-                worst = std::max(worst, err);
-                CHECK(err < 1e-3);
+        forEachPoint(s, *program, rng, 600, [&](int layer, double x, double y) {
+            const Sample want = exact.at(layer, x, y), got = single.at(layer, x, y);
+            // The same index to single precision (of an index of order 100)...
+            CHECK(got.index == doctest::Approx(want.index).epsilon(1e-5).scale(100));
+            // ...and the same gradient, but on a member: the index has a kink there, and
+            // which side of it single precision lands on is a matter of rounding.
+            if (std::abs(want.index - std::round(want.index)) < 1e-3) {
+                ++nearMember;
+                return;
             }
-        }
+            ++compared;
+            const double err =
+                std::hypot(got.gx - want.gx, got.gy - want.gy) / std::hypot(want.gx, want.gy);
+            worst = std::max(worst, err);
+            CHECK(err < 1e-3);
+        });
         MESSAGE(name << ": " << compared << " points compared (" << nearMember
                      << " on a member), worst relative difference " << worst);
     }
@@ -237,8 +240,7 @@ TEST_CASE("walking gradient: AD carries no tangent through the solver's loops") 
     for (const Scene& s : scenes()) {
         const std::string name = s.name;
         CAPTURE(name);
-        auto program =
-            test::compileOk(s.text, {.mode = CompileOptions::Mode::Probe, .layerFields = true});
+        auto program = compileFields(s.text);
         std::vector<size_t> before, after;
         loopWidths(program->lowered, 0, before);
         loopWidths(passes::autoDiff(program->lowered), 0, after);

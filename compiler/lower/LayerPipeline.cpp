@@ -59,7 +59,27 @@ LayerFields phaseFamilyFields(ir::Builder& b, ValueId phi, ValueId phase, ValueI
         ValueId inFold = b.select(b.gt(phi, b.constF(0.0)), b.max(distance, fold), onFold);
         distance = b.select(b.lt(index, b.constF(*first)), inFold, distance);
     }
-    return {index, distance, gx, gy};
+    LayerFields out;
+    out.index = index;
+    out.distance = distance;
+    out.gradX = gx;
+    out.gradY = gy;
+    out.sample = phaseSample(b, index, nearest, grad, first);
+    return out;
+}
+
+// Exact for a phase family: advancing the index by a moves member m's index residual from
+// m - index to m - index - a, and its distance is that residual over |grad index| (Eq. 5).
+PhaseSample phaseSample(ir::Builder& b, ValueId index, ValueId nearest, ValueId grad,
+                        std::optional<int> first) {
+    ValueId perIndex = b.div(b.constF(1.0), grad); // world units per unit of index
+    auto at = [&](double step) {
+        return b.mul(b.sub(b.add(nearest, b.constF(step)), index), perIndex);
+    };
+    PhaseSample s{at(0.0), at(1.0), at(-1.0), b.constF(0.0)};
+    if (first)
+        s.down = b.select(b.lt(nearest, b.constF(*first + 1.0)), b.constF(kNoMember), s.down);
+    return s;
 }
 
 StrokeBand strokeBand(ir::Builder& b, ValueId stroke, ValueId pixel) {

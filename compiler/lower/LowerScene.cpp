@@ -2,6 +2,7 @@
 // composed into the pixel, then the settings the frame reads (timings, checked values).
 #include "compiler/lower/LowerScene.h"
 
+#include "compiler/diag/Diagnostics.h"
 #include "compiler/ir/Builder.h"
 #include "compiler/lower/Camera.h"
 #include "compiler/lower/Compose.h"
@@ -28,6 +29,16 @@ void reserveSlots(LowerMode mode, int numLayers, std::vector<double>& literals, 
     }
 }
 
+// The view: the options', else the scene's `view`, else the pattern.
+sema::ViewMode viewOf(const sema::CheckedScene& scene, const LowerOptions& options) {
+    if (options.view) return *options.view;
+    const ast::Property* p = scene.scene ? scene.scene->prop("view") : nullptr;
+    if (!p) return sema::ViewMode::Pattern;
+    std::optional<sema::ViewMode> mode = sema::viewNamed(p->value->name);
+    MOIRE_CHECK(mode, "an unknown view survived checking");
+    return *mode;
+}
+
 } // namespace
 
 LoweredScene lowerScene(const sema::CheckedScene& scene, const LowerOptions& options,
@@ -50,9 +61,19 @@ LoweredScene lowerScene(const sema::CheckedScene& scene, const LowerOptions& opt
     // 1. The frame's size and camera; the pixel's world point.
     const ir::ValueId pixel = lowerCamera(ctx, layout.numKernelOutputs);
 
-    // 2. Each layer's fields, composed over the paper by the view mode.
-    Compose compose(b, ViewMode::Pattern,
-                    ctx.setting(scene.scene, sema::sceneProperties(), "background"));
+    // 2. Each layer's fields, composed over the paper by the view.
+    out.view = viewOf(scene, options);
+    auto sceneNumber = [&](const char* name, std::optional<double> given) {
+        if (given) return b.constF(*given);
+        return ctx.setting(scene.scene, sema::sceneProperties(), name)[0];
+    };
+    EnvelopeSettings envelope;
+    if (sema::viewSweeps(out.view)) {
+        envelope.gain = sceneNumber("envelope_gain", options.envelopeGain);
+        envelope.taps = sceneNumber("envelope_taps", options.envelopeTaps);
+    }
+    Compose compose(b, out.view, ctx.setting(scene.scene, sema::sceneProperties(), "background"),
+                    envelope);
     LayerLowering layers(ctx);
     ValueChecks checks(ctx);
     for (size_t i = 0; i < scene.layers.size(); ++i) {
@@ -65,9 +86,13 @@ LoweredScene lowerScene(const sema::CheckedScene& scene, const LowerOptions& opt
         ink.where = layer.decl->range.begin;
         b.setLoc(ink.where);
         ink.band = strokeBand(b, stroke, pixel);
+        ink.trueBand = {b.mul(stroke, b.constF(0.5)), b.mul(pixel, b.constF(kAntialiasPixels))};
+        ink.spacing = ctx.layerProp(layer, "spacing")[0];
         Encoding enc = layers.encoding(layer);
         ink.fields = layers.fields(layer, ink.band, enc, layout.layerFields);
         if (enc.field != ir::kNoValue) ink.sampling = layers.sampling(layer, enc);
+        if (sema::viewSweeps(out.view) && ink.fields.sample.z == ir::kNoValue)
+            out.unsweepable.push_back(static_cast<int>(i));
         compose.layer(ink);
         if (layout.layerFields) {
             const int at = static_cast<int>(i);

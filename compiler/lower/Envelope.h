@@ -1,0 +1,52 @@
+// The envelope view (§4.4): the stack's ink averaged over one period of every layer's index,
+// advanced together (Eq. 13), written once as IR so that every backend draws it. Each layer
+// hands over its phase sample (Eq. 14, LayerFields::sample), found once per pixel; each of
+// the M taps then reads every layer's distance from it by Eq. 15, inks the stack as the
+// pattern does (inkOver) with each stroke at its true width, and the taps are averaged.
+// The mean is then graded about a per-pixel pivot: the composite of the layers' own means,
+// the ink the stack would have if its phases were independent, so that the gain amplifies
+// exactly the beat between the layers (a sole layer is graded about its nominal ink).
+#pragma once
+
+#include "compiler/ir/Builder.h"
+#include "compiler/lower/LayerPipeline.h"
+#include "compiler/lower/LowerExpr.h"
+
+#include <vector>
+
+namespace moire::lower {
+
+// What the envelope is given of one layer.
+struct EnvelopeLayer {
+    PhaseSample sample;
+    StrokeBand band; // the true half-width (no hairline floor) and the antialias band
+    Vals color;      // r, g, b, a
+    ir::ValueId opacity;
+    ir::ValueId spacing; // the nominal pitch: a sole layer is graded about its ink at it
+    ir::ValueId gradX = ir::kNoValue, gradY = ir::kNoValue; // its index gradient
+};
+
+struct EnvelopeSettings {
+    ir::ValueId gain; // contrast about the pivot
+    ir::ValueId taps; // M, rounded and held within [1, kMaxTaps]
+};
+constexpr double kMaxTaps = 1024;
+
+// The distance to the nearest member after advancing the layer's index by `advance` (in
+// (-1, 1)): Eq. 15, max(min over z, up, down of |k - advance * gap|, floor).
+ir::ValueId tapDistance(ir::Builder& b, const PhaseSample& s, ir::ValueId advance);
+
+// The sweep direction w: how fast each layer's index advances as the tap u goes over [0, 1).
+// The one place it is chosen. The diagonal (1, ..., 1) keeps every zero-sum character (every
+// difference beat); a pair whose first-order sum beat is the slower one (Eq. 11: its index
+// gradients point more against each other than along, g1 . g2 < 0) has its second layer
+// swept backwards, w = (1, -1), which keeps the sum instead. Per pixel, as §4.4 allows for
+// first-order sum beats. Higher-order characters (w = (1, 3) for a 3:1 pitch ratio) and the
+// scan over the three topmost layers of a deeper stack are the place to extend.
+std::vector<ir::ValueId> sweepDirection(ir::Builder& b, const std::vector<EnvelopeLayer>& layers);
+
+// The envelope over `paper` (premultiplied), graded by the settings: premultiplied RGBA.
+Ink envelopeInk(ir::Builder& b, const Ink& paper, const std::vector<EnvelopeLayer>& layers,
+                const EnvelopeSettings& settings);
+
+} // namespace moire::lower

@@ -26,8 +26,8 @@ struct CompileOptions {
     bool layerFields = false; // the kernel also outputs each layer's index, distance and gradient
     bool tally = false;       // count the walking solver's radius evaluations (interpreter)
     // The view and the envelope's settings, replacing the scene's when set (sema/Views.h).
-    std::optional<sema::ViewMode> view;
-    std::optional<double> envelopeGain, envelopeTaps;
+    std::optional<sema::ViewMode> view = std::nullopt;
+    std::optional<double> envelopeGain = std::nullopt, envelopeTaps = std::nullopt;
     // When set, each stage appends its name and wall-clock seconds (bench/compile_bench).
     std::vector<std::pair<std::string, double>>* stageSeconds = nullptr;
 };

@@ -52,7 +52,7 @@ Ink envelopeInk(ir::Builder& b, const Ink& paper, const std::vector<EnvelopeLaye
                 const EnvelopeSettings& settings) {
     if (layers.empty()) return paper;
     const std::vector<ValueId> w = sweepDirection(b, layers);
-    ValueId taps = b.clamp(b.round(settings.taps), b.constF(1.0), b.constF(kMaxTaps));
+    ValueId taps = b.clamp(b.round(settings.taps), b.constF(1.0), b.constF(sema::kMaxEnvelopeTaps));
     ValueId step = b.div(b.constF(1.0), taps);
     // Carried: the tap j, the running sums of the stack's ink (r, g, b, a, premultiplied)
     // and of each layer's own coverage.

@@ -11,6 +11,7 @@
 #include "compiler/ir/Builder.h"
 #include "compiler/lower/LayerPipeline.h"
 #include "compiler/lower/LowerExpr.h"
+#include "compiler/sema/Views.h"
 
 #include <vector>
 
@@ -28,9 +29,8 @@ struct EnvelopeLayer {
 
 struct EnvelopeSettings {
     ir::ValueId gain; // contrast about the pivot
-    ir::ValueId taps; // M, rounded and held within [1, kMaxTaps]
+    ir::ValueId taps; // M, rounded and held within [1, sema::kMaxEnvelopeTaps]
 };
-constexpr double kMaxTaps = 1024;
 
 // The distance to the nearest member after advancing the layer's index by `advance` (in
 // (-1, 1)): Eq. 15, max(min over z, up, down of |k - advance * gap|, floor).

@@ -35,8 +35,8 @@ struct LowerOptions {
     bool tally = false;
     // The view, the envelope's gain and its taps, replacing the scene's settings when set
     // (`moire render --view`, `--envelope-gain`, `--envelope-taps`).
-    std::optional<sema::ViewMode> view;
-    std::optional<double> envelopeGain, envelopeTaps;
+    std::optional<sema::ViewMode> view = std::nullopt;
+    std::optional<double> envelopeGain = std::nullopt, envelopeTaps = std::nullopt;
 };
 
 // The literal slots of interactive mode, counted from LoweredScene::viewSlot. The camera's

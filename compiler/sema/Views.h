@@ -18,6 +18,9 @@ enum class ViewMode {
     Split,    // the pattern left of a dashed rule at the frame's middle, the envelope right
 };
 
+// The most taps the envelope averages per index period (`envelope_taps`, --envelope-taps).
+constexpr double kMaxEnvelopeTaps = 1024;
+
 struct ViewName {
     ViewMode mode;
     const char* name; // as written in a scene and on the command line

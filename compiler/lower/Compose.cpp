@@ -21,8 +21,8 @@ void Compose::layer(const LayerInk& ink) {
     ValueId cov = strokeCoverage(b_, ink.fields.distance, ink.band, ink.opacity, ink.color[3]);
     acc_ = inkOver(b_, acc_, ink.color[0], ink.color[1], ink.color[2], cov);
     if (!sema::viewSweeps(mode_)) return;
-    EnvelopeLayer l{ink.fields.sample, ink.trueBand,     ink.color,       ink.opacity,
-                    ink.spacing,       ink.fields.gradX, ink.fields.gradY};
+    EnvelopeLayer l{ink.fields.sample, ink.halfWidth, ink.band.a,       ink.color,
+                    ink.opacity,       ink.spacing,   ink.fields.gradX, ink.fields.gradY};
     // A family without a phase sample is reported before the kernel is used
     // (LoweredScene::unsweepable); its ink then stays put while the others sweep.
     if (l.sample.z == ir::kNoValue)

@@ -19,9 +19,9 @@ using sema::ViewMode;
 // What the compose step is given of one layer.
 struct LayerInk {
     LayerFields fields;
-    StrokeBand band;     // as drawn: the half-width held at the hairline floor (Eq. 35)
-    StrokeBand trueBand; // the stroke's own half-width, for the views that average ink
-    Vals color;          // r, g, b, a
+    StrokeBand band; // as drawn: the half-width held at the hairline floor (Eq. 35)
+    ir::ValueId halfWidth = ir::kNoValue; // the stroke's own, for the views that average ink
+    Vals color;                           // r, g, b, a
     ir::ValueId opacity;
     ir::ValueId spacing = ir::kNoValue; // the layer's nominal pitch
     // gain s |grad f| of a layer that encodes a field (LayerLowering::sampling), or kNoValue.

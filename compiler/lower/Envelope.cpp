@@ -28,8 +28,8 @@ std::vector<ValueId> sweepDirection(ir::Builder& b, const std::vector<EnvelopeLa
 
 namespace {
 
-ValueId coverage(ir::Builder& b, const EnvelopeLayer& l, ValueId d) {
-    return strokeCoverage(b, d, l.band, l.opacity, l.color[3]);
+ValueId coverage(ir::Builder& b, const EnvelopeLayer& l, const StrokeBand& band, ValueId d) {
+    return strokeCoverage(b, d, band, l.opacity, l.color[3]);
 }
 
 Ink over(ir::Builder& b, const Ink& acc, const EnvelopeLayer& l, ValueId cov) {
@@ -40,7 +40,8 @@ Ink over(ir::Builder& b, const Ink& acc, const EnvelopeLayer& l, ValueId cov) {
 // band is symmetric about h, so the ramp integrates to the hard edge's 2h / s.
 ValueId nominalCoverage(ir::Builder& b, const EnvelopeLayer& l) {
     ValueId s = b.max(l.spacing, b.constF(1e-6));
-    ValueId duty = b.clamp(b.div(b.mul(b.constF(2.0), l.band.h), s), b.constF(0.0), b.constF(1.0));
+    ValueId duty =
+        b.clamp(b.div(b.mul(b.constF(2.0), l.halfWidth), s), b.constF(0.0), b.constF(1.0));
     ValueId op = b.clamp(l.opacity, b.constF(0.0), b.constF(1.0));
     ValueId alpha = b.clamp(l.color[3], b.constF(0.0), b.constF(1.0));
     return b.mul(duty, b.mul(op, alpha));
@@ -54,6 +55,13 @@ Ink envelopeInk(ir::Builder& b, const Ink& paper, const std::vector<EnvelopeLaye
     const std::vector<ValueId> w = sweepDirection(b, layers);
     ValueId taps = b.clamp(b.round(settings.taps), b.constF(1.0), b.constF(sema::kMaxEnvelopeTaps));
     ValueId step = b.div(b.constF(1.0), taps);
+    std::vector<StrokeBand> bands;
+    for (const EnvelopeLayer& l : layers) {
+        ValueId gap = b.abs(b.sub(l.sample.up, l.sample.z));
+        ValueId a =
+            b.min(b.max(l.antialias, b.mul(b.mul(gap, step), b.constF(kTapBand))), l.halfWidth);
+        bands.push_back({l.halfWidth, a});
+    }
     // Carried: the tap j, the running sums of the stack's ink (r, g, b, a, premultiplied)
     // and of each layer's own coverage.
     const size_t n = layers.size();
@@ -68,7 +76,7 @@ Ink envelopeInk(ir::Builder& b, const Ink& paper, const std::vector<EnvelopeLaye
             // The advance u w_i, less its whole periods, keeps its sign: within (-1, 1).
             ValueId a = b.mul(u, w[i]);
             a = b.sub(a, b.mul(b.emit(ir::Op::Sign, {a}), b.floor(b.abs(a))));
-            ValueId cov = coverage(b, layers[i], tapDistance(b, layers[i].sample, a));
+            ValueId cov = coverage(b, layers[i], bands[i], tapDistance(b, layers[i].sample, a));
             acc = over(b, acc, layers[i], cov);
             covs.push_back(b.add(v[5 + i], cov));
         }

@@ -6,6 +6,14 @@
 // The mean is then graded about a per-pixel pivot: the composite of the layers' own means,
 // the ink the stack would have if its phases were independent, so that the gain amplifies
 // exactly the beat between the layers (a sole layer is graded about its nominal ink).
+// The stroke's edge keeps the pattern's antialias band (0.7 px), widened where the taps could
+// not resolve it to kTapBand taps' worth of index, and held within the half-width: a band
+// symmetric about the edge leaves each layer's mean ink exactly its hard edge's, 2h / gap,
+// and the widening keeps M taps from aliasing on edges sharper than their spacing (at a
+// high zoom). Wherever the taps' band is the wider (two taps wider than 0.7 px, so at every
+// zoom above that), nothing in the view depends on the pixel's size: the same world point
+// gives the same value at every zoom (tests/envelope_test.cpp).
+constexpr double kTapBand = 2.0;
 #pragma once
 
 #include "compiler/ir/Builder.h"
@@ -20,8 +28,9 @@ namespace moire::lower {
 // What the envelope is given of one layer.
 struct EnvelopeLayer {
     PhaseSample sample;
-    StrokeBand band; // the true half-width (no hairline floor) and the antialias band
-    Vals color;      // r, g, b, a
+    ir::ValueId halfWidth; // the stroke's true half-width (no hairline floor)
+    ir::ValueId antialias; // the pattern's antialias band (Eq. 35)
+    Vals color;            // r, g, b, a
     ir::ValueId opacity;
     ir::ValueId spacing; // the nominal pitch: a sole layer is graded about its ink at it
     ir::ValueId gradX = ir::kNoValue, gradY = ir::kNoValue; // its index gradient

@@ -86,7 +86,7 @@ LoweredScene lowerScene(const sema::CheckedScene& scene, const LowerOptions& opt
         ink.where = layer.decl->range.begin;
         b.setLoc(ink.where);
         ink.band = strokeBand(b, stroke, pixel);
-        ink.trueBand = {b.mul(stroke, b.constF(0.5)), b.mul(pixel, b.constF(kAntialiasPixels))};
+        ink.halfWidth = b.mul(stroke, b.constF(0.5));
         ink.spacing = ctx.layerProp(layer, "spacing")[0];
         Encoding enc = layers.encoding(layer);
         ink.fields = layers.fields(layer, ink.band, enc, layout.layerFields);

@@ -214,8 +214,9 @@ bool checkViewOptions(const RenderArgs& args, CompileOptions& options) {
     }
     if (args.envelopeGain) {
         if (!std::isfinite(*args.envelopeGain) || std::abs(*args.envelopeGain) > 1e6) {
-            fmt::print(stderr, "moire: error: --envelope-gain must be a number from -1e6 to 1e6, "
-                               "not {}\n",
+            fmt::print(stderr,
+                       "moire: error: --envelope-gain must be a number from -1e6 to 1e6, "
+                       "not {}\n",
                        *args.envelopeGain);
             return false;
         }
@@ -224,8 +225,9 @@ bool checkViewOptions(const RenderArgs& args, CompileOptions& options) {
     if (args.envelopeTaps) {
         const double m = *args.envelopeTaps;
         if (!(m >= 1 && m <= sema::kMaxEnvelopeTaps && m == std::floor(m))) {
-            fmt::print(stderr, "moire: error: --envelope-taps must be a whole number from 1 to {}, "
-                               "not {}\n",
+            fmt::print(stderr,
+                       "moire: error: --envelope-taps must be a whole number from 1 to {}, "
+                       "not {}\n",
                        sema::kMaxEnvelopeTaps, m);
             return false;
         }

@@ -92,7 +92,7 @@ sema::ViewMode ViewState::shownView() const {
 
 void ViewState::toggleEnvelope() {
     viewOverride_ = shownView() == sema::ViewMode::Envelope ? sema::ViewMode::Pattern
-                                                             : sema::ViewMode::Envelope;
+                                                            : sema::ViewMode::Envelope;
 }
 
 void ViewState::resetView() {

@@ -1,6 +1,7 @@
 #include "compiler/lower/Envelope.h"
 
 #include "compiler/diag/Diagnostics.h"
+#include "compiler/ir/Semantics.h"
 
 namespace moire::lower {
 
@@ -28,10 +29,6 @@ std::vector<ValueId> sweepDirection(ir::Builder& b, const std::vector<EnvelopeLa
 
 namespace {
 
-ValueId coverage(ir::Builder& b, const EnvelopeLayer& l, const StrokeBand& band, ValueId d) {
-    return strokeCoverage(b, d, band, l.opacity, l.color[3]);
-}
-
 Ink over(ir::Builder& b, const Ink& acc, const EnvelopeLayer& l, ValueId cov) {
     return inkOver(b, acc, l.color[0], l.color[1], l.color[2], cov);
 }
@@ -55,42 +52,69 @@ Ink envelopeInk(ir::Builder& b, const Ink& paper, const std::vector<EnvelopeLaye
     const std::vector<ValueId> w = sweepDirection(b, layers);
     ValueId taps = b.clamp(b.round(settings.taps), b.constF(1.0), b.constF(sema::kMaxEnvelopeTaps));
     ValueId step = b.div(b.constF(1.0), taps);
-    std::vector<StrokeBand> bands;
+    // What each tap reads of a layer, set once per pixel: its stroke's edge (Envelope.h) as
+    // the start of the ramp and the ramp's slope, and the ink's strength.
+    const size_t n = layers.size();
+    struct Edge {
+        ValueId start, slope, strength;
+    };
+    std::vector<Edge> edges;
     for (const EnvelopeLayer& l : layers) {
         ValueId gap = b.abs(b.sub(l.sample.up, l.sample.z));
         ValueId a =
             b.min(b.max(l.antialias, b.mul(b.mul(gap, step), b.constF(kTapBand))), l.halfWidth);
-        bands.push_back({l.halfWidth, a});
+        ValueId strength = b.mul(b.clamp(l.opacity, b.constF(0.0), b.constF(1.0)),
+                                 b.clamp(l.color[3], b.constF(0.0), b.constF(1.0)));
+        edges.push_back({b.sub(l.halfWidth, a),
+                         b.div(b.constF(1.0), b.max(b.mul(b.constF(2.0), a), b.constF(ir::kTiny))),
+                         strength});
     }
-    // Carried: the tap j, the running sums of the stack's ink (r, g, b, a, premultiplied)
-    // and of each layer's own coverage.
-    const size_t n = layers.size();
-    std::vector<ValueId> init(5 + n, b.constF(0.0));
+    // A tap's composite is linear in the colours: over the paper P, layer i of coverage c_i
+    // and ink k_i, it is P T_0 + sum_i k_i c_i T_i with T_i the product of (1 - c_j) over the
+    // layers above i (and T_0 over all). So the loop carries only those scalar weights, the
+    // colours are mixed once after it. Carried: the tap j, each layer's coverage, each
+    // layer's weight c_i T_i, and the paper's T_0, all summed over the taps.
+    std::vector<ValueId> init(2 + 2 * n, b.constF(0.0));
     auto more = [&](std::span<const ValueId> v) { return std::vector<ValueId>{b.lt(v[0], taps)}; };
     std::vector<ValueId> sums = b.loop(init, more, [&](std::span<const ValueId> v) {
         ValueId u = b.mul(b.add(v[0], b.constF(0.5)), step);
-        Ink acc = paper;
-        std::vector<ValueId> next{b.add(v[0], b.constF(1.0))};
-        std::vector<ValueId> covs;
+        std::vector<ValueId> cov(n);
         for (size_t i = 0; i < n; ++i) {
             // The advance u w_i, less its whole periods, keeps its sign: within (-1, 1).
             ValueId a = b.mul(u, w[i]);
             a = b.sub(a, b.mul(b.emit(ir::Op::Sign, {a}), b.floor(b.abs(a))));
-            ValueId cov = coverage(b, layers[i], bands[i], tapDistance(b, layers[i].sample, a));
-            acc = over(b, acc, layers[i], cov);
-            covs.push_back(b.add(v[5 + i], cov));
+            ValueId d = tapDistance(b, layers[i].sample, a);
+            // Eq. 4's 1 - smoothstep(h - a, h + a, d), with the ramp's slope set outside.
+            ValueId t = b.clamp(b.mul(b.sub(d, edges[i].start), edges[i].slope), b.constF(0.0),
+                                b.constF(1.0));
+            ValueId ramp = b.mul(b.mul(t, t), b.sub(b.constF(3.0), b.mul(b.constF(2.0), t)));
+            cov[i] = b.denan(b.mul(b.sub(b.constF(1.0), ramp), edges[i].strength), b.constF(0.0));
         }
-        const ValueId channels[] = {acc.r, acc.g, acc.b, acc.a};
-        for (int k = 0; k < 4; ++k) next.push_back(b.add(v[1 + k], channels[k]));
-        next.insert(next.end(), covs.begin(), covs.end());
+        std::vector<ValueId> next(2 + 2 * n);
+        next[0] = b.add(v[0], b.constF(1.0));
+        ValueId through = b.constF(1.0); // what the layers above let through
+        for (size_t k = n; k-- > 0;) {
+            next[1 + k] = b.add(v[1 + k], cov[k]);
+            next[1 + n + k] = b.add(v[1 + n + k], b.mul(cov[k], through));
+            through = b.mul(through, b.sub(b.constF(1.0), cov[k]));
+        }
+        next[1 + 2 * n] = b.add(v[1 + 2 * n], through);
         return next;
     });
-    Ink mean{b.mul(sums[1], step), b.mul(sums[2], step), b.mul(sums[3], step),
-             b.mul(sums[4], step)};
+    auto meanOf = [&](size_t slot) { return b.mul(sums[slot], step); };
+    ValueId bare = meanOf(1 + 2 * n);
+    Ink mean{b.mul(paper.r, bare), b.mul(paper.g, bare), b.mul(paper.b, bare),
+             b.mul(paper.a, bare)};
+    for (size_t i = 0; i < n; ++i) {
+        ValueId weight = meanOf(1 + n + i);
+        const Vals& k = layers[i].color;
+        mean = {b.add(mean.r, b.mul(k[0], weight)), b.add(mean.g, b.mul(k[1], weight)),
+                b.add(mean.b, b.mul(k[2], weight)), b.add(mean.a, weight)};
+    }
     // The pivot: the layers' own mean coverages composited, or a sole layer's nominal ink.
     Ink pivot = paper;
     for (size_t i = 0; i < n; ++i) {
-        ValueId own = n == 1 ? nominalCoverage(b, layers[i]) : b.mul(sums[5 + i], step);
+        ValueId own = n == 1 ? nominalCoverage(b, layers[i]) : meanOf(1 + i);
         pivot = over(b, pivot, layers[i], own);
     }
     auto grade = [&](ValueId p, ValueId m) { return b.add(p, b.mul(settings.gain, b.sub(m, p))); };

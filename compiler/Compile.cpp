@@ -98,9 +98,7 @@ CompileResult compileScene(const std::string& path, std::string text,
     for (int i : lowered.unsweepable) {
         const sema::CheckedLayer& layer = program->checked.layers.at(i);
         const ast::Property* fam = layer.decl->prop("family");
-        std::string what = layer.walking ? "a walking layer (offset or turn)"
-                           : !layer.morph.empty() && layer.morph.size() > 1
-                               ? "a morph between families of different kinds"
+        std::string what = layer.morph.size() > 1 ? "a morph between families of different kinds"
                            : layer.family ? fmt::format("the {} family", layer.family->decl->name)
                                           : std::string("this layer");
         diags.error(fam ? fam->value->range : layer.decl->range, Msg::ViewCannotSweep,

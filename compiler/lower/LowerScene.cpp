@@ -56,13 +56,16 @@ LoweredScene lowerScene(const sema::CheckedScene& scene, const LowerOptions& opt
     ExprLowering exprs(b);
     TimingLowering timings(b, exprs, scene);
     exprs.setTimings([&](const ast::Decl* timing) { return timings.progress(timing); });
-    SceneContext ctx{scene, options, b, exprs, timings, out.probeSlot, out.viewSlot, {}, {}};
+    // The options with the view settled (the scene's, unless the options name one), so that
+    // every step of the lowering reads the view drawn.
+    LowerOptions settled = options;
+    settled.view = out.view = viewOf(scene, options);
+    SceneContext ctx{scene, settled, b, exprs, timings, out.probeSlot, out.viewSlot, {}, {}};
 
     // 1. The frame's size and camera; the pixel's world point.
     const ir::ValueId pixel = lowerCamera(ctx, layout.numKernelOutputs);
 
     // 2. Each layer's fields, composed over the paper by the view.
-    out.view = viewOf(scene, options);
     auto sceneNumber = [&](const char* name, std::optional<double> given) {
         if (given) return b.constF(*given);
         return ctx.setting(scene.scene, sema::sceneProperties(), name)[0];

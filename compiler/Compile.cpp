@@ -85,13 +85,12 @@ CompileResult compileScene(const std::string& path, std::string text,
     }
 
     // 3. Lower to the scene function, then the ordered IR passes.
-    lower::LowerOptions lowerOptions;
-    lowerOptions.mode = options.mode;
-    lowerOptions.layerFields = options.layerFields;
-    lowerOptions.tally = options.tally;
-    lowerOptions.view = options.view;
-    lowerOptions.envelopeGain = options.envelopeGain;
-    lowerOptions.envelopeTaps = options.envelopeTaps;
+    const lower::LowerOptions lowerOptions{.mode = options.mode,
+                                           .layerFields = options.layerFields,
+                                           .tally = options.tally,
+                                           .view = options.view,
+                                           .envelopeGain = options.envelopeGain,
+                                           .envelopeTaps = options.envelopeTaps};
     lower::LoweredScene lowered =
         lower::lowerScene(program->checked, lowerOptions, program->literals);
     // A view that sweeps every layer's index needs each family's phase sample.

@@ -45,14 +45,14 @@ double oracle(const std::vector<Layer>& layers, double x, double y) {
     constexpr int kTaps = 1024;
     constexpr double kPixel = 1.0, kAntialias = 0.7 * kPixel, kNone = 1e30;
     struct Sample {
-        double z, up, down, floor, h, a;
+        double z, up, down, floor, h, a, gap;
     };
     std::vector<Sample> samples;
     for (const Layer& l : layers) {
         const double h = l.stroke / 2, guard = std::max(h + kAntialias, l.walk.spacing);
         ref::Nearest near = ref::nearest(l.walk, x, y, guard);
         REQUIRE(near.complete);
-        Sample s{kNone, kNone, kNone, guard, h, 0};
+        Sample s{kNone, kNone, kNone, guard, h, 0, 0};
         if (near.argmin >= 0 && near.distance < guard) {
             const int64_t n = near.argmin;
             s.z = -ref::residual(l.walk, x, y, n);
@@ -60,8 +60,11 @@ double oracle(const std::vector<Layer>& layers, double x, double y) {
             s.down = n >= 1 ? -ref::residual(l.walk, x, y, n - 1) : kNone;
             s.floor = 0;
         }
+        // The local period: the gap of the two members that bracket the point (Envelope.h).
+        const double gap =
+            s.z >= 0 && s.down < kNone / 2 && s.z > s.down ? s.z - s.down : std::abs(s.up - s.z);
+        s.gap = gap;
         // The band: the pattern's, widened to two of the view's 24 taps (Envelope.h).
-        const double gap = std::abs(s.up - s.z);
         s.a = std::min(std::max(kAntialias, 2.0 * gap / 24.0), h);
         samples.push_back(s);
     }
@@ -70,7 +73,7 @@ double oracle(const std::vector<Layer>& layers, double x, double y) {
         const double u = (j + 0.5) / kTaps;
         double paper = 1;
         for (const Sample& s : samples) {
-            const double shift = u * std::abs(s.up - s.z);
+            const double shift = u * s.gap;
             double d =
                 std::min({std::abs(s.z - shift), std::abs(s.up - shift), std::abs(s.down - shift)});
             d = std::max(d, s.floor);

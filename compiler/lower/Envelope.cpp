@@ -7,9 +7,18 @@ namespace moire::lower {
 
 using ir::ValueId;
 
-ValueId tapDistance(ir::Builder& b, const PhaseSample& s, ValueId advance) {
+ValueId sampleGap(ir::Builder& b, const PhaseSample& s) {
+    // The pixel lies between member n - 1 and n where n is ahead of it (z >= 0), else
+    // between n and n + 1. For a phase family both gaps are 1 / |grad index|.
+    ValueId ahead = b.emit(ir::Op::Ge, {s.z, b.constF(0.0)});
+    ValueId below = b.sub(s.z, s.down), above = b.abs(b.sub(s.up, s.z));
+    ValueId usable = b.emit(ir::Op::And, {ahead, b.lt(below, b.constF(0.5 * kNoMember))});
+    return b.select(b.emit(ir::Op::And, {usable, b.gt(below, b.constF(0.0))}), below, above);
+}
+
+ValueId tapDistance(ir::Builder& b, const PhaseSample& s, ValueId gap, ValueId advance) {
     // One gap is one period of this family here, whatever its pitch does across the frame.
-    ValueId shift = b.mul(advance, b.abs(b.sub(s.up, s.z)));
+    ValueId shift = b.mul(advance, gap);
     auto from = [&](ValueId k) { return b.abs(b.sub(k, shift)); };
     ValueId d = b.min(from(s.z), b.min(from(s.up), from(s.down)));
     return b.max(d, s.floor);
@@ -56,16 +65,16 @@ Ink envelopeInk(ir::Builder& b, const Ink& paper, const std::vector<EnvelopeLaye
     // the start of the ramp and the ramp's slope, and the ink's strength.
     const size_t n = layers.size();
     struct Edge {
-        ValueId start, slope, strength;
+        ValueId gap, start, slope, strength;
     };
     std::vector<Edge> edges;
     for (const EnvelopeLayer& l : layers) {
-        ValueId gap = b.abs(b.sub(l.sample.up, l.sample.z));
+        ValueId gap = sampleGap(b, l.sample);
         ValueId a =
             b.min(b.max(l.antialias, b.mul(b.mul(gap, step), b.constF(kTapBand))), l.halfWidth);
         ValueId strength = b.mul(b.clamp(l.opacity, b.constF(0.0), b.constF(1.0)),
                                  b.clamp(l.color[3], b.constF(0.0), b.constF(1.0)));
-        edges.push_back({b.sub(l.halfWidth, a),
+        edges.push_back({gap, b.sub(l.halfWidth, a),
                          b.div(b.constF(1.0), b.max(b.mul(b.constF(2.0), a), b.constF(ir::kTiny))),
                          strength});
     }
@@ -83,7 +92,7 @@ Ink envelopeInk(ir::Builder& b, const Ink& paper, const std::vector<EnvelopeLaye
             // The advance u w_i, less its whole periods, keeps its sign: within (-1, 1).
             ValueId a = b.mul(u, w[i]);
             a = b.sub(a, b.mul(b.emit(ir::Op::Sign, {a}), b.floor(b.abs(a))));
-            ValueId d = tapDistance(b, layers[i].sample, a);
+            ValueId d = tapDistance(b, layers[i].sample, edges[i].gap, a);
             // Eq. 4's 1 - smoothstep(h - a, h + a, d), with the ramp's slope set outside.
             ValueId t = b.clamp(b.mul(b.sub(d, edges[i].start), edges[i].slope), b.constF(0.0),
                                 b.constF(1.0));

@@ -41,9 +41,15 @@ struct EnvelopeSettings {
     ir::ValueId taps; // M, rounded and held within [1, sema::kMaxEnvelopeTaps]
 };
 
+// The local period of a layer at the pixel: the gap between the two members that bracket
+// it (z - down when the nearest member is ahead of the pixel, up - z otherwise). Eq. 15 takes
+// |up - z|; the two agree for the phase families, and where a walking family bunches the
+// bracketing gap is the one a member crosses the pixel in, once per period.
+ir::ValueId sampleGap(ir::Builder& b, const PhaseSample& s);
+
 // The distance to the nearest member after advancing the layer's index by `advance` (in
 // (-1, 1)): Eq. 15, max(min over z, up, down of |k - advance * gap|, floor).
-ir::ValueId tapDistance(ir::Builder& b, const PhaseSample& s, ir::ValueId advance);
+ir::ValueId tapDistance(ir::Builder& b, const PhaseSample& s, ir::ValueId gap, ir::ValueId advance);
 
 // The sweep direction w: how fast each layer's index advances as the tap u goes over [0, 1).
 // The one place it is chosen. The diagonal (1, ..., 1) keeps every zero-sum character (every

@@ -21,6 +21,15 @@ ValueId tapDistance(ir::Builder& b, const PhaseSample& s, ValueId gap, ValueId a
     ValueId shift = b.mul(advance, gap);
     auto from = [&](ValueId k) { return b.abs(b.sub(k, shift)); };
     ValueId d = b.min(from(s.z), b.min(from(s.up), from(s.down)));
+    if (s.fold) {
+        // Short of the first member, the fold's estimate where it is the larger (as the
+        // pattern measures it), for the index advanced by `advance`.
+        const FoldSample& f = *s.fold;
+        ValueId back = b.mul(advance, f.step);
+        ValueId est = b.mul(b.mul(b.sub(f.lo, back), b.sub(f.hi, back)), f.scale);
+        ValueId shortOf = b.lt(b.add(f.index, advance), b.constF(f.first));
+        d = b.select(shortOf, b.max(d, est), d);
+    }
     return b.max(d, s.floor);
 }
 

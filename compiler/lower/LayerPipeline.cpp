@@ -64,21 +64,40 @@ LayerFields phaseFamilyFields(ir::Builder& b, ValueId phi, ValueId phase, ValueI
     out.distance = distance;
     out.gradX = gx;
     out.gradY = gy;
-    out.sample = phaseSample(b, index, nearest, grad, first);
+    std::optional<FoldSample> fold;
+    if (first) {
+        // Short of the first member the taps measure it as the pattern does, by the fold's
+        // estimate: (c - a s - phi)(c - a s + phi) / |grad phi^2| once the index is advanced
+        // by a (PhaseSample::fold).
+        ValueId c = b.add(b.mul(b.constF(*first), s), phase);
+        ValueId twoPhiGrad = b.mul(b.mul(b.constF(2.0), phi), b.mul(s, grad));
+        fold = FoldSample{*first,
+                          ir::kNoValue,
+                          b.sub(c, phi),
+                          b.add(c, phi),
+                          s,
+                          b.select(b.gt(phi, b.constF(0.0)),
+                                   b.div(b.constF(1.0), b.max(twoPhiGrad, b.constF(ir::kTiny))),
+                                   b.constF(0.0))};
+    }
+    out.sample = phaseSample(b, index, nearest, grad, fold);
     return out;
 }
 
 // Exact for a phase family: advancing the index by a moves member m's index residual from
 // m - index to m - index - a, and its distance is that residual over |grad index| (Eq. 5).
 PhaseSample phaseSample(ir::Builder& b, ValueId index, ValueId nearest, ValueId grad,
-                        std::optional<int> first) {
+                        const std::optional<FoldSample>& fold) {
     ValueId perIndex = b.div(b.constF(1.0), grad); // world units per unit of index
     auto at = [&](double step) {
         return b.mul(b.sub(b.add(nearest, b.constF(step)), index), perIndex);
     };
-    PhaseSample s{at(0.0), at(1.0), at(-1.0), b.constF(0.0)};
-    if (first)
-        s.down = b.select(b.lt(nearest, b.constF(*first + 1.0)), b.constF(kNoMember), s.down);
+    PhaseSample s{at(0.0), at(1.0), at(-1.0), b.constF(0.0), std::nullopt};
+    if (fold) {
+        s.down = b.select(b.lt(nearest, b.constF(fold->first + 1.0)), b.constF(kNoMember), s.down);
+        s.fold = *fold;
+        s.fold->index = index;
+    }
     return s;
 }
 

@@ -19,8 +19,16 @@ namespace moire::lower {
 // -a * gap, and a floor for ink that does not slide. A member that does not exist (below a
 // family's `first`) is kNoMember away. kNoValue in z: the family gives no sample.
 constexpr double kNoMember = 1e30;
+// A phase family that starts at member `first` measures that member, from short of it, by the
+// fold's estimate (phaseFamilyFields): after an advance a, where index + a < first, the
+// distance is at least (lo - a step)(hi - a step) * scale (scale 0 where it does not apply).
+struct FoldSample {
+    int first = 0;
+    ir::ValueId index, lo, hi, step, scale;
+};
 struct PhaseSample {
     ir::ValueId z = ir::kNoValue, up = ir::kNoValue, down = ir::kNoValue, floor = ir::kNoValue;
+    std::optional<FoldSample> fold;
 };
 
 struct LayerFields {
@@ -68,9 +76,9 @@ LayerFields phaseFamilyFields(ir::Builder& b, ir::ValueId phi, ir::ValueId phase
                               ir::ValueId phiNear = ir::kNoValue);
 
 // The phase sample (Eq. 14) of a phase family from its index, nearest member (clamped to
-// `first`) and |grad index|.
+// `first`), |grad index|, and for a family with `first` its fold (the index is filled in).
 PhaseSample phaseSample(ir::Builder& b, ir::ValueId index, ir::ValueId nearest, ir::ValueId grad,
-                        std::optional<int> first);
+                        const std::optional<FoldSample>& fold);
 
 // Coverage of the stroke at distance `d` (Eq. 4):
 // (1 - smoothstep(h - a, h + a, d)) * opacity * alpha, clamped to [0, 1], NaN read as 0.

@@ -63,6 +63,10 @@ std::vector<Example> examples() {
          twoLayers("family = wave; amplitude = 6; spacing = 7; stroke = 3",
                    "family = lines; spacing = 7.4; stroke = 2.4; rotation = 3deg"),
          {7, 7.4}},
+        {"hyperbolae (first member 1; pixel centres on the asymptotes, the fold itself)",
+         twoLayers("family = hyperbola; spacing = 6; stroke = 2.4",
+                   "family = hyperbola; spacing = 6.3; stroke = 2.4; origin = (3, 1)"),
+         {6, 6.3}},
         {"one parabola family",
          fmt::format("scene {{ size = ({}, {}) }}\nlayer {{ family = parabola; bend = 3; "
                      "spacing = 6; stroke = 2.4; phase = {}; opacity = {} }}\n",

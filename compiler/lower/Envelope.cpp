@@ -28,7 +28,7 @@ ValueId tapDistance(ir::Builder& b, const PhaseSample& s, ValueId gap, ValueId a
         ValueId back = b.mul(advance, f.step);
         ValueId est = b.mul(b.mul(b.sub(f.lo, back), b.sub(f.hi, back)), f.scale);
         ValueId shortOf = b.lt(b.add(f.index, advance), b.constF(f.first));
-        d = b.select(shortOf, b.max(d, est), d);
+        d = b.select(shortOf, b.select(f.exact, est, b.max(d, est)), d);
     }
     return b.max(d, s.floor);
 }
@@ -81,6 +81,9 @@ Ink envelopeInk(ir::Builder& b, const Ink& paper, const std::vector<EnvelopeLaye
         ValueId gap = sampleGap(b, l.sample);
         ValueId a =
             b.min(b.max(l.antialias, b.mul(b.mul(gap, step), b.constF(kTapBand))), l.halfWidth);
+        // On a fold itself the members do not slide by the gap (Eq. 5 has none there): the
+        // fold's estimate moves the first member, and its edge keeps the pattern's band.
+        if (l.sample.fold) a = b.select(l.sample.fold->exact, l.antialias, a);
         ValueId strength = b.mul(b.clamp(l.opacity, b.constF(0.0), b.constF(1.0)),
                                  b.clamp(l.color[3], b.constF(0.0), b.constF(1.0)));
         edges.push_back({gap, b.sub(l.halfWidth, a),

@@ -23,6 +23,7 @@ LayerFields phaseFamilyFields(ir::Builder& b, ValueId phi, ValueId phase, ValueI
     ValueId gy = b.emit(Op::DerivY, {index});
     ValueId grad = b.max(b.hypot(gx, gy), b.constF(ir::kTiny));
     ValueId distance = b.div(residual, grad);
+    std::optional<FoldSample> foldSample; // for the envelope's taps
     if (first) {
         // Short of the first member (index < first) the nearest member is `first`, but the
         // gradient at the point says nothing about the way there: a family excludes its lower
@@ -49,38 +50,34 @@ LayerFields phaseFamilyFields(ir::Builder& b, ValueId phi, ValueId phase, ValueI
         // |x^2 - y^2| for the hyperbola) is continuous across the fold: it is read at a point a
         // hair away, off the fold, where 2 phi |grad phi| is well defined.
         ValueId onFold = distance;
+        // The envelope's taps measure the first member the same way (FoldSample): the
+        // estimate's 1 / |grad phi^2|, and whether it alone is the distance (on the fold).
+        ValueId offFold = b.gt(phi, b.constF(0.0));
+        ValueId scale = b.select(
+            offFold, b.div(b.constF(1.0), b.max(twoPhiGrad, b.constF(ir::kTiny))), b.constF(0.0));
+        ValueId exact = b.constB(false);
         if (phiNear != ir::kNoValue) {
             ValueId gradNear =
                 b.hypot(b.emit(Op::DerivX, {phiNear}), b.emit(Op::DerivY, {phiNear}));
             ValueId twoPhiGradNear = b.mul(b.mul(b.constF(2.0), phiNear), gradNear);
             ValueId atFold = b.div(b.mul(c, c), b.max(twoPhiGradNear, b.constF(ir::kTiny)));
-            onFold = b.select(b.gt(phiNear, b.constF(0.0)), atFold, distance);
+            ValueId nearOff = b.gt(phiNear, b.constF(0.0));
+            onFold = b.select(nearOff, atFold, distance);
+            exact = b.emit(Op::And, {b.emit(Op::Not, {offFold}), nearOff});
+            scale = b.select(
+                exact, b.div(b.constF(1.0), b.max(twoPhiGradNear, b.constF(ir::kTiny))), scale);
         }
-        ValueId inFold = b.select(b.gt(phi, b.constF(0.0)), b.max(distance, fold), onFold);
+        ValueId inFold = b.select(offFold, b.max(distance, fold), onFold);
         distance = b.select(b.lt(index, b.constF(*first)), inFold, distance);
+        foldSample =
+            FoldSample{*first, ir::kNoValue, b.sub(c, phi), b.add(c, phi), s, scale, exact};
     }
     LayerFields out;
     out.index = index;
     out.distance = distance;
     out.gradX = gx;
     out.gradY = gy;
-    std::optional<FoldSample> fold;
-    if (first) {
-        // Short of the first member the taps measure it as the pattern does, by the fold's
-        // estimate: (c - a s - phi)(c - a s + phi) / |grad phi^2| once the index is advanced
-        // by a (PhaseSample::fold).
-        ValueId c = b.add(b.mul(b.constF(*first), s), phase);
-        ValueId twoPhiGrad = b.mul(b.mul(b.constF(2.0), phi), b.mul(s, grad));
-        fold = FoldSample{*first,
-                          ir::kNoValue,
-                          b.sub(c, phi),
-                          b.add(c, phi),
-                          s,
-                          b.select(b.gt(phi, b.constF(0.0)),
-                                   b.div(b.constF(1.0), b.max(twoPhiGrad, b.constF(ir::kTiny))),
-                                   b.constF(0.0))};
-    }
-    out.sample = phaseSample(b, index, nearest, grad, fold);
+    out.sample = phaseSample(b, index, nearest, grad, foldSample);
     return out;
 }
 

@@ -21,10 +21,11 @@ namespace moire::lower {
 constexpr double kNoMember = 1e30;
 // A phase family that starts at member `first` measures that member, from short of it, by the
 // fold's estimate (phaseFamilyFields): after an advance a, where index + a < first, the
-// distance is at least (lo - a step)(hi - a step) * scale (scale 0 where it does not apply).
+// distance is at least (lo - a step)(hi - a step) * scale (scale 0 where it does not apply),
+// and is exactly that where `exact` (on the fold itself, where Eq. 5 says nothing).
 struct FoldSample {
     int first = 0;
-    ir::ValueId index, lo, hi, step, scale;
+    ir::ValueId index, lo, hi, step, scale, exact;
 };
 struct PhaseSample {
     ir::ValueId z = ir::kNoValue, up = ir::kNoValue, down = ir::kNoValue, floor = ir::kNoValue;

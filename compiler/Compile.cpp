@@ -90,7 +90,8 @@ CompileResult compileScene(const std::string& path, std::string text,
                                            .tally = options.tally,
                                            .view = options.view,
                                            .envelopeGain = options.envelopeGain,
-                                           .envelopeTaps = options.envelopeTaps};
+                                           .envelopeTaps = options.envelopeTaps,
+                                           .overlay = options.overlay};
     lower::LoweredScene lowered =
         lower::lowerScene(program->checked, lowerOptions, program->literals);
     // A view that sweeps every layer's index needs each family's phase sample.
@@ -110,6 +111,7 @@ CompileResult compileScene(const std::string& path, std::string text,
         return result;
     }
     program->view = lowered.view;
+    program->overlay = lowered.overlay;
     program->layout = std::move(lowered.layout);
     program->probeSlot = lowered.probeSlot;
     program->viewSlot = lowered.viewSlot;

@@ -28,6 +28,7 @@ struct CompileOptions {
     // The view and the envelope's settings, replacing the scene's when set (sema/Views.h).
     std::optional<sema::ViewMode> view = std::nullopt;
     std::optional<double> envelopeGain = std::nullopt, envelopeTaps = std::nullopt;
+    std::optional<bool> overlay = std::nullopt; // the fringe overlay
     // When set, each stage appends its name and wall-clock seconds (bench/compile_bench).
     std::vector<std::pair<std::string, double>>* stageSeconds = nullptr;
 };
@@ -49,6 +50,7 @@ struct SceneProgram {
     int probeSlot = -1;      // in Mode::Probe: the literal slots of the probe point
     int viewSlot = -1;       // in Mode::Interactive: the first of lower::ViewSlots' slots
     sema::ViewMode view = sema::ViewMode::Pattern; // the view the kernel draws
+    bool overlay = false;                          // and whether the fringe overlay is on it
 
     const ast::Module& userModule() const { return *modules.back(); }
 };

@@ -114,7 +114,8 @@ TEST_CASE("views: render --view and the envelope options draw what the scene's s
     test::CommandResult bad =
         moire(dir.file("plain.moire") + " --view ratios -o " + dir.file("x.png"));
     CHECK(bad.status == 2);
-    CHECK(bad.err == "moire: error: --view must be pattern, envelope or split, not 'ratios'\n");
+    CHECK(bad.err ==
+          "moire: error: --view must be pattern, envelope, split or ratio, not 'ratios'\n");
     CHECK(moire(dir.file("plain.moire") + " --envelope-taps 0 -o " + dir.file("x.png")).status ==
           2);
 }

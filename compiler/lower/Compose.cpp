@@ -1,6 +1,9 @@
 #include "compiler/lower/Compose.h"
 
 #include "compiler/diag/Diagnostics.h"
+#include "compiler/lower/RatioView.h"
+
+#include <optional>
 
 namespace moire::lower {
 
@@ -8,10 +11,10 @@ using ir::Op;
 using ir::ValueId;
 
 Compose::Compose(ir::Builder& b, ViewMode mode, const Vals& background,
-                 const EnvelopeSettings& envelope)
+                 const EnvelopeSettings& envelope, ir::ValueId overlayPixel)
     : b_(b), mode_(mode),
       paper_(paper(b, background[0], background[1], background[2], background[3])), acc_(paper_),
-      settings_(envelope), zero_(b.constF(0.0)), unresolved_(zero_) {}
+      settings_(envelope), overlayPixel_(overlayPixel), zero_(b.constF(0.0)), unresolved_(zero_) {}
 
 void Compose::layer(const LayerInk& ink) {
     if (ink.sampling != ir::kNoValue) unresolved_ = b_.max(unresolved_, ink.sampling);
@@ -20,6 +23,7 @@ void Compose::layer(const LayerInk& ink) {
     // is removed as dead code).
     ValueId cov = strokeCoverage(b_, ink.fields.distance, ink.band, ink.opacity, ink.color[3]);
     acc_ = inkOver(b_, acc_, ink.color[0], ink.color[1], ink.color[2], cov);
+    fields_.push_back(ink.fields);
     if (!sema::viewSweeps(mode_)) return;
     EnvelopeLayer l{ink.fields.sample, ink.halfWidth, ink.band.a,       ink.color,
                     ink.opacity,       ink.spacing,   ink.fields.gradX, ink.fields.gradY};
@@ -60,6 +64,12 @@ Ink Compose::split() {
 }
 
 void Compose::output(const std::function<Vals()>& unresolvedTint) {
+    // The stack's winning character, for the ratio view and the overlay (Characters.h).
+    std::optional<Character> winner;
+    auto character = [&]() -> const Character& {
+        if (!winner) winner = stackCharacter(b_, fields_);
+        return *winner;
+    };
     Ink shown = acc_;
     switch (mode_) {
     case ViewMode::Pattern:
@@ -69,6 +79,9 @@ void Compose::output(const std::function<Vals()>& unresolvedTint) {
         break;
     case ViewMode::Split:
         shown = split();
+        break;
+    case ViewMode::Ratio:
+        shown = ratioViewInk(b_, character());
         break;
     }
     // The sampling limit (§10.4): a carrier of pitch s cannot show fringes much finer than
@@ -80,6 +93,9 @@ void Compose::output(const std::function<Vals()>& unresolvedTint) {
         shown = inkOver(b_, shown, tint[0], tint[1], tint[2],
                         b_.mul(mark, b_.clamp(tint[3], zero_, b_.constF(1.0))));
     }
+    // The fringe curves go over everything, as Fig. 5d draws them over the averaged ink.
+    if (overlayPixel_ != ir::kNoValue)
+        shown = overlayFringes(b_, shown, character(), fields_, overlayPixel_);
     Ink out = unpremultiply(b_, shown);
     b_.output(0, out.r);
     b_.output(1, out.g);

@@ -32,8 +32,10 @@ struct LayerInk {
 class Compose {
   public:
     // Starts from the paper (straight RGBA). `envelope` is read by the views that show it.
+    // With `overlayPixel` (the world size of a pixel), the fringe overlay is laid over the
+    // view (RatioView.h).
     Compose(ir::Builder& b, ViewMode mode, const Vals& background,
-            const EnvelopeSettings& envelope = {});
+            const EnvelopeSettings& envelope = {}, ir::ValueId overlayPixel = ir::kNoValue);
 
     // Adds the next layer, bottom to top.
     void layer(const LayerInk& ink);
@@ -51,6 +53,8 @@ class Compose {
     Ink acc_; // the pattern so far
     EnvelopeSettings settings_;
     std::vector<EnvelopeLayer> sweep_; // the layers as the envelope reads them
+    std::vector<LayerFields> fields_;  // the layers as the characters read them
+    ir::ValueId overlayPixel_;
     ir::ValueId zero_;
     ir::ValueId unresolved_; // the largest gain s |grad f| of the encoded layers
 };

@@ -2,9 +2,11 @@
 
 #include "compiler/diag/Diagnostics.h"
 #include "compiler/ir/Semantics.h"
+#include "compiler/lower/Characters.h"
 
 namespace moire::lower {
 
+using ir::Op;
 using ir::ValueId;
 
 ValueId sampleGap(ir::Builder& b, const PhaseSample& s) {
@@ -42,7 +44,36 @@ std::vector<ValueId> sweepDirection(ir::Builder& b, const std::vector<EnvelopeLa
     // eta(1,1) < eta(1,-1) (Eq. 11) is |g1 + g2|^2 < |g1 - g2|^2, that is g1 . g2 < 0.
     ValueId dot = b.add(b.mul(l1.gradX, l2.gradX), b.mul(l1.gradY, l2.gradY));
     w[1] = b.select(b.lt(dot, b.constF(0.0)), b.constF(-1.0), b.constF(1.0));
-    return w;
+
+    // The licence: the nominal pitch ratio's character. It depends on the spacings alone, so
+    // it is computed once a frame (the frame program takes what reads no pixel).
+    using ir::BuiltValue;
+    auto value = [&](ValueId v) { return BuiltValue(b, v); };
+    auto pitch = [&](ValueId s) { return b.div(b.constF(1.0), b.max(b.abs(s), b.constF(1e-6))); };
+    const ValueId zero = b.constF(0.0);
+    PairCharacterT<BuiltValue> licensed = bestPairCharacter<BuiltValue>(
+        {value(pitch(l1.spacing)), value(zero)}, {value(pitch(l2.spacing)), value(zero)});
+    const ValueId k1 = licensed.k1.id, k2 = licensed.k2.id;
+    ValueId deviates = b.emit(Op::And, {b.le(licensed.mu.id, b.constF(kFringeMerit)),
+                                        b.emit(Op::Ne, {b.add(k1, k2), zero})});
+    // Where it deviates, the pixel's own winner decides (a uniform branch: most stacks have no
+    // licence and skip the search).
+    std::vector<ValueId> licensedW = b.ifThenElse(
+        deviates,
+        [&] {
+            PairCharacterT<BuiltValue> local = bestPairCharacter<BuiltValue>(
+                {value(l1.gradX), value(l1.gradY)}, {value(l2.gradX), value(l2.gradY)});
+            // The same character, or its negation (k and -k are one).
+            ValueId same = b.emit(Op::Eq, {b.mul(local.k1.id, k2), b.mul(local.k2.id, k1)});
+            same = b.emit(Op::And, {same, b.emit(Op::Ne, {local.k1.id, zero})});
+            return std::vector<ValueId>{
+                b.select(same, b.abs(k2), w[0]),
+                b.select(same, b.neg(b.mul(k1, b.emit(Op::Sign, {k2}))), w[1])};
+        },
+        [&] {
+            return std::vector<ValueId>{w[0], w[1]};
+        });
+    return licensedW;
 }
 
 namespace {
@@ -77,10 +108,12 @@ Ink envelopeInk(ir::Builder& b, const Ink& paper, const std::vector<EnvelopeLaye
         ValueId gap, start, slope, strength;
     };
     std::vector<Edge> edges;
-    for (const EnvelopeLayer& l : layers) {
+    for (size_t i = 0; i < layers.size(); ++i) {
+        const EnvelopeLayer& l = layers[i];
         ValueId gap = sampleGap(b, l.sample);
-        ValueId a =
-            b.min(b.max(l.antialias, b.mul(b.mul(gap, step), b.constF(kTapBand))), l.halfWidth);
+        // A layer swept |w_i| periods over the taps moves |w_i| times as far each tap.
+        ValueId perTap = b.mul(b.mul(gap, step), b.abs(w[i]));
+        ValueId a = b.min(b.max(l.antialias, b.mul(perTap, b.constF(kTapBand))), l.halfWidth);
         // On a fold itself the members do not slide by the gap (Eq. 5 has none there): the
         // fold's estimate moves the first member, and its edge keeps the pattern's band.
         if (l.sample.fold) a = b.select(l.sample.fold->exact, l.antialias, a);

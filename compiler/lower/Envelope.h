@@ -53,11 +53,16 @@ ir::ValueId tapDistance(ir::Builder& b, const PhaseSample& s, ir::ValueId gap, i
 
 // The sweep direction w: how fast each layer's index advances as the tap u goes over [0, 1).
 // The one place it is chosen. The diagonal (1, ..., 1) keeps every zero-sum character (every
-// difference beat); a pair whose first-order sum beat is the slower one (Eq. 11: its index
-// gradients point more against each other than along, g1 . g2 < 0) has its second layer
-// swept backwards, w = (1, -1), which keeps the sum instead. Per pixel, as §4.4 allows for
-// first-order sum beats. Higher-order characters (w = (1, 3) for a 3:1 pitch ratio) and the
-// scan over the three topmost layers of a deeper stack are the place to extend.
+// difference beat, and for three layers the zero-sum ternaries such as (1, 1, -2)); a pair
+// whose first-order sum beat is the slower one (Eq. 11: its index gradients point more
+// against each other than along, g1 . g2 < 0) has its second layer swept backwards,
+// w = (1, -1), which keeps the sum instead. Per pixel, as §4.4 allows for first-order sum
+// beats.
+// Any other deviation is licensed once per stack, never per pixel (§4.4): the pair's nominal
+// pitch ratio (the two spacings alone, as parallel carriers) is run through the character
+// search, and when the character it certifies is a fringe (mu <= 1/4) that is not zero-sum,
+// the sweep keeps it, w = (|k2|, -k1 sgn k2), wherever it is also the pixel's own winner:
+// w = (1, 3) for the (3, -1) beat of pitches 15 and 5 (Fig. 7). Elsewhere the diagonal.
 std::vector<ir::ValueId> sweepDirection(ir::Builder& b, const std::vector<EnvelopeLayer>& layers);
 
 // The envelope over `paper` (premultiplied), graded by the settings: premultiplied RGBA.

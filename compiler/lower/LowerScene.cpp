@@ -39,6 +39,16 @@ sema::ViewMode viewOf(const sema::CheckedScene& scene, const LowerOptions& optio
     return *mode;
 }
 
+// The fringe overlay: the options', else the scene's `overlay`, else off.
+bool overlayOf(const sema::CheckedScene& scene, const LowerOptions& options) {
+    if (options.overlay) return *options.overlay;
+    const ast::Property* p = scene.scene ? scene.scene->prop("overlay") : nullptr;
+    if (!p) return false;
+    std::optional<bool> on = sema::switchNamed(p->value->name);
+    MOIRE_CHECK(on, "an overlay that is neither true nor false survived checking");
+    return *on;
+}
+
 } // namespace
 
 LoweredScene lowerScene(const sema::CheckedScene& scene, const LowerOptions& options,
@@ -60,6 +70,9 @@ LoweredScene lowerScene(const sema::CheckedScene& scene, const LowerOptions& opt
     // every step of the lowering reads the view drawn.
     LowerOptions settled = options;
     settled.view = out.view = viewOf(scene, options);
+    settled.overlay = out.overlay = overlayOf(scene, options);
+    // The ratio view and the overlay read every layer's index field and its gradient.
+    const bool wantIndex = layout.layerFields || out.overlay || sema::viewReadsCharacters(out.view);
     SceneContext ctx{scene, settled, b, exprs, timings, out.probeSlot, out.viewSlot, {}, {}};
 
     // 1. The frame's size and camera; the pixel's world point.
@@ -76,7 +89,7 @@ LoweredScene lowerScene(const sema::CheckedScene& scene, const LowerOptions& opt
         envelope.taps = sceneNumber("envelope_taps", options.envelopeTaps);
     }
     Compose compose(b, out.view, ctx.setting(scene.scene, sema::sceneProperties(), "background"),
-                    envelope);
+                    envelope, out.overlay ? pixel : ir::kNoValue);
     LayerLowering layers(ctx);
     ValueChecks checks(ctx);
     for (size_t i = 0; i < scene.layers.size(); ++i) {
@@ -92,7 +105,7 @@ LoweredScene lowerScene(const sema::CheckedScene& scene, const LowerOptions& opt
         ink.halfWidth = b.mul(stroke, b.constF(0.5));
         ink.spacing = ctx.layerProp(layer, "spacing")[0];
         Encoding enc = layers.encoding(layer);
-        ink.fields = layers.fields(layer, ink.band, enc, layout.layerFields);
+        ink.fields = layers.fields(layer, ink.band, enc, wantIndex);
         if (enc.field != ir::kNoValue) ink.sampling = layers.sampling(layer, enc);
         if (sema::viewSweeps(out.view) && ink.fields.sample.z == ir::kNoValue)
             out.unsweepable.push_back(static_cast<int>(i));

@@ -37,6 +37,8 @@ struct LowerOptions {
     // (`moire render --view`, `--envelope-gain`, `--envelope-taps`).
     std::optional<sema::ViewMode> view = std::nullopt;
     std::optional<double> envelopeGain = std::nullopt, envelopeTaps = std::nullopt;
+    // The fringe overlay, replacing the scene's `overlay` when set (`--overlay`, the viewer's o).
+    std::optional<bool> overlay = std::nullopt;
 };
 
 // The literal slots of interactive mode, counted from LoweredScene::viewSlot. The camera's
@@ -117,6 +119,7 @@ struct LoweredScene {
     int probeSlot = -1; // LowerMode::Probe: the literal slots of the probe point (x, then y)
     int viewSlot = -1;  // LowerMode::Interactive: the first of ViewSlots' slots
     sema::ViewMode view = sema::ViewMode::Pattern; // the view drawn
+    bool overlay = false;                          // the fringe overlay drawn over it
     // The layers (by index) the view cannot draw: a sweeping view over a family that gives no
     // phase sample. The compiler reports them; the function is not to be run.
     std::vector<int> unsweepable;

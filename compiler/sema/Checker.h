@@ -77,6 +77,7 @@ class Checker {
     bool noDuplicates(Decl& d, const char* what);
     void checkBlock(Decl& d, const std::vector<PropertySpec>& specs, const char* what);
     void checkViewName(Property& p); // `view = NAME`: one of sema/Views.h
+    void checkSwitch(Property& p);   // `overlay = true` or `false`
     void checkLayer(Decl& d);
 
     // ---- expressions ------------------------------------------------------------------

@@ -23,7 +23,11 @@ const std::vector<PropertySpec>& sceneProperties() {
          "tint laid where an encoded field's fringes are too fine for its carrier",
          {0, 0, 0, 0}},
         // A view's name (sema/Views.h), checked by name rather than as an expression.
-        {"view", Type::Error, true, true, "what is drawn: pattern, envelope or split"},
+        {"view", Type::Error, true, true, "what is drawn: pattern, envelope, split or ratio"},
+        // A switch, checked by name: true or false.
+        {"overlay", Type::Error, true, true,
+         "true: the fringe curves of the winning character, laid over the view where a "
+         "fringe stands"},
         {"envelope_gain",
          Type::Num,
          true,

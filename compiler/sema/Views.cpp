@@ -9,6 +9,8 @@ const std::vector<ViewName>& viewNames() {
         {ViewMode::Pattern, "pattern", "the layers' strokes, inked over the paper"},
         {ViewMode::Envelope, "envelope", "the averaged ink: the fringes with the carriers removed"},
         {ViewMode::Split, "split", "the pattern left of a dashed rule, its envelope right"},
+        {ViewMode::Ratio, "ratio",
+         "the heterodyne ratio: dark where a fringe stands, hued by which beat it is"},
     };
     return all;
 }
@@ -36,7 +38,17 @@ std::string viewList() {
 }
 
 bool viewSweeps(ViewMode mode) {
-    return mode != ViewMode::Pattern;
+    return mode == ViewMode::Envelope || mode == ViewMode::Split;
+}
+
+bool viewReadsCharacters(ViewMode mode) {
+    return mode == ViewMode::Ratio;
+}
+
+std::optional<bool> switchNamed(std::string_view name) {
+    if (name == "true") return true;
+    if (name == "false") return false;
+    return std::nullopt;
 }
 
 } // namespace moire::sema

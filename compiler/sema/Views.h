@@ -16,6 +16,7 @@ enum class ViewMode {
     Pattern,  // the picture: each layer's strokes inked over the paper, in order (§3.4)
     Envelope, // the mean ink over one index period of the whole stack (Eq. 13, §4.4)
     Split,    // the pattern left of a dashed rule at the frame's middle, the envelope right
+    Ratio,    // the least merit of the characters, hued by the winner's order (§4.2-4.3)
 };
 
 // The most taps the envelope averages per index period (`envelope_taps`, --envelope-taps).
@@ -37,5 +38,13 @@ const char* viewName(ViewMode mode);
 std::string viewList();
 // Whether the view sweeps the layers' indices (and so needs each layer's phase sample).
 bool viewSweeps(ViewMode mode);
+// Whether the view reads the stack's winning character (lower/Characters.h), and so needs
+// each layer's index field and its gradient.
+bool viewReadsCharacters(ViewMode mode);
+
+// The fringe overlay (`overlay = true`, `--overlay`, the viewer's o): the unit level sets of
+// the winning character where a fringe stands, laid over any view. A switch written as a
+// name: `true` or `false`.
+std::optional<bool> switchNamed(std::string_view name);
 
 } // namespace moire::sema

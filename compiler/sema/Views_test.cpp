@@ -19,7 +19,7 @@ TEST_CASE("views: every view's name is found back, and the list names each one")
                                        " }\nlayer { family = circles }\n");
         CHECK(program->view == v.mode);
     }
-    CHECK(sema::viewList() == "pattern, envelope or split");
+    CHECK(sema::viewList() == "pattern, envelope, split or ratio");
     CHECK(!sema::viewNamed("Envelope"));
     CHECK(!sema::viewNamed(""));
     CHECK(test::compileErrors("scene { view = 3 }\nlayer { family = circles }\n")

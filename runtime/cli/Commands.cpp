@@ -202,8 +202,9 @@ bool checkBackendArgs(const std::string& backend, int device) {
 
 namespace {
 
-// --view, --envelope-gain and --envelope-taps, into the compile options.
+// --view, --overlay, --envelope-gain and --envelope-taps, into the compile options.
 bool checkViewOptions(const RenderArgs& args, CompileOptions& options) {
+    if (args.overlay) options.overlay = true;
     if (!args.view.empty()) {
         options.view = sema::viewNamed(args.view);
         if (!options.view) {

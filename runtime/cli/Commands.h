@@ -35,6 +35,7 @@ struct RenderArgs {
     // --view and the envelope's settings, replacing the scene's (sema/Views.h).
     std::string view; // empty: the scene's
     std::optional<double> envelopeGain = std::nullopt, envelopeTaps = std::nullopt;
+    bool overlay = false; // --overlay: the fringe curves over the view, whatever the scene says
     Verbosity verbosity;
 };
 int render(const RenderArgs& args);

@@ -95,6 +95,19 @@ void ViewState::toggleEnvelope() {
                                                             : sema::ViewMode::Envelope;
 }
 
+void ViewState::toggleRatio() {
+    viewOverride_ =
+        shownView() == sema::ViewMode::Ratio ? sema::ViewMode::Pattern : sema::ViewMode::Ratio;
+}
+
+bool ViewState::shownOverlay() const {
+    return build_ ? build_->program->overlay : overlayOverride_.value_or(false);
+}
+
+void ViewState::toggleOverlay() {
+    overlayOverride_ = !shownOverlay();
+}
+
 void ViewState::resetView() {
     view_.reset();
     changed(false);

@@ -84,7 +84,14 @@ class ViewState {
     // structure, so the viewer builds the scene again with viewOverride() (and keeps it
     // through reloads); unset, the scene's own `view` is drawn.
     void toggleEnvelope();
+    // `v`: the ratio view (§4.2), or the pattern when it is on screen; as `e`.
+    void toggleRatio();
     std::optional<sema::ViewMode> viewOverride() const { return viewOverride_; }
+    // `o`: the fringe overlay on or off (structure too, so built again with overlayOverride();
+    // unset, the scene's own `overlay`).
+    void toggleOverlay();
+    std::optional<bool> overlayOverride() const { return overlayOverride_; }
+    bool shownOverlay() const;
     // The view of the build on screen (the pattern before any build).
     sema::ViewMode shownView() const;
 
@@ -164,6 +171,7 @@ class ViewState {
     int selected_ = -1;
     int width_ = 0, height_ = 0;
     std::optional<sema::ViewMode> viewOverride_;
+    std::optional<bool> overlayOverride_;
 
     ViewClock clock_;
     uint64_t version_ = 1;

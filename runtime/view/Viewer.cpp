@@ -133,10 +133,10 @@ class Viewer {
         });
     }
 
-    // `e`: the view is structure, so the scene is built again with the view the state now
-    // asks for, and the reloader goes on with it.
-    void switchView() {
-        state_.toggleEnvelope();
+    // `e`, `v`, `o`: the view and the overlay are structure, so the scene is built again with
+    // what the state now asks for, and the reloader goes on with it.
+    void switchView(void (ViewState::*toggle)()) {
+        (state_.*toggle)();
         if (reloader_) reloader_->stop();
         reloader_.reset();
         builder_.reset();
@@ -150,6 +150,7 @@ class Viewer {
         CompileOptions compile;
         compile.mode = CompileOptions::Mode::Interactive;
         compile.view = state_.viewOverride();
+        compile.overlay = state_.overlayOverride();
         BuildResult first;
         if (options_.scenePath.empty()) {
             builder_ = std::make_unique<SceneBuilder>(backend_, compile);
@@ -456,8 +457,14 @@ class Viewer {
         case GLFW_KEY_Q:
             glfwSetWindowShouldClose(window_, GLFW_TRUE);
             return;
-        case GLFW_KEY_E: // the envelope (§4.4); the ratio view of §4.2 will take 'v'
-            if (!repeat) switchView();
+        case GLFW_KEY_E: // the envelope (§4.4)
+            if (!repeat) switchView(&ViewState::toggleEnvelope);
+            return;
+        case GLFW_KEY_V: // the ratio view (§4.2)
+            if (!repeat) switchView(&ViewState::toggleRatio);
+            return;
+        case GLFW_KEY_O: // the fringe overlay (Fig. 5d)
+            if (!repeat) switchView(&ViewState::toggleOverlay);
             return;
         default:
             return;

@@ -2,14 +2,11 @@
 // the characters range over integer combinations of its generators), against independent
 // expectations: the generators' AD gradients against central differences, their values at
 // the lattice's own points, and the search's winner against a brute force over lattice
-// harmonics written here as plain loops, on every backend that runs here.
-#include "compiler/backend/Backend.h"
-#include "compiler/ir/Builder.h"
+// harmonics written here as plain loops, on the interpreter and the JIT (the small kernels on
+// every backend that runs here).
 #include "compiler/lower/Characters.h"
 #include "compiler/lower/KernelProbe_test.h"
 #include "compiler/lower/LatticeFamily.h"
-#include "compiler/passes/AutoDiff.h"
-#include "compiler/passes/Simplify.h"
 
 #include <cmath>
 #include <doctest/doctest.h>
@@ -24,43 +21,23 @@ constexpr double kDeg = std::numbers::pi / 180;
 constexpr double kSqrt3 = std::numbers::sqrt3;
 
 // A kernel whose inputs are the world point (uniforms 0 and 1, marked as AD's independent
-// variables) and whose derivative markers the AD pass resolves, as the compiler does
-// (Compile.cpp: simplify, AD, simplify), before a backend compiles it.
+// variables), its derivative markers resolved by the AD pass.
 class DerivedProbe {
   public:
     using Body = std::function<void(ir::Builder&, ir::ValueId x, ir::ValueId y)>;
-    DerivedProbe(int numOutputs, const Body& body) {
-        ir::Function f;
-        f.name = "probe";
-        f.numOutputs = numOutputs;
-        ir::Builder b(f);
-        body(b, b.emit(ir::Op::Indep, {b.uniform(0)}, 0.0, 0),
-             b.emit(ir::Op::Indep, {b.uniform(1)}, 0.0, 1));
-        ir::verify(f);
-        f_ = passes::simplify(passes::autoDiff(passes::simplify(f)));
-    }
-    bool use(const std::string& backend) {
-        kernel_.reset();
-        backend_ = test::makeBackendOrSkip(backend);
-        if (!backend_) return false;
-        kernel_ = backend_->compile(f_);
-        return true;
-    }
-    std::vector<double> run(double x, double y) const {
-        const double uniforms[] = {x, y};
-        std::vector<float> out(static_cast<size_t>(f_.numOutputs));
-        KernelFrame frame;
-        frame.uniforms = uniforms;
-        frame.imageW = 1;
-        frame.imageH = 1;
-        kernel_->runTile(frame, TileRect{0, 0, 1, 1}, out.data(), out.size());
-        return {out.begin(), out.end()};
-    }
+    DerivedProbe(int numOutputs, const Body& body)
+        : probe_(
+              numOutputs,
+              [&](ir::Builder& b) {
+                  body(b, b.emit(ir::Op::Indep, {b.uniform(0)}, 0.0, 0),
+                       b.emit(ir::Op::Indep, {b.uniform(1)}, 0.0, 1));
+              },
+              true) {}
+    bool use(const std::string& backend) { return probe_.use(backend); }
+    std::vector<double> run(double x, double y) const { return probe_.run({x, y}); }
 
   private:
-    ir::Function f_;
-    std::unique_ptr<Backend> backend_;
-    std::unique_ptr<CompiledKernel> kernel_;
+    test::KernelProbe probe_;
 };
 
 // A lattice layer as the lowering frames one: p - origin turned by -turn(p), where the turn

@@ -17,15 +17,18 @@
 // The search treats the lattice as its first-order row families a u + b v, (a, b) one of
 // kLatticeRows: the generators u and v and the diagonals u + v and u - v (each a line family
 // through every point of the lattice; for the A2 lattices u + v is the third row of the
-// same pitch). A row family is priced as any one-index family is, so the harmonic m (a, b)
-// of a row costs m in the weight, and everything above runs over one row per layer: a pair
-// of layers scans every row of the one against every row of the other, a ternary one row
-// of each. A lattice's own rows never beat with each other: a combination of one layer's
-// generators alone is a row family of that layer, drawn by it alone, not a beat of the
-// superposition, so a lattice by itself has no character, as any sole layer has none.
-// Finer rows (2u + v, ...) are left out: they carry less of the lattice's ink (none at
-// all for a grid of edges) and beat with what a first-order row already beats with at a
-// higher order.
+// same pitch). A lattice's harmonic (a, b) is priced by its order max(|a|, |b|), the
+// lattice's reading of the 1 / m decay: the harmonic m (a, b) of a first-order row costs m,
+// as a row family priced like any one-index family would. Everything above then runs over
+// one row per layer: a pair of layers scans every row of the one against every row of the
+// other, a ternary one row of each. A lattice's own rows never beat with each other: a
+// combination of one layer's generators alone is a row family of that layer, drawn by it
+// alone, not a beat of the superposition, so a lattice by itself has no character, as any
+// sole layer has none.
+// Finer rows (2u + v, ...) are left out: their harmonics are of order 2 and more, they carry
+// less of the lattice's ink, and each would cost as much again as the four rows
+// (LatticeCharacters_test holds the search to a brute force over every harmonic of order up
+// to 6, finer rows included, where a first-order row wins).
 // Written once as templates over the number type: instantiated with ir::BuiltValue they build
 // the kernel's IR (Characters.cpp); with double they are what experiments/ measures.
 #pragma once

@@ -11,7 +11,6 @@
 #include <cmath>
 #include <doctest/doctest.h>
 #include <numbers>
-#include <numeric>
 
 using namespace moire;
 
@@ -122,10 +121,11 @@ struct Harmonics {
 V2 carrier(const Generators& g, const int* h) {
     return g.count == 1 ? double(h[0]) * g.g[0] : double(h[0]) * g.g[0] + double(h[1]) * g.g[1];
 }
-// The price of a harmonic: it is the m-th harmonic of the row family h / m, m = gcd, and the
-// m-th harmonic of a family carries 1 / m of the contrast (Eq. 12's weight).
+// The price of a harmonic h of a lattice: its order max(|h0|, |h1|), the lattice's reading of
+// Eq. 12's 1 / m (the m-th harmonic of a one-index family, (m, 0), costs m; so does the m-th
+// of a diagonal row, (m, m)). Over every harmonic, not only the rows the search scans.
 int harmonicOrder(const int* h) {
-    return std::gcd(std::abs(h[0]), std::abs(h[1]));
+    return std::max(std::abs(h[0]), std::abs(h[1]));
 }
 // Eq. 11-12 restated: the beat cA + cB against half of cA - cB, floored at 1e-3 (kEtaFloor).
 double oracleMerit(const Generators& A, const Generators& B, const Harmonics& k) {
@@ -153,26 +153,42 @@ OracleBest bruteForce(const Generators& A, const Generators& B, int n) {
     return best;
 }
 
-// The searched winner of a two-layer stack: outputs 0 mu, then each slot's coefficients on
-// its generators (characterGenerators).
+// The searched winner of a stack (up to three layers), at the point kAt: outputs 0 mu, then
+// each slot's coefficients on its generators (characterGenerators; zero past the stack),
+// then the winner's combination and its gradient (characterCombination).
+constexpr double kAtX = 37.3, kAtY = -12.9;
 std::vector<double> searched(DerivedProbe& probe) {
-    return probe.run(37.3, -12.9);
+    return probe.run(kAtX, kAtY);
 }
 DerivedProbe stackProbe(
     const std::function<std::vector<lower::LayerFields>(ir::Builder&, ir::ValueId, ir::ValueId)>&
         layers) {
-    return DerivedProbe(5, [=](ir::Builder& b, ir::ValueId x, ir::ValueId y) {
+    return DerivedProbe(10, [=](ir::Builder& b, ir::ValueId x, ir::ValueId y) {
         std::vector<lower::LayerFields> fields = layers(b, x, y);
         lower::Character c = lower::stackCharacter(b, fields);
         b.output(0, c.mu);
-        for (int i = 0; i < 2; ++i) {
-            auto [ku, kv] = lower::characterGenerators(b, c, i);
+        for (int i = 0; i < 3; ++i) {
+            auto [ku, kv] = i < c.count ? lower::characterGenerators(b, c, i)
+                                        : std::array{b.constF(0.0), b.constF(0.0)};
             b.output(1 + 2 * i, ku);
             b.output(2 + 2 * i, kv);
         }
+        lower::Combination comb = lower::characterCombination(b, c, fields);
+        b.output(7, comb.value);
+        b.output(8, comb.gradX);
+        b.output(9, comb.gradY);
     });
 }
-Harmonics namedHarmonics(const std::vector<double>& out) {
+// The generators' values at p, from the basis (the layer's origin at 0).
+std::array<double, 2> generatorValues(const LatticeLayer& l, V2 p) {
+    const V2 q = turned(p, -l.turn);
+    const double x = q.x / l.sx, y = q.y / l.sy;
+    const double pitch = l.kind == lower::LatticeKind::Hex ? l.spacing * kSqrt3 : l.spacing;
+    if (l.kind == lower::LatticeKind::Square) return {x / pitch, y / pitch};
+    const double v = y * 2 / (kSqrt3 * pitch);
+    return {x / pitch - v / 2, v};
+}
+Harmonics namedHarmonics(const std::vector<double>& out) { // of a two-layer stack
     return {{int(std::lround(out[1])), int(std::lround(out[2]))},
             {int(std::lround(out[3])), int(std::lround(out[4]))}};
 }
@@ -347,7 +363,48 @@ TEST_CASE("lattice characters: a lattice against line families names the row the
             CAPTURE(want.k.b[0]);
             CHECK(out[0] == doctest::Approx(want.mu).epsilon(tolerance(backend)));
             CHECK(sameCharacter(got, want.k));
+            // The overlay's field: the named combination of the generators and the index,
+            // and its gradient, by hand.
+            const std::array<double, 2> uv = generatorValues(c.lattice, {kAtX, kAtY});
+            const double idx = (kAtX * std::cos(c.angle) + kAtY * std::sin(c.angle)) / c.pitch;
+            const V2 grad = carrier(gA, got.a) + carrier(gB, got.b);
+            const double value = got.a[0] * uv[0] + got.a[1] * uv[1] + got.b[0] * idx;
+            CHECK(out[7] == doctest::Approx(value).epsilon(tolerance(backend)));
+            CHECK(out[8] == doctest::Approx(grad.x).epsilon(tolerance(backend)));
+            CHECK(out[9] == doctest::Approx(grad.y).epsilon(tolerance(backend)));
         }
+    }
+}
+
+TEST_CASE("lattice characters: in a stack of three, the lattice's slot and row are reported") {
+    // Bottom to top: lines beating with the square lattice's diagonal row, lines far from
+    // everything, the lattice on top. The winner is the bottom pair's (the brute force over
+    // each pair says so), with nothing on the middle layer.
+    const LatticeLayer lattice{lower::LatticeKind::Square, 10, 1, 1, 0};
+    const double pitch = 1.02 * 10 / std::sqrt(2), angle = 46 * kDeg;
+    const double farPitch = 3.1, farAngle = 71 * kDeg;
+    DerivedProbe probe = stackProbe([&](ir::Builder& b, ir::ValueId x, ir::ValueId y) {
+        return std::vector<lower::LayerFields>{lineLayer(b, x, y, pitch, angle),
+                                               lineLayer(b, x, y, farPitch, farAngle),
+                                               latticeLayer(b, x, y, lattice)};
+    });
+    const Generators gL = generatorsOf(lattice), gNear = lineGenerators(pitch, angle),
+                     gFar = lineGenerators(farPitch, farAngle);
+    const OracleBest want = bruteForce(gL, gNear, 6);
+    CHECK(bruteForce(gL, gFar, 6).mu > 2 * want.mu);
+    CHECK(bruteForce(gNear, gFar, 6).mu > 2 * want.mu);
+    for (const std::string& backend : searchBackends()) {
+        if (!probe.use(backend)) continue;
+        CAPTURE(backend);
+        const std::vector<double> out = searched(probe);
+        CHECK(out[0] == doctest::Approx(want.mu).epsilon(tolerance(backend)));
+        // Slot 0 the bottom lines, slot 1 the far lines, slot 2 the lattice.
+        const Harmonics got{{int(std::lround(out[5])), int(std::lround(out[6]))},
+                            {int(std::lround(out[1])), int(std::lround(out[2]))}};
+        CHECK(out[2] == 0); // a one-index layer has no second generator
+        CHECK(out[3] == 0);
+        CHECK(out[4] == 0);
+        CHECK(sameCharacter(got, want.k));
     }
 }
 

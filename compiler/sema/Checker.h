@@ -3,6 +3,7 @@
 #pragma once
 
 #include "compiler/sema/Sema.h"
+#include "compiler/sema/Views.h"
 
 #include <fmt/format.h>
 #include <string>
@@ -75,6 +76,7 @@ class Checker {
     void checkProperty(Property& p, const PropertySpec& spec, const Scope& scope);
     bool noDuplicates(Decl& d, const char* what);
     void checkBlock(Decl& d, const std::vector<PropertySpec>& specs, const char* what);
+    void checkViewName(Property& p); // `view = NAME`: one of sema/Views.h
     void checkLayer(Decl& d);
 
     // ---- expressions ------------------------------------------------------------------

@@ -444,8 +444,21 @@ void Checker::checkBlock(Decl& d, const std::vector<PropertySpec>& specs, const 
                          didYouMean(p.name, names));
             continue;
         }
+        if (spec->type == Type::Error) { // a name from a fixed list: the scene's view
+            checkViewName(p);
+            continue;
+        }
         checkProperty(p, *spec, Scope{});
     }
+}
+
+void Checker::checkViewName(Property& p) {
+    std::vector<std::string> names;
+    for (const ViewName& v : viewNames()) names.push_back(v.name);
+    if (p.value->kind == ExprKind::Name && viewNamed(p.value->name)) return;
+    std::string shown = p.value->kind == ExprKind::Name ? "'" + p.value->name + "'" : "this";
+    diags_.error(p.value->range, Msg::UnknownView, shown, viewList(),
+                 p.value->kind == ExprKind::Name ? didYouMean(p.value->name, names) : Hint());
 }
 
 void Checker::checkLayer(Decl& d) {

@@ -86,6 +86,15 @@ void ViewState::select(int layer) {
     redraw_ = true;
 }
 
+sema::ViewMode ViewState::shownView() const {
+    return build_ ? build_->program->view : viewOverride_.value_or(sema::ViewMode::Pattern);
+}
+
+void ViewState::toggleEnvelope() {
+    viewOverride_ = shownView() == sema::ViewMode::Envelope ? sema::ViewMode::Pattern
+                                                            : sema::ViewMode::Envelope;
+}
+
 void ViewState::resetView() {
     view_.reset();
     changed(false);

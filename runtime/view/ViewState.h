@@ -80,6 +80,14 @@ class ViewState {
     int width() const { return width_; }
     int height() const { return height_; }
 
+    // `e`: shows the envelope, or the pattern when the envelope is on screen. The view is
+    // structure, so the viewer builds the scene again with viewOverride() (and keeps it
+    // through reloads); unset, the scene's own `view` is drawn.
+    void toggleEnvelope();
+    std::optional<sema::ViewMode> viewOverride() const { return viewOverride_; }
+    // The view of the build on screen (the pattern before any build).
+    sema::ViewMode shownView() const;
+
     // --- Gestures (positions in framebuffer pixels) -----------------------------------
 
     // A button goes down at `at`; a second button while one is held is ignored.
@@ -155,6 +163,7 @@ class ViewState {
     SceneCamera camera_;
     int selected_ = -1;
     int width_ = 0, height_ = 0;
+    std::optional<sema::ViewMode> viewOverride_;
 
     ViewClock clock_;
     uint64_t version_ = 1;

@@ -94,14 +94,7 @@ class Viewer {
         if (!openWindow()) return 1;
         renderer_ = std::make_unique<FrameRenderer>(options_.threads, [] { glfwPostEmptyEvent(); });
         picker_ = std::make_unique<LayerPicker>([] { glfwPostEmptyEvent(); });
-        if (reloader_)
-            reloader_->start([this](const BuildResult& ev) {
-                {
-                    std::lock_guard<std::mutex> lock(reloadMutex_);
-                    reloads_.push_back(ev);
-                }
-                glfwPostEmptyEvent();
-            });
+        startReloader();
         state_.restartClock(Clock::now());
         StopSignals signals;
         while (!glfwWindowShouldClose(window_) && !StopSignals::requested) {
@@ -129,11 +122,34 @@ class Viewer {
         }
     }
 
+    void startReloader() {
+        if (!reloader_) return;
+        reloader_->start([this](const BuildResult& ev) {
+            {
+                std::lock_guard<std::mutex> lock(reloadMutex_);
+                reloads_.push_back(ev);
+            }
+            glfwPostEmptyEvent();
+        });
+    }
+
+    // `e`: the view is structure, so the scene is built again with the view the state now
+    // asks for, and the reloader goes on with it.
+    void switchView() {
+        state_.toggleEnvelope();
+        if (reloader_) reloader_->stop();
+        reloader_.reset();
+        builder_.reset();
+        if (loadScene()) startReloader();
+        redraw_ = true;
+    }
+
     // --- Setting up ---------------------------------------------------------------------
 
     bool loadScene() {
         CompileOptions compile;
         compile.mode = CompileOptions::Mode::Interactive;
+        compile.view = state_.viewOverride();
         BuildResult first;
         if (options_.scenePath.empty()) {
             builder_ = std::make_unique<SceneBuilder>(backend_, compile);
@@ -440,9 +456,9 @@ class Viewer {
         case GLFW_KEY_Q:
             glfwSetWindowShouldClose(window_, GLFW_TRUE);
             return;
-        // Views: the envelope and ratio views of §4.2 and §4.4 will toggle here ('e' and
-        // 'v'), each a per-pixel evaluation at several index offsets, once the compiler
-        // can build them.
+        case GLFW_KEY_E: // the envelope (§4.4); the ratio view of §4.2 will take 'v'
+            if (!repeat) switchView();
+            return;
         default:
             return;
         }

@@ -332,8 +332,9 @@ std::vector<IndexField> characterRows(ir::Builder& b, const LayerFields& layer);
 Character stackCharacter(ir::Builder& b, std::span<const LayerFields> layers);
 
 // Slot i's coefficients on layer c.layer[i]'s index fields: (k, 0) on a one-index layer's
-// index, (k rowU, k rowV) on a lattice's generators (genU, genV). What a sweep that keeps the
-// character advances each generator by (§4.4: a lattice's index is a pair).
+// index, (k rowU, k rowV) on a lattice's generators (genU, genV). A sweep that keeps the
+// character is chosen orthogonal to these (§4.4: a lattice's index is a pair, and which
+// combination of its generators rides the sweep is this per-pixel choice).
 std::array<ir::ValueId, 2> characterGenerators(ir::Builder& b, const Character& c, int i);
 
 // The winner's combination sum k_i idx_i and its gradient, per world unit.

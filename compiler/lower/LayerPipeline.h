@@ -39,6 +39,13 @@ struct LayerFields {
     // Family-specific diagnostics (the walking solver's certified interval), for tests.
     ir::ValueId aux0 = ir::kNoValue, aux1 = ir::kNoValue;
     PhaseSample sample; // for the sweeping views; empty where the family gives none
+    // A lattice's index is a pair (spec §3.6): the point's continuous coordinates (u, v) in
+    // the lattice's basis, before rounding, are its two generators' index fields, with their
+    // gradients per world unit. `index` and `aux0` stay the nearest point's integer pair and
+    // `gradX` unset, so whatever reads a one-index family's fields sees a lattice as before.
+    // kNoValue on every other family.
+    ir::ValueId genU = ir::kNoValue, genUX = ir::kNoValue, genUY = ir::kNoValue;
+    ir::ValueId genV = ir::kNoValue, genVX = ir::kNoValue, genVY = ir::kNoValue;
 };
 
 // The stroke in world units: half-width h = max(t/2, 1.15 px) and antialias band

@@ -85,8 +85,33 @@ CompileResult compileScene(const std::string& path, std::string text,
     }
 
     // 3. Lower to the scene function, then the ordered IR passes.
-    lower::LoweredScene lowered = lower::lowerScene(
-        program->checked, {options.mode, options.layerFields, options.tally}, program->literals);
+    const lower::LowerOptions lowerOptions{.mode = options.mode,
+                                           .layerFields = options.layerFields,
+                                           .tally = options.tally,
+                                           .view = options.view,
+                                           .envelopeGain = options.envelopeGain,
+                                           .envelopeTaps = options.envelopeTaps,
+                                           .overlay = options.overlay};
+    lower::LoweredScene lowered =
+        lower::lowerScene(program->checked, lowerOptions, program->literals);
+    // A view that sweeps every layer's index needs each family's phase sample.
+    for (int i : lowered.unsweepable) {
+        const sema::CheckedLayer& layer = program->checked.layers.at(i);
+        const ast::Property* fam = layer.decl->prop("family");
+        std::string what = layer.morph.size() > 1 ? "a morph between families of different kinds"
+                           : layer.family ? fmt::format("the {} family", layer.family->decl->name)
+                                          : std::string("this layer");
+        diags.error(fam ? fam->value->range : layer.decl->range, Msg::ViewCannotSweep,
+                    sema::viewName(lowered.view), what);
+    }
+    if (diags.hasErrors()) {
+        result.diagnostics = diags.render();
+        result.diagnosticList = diags.located();
+        result.partial = std::move(program);
+        return result;
+    }
+    program->view = lowered.view;
+    program->overlay = lowered.overlay;
     program->layout = std::move(lowered.layout);
     program->probeSlot = lowered.probeSlot;
     program->viewSlot = lowered.viewSlot;

@@ -10,6 +10,7 @@
 #include "compiler/sema/Symbols.h"
 
 #include <memory>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -24,6 +25,10 @@ struct CompileOptions {
     Mode mode = Mode::Render;
     bool layerFields = false; // the kernel also outputs each layer's index, distance and gradient
     bool tally = false;       // count the walking solver's radius evaluations (interpreter)
+    // The view and the envelope's settings, replacing the scene's when set (sema/Views.h).
+    std::optional<sema::ViewMode> view = std::nullopt;
+    std::optional<double> envelopeGain = std::nullopt, envelopeTaps = std::nullopt;
+    std::optional<bool> overlay = std::nullopt; // the fringe overlay
     // When set, each stage appends its name and wall-clock seconds (bench/compile_bench).
     std::vector<std::pair<std::string, double>>* stageSeconds = nullptr;
 };
@@ -44,6 +49,8 @@ struct SceneProgram {
     uint64_t kernelHash = 0; // structure only: unchanged when only numbers change
     int probeSlot = -1;      // in Mode::Probe: the literal slots of the probe point
     int viewSlot = -1;       // in Mode::Interactive: the first of lower::ViewSlots' slots
+    sema::ViewMode view = sema::ViewMode::Pattern; // the view the kernel draws
+    bool overlay = false;                          // and whether the fringe overlay is on it
 
     const ast::Module& userModule() const { return *modules.back(); }
 };

@@ -12,6 +12,23 @@
 //    shortest vector (§4.3);
 //  - a stack of three or more scans every pair among its three topmost layers and the
 //    zero-sum ternary characters, and keeps the global winner (§4.4).
+// A lattice layer indexes its points by a pair (u, v), its two generators (§3.6, §4.1), so
+// its characters range over integer combinations of both: k1 (a u + b v) + k2 idx2 + ...
+// The search treats the lattice as its first-order row families a u + b v, (a, b) one of
+// kLatticeRows: the generators u and v and the diagonals u + v and u - v (each a line family
+// through every point of the lattice; for the A2 lattices u + v is the third row of the
+// same pitch). A lattice's harmonic (a, b) is priced by its order max(|a|, |b|), the
+// lattice's reading of the 1 / m decay: the harmonic m (a, b) of a first-order row costs m,
+// as a row family priced like any one-index family would. Everything above then runs over
+// one row per layer: a pair of layers scans every row of the one against every row of the
+// other, a ternary one row of each. A lattice's own rows never beat with each other: a
+// combination of one layer's generators alone is a row family of that layer, drawn by it
+// alone, not a beat of the superposition, so a lattice by itself has no character, as any
+// sole layer has none.
+// Finer rows (2u + v, ...) are left out: their harmonics are of order 2 and more, they carry
+// less of the lattice's ink, and each would cost as much again as the four rows
+// (LatticeCharacters_test holds the search to a brute force over every harmonic of order up
+// to 6, finer rows included, where a first-order row wins).
 // Written once as templates over the number type: instantiated with ir::BuiltValue they build
 // the kernel's IR (Characters.cpp); with double they are what experiments/ measures.
 #pragma once
@@ -25,6 +42,7 @@
 #include <array>
 #include <cmath>
 #include <span>
+#include <vector>
 
 namespace moire::lower {
 
@@ -61,6 +79,10 @@ constexpr double kStepMultipleCap = 4096.0;
 // (1, 1) at four times the merit).
 inline constexpr std::array<std::array<int, 2>, 6> kFloorCharacters = {
     {{1, -1}, {1, 1}, {2, -1}, {2, 1}, {1, -2}, {1, 2}}};
+// A lattice's row families, as coefficients (a, b) of its generators (u, v): row r is the
+// index field a u + b v, in this order (ties go to the earlier row).
+inline constexpr std::array<std::array<int, 2>, 4> kLatticeRows = {
+    {{1, 0}, {0, 1}, {1, 1}, {1, -1}}};
 // The zero-sum ternary characters scanned for three layers: the permutations of (1, 1, -2).
 inline constexpr std::array<std::array<int, 3>, 3> kTernaryCharacters = {
     {{1, 1, -2}, {1, -2, 1}, {-2, 1, 1}}};
@@ -201,60 +223,119 @@ inline PairCharacterT<T> bestPairCharacter(Grad<T> g1, Grad<T> g2, int window = 
 }
 
 // The winner over a stack's (up to) three topmost layers, given bottom to top: coefficients
-// k[i] of layer i of `g`, zero for a layer the character leaves out.
+// k[i] of layer i, zero for a layer the character leaves out, and row[i], which of layer
+// i's index fields the coefficient multiplies (always 0 for a one-index layer; for a lattice
+// the position in kLatticeRows).
 template <class T>
 struct StackCharacterT {
     T mu;
     std::array<T, 3> k;
+    std::array<T, 3> row;
 };
 
-// `g` holds at least one layer.
+// The general search: `rows[i]` holds layer i's index-field gradients (one for a one-index
+// family, one per row family for a lattice), at least one layer, each with at least one row.
+// The pairs go topmost first and, within a pair of layers, row by row (ties go to the
+// earlier); then the zero-sum ternaries over one row of each of three layers.
+template <class T>
+inline StackCharacterT<T> bestStackCharacterOfRows(std::span<const std::vector<Grad<T>>> rows,
+                                                   int window = kCharacterWindow) {
+    T zero = ir::literal(rows[0][0].x, 0.0);
+    StackCharacterT<T> best{
+        ir::literal(zero, kNoCharacter), {zero, zero, zero}, {zero, zero, zero}};
+    if (rows.size() < 2) return best;
+    const size_t n = std::min<size_t>(rows.size(), 3);
+    std::span<const std::vector<Grad<T>>> top = rows.subspan(rows.size() - n);
+    auto keep = [&](T mu, const std::array<T, 3>& k, const std::array<size_t, 3>& row) {
+        auto better = ir::lessThan(mu, best.mu);
+        best.mu = ir::select(better, mu, best.mu);
+        for (size_t i = 0; i < n; ++i) {
+            best.k[i] = ir::select(better, k[i], best.k[i]);
+            best.row[i] = ir::select(better, ir::literal(zero, double(row[i])), best.row[i]);
+        }
+    };
+    for (size_t hi = n; hi-- > 1;)
+        for (size_t lo = hi; lo-- > 0;)
+            for (size_t ra = 0; ra < top[lo].size(); ++ra)
+                for (size_t rb = 0; rb < top[hi].size(); ++rb) {
+                    PairCharacterT<T> p = bestPairCharacter(top[lo][ra], top[hi][rb], window);
+                    std::array<T, 3> k = {zero, zero, zero};
+                    std::array<size_t, 3> row = {0, 0, 0};
+                    k[lo] = p.k1;
+                    k[hi] = p.k2;
+                    row[lo] = ra;
+                    row[hi] = rb;
+                    keep(p.mu, k, row);
+                }
+    if (n == 3) {
+        for (size_t r0 = 0; r0 < top[0].size(); ++r0)
+            for (size_t r1 = 0; r1 < top[1].size(); ++r1)
+                for (size_t r2 = 0; r2 < top[2].size(); ++r2) {
+                    std::array<Grad<T>, 3> g3 = {top[0][r0], top[1][r1], top[2][r2]};
+                    for (const auto& k : kTernaryCharacters) {
+                        std::array<T, 3> kt = {ir::literal(zero, k[0]), ir::literal(zero, k[1]),
+                                               ir::literal(zero, k[2])};
+                        keep(ternaryMerit(k, g3), kt, {r0, r1, r2});
+                    }
+                }
+    }
+    return best;
+}
+
+// One-index layers only: `g` holds each layer's index gradient, at least one layer.
 template <class T>
 inline StackCharacterT<T> bestStackCharacter(std::span<const Grad<T>> g,
                                              int window = kCharacterWindow) {
-    T zero = ir::literal(g[0].x, 0.0);
-    StackCharacterT<T> best{ir::literal(zero, kNoCharacter), {zero, zero, zero}};
-    if (g.size() < 2) return best;
-    const size_t n = std::min<size_t>(g.size(), 3);
-    std::span<const Grad<T>> top = g.subspan(g.size() - n);
-    // The pairs, the topmost first (ties go to the upper pair).
-    for (size_t hi = n; hi-- > 1;)
-        for (size_t lo = hi; lo-- > 0;) {
-            PairCharacterT<T> p = bestPairCharacter(top[lo], top[hi], window);
-            auto better = ir::lessThan(p.mu, best.mu);
-            best.mu = ir::select(better, p.mu, best.mu);
-            for (size_t i = 0; i < n; ++i) {
-                T ki = i == lo ? p.k1 : (i == hi ? p.k2 : zero);
-                best.k[i] = ir::select(better, ki, best.k[i]);
-            }
-        }
-    if (n == 3) {
-        std::array<Grad<T>, 3> g3 = {top[0], top[1], top[2]};
-        for (const auto& k : kTernaryCharacters) {
-            T mu = ternaryMerit(k, g3);
-            auto better = ir::lessThan(mu, best.mu);
-            best.mu = ir::select(better, mu, best.mu);
-            for (size_t i = 0; i < 3; ++i)
-                best.k[i] = ir::select(better, ir::literal(zero, k[i]), best.k[i]);
-        }
-    }
-    return best;
+    std::vector<std::vector<Grad<T>>> rows;
+    for (const Grad<T>& gi : g) rows.push_back({gi});
+    return bestStackCharacterOfRows<T>(rows, window);
+}
+
+// A lattice's row gradients from its generators' gradients gu, gv (kLatticeRows' order).
+template <class T>
+inline std::vector<Grad<T>> latticeRowGradients(Grad<T> gu, Grad<T> gv) {
+    std::vector<Grad<T>> out;
+    for (const auto& r : kLatticeRows)
+        out.push_back(
+            {smallCombination(r[0], gu.x, r[1], gv.x), smallCombination(r[0], gu.y, r[1], gv.y)});
+    return out;
 }
 
 // ---- The IR instantiation ----
 
 // A stack's winning character at the pixel: its merit (kNoCharacter where there is no pair)
 // and its coefficients over `layer[0..count)`, indices into the layers it was given.
+// For a lattice layer (genU set) the coefficient multiplies one of its row families,
+// rowU[i] u + rowV[i] v (per pixel: which row wins varies), so the layer's term is
+// k[i] (rowU[i] genU + rowV[i] genV), and (k rowU, k rowV) are its coefficients on its two
+// generators (characterGenerators); on a one-index layer rowU and rowV are kNoValue.
 struct Character {
     ir::ValueId mu = ir::kNoValue;
     std::array<ir::ValueId, 3> k = {ir::kNoValue, ir::kNoValue, ir::kNoValue};
     std::array<int, 3> layer = {-1, -1, -1};
     int count = 0;
+    std::array<ir::ValueId, 3> rowU = {ir::kNoValue, ir::kNoValue, ir::kNoValue};
+    std::array<ir::ValueId, 3> rowV = {ir::kNoValue, ir::kNoValue, ir::kNoValue};
 };
 
-// The winner for `layers` (bottom to top; the three topmost are scanned). A layer without an
-// index gradient (gradX = kNoValue) counts as gradient zero: it beats with nothing.
+// An index field and its gradient, per world unit.
+struct IndexField {
+    ir::ValueId value, gradX, gradY;
+};
+
+// The index fields the search scans for one layer: its index, or for a lattice its row
+// families (kLatticeRows over genU, genV). A layer without an index gradient (gradX =
+// kNoValue) counts as gradient zero: it beats with nothing.
+std::vector<IndexField> characterRows(ir::Builder& b, const LayerFields& layer);
+
+// The winner for `layers` (bottom to top; the three topmost are scanned), lattices included.
 Character stackCharacter(ir::Builder& b, std::span<const LayerFields> layers);
+
+// Slot i's coefficients on layer c.layer[i]'s index fields: (k, 0) on a one-index layer's
+// index, (k rowU, k rowV) on a lattice's generators (genU, genV). A sweep that keeps the
+// character is chosen orthogonal to these (§4.4: a lattice's index is a pair, and which
+// combination of its generators rides the sweep is this per-pixel choice).
+std::array<ir::ValueId, 2> characterGenerators(ir::Builder& b, const Character& c, int i);
 
 // The winner's combination sum k_i idx_i and its gradient, per world unit.
 struct Combination {
@@ -263,7 +344,8 @@ struct Combination {
 Combination characterCombination(ir::Builder& b, const Character& c,
                                  std::span<const LayerFields> layers);
 
-// The winner's order sum |k_i| (2 for the first-order difference and sum beats).
+// The winner's order sum |k_i| (2 for the first-order difference and sum beats; a lattice's
+// row counts as one index field).
 ir::ValueId characterOrder(ir::Builder& b, const Character& c);
 
 } // namespace moire::lower

@@ -1,40 +1,102 @@
 #include "compiler/lower/Compose.h"
 
 #include "compiler/diag/Diagnostics.h"
+#include "compiler/lower/RatioView.h"
+
+#include <optional>
 
 namespace moire::lower {
 
+using ir::Op;
 using ir::ValueId;
 
-Compose::Compose(ir::Builder& b, ViewMode mode, const Vals& background)
+Compose::Compose(ir::Builder& b, ViewMode mode, const Vals& background,
+                 const EnvelopeSettings& envelope, ir::ValueId overlayPixel)
     : b_(b), mode_(mode),
-      acc_(paper(b, background[0], background[1], background[2], background[3])),
-      zero_(b.constF(0.0)), unresolved_(zero_) {}
+      paper_(paper(b, background[0], background[1], background[2], background[3])), acc_(paper_),
+      settings_(envelope), overlayPixel_(overlayPixel), zero_(b.constF(0.0)), unresolved_(zero_) {}
 
 void Compose::layer(const LayerInk& ink) {
     if (ink.sampling != ir::kNoValue) unresolved_ = b_.max(unresolved_, ink.sampling);
     b_.setLoc(ink.where);
-    switch (mode_) {
-    case ViewMode::Pattern: {
-        ValueId cov = strokeCoverage(b_, ink.fields.distance, ink.band, ink.opacity, ink.color[3]);
-        acc_ = inkOver(b_, acc_, ink.color[0], ink.color[1], ink.color[2], cov);
-        return;
-    }
-    }
-    MOIRE_ICE("unknown view mode");
+    // The pattern is drawn in every view (the split shows it; elsewhere what is not used
+    // is removed as dead code).
+    ValueId cov = strokeCoverage(b_, ink.fields.distance, ink.band, ink.opacity, ink.color[3]);
+    acc_ = inkOver(b_, acc_, ink.color[0], ink.color[1], ink.color[2], cov);
+    fields_.push_back(ink.fields);
+    if (!sema::viewSweeps(mode_)) return;
+    EnvelopeLayer l{ink.fields.sample, ink.halfWidth, ink.band.a,       ink.color,
+                    ink.opacity,       ink.spacing,   ink.fields.gradX, ink.fields.gradY};
+    // A family without a phase sample is reported before the kernel is used
+    // (LoweredScene::unsweepable); its ink then stays put while the others sweep.
+    if (l.sample.z == ir::kNoValue)
+        l.sample = {ink.fields.distance, b_.constF(kNoMember), b_.constF(kNoMember), zero_,
+                    std::nullopt};
+    sweep_.push_back(l);
+}
+
+Ink Compose::envelope() {
+    return envelopeInk(b_, paper_, sweep_, settings_);
+}
+
+// Fig. 1's layout: the pattern left of the frame's middle, the envelope right, and a dashed
+// rule between them (1.5 pixels wide, antialiased, in dashes of 6 pixels every 12).
+Ink Compose::split() {
+    ValueId px = b_.leaf(Op::PixelX);
+    ValueId middle = b_.mul(b_.leaf(Op::ImageW), b_.constF(0.5));
+    std::vector<ValueId> right = b_.ifThenElse(
+        b_.emit(Op::Ge, {px, middle}),
+        [&] {
+            Ink e = envelope();
+            return std::vector<ValueId>{e.r, e.g, e.b, e.a};
+        },
+        [&] {
+            return std::vector<ValueId>{acc_.r, acc_.g, acc_.b, acc_.a};
+        });
+    Ink out{right[0], right[1], right[2], right[3]};
+    ValueId across = b_.abs(b_.sub(px, middle));
+    ValueId rule = b_.clamp(b_.sub(b_.constF(1.25), across), zero_, b_.constF(1.0));
+    ValueId dash =
+        b_.lt(b_.emit(Op::Fract, {b_.div(b_.leaf(Op::PixelY), b_.constF(12.0))}), b_.constF(0.5));
+    rule = b_.select(dash, b_.mul(rule, b_.constF(0.7)), zero_);
+    ValueId grey = b_.constF(0.25);
+    return inkOver(b_, out, grey, grey, grey, rule);
 }
 
 void Compose::output(const std::function<Vals()>& unresolvedTint) {
+    // The stack's winning character, for the ratio view and the overlay (Characters.h).
+    std::optional<Character> winner;
+    auto character = [&]() -> const Character& {
+        if (!winner) winner = stackCharacter(b_, fields_);
+        return *winner;
+    };
+    Ink shown = acc_;
+    switch (mode_) {
+    case ViewMode::Pattern:
+        break;
+    case ViewMode::Envelope:
+        shown = envelope();
+        break;
+    case ViewMode::Split:
+        shown = split();
+        break;
+    case ViewMode::Ratio:
+        shown = ratioViewInk(b_, character());
+        break;
+    }
     // The sampling limit (§10.4): a carrier of pitch s cannot show fringes much finer than
     // 3 s, so where an encoded field is that steep the scene's `unresolved` tint is laid
     // over everything (transparent unless the scene sets it).
     if (unresolved_ != zero_) {
         Vals tint = unresolvedTint();
         ValueId mark = b_.smoothstep(b_.constF(0.30), b_.constF(0.37), unresolved_);
-        acc_ = inkOver(b_, acc_, tint[0], tint[1], tint[2],
-                       b_.mul(mark, b_.clamp(tint[3], zero_, b_.constF(1.0))));
+        shown = inkOver(b_, shown, tint[0], tint[1], tint[2],
+                        b_.mul(mark, b_.clamp(tint[3], zero_, b_.constF(1.0))));
     }
-    Ink out = unpremultiply(b_, acc_);
+    // The fringe curves go over everything, as Fig. 5d draws them over the averaged ink.
+    if (overlayPixel_ != ir::kNoValue)
+        shown = overlayFringes(b_, shown, character(), fields_, overlayPixel_);
+    Ink out = unpremultiply(b_, shown);
     b_.output(0, out.r);
     b_.output(1, out.g);
     b_.output(2, out.b);

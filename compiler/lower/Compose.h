@@ -1,26 +1,29 @@
 // The compose step: the layers' fields at the pixel, in order, to the pixel's colour. How they
-// combine is the view mode; the layers' lowering knows nothing of it, so another view (the
-// envelope, ratio or overlay of a moiré) is another mode here (docs/recipes-lowering.md).
+// combine is the view (sema/Views.h); the layers' lowering knows nothing of it, so another view
+// of a moiré is another case here (docs/recipes-lowering.md, docs/views.md).
 #pragma once
 
 #include "compiler/ir/Builder.h"
+#include "compiler/lower/Envelope.h"
 #include "compiler/lower/LayerPipeline.h"
 #include "compiler/lower/LowerExpr.h"
+#include "compiler/sema/Views.h"
 
 #include <functional>
+#include <vector>
 
 namespace moire::lower {
 
-enum class ViewMode {
-    Pattern, // the picture: each layer's strokes inked over the paper, in order (§3.4)
-};
+using sema::ViewMode;
 
 // What the compose step is given of one layer.
 struct LayerInk {
     LayerFields fields;
-    StrokeBand band;
-    Vals color; // r, g, b, a
+    StrokeBand band; // as drawn: the half-width held at the hairline floor (Eq. 35)
+    ir::ValueId halfWidth = ir::kNoValue; // the stroke's own, for the views that average ink
+    Vals color;                           // r, g, b, a
     ir::ValueId opacity;
+    ir::ValueId spacing = ir::kNoValue; // the layer's nominal pitch
     // gain s |grad f| of a layer that encodes a field (LayerLowering::sampling), or kNoValue.
     ir::ValueId sampling = ir::kNoValue;
     SourceLoc where; // the layer, for the instructions built from it
@@ -28,8 +31,11 @@ struct LayerInk {
 
 class Compose {
   public:
-    // Starts from the paper (straight RGBA).
-    Compose(ir::Builder& b, ViewMode mode, const Vals& background);
+    // Starts from the paper (straight RGBA). `envelope` is read by the views that show it.
+    // With `overlayPixel` (the world size of a pixel), the fringe overlay is laid over the
+    // view (RatioView.h).
+    Compose(ir::Builder& b, ViewMode mode, const Vals& background,
+            const EnvelopeSettings& envelope = {}, ir::ValueId overlayPixel = ir::kNoValue);
 
     // Adds the next layer, bottom to top.
     void layer(const LayerInk& ink);
@@ -38,9 +44,17 @@ class Compose {
     void output(const std::function<Vals()>& unresolvedTint);
 
   private:
+    Ink envelope();
+    Ink split();
+
     ir::Builder& b_;
     ViewMode mode_;
-    Ink acc_;
+    Ink paper_;
+    Ink acc_; // the pattern so far
+    EnvelopeSettings settings_;
+    std::vector<EnvelopeLayer> sweep_; // the layers as the envelope reads them
+    std::vector<LayerFields> fields_;  // the layers as the characters read them
+    ir::ValueId overlayPixel_;
     ir::ValueId zero_;
     ir::ValueId unresolved_; // the largest gain s |grad f| of the encoded layers
 };

@@ -38,6 +38,9 @@ struct FamilyInputs {
     Encoding enc;
     bool wantIndex = false; // also the index field (the layer's fields are output)
     bool tally = false;     // count the evaluations of the phase (LowerOptions::tally)
+    // The view sweeps the layers' indices (sema::viewSweeps): the family also gives its phase
+    // sample (LayerFields::sample).
+    bool sweeps = false;
     // For the families that evaluate their phase elsewhere than at the pixel (walking).
     PhaseFn phaseAt;
     ir::ValueId facets = ir::kNoValue; // a shape's side count (0: a circle), for walking

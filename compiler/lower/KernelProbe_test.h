@@ -5,6 +5,8 @@
 
 #include "compiler/backend/Backend.h"
 #include "compiler/ir/Builder.h"
+#include "compiler/passes/AutoDiff.h"
+#include "compiler/passes/Simplify.h"
 #include "tests/support/Support.h"
 
 #include <functional>
@@ -16,13 +18,18 @@ namespace moire::test {
 
 class KernelProbe {
   public:
-    // Builds the kernel with `body`, which writes `numOutputs` outputs.
-    KernelProbe(int numOutputs, const std::function<void(ir::Builder&)>& body) {
+    // Builds the kernel with `body`, which writes `numOutputs` outputs. With `derive`, the
+    // body may take derivatives (Op::DerivX, DerivY) of values it marks independent
+    // (Op::Indep), and the AD pass resolves them as the compiler does (Compile.cpp: simplify,
+    // AD, simplify) before a backend sees the kernel.
+    KernelProbe(int numOutputs, const std::function<void(ir::Builder&)>& body,
+                bool derive = false) {
         f_.name = "probe";
         f_.numOutputs = numOutputs;
         ir::Builder b(f_);
         body(b);
         ir::verify(f_);
+        if (derive) f_ = passes::simplify(passes::autoDiff(passes::simplify(f_)));
     }
     // Compiles it on `backend`; false (after a skip note) where that backend cannot run here.
     bool use(const std::string& backend) {

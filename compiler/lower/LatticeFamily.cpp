@@ -72,7 +72,12 @@ ValueId lineFamilyDistance(ir::Builder& b, const LatticeFrame& f, double nx, dou
 // own (|i a1 + j a2|^2 = i^2 + ij + j^2 is half of i^2 + j^2 + (i+j)^2). Round all three;
 // the rounded sum is -1, 0 or 1, and when it is not 0 the coordinate that moved the most is
 // the one to move back, which is the same as recomputing it from the other two.
-std::pair<ValueId, ValueId> a2Round(ir::Builder& b, ValueId x, ValueId y, ValueId step) {
+// Returns the continuous coordinates (u, v) too: the lattice's generators (setGenerators).
+struct A2Point {
+    ValueId i, j; // the nearest point
+    ValueId u, v; // (x, y) in the basis, before rounding
+};
+A2Point a2Round(ir::Builder& b, ValueId x, ValueId y, ValueId step) {
     ValueId v = b.div(b.mul(y, b.constF(2.0 / kSqrt3)), step);
     ValueId u = b.sub(b.div(x, step), b.mul(v, b.constF(0.5)));
     ValueId w = b.neg(b.add(u, v));
@@ -84,15 +89,33 @@ std::pair<ValueId, ValueId> a2Round(ir::Builder& b, ValueId x, ValueId y, ValueI
     ValueId fixV = b.emit(ir::Op::And, {b.emit(ir::Op::Not, {fixU}), b.gt(dv, dw)});
     ValueId i = b.select(fixU, b.neg(b.add(rv, rw)), ru);
     ValueId j = b.select(fixV, b.neg(b.add(ru, rw)), rv);
-    return {i, j};
+    return {i, j, u, v};
+}
+
+// The two generators' index fields (spec §3.6, §4.1): the continuous coordinates (u, v) of
+// the point in the basis that the pattern repeats by, whose integer level sets are the
+// lattice's two generating row families. Their gradients come from forward-mode AD, as a
+// phase family's do, not from the basis: the layer's frame (origin, a rotation that may be
+// a field of x and y, the viewer's motion) lies between the world and (px, py), and AD
+// carries all of it. Nothing the render draws reads them, so a plain frame does not
+// change; the character search does (Characters.h).
+void setGenerators(ir::Builder& b, LayerFields& out, ValueId u, ValueId v) {
+    out.genU = u;
+    out.genUX = b.emit(ir::Op::DerivX, {u});
+    out.genUY = b.emit(ir::Op::DerivY, {u});
+    out.genV = v;
+    out.genVX = b.emit(ir::Op::DerivX, {v});
+    out.genVY = b.emit(ir::Op::DerivY, {v});
 }
 
 // Square lattice: points at s (i, j). Stretched, it is a rectangular lattice, whose Voronoi
 // cells are the rectangles that rounding each axis finds, so rounding is already the world-
 // nearest point at any scale. Edges are the grid lines through the points (the sides of
 // the square cells whose corners the points are), x = s sx i and y = s sy j.
+// Generators: (u, v) = (px / (s sx), py / (s sy)), the point's coordinates on the grid.
 LayerFields squareLattice(ir::Builder& b, const LatticeFrame& f, ValueId drawEdges) {
-    ValueId i = b.round(b.div(f.ux, f.s)), j = b.round(b.div(f.uy, f.s));
+    ValueId u = b.div(f.ux, f.s), v = b.div(f.uy, f.s);
+    ValueId i = b.round(u), j = b.round(v);
     ValueId vertex =
         b.hypot(b.sub(f.px, b.mul(b.mul(f.sx, f.s), i)), b.sub(f.py, b.mul(b.mul(f.sy, f.s), j)));
     ValueId edge =
@@ -101,6 +124,7 @@ LayerFields squareLattice(ir::Builder& b, const LatticeFrame& f, ValueId drawEdg
     out.distance = b.select(drawEdges, edge, vertex);
     out.index = i;
     out.aux0 = j;
+    setGenerators(b, out, u, v);
     return out;
 }
 
@@ -115,9 +139,10 @@ LayerFields squareLattice(ir::Builder& b, const LatticeFrame& f, ValueId drawEdg
 // bisector lies beyond the part of z's rounding cell in that triangle). So z and its six
 // neighbours hold the world-nearest point at every scale.
 // Edges: the triangles' sides, three line families through the points, each h = s sqrt3/2
-// apart, with normals at 90, 150 and 30 degrees.
+// apart, with normals at 90, 150 and 30 degrees: the level sets of the generators v, u and
+// u + v (the point's coordinates in the basis (a1, a2)).
 LayerFields triangleLattice(ir::Builder& b, const LatticeFrame& f, ValueId drawEdges) {
-    auto [i, j] = a2Round(b, f.ux, f.uy, f.s);
+    auto [i, j, u, v] = a2Round(b, f.ux, f.uy, f.s);
     // The offset from the rounded point to p, in world units, and the world steps to its
     // neighbours: a1 = S s (1, 0), a2 = S s (1/2, sqrt3/2), and a2 - a1.
     ValueId half = b.constF(0.5);
@@ -148,6 +173,7 @@ LayerFields triangleLattice(ir::Builder& b, const LatticeFrame& f, ValueId drawE
     out.distance = b.select(drawEdges, edge, best.d);
     out.index = best.i;
     out.aux0 = best.j;
+    setGenerators(b, out, u, v);
     return out;
 }
 
@@ -170,9 +196,12 @@ LayerFields triangleLattice(ir::Builder& b, const LatticeFrame& f, ValueId drawE
 // the six outward normals n_k at 60k degrees (apothem s sqrt3/2), and since p is inside
 // its own cell, no other hexagon's side can be nearer. Opposite sides share |S^-1 n|, so
 // each pair is one term with |<q, n_k>|.
+// Generators: the point's coordinates in the centres' basis (c1, c2). The honeycomb repeats
+// by the centres' lattice, not by the corners' (whose index the point carries), so that is
+// the lattice whose integer combinations are the pattern's harmonics.
 LayerFields hexLattice(ir::Builder& b, const LatticeFrame& f, ValueId drawEdges) {
     ValueId pitch = b.mul(f.s, b.constF(kSqrt3)); // between centres
-    auto [ci, cj] = a2Round(b, f.ux, f.uy, pitch);
+    auto [ci, cj, cu, cv] = a2Round(b, f.ux, f.uy, pitch);
     ValueId cx = b.mul(pitch, b.add(ci, b.mul(cj, b.constF(0.5))));
     ValueId cy = b.mul(pitch, b.mul(cj, b.constF(kSqrt3 / 2)));
     ValueId qx = b.sub(f.ux, cx), qy = b.sub(f.uy, cy); // in u, inside the hexagon
@@ -211,6 +240,7 @@ LayerFields hexLattice(ir::Builder& b, const LatticeFrame& f, ValueId drawEdges)
     out.distance = b.select(drawEdges, edge, best.d);
     out.index = best.i;
     out.aux0 = best.j;
+    setGenerators(b, out, cu, cv);
     return out;
 }
 

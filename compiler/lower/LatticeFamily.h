@@ -27,7 +27,8 @@ struct LatticeInputs {
 };
 
 // distance: to the nearest point or edge; index: the first of the point's two integer
-// coordinates; aux0: the second.
+// coordinates; aux0: the second; genU, genV: the two generators' continuous index fields
+// (the point in the basis the pattern repeats by), with their gradients (LayerFields).
 LayerFields latticeFields(ir::Builder& b, LatticeKind kind, const LatticeInputs& in);
 
 // The builder of a lattice family for the registry: its arguments are (scale = (sx, sy),

@@ -23,6 +23,7 @@ LayerFields phaseFamilyFields(ir::Builder& b, ValueId phi, ValueId phase, ValueI
     ValueId gy = b.emit(Op::DerivY, {index});
     ValueId grad = b.max(b.hypot(gx, gy), b.constF(ir::kTiny));
     ValueId distance = b.div(residual, grad);
+    std::optional<FoldSample> foldSample; // for the envelope's taps
     if (first) {
         // Short of the first member (index < first) the nearest member is `first`, but the
         // gradient at the point says nothing about the way there: a family excludes its lower
@@ -49,17 +50,52 @@ LayerFields phaseFamilyFields(ir::Builder& b, ValueId phi, ValueId phase, ValueI
         // |x^2 - y^2| for the hyperbola) is continuous across the fold: it is read at a point a
         // hair away, off the fold, where 2 phi |grad phi| is well defined.
         ValueId onFold = distance;
+        // The envelope's taps measure the first member the same way (FoldSample): the
+        // estimate's 1 / |grad phi^2|, and whether it alone is the distance (on the fold).
+        ValueId offFold = b.gt(phi, b.constF(0.0));
+        ValueId scale = b.select(
+            offFold, b.div(b.constF(1.0), b.max(twoPhiGrad, b.constF(ir::kTiny))), b.constF(0.0));
+        ValueId exact = b.constB(false);
         if (phiNear != ir::kNoValue) {
             ValueId gradNear =
                 b.hypot(b.emit(Op::DerivX, {phiNear}), b.emit(Op::DerivY, {phiNear}));
             ValueId twoPhiGradNear = b.mul(b.mul(b.constF(2.0), phiNear), gradNear);
             ValueId atFold = b.div(b.mul(c, c), b.max(twoPhiGradNear, b.constF(ir::kTiny)));
-            onFold = b.select(b.gt(phiNear, b.constF(0.0)), atFold, distance);
+            ValueId nearOff = b.gt(phiNear, b.constF(0.0));
+            onFold = b.select(nearOff, atFold, distance);
+            exact = b.emit(Op::And, {b.emit(Op::Not, {offFold}), nearOff});
+            scale = b.select(
+                exact, b.div(b.constF(1.0), b.max(twoPhiGradNear, b.constF(ir::kTiny))), scale);
         }
-        ValueId inFold = b.select(b.gt(phi, b.constF(0.0)), b.max(distance, fold), onFold);
+        ValueId inFold = b.select(offFold, b.max(distance, fold), onFold);
         distance = b.select(b.lt(index, b.constF(*first)), inFold, distance);
+        foldSample =
+            FoldSample{*first, ir::kNoValue, b.sub(c, phi), b.add(c, phi), s, scale, exact};
     }
-    return {index, distance, gx, gy};
+    LayerFields out;
+    out.index = index;
+    out.distance = distance;
+    out.gradX = gx;
+    out.gradY = gy;
+    out.sample = phaseSample(b, index, nearest, grad, foldSample);
+    return out;
+}
+
+// Exact for a phase family: advancing the index by a moves member m's index residual from
+// m - index to m - index - a, and its distance is that residual over |grad index| (Eq. 5).
+PhaseSample phaseSample(ir::Builder& b, ValueId index, ValueId nearest, ValueId grad,
+                        const std::optional<FoldSample>& fold) {
+    ValueId perIndex = b.div(b.constF(1.0), grad); // world units per unit of index
+    auto at = [&](double step) {
+        return b.mul(b.sub(b.add(nearest, b.constF(step)), index), perIndex);
+    };
+    PhaseSample s{at(0.0), at(1.0), at(-1.0), b.constF(0.0), std::nullopt};
+    if (fold) {
+        s.down = b.select(b.lt(nearest, b.constF(fold->first + 1.0)), b.constF(kNoMember), s.down);
+        s.fold = *fold;
+        s.fold->index = index;
+    }
+    return s;
 }
 
 StrokeBand strokeBand(ir::Builder& b, ValueId stroke, ValueId pixel) {

@@ -12,12 +12,40 @@
 
 namespace moire::lower {
 
+// A layer's phase sample at the pixel (Eq. 14), for the views that advance every layer's
+// index and average (lower/Envelope.h): the signed world distances from the pixel to the
+// nearest member (z), to the member after it (up) and to the one before it (down), each
+// measured along the index's increase so that advancing the index by a moves every member by
+// -a * gap, and a floor for ink that does not slide. A member that does not exist (below a
+// family's `first`) is kNoMember away. kNoValue in z: the family gives no sample.
+constexpr double kNoMember = 1e30;
+// A phase family that starts at member `first` measures that member, from short of it, by the
+// fold's estimate (phaseFamilyFields): after an advance a, where index + a < first, the
+// distance is at least (lo - a step)(hi - a step) * scale (scale 0 where it does not apply),
+// and is exactly that where `exact` (on the fold itself, where Eq. 5 says nothing).
+struct FoldSample {
+    int first = 0;
+    ir::ValueId index, lo, hi, step, scale, exact;
+};
+struct PhaseSample {
+    ir::ValueId z = ir::kNoValue, up = ir::kNoValue, down = ir::kNoValue, floor = ir::kNoValue;
+    std::optional<FoldSample> fold;
+};
+
 struct LayerFields {
     ir::ValueId index;    // fractional member index: member n is {index = n}
     ir::ValueId distance; // world distance to the nearest member
     ir::ValueId gradX = ir::kNoValue, gradY = ir::kNoValue; // the index gradient, per world unit
     // Family-specific diagnostics (the walking solver's certified interval), for tests.
     ir::ValueId aux0 = ir::kNoValue, aux1 = ir::kNoValue;
+    PhaseSample sample; // for the sweeping views; empty where the family gives none
+    // A lattice's index is a pair (spec §3.6): the point's continuous coordinates (u, v) in
+    // the lattice's basis, before rounding, are its two generators' index fields, with their
+    // gradients per world unit. `index` and `aux0` stay the nearest point's integer pair and
+    // `gradX` unset, so whatever reads a one-index family's fields sees a lattice as before.
+    // kNoValue on every other family.
+    ir::ValueId genU = ir::kNoValue, genUX = ir::kNoValue, genUY = ir::kNoValue;
+    ir::ValueId genV = ir::kNoValue, genVX = ir::kNoValue, genVY = ir::kNoValue;
 };
 
 // The stroke in world units: half-width h = max(t/2, 1.15 px) and antialias band
@@ -54,6 +82,11 @@ StrokeBand strokeBand(ir::Builder& b, ir::ValueId stroke, ir::ValueId pixel);
 LayerFields phaseFamilyFields(ir::Builder& b, ir::ValueId phi, ir::ValueId phase,
                               ir::ValueId spacing, std::optional<int> first,
                               ir::ValueId phiNear = ir::kNoValue);
+
+// The phase sample (Eq. 14) of a phase family from its index, nearest member (clamped to
+// `first`), |grad index|, and for a family with `first` its fold (the index is filled in).
+PhaseSample phaseSample(ir::Builder& b, ir::ValueId index, ir::ValueId nearest, ir::ValueId grad,
+                        const std::optional<FoldSample>& fold);
 
 // Coverage of the stroke at distance `d` (Eq. 4):
 // (1 - smoothstep(h - a, h + a, d)) * opacity * alpha, clamped to [0, 1], NaN read as 0.

@@ -2,6 +2,7 @@
 // composed into the pixel, then the settings the frame reads (timings, checked values).
 #include "compiler/lower/LowerScene.h"
 
+#include "compiler/diag/Diagnostics.h"
 #include "compiler/ir/Builder.h"
 #include "compiler/lower/Camera.h"
 #include "compiler/lower/Compose.h"
@@ -28,6 +29,26 @@ void reserveSlots(LowerMode mode, int numLayers, std::vector<double>& literals, 
     }
 }
 
+// The view: the options', else the scene's `view`, else the pattern.
+sema::ViewMode viewOf(const sema::CheckedScene& scene, const LowerOptions& options) {
+    if (options.view) return *options.view;
+    const ast::Property* p = scene.scene ? scene.scene->prop("view") : nullptr;
+    if (!p) return sema::ViewMode::Pattern;
+    std::optional<sema::ViewMode> mode = sema::viewNamed(p->value->name);
+    MOIRE_CHECK(mode, "an unknown view survived checking");
+    return *mode;
+}
+
+// The fringe overlay: the options', else the scene's `overlay`, else off.
+bool overlayOf(const sema::CheckedScene& scene, const LowerOptions& options) {
+    if (options.overlay) return *options.overlay;
+    const ast::Property* p = scene.scene ? scene.scene->prop("overlay") : nullptr;
+    if (!p) return false;
+    std::optional<bool> on = sema::switchNamed(p->value->name);
+    MOIRE_CHECK(on, "an overlay that is neither true nor false survived checking");
+    return *on;
+}
+
 } // namespace
 
 LoweredScene lowerScene(const sema::CheckedScene& scene, const LowerOptions& options,
@@ -45,14 +66,30 @@ LoweredScene lowerScene(const sema::CheckedScene& scene, const LowerOptions& opt
     ExprLowering exprs(b);
     TimingLowering timings(b, exprs, scene);
     exprs.setTimings([&](const ast::Decl* timing) { return timings.progress(timing); });
-    SceneContext ctx{scene, options, b, exprs, timings, out.probeSlot, out.viewSlot, {}, {}};
+    // The options with the view settled (the scene's, unless the options name one), so that
+    // every step of the lowering reads the view drawn.
+    LowerOptions settled = options;
+    settled.view = out.view = viewOf(scene, options);
+    settled.overlay = out.overlay = overlayOf(scene, options);
+    // The ratio view and the overlay read every layer's index field and its gradient.
+    const bool wantIndex = layout.layerFields || out.overlay || sema::viewReadsCharacters(out.view);
+    SceneContext ctx{scene, settled, b, exprs, timings, out.probeSlot, out.viewSlot, {}, {}};
 
     // 1. The frame's size and camera; the pixel's world point.
     const ir::ValueId pixel = lowerCamera(ctx, layout.numKernelOutputs);
 
-    // 2. Each layer's fields, composed over the paper by the view mode.
-    Compose compose(b, ViewMode::Pattern,
-                    ctx.setting(scene.scene, sema::sceneProperties(), "background"));
+    // 2. Each layer's fields, composed over the paper by the view.
+    auto sceneNumber = [&](const char* name, std::optional<double> given) {
+        if (given) return b.constF(*given);
+        return ctx.setting(scene.scene, sema::sceneProperties(), name)[0];
+    };
+    EnvelopeSettings envelope;
+    if (sema::viewSweeps(out.view)) {
+        envelope.gain = sceneNumber("envelope_gain", options.envelopeGain);
+        envelope.taps = sceneNumber("envelope_taps", options.envelopeTaps);
+    }
+    Compose compose(b, out.view, ctx.setting(scene.scene, sema::sceneProperties(), "background"),
+                    envelope, out.overlay ? pixel : ir::kNoValue);
     LayerLowering layers(ctx);
     ValueChecks checks(ctx);
     for (size_t i = 0; i < scene.layers.size(); ++i) {
@@ -65,9 +102,13 @@ LoweredScene lowerScene(const sema::CheckedScene& scene, const LowerOptions& opt
         ink.where = layer.decl->range.begin;
         b.setLoc(ink.where);
         ink.band = strokeBand(b, stroke, pixel);
+        ink.halfWidth = b.mul(stroke, b.constF(0.5));
+        ink.spacing = ctx.layerProp(layer, "spacing")[0];
         Encoding enc = layers.encoding(layer);
-        ink.fields = layers.fields(layer, ink.band, enc, layout.layerFields);
+        ink.fields = layers.fields(layer, ink.band, enc, wantIndex);
         if (enc.field != ir::kNoValue) ink.sampling = layers.sampling(layer, enc);
+        if (sema::viewSweeps(out.view) && ink.fields.sample.z == ir::kNoValue)
+            out.unsweepable.push_back(static_cast<int>(i));
         compose.layer(ink);
         if (layout.layerFields) {
             const int at = static_cast<int>(i);

@@ -6,7 +6,9 @@
 
 #include "compiler/ir/IR.h"
 #include "compiler/sema/Sema.h"
+#include "compiler/sema/Views.h"
 
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -31,6 +33,12 @@ struct LowerOptions {
     // Count the walking solver's radius evaluations with `tally` (the interpreter's
     // counting mode, for benchmarks).
     bool tally = false;
+    // The view, the envelope's gain and its taps, replacing the scene's settings when set
+    // (`moire render --view`, `--envelope-gain`, `--envelope-taps`).
+    std::optional<sema::ViewMode> view = std::nullopt;
+    std::optional<double> envelopeGain = std::nullopt, envelopeTaps = std::nullopt;
+    // The fringe overlay, replacing the scene's `overlay` when set (`--overlay`, the viewer's o).
+    std::optional<bool> overlay = std::nullopt;
 };
 
 // The literal slots of interactive mode, counted from LoweredScene::viewSlot. The camera's
@@ -110,6 +118,11 @@ struct LoweredScene {
     OutputLayout layout;
     int probeSlot = -1; // LowerMode::Probe: the literal slots of the probe point (x, then y)
     int viewSlot = -1;  // LowerMode::Interactive: the first of ViewSlots' slots
+    sema::ViewMode view = sema::ViewMode::Pattern; // the view drawn
+    bool overlay = false;                          // the fringe overlay drawn over it
+    // The layers (by index) the view cannot draw: a sweeping view over a family that gives no
+    // phase sample. The compiler reports them; the function is not to be run.
+    std::vector<int> unsweepable;
 };
 
 // Lowers the checked scene. `literals` is the scene's literal table; the slots the mode reads

@@ -51,6 +51,7 @@ class Solver {
         if (in_.wantIndex) searchedIndex(found[1], out);
         out.aux0 = nLo_;
         out.aux1 = nHiRaw_;
+        if (in_.flankGuard) out.sample = phaseSample(found[0], found[1]);
         return out;
     }
 
@@ -438,6 +439,25 @@ class Solver {
         return factors[0];
     }
 
+    // The phase sample (Eq. 14) for the views that sweep the index: the searched member n*
+    // and its two neighbours, each read once by its residual h_p(n) (Eq. 24), which is
+    // positive outside the member, so the member lies -h_p(n) away along the index's
+    // increase. Member -1 does not exist. A solve saturated at the guard found no member
+    // within a pitch: its floor keeps the taps from inventing ink where nothing can slide in.
+    PhaseSample phaseSample(ValueId distance, ValueId argmin) {
+        ValueId n = b_.denan(b_.min(argmin, c(kFarIndex)), c(0.0));
+        PhaseSample out;
+        out.z = b_.neg(residual(n));
+        out.up = b_.neg(residual(b_.add(n, c(1.0))));
+        out.down = b_.select(b_.lt(n, c(1.0)), c(kNoMember), b_.neg(residual(b_.sub(n, c(1.0)))));
+        out.floor = b_.select(b_.lt(distance, guard_), c(0.0), guard_);
+        // A NaN radius draws nothing (see run()): nothing slides either.
+        out.z = b_.denan(out.z, c(kNoMember));
+        out.up = b_.denan(out.up, c(kNoMember));
+        out.down = b_.denan(out.down, c(kNoMember));
+        return out;
+    }
+
     // The searched index field of §4.1: the nearest index plus the fractional residual
     // h(n*) / (h(n*) - h(n* + 1)) (or towards n* - 1 inside member n*), and its gradient.
     //
@@ -527,8 +547,14 @@ LayerFields walkingLayerFields(ir::Builder& b, const FamilyInputs& fam) {
     if (slope != ir::kNoValue) in.band = {b.mul(fam.band.h, slope), b.mul(fam.band.a, slope)};
     in.wantIndex = fam.wantIndex;
     in.tally = fam.tally;
+    in.flankGuard = fam.sweeps;
     LayerFields out = walkingFamilyFields(b, in, fam.phaseAt);
-    if (slope != ir::kNoValue) out.distance = b.div(out.distance, slope);
+    if (slope != ir::kNoValue) {
+        out.distance = b.div(out.distance, slope);
+        if (out.sample.z != ir::kNoValue)
+            for (ValueId* v : {&out.sample.z, &out.sample.up, &out.sample.down, &out.sample.floor})
+                *v = b.div(*v, slope);
+    }
     return out;
 }
 

@@ -3,6 +3,7 @@
 #pragma once
 
 #include "compiler/sema/Sema.h"
+#include "compiler/sema/Views.h"
 
 #include <fmt/format.h>
 #include <string>
@@ -75,6 +76,8 @@ class Checker {
     void checkProperty(Property& p, const PropertySpec& spec, const Scope& scope);
     bool noDuplicates(Decl& d, const char* what);
     void checkBlock(Decl& d, const std::vector<PropertySpec>& specs, const char* what);
+    void checkViewName(Property& p); // `view = NAME`: one of sema/Views.h
+    void checkSwitch(Property& p);   // `overlay = true` or `false`
     void checkLayer(Decl& d);
 
     // ---- expressions ------------------------------------------------------------------

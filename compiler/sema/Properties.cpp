@@ -22,6 +22,24 @@ const std::vector<PropertySpec>& sceneProperties() {
          false,
          "tint laid where an encoded field's fringes are too fine for its carrier",
          {0, 0, 0, 0}},
+        // A view's name (sema/Views.h), checked by name rather than as an expression.
+        {"view", Type::Error, true, true, "what is drawn: pattern, envelope, split or ratio"},
+        // A switch, checked by name: true or false.
+        {"overlay", Type::Error, true, true,
+         "true: the fringe curves of the winning character, laid over the view where a "
+         "fringe stands"},
+        {"envelope_gain",
+         Type::Num,
+         true,
+         false,
+         "contrast of the envelope about its pivot (the mean the layers would have apart)",
+         {3}},
+        {"envelope_taps",
+         Type::Num,
+         true,
+         false,
+         "the envelope's taps: index steps averaged over one period (rounded, 1 to 1024)",
+         {24}},
     };
     return props;
 }

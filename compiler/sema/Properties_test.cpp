@@ -26,6 +26,11 @@ std::string written(const sema::PropertySpec& spec) {
         return fmt::format("({}, {})", d.at(0), d.at(1));
     case ast::Type::Color:
         return fmt::format("rgba({}, {}, {}, {})", d.at(0), d.at(1), d.at(2), d.at(3));
+    case ast::Type::Error: // a name from a list: the pattern unless set, the overlay off
+        if (std::string_view(spec.name) == "view") return "pattern";
+        if (std::string_view(spec.name) == "overlay") return "false";
+        FAIL("no way to write a default of ", spec.name);
+        return "";
     default:
         FAIL("no way to write a default of ", spec.name);
         return "";

@@ -444,8 +444,32 @@ void Checker::checkBlock(Decl& d, const std::vector<PropertySpec>& specs, const 
                          didYouMean(p.name, names));
             continue;
         }
+        if (spec->type == Type::Error) { // a name from a fixed list: the view, a switch
+            if (p.name == "overlay")
+                checkSwitch(p);
+            else
+                checkViewName(p);
+            continue;
+        }
         checkProperty(p, *spec, Scope{});
     }
+}
+
+void Checker::checkViewName(Property& p) {
+    std::vector<std::string> names;
+    for (const ViewName& v : viewNames()) names.push_back(v.name);
+    if (p.value->kind == ExprKind::Name && viewNamed(p.value->name)) return;
+    std::string shown = p.value->kind == ExprKind::Name ? "'" + p.value->name + "'" : "this";
+    diags_.error(p.value->range, Msg::UnknownView, shown, viewList(),
+                 p.value->kind == ExprKind::Name ? didYouMean(p.value->name, names) : Hint());
+}
+
+void Checker::checkSwitch(Property& p) {
+    if (p.value->kind == ExprKind::Name && switchNamed(p.value->name)) return;
+    std::string shown = p.value->kind == ExprKind::Name ? "'" + p.value->name + "'" : "this";
+    diags_.error(p.value->range, Msg::NotASwitch, p.name, shown,
+                 p.value->kind == ExprKind::Name ? didYouMean(p.value->name, {"true", "false"})
+                                                 : Hint());
 }
 
 void Checker::checkLayer(Decl& d) {

@@ -200,8 +200,49 @@ bool checkBackendArgs(const std::string& backend, int device) {
     return true;
 }
 
+namespace {
+
+// --view, --overlay, --envelope-gain and --envelope-taps, into the compile options.
+bool checkViewOptions(const RenderArgs& args, CompileOptions& options) {
+    if (args.overlay) options.overlay = true;
+    if (!args.view.empty()) {
+        options.view = sema::viewNamed(args.view);
+        if (!options.view) {
+            fmt::print(stderr, "moire: error: --view must be {}, not '{}'\n", sema::viewList(),
+                       args.view);
+            return false;
+        }
+    }
+    if (args.envelopeGain) {
+        if (!std::isfinite(*args.envelopeGain) || std::abs(*args.envelopeGain) > 1e6) {
+            fmt::print(stderr,
+                       "moire: error: --envelope-gain must be a number from -1e6 to 1e6, "
+                       "not {}\n",
+                       *args.envelopeGain);
+            return false;
+        }
+        options.envelopeGain = args.envelopeGain;
+    }
+    if (args.envelopeTaps) {
+        const double m = *args.envelopeTaps;
+        if (!(m >= 1 && m <= sema::kMaxEnvelopeTaps && m == std::floor(m))) {
+            fmt::print(stderr,
+                       "moire: error: --envelope-taps must be a whole number from 1 to {}, "
+                       "not {}\n",
+                       sema::kMaxEnvelopeTaps, m);
+            return false;
+        }
+        options.envelopeTaps = args.envelopeTaps;
+    }
+    return true;
+}
+
+} // namespace
+
 int render(const RenderArgs& args) {
     if (!checkTime(args.time, "--time") || !checkDpi(args.dpi)) return kExitUsage;
+    CompileOptions compileOptions;
+    if (!checkViewOptions(args, compileOptions)) return kExitUsage;
     ImageOptions image;
     if (!checkImageOptions(
             {args.scene, args.output, args.size, args.depth, args.backend, args.device}, image))
@@ -241,7 +282,7 @@ int render(const RenderArgs& args) {
     Stages stages(args.verbosity);
     Source src;
     if (!readScene(args.scene, src)) return kExitIo;
-    auto program = compileOrReport(src);
+    auto program = compileOrReport(src, compileOptions);
     if (!program) return kExitScene;
     stages.done(fmt::format("compiled {}", src.path));
     if (StopSignals::received()) return interrupted();

@@ -1,6 +1,7 @@
 // The `moire` subcommands. Each returns the process exit status (docs/cli.md):
 #pragma once
 
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -31,6 +32,10 @@ struct RenderArgs {
     double dpi = 0.0;
     int compression = -1; // --compression: PNG's zlib level, -1 the default (ImageIO.h)
     int threads = 0;
+    // --view and the envelope's settings, replacing the scene's (sema/Views.h).
+    std::string view; // empty: the scene's
+    std::optional<double> envelopeGain = std::nullopt, envelopeTaps = std::nullopt;
+    bool overlay = false; // --overlay: the fringe curves over the view, whatever the scene says
     Verbosity verbosity;
 };
 int render(const RenderArgs& args);

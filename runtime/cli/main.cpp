@@ -2,6 +2,7 @@
 // --time, --backend and --device, --depth, --threads, -q and -v) are declared once, below,
 // so that they read and behave the same in every command that takes them.
 #include "compiler/diag/Diagnostics.h"
+#include "compiler/sema/Views.h"
 #include "runtime/cli/Commands.h"
 #include "runtime/output/ImageIO.h"
 #include "runtime/output/JitCache.h"
@@ -112,6 +113,18 @@ int main(int argc, char** argv) {
                           fmt::format("PNG's zlib level, 0 (none, fastest) to 9 (smallest, "
                                       "slowest); default {}",
                                       kPrintCompression));
+    renderCmd->add_option("--view", renderArgs.view,
+                          "What to draw: " + sema::viewList() +
+                              " (default: the scene's view, else pattern; docs/views.md)");
+    renderCmd->add_flag("--overlay", renderArgs.overlay,
+                        "Lay the fringe curves of the winning character over the view where a "
+                        "fringe stands, as the scene's overlay = true does (docs/views.md)");
+    renderCmd->add_option("--envelope-gain", renderArgs.envelopeGain,
+                          "The envelope's contrast about its pivot, replacing the scene's "
+                          "envelope_gain (default 3)");
+    renderCmd->add_option("--envelope-taps", renderArgs.envelopeTaps,
+                          "The envelope's taps per index period, a whole number from 1 to 1024, "
+                          "replacing the scene's envelope_taps (default 24)");
     addVerbosity(renderCmd, renderArgs.verbosity);
     renderCmd->footer(
         "The image is written beside its name and renamed into place when complete; a missing\n"
@@ -191,7 +204,8 @@ int main(int argc, char** argv) {
         "stroke selects its layer. Keys: 1-9 select a layer, 0 or Esc none; space pauses and\n"
         "plays; . and , step a frame; the arrows move the clock 1 s (shift: 0.1 s); r resets\n"
         "the view; s saves a still beside the scene; p prints the placement; w writes it\n"
-        "into the scene file; h hides the status line; q quits. Saves reload; a save with\n"
+        "into the scene file; e shows the envelope (again: the pattern); h hides the status\n"
+        "line; q quits. Saves reload; a save with\n"
         "errors keeps the last good picture under the diagnostics.");
 
     cli::CheckArgs checkArgs;

@@ -86,6 +86,28 @@ void ViewState::select(int layer) {
     redraw_ = true;
 }
 
+sema::ViewMode ViewState::shownView() const {
+    return build_ ? build_->program->view : viewOverride_.value_or(sema::ViewMode::Pattern);
+}
+
+void ViewState::toggleEnvelope() {
+    viewOverride_ = shownView() == sema::ViewMode::Envelope ? sema::ViewMode::Pattern
+                                                            : sema::ViewMode::Envelope;
+}
+
+void ViewState::toggleRatio() {
+    viewOverride_ =
+        shownView() == sema::ViewMode::Ratio ? sema::ViewMode::Pattern : sema::ViewMode::Ratio;
+}
+
+bool ViewState::shownOverlay() const {
+    return build_ ? build_->program->overlay : overlayOverride_.value_or(false);
+}
+
+void ViewState::toggleOverlay() {
+    overlayOverride_ = !shownOverlay();
+}
+
 void ViewState::resetView() {
     view_.reset();
     changed(false);

@@ -80,6 +80,21 @@ class ViewState {
     int width() const { return width_; }
     int height() const { return height_; }
 
+    // `e`: shows the envelope, or the pattern when the envelope is on screen. The view is
+    // structure, so the viewer builds the scene again with viewOverride() (and keeps it
+    // through reloads); unset, the scene's own `view` is drawn.
+    void toggleEnvelope();
+    // `v`: the ratio view (§4.2), or the pattern when it is on screen; as `e`.
+    void toggleRatio();
+    std::optional<sema::ViewMode> viewOverride() const { return viewOverride_; }
+    // `o`: the fringe overlay on or off (structure too, so built again with overlayOverride();
+    // unset, the scene's own `overlay`).
+    void toggleOverlay();
+    std::optional<bool> overlayOverride() const { return overlayOverride_; }
+    bool shownOverlay() const;
+    // The view of the build on screen (the pattern before any build).
+    sema::ViewMode shownView() const;
+
     // --- Gestures (positions in framebuffer pixels) -----------------------------------
 
     // A button goes down at `at`; a second button while one is held is ignored.
@@ -155,6 +170,8 @@ class ViewState {
     SceneCamera camera_;
     int selected_ = -1;
     int width_ = 0, height_ = 0;
+    std::optional<sema::ViewMode> viewOverride_;
+    std::optional<bool> overlayOverride_;
 
     ViewClock clock_;
     uint64_t version_ = 1;

@@ -94,14 +94,7 @@ class Viewer {
         if (!openWindow()) return 1;
         renderer_ = std::make_unique<FrameRenderer>(options_.threads, [] { glfwPostEmptyEvent(); });
         picker_ = std::make_unique<LayerPicker>([] { glfwPostEmptyEvent(); });
-        if (reloader_)
-            reloader_->start([this](const BuildResult& ev) {
-                {
-                    std::lock_guard<std::mutex> lock(reloadMutex_);
-                    reloads_.push_back(ev);
-                }
-                glfwPostEmptyEvent();
-            });
+        startReloader();
         state_.restartClock(Clock::now());
         StopSignals signals;
         while (!glfwWindowShouldClose(window_) && !StopSignals::requested) {
@@ -129,11 +122,35 @@ class Viewer {
         }
     }
 
+    void startReloader() {
+        if (!reloader_) return;
+        reloader_->start([this](const BuildResult& ev) {
+            {
+                std::lock_guard<std::mutex> lock(reloadMutex_);
+                reloads_.push_back(ev);
+            }
+            glfwPostEmptyEvent();
+        });
+    }
+
+    // `e`, `v`, `o`: the view and the overlay are structure, so the scene is built again with
+    // what the state now asks for, and the reloader goes on with it.
+    void switchView(void (ViewState::*toggle)()) {
+        (state_.*toggle)();
+        if (reloader_) reloader_->stop();
+        reloader_.reset();
+        builder_.reset();
+        if (loadScene()) startReloader();
+        redraw_ = true;
+    }
+
     // --- Setting up ---------------------------------------------------------------------
 
     bool loadScene() {
         CompileOptions compile;
         compile.mode = CompileOptions::Mode::Interactive;
+        compile.view = state_.viewOverride();
+        compile.overlay = state_.overlayOverride();
         BuildResult first;
         if (options_.scenePath.empty()) {
             builder_ = std::make_unique<SceneBuilder>(backend_, compile);
@@ -440,9 +457,15 @@ class Viewer {
         case GLFW_KEY_Q:
             glfwSetWindowShouldClose(window_, GLFW_TRUE);
             return;
-        // Views: the envelope and ratio views of §4.2 and §4.4 will toggle here ('e' and
-        // 'v'), each a per-pixel evaluation at several index offsets, once the compiler
-        // can build them.
+        case GLFW_KEY_E: // the envelope (§4.4)
+            if (!repeat) switchView(&ViewState::toggleEnvelope);
+            return;
+        case GLFW_KEY_V: // the ratio view (§4.2)
+            if (!repeat) switchView(&ViewState::toggleRatio);
+            return;
+        case GLFW_KEY_O: // the fringe overlay (Fig. 5d)
+            if (!repeat) switchView(&ViewState::toggleOverlay);
+            return;
         default:
             return;
         }

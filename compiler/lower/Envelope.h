@@ -1,0 +1,72 @@
+// The envelope view (§4.4): the stack's ink averaged over one period of every layer's index,
+// advanced together (Eq. 13), written once as IR so that every backend draws it. Each layer
+// hands over its phase sample (Eq. 14, LayerFields::sample), found once per pixel; each of
+// the M taps then reads every layer's distance from it by Eq. 15, inks the stack as the
+// pattern does (inkOver) with each stroke at its true width, and the taps are averaged.
+// The mean is then graded about a per-pixel pivot: the composite of the layers' own means,
+// the ink the stack would have if its phases were independent, so that the gain amplifies
+// exactly the beat between the layers (a sole layer is graded about its nominal ink).
+// The stroke's edge keeps the pattern's antialias band (0.7 px), widened where the taps could
+// not resolve it to kTapBand taps' worth of index, and held within the half-width: a band
+// symmetric about the edge leaves each layer's mean ink exactly its hard edge's, 2h / gap,
+// and the widening keeps M taps from aliasing on edges sharper than their spacing (at a
+// high zoom). Wherever the taps' band is the wider (two taps wider than 0.7 px, so at every
+// zoom above that), nothing in the view depends on the pixel's size: the same world point
+// gives the same value at every zoom (tests/envelope_test.cpp).
+constexpr double kTapBand = 2.0;
+#pragma once
+
+#include "compiler/ir/Builder.h"
+#include "compiler/lower/LayerPipeline.h"
+#include "compiler/lower/LowerExpr.h"
+#include "compiler/sema/Views.h"
+
+#include <vector>
+
+namespace moire::lower {
+
+// What the envelope is given of one layer.
+struct EnvelopeLayer {
+    PhaseSample sample;
+    ir::ValueId halfWidth; // the stroke's true half-width (no hairline floor)
+    ir::ValueId antialias; // the pattern's antialias band (Eq. 35)
+    Vals color;            // r, g, b, a
+    ir::ValueId opacity;
+    ir::ValueId spacing; // the nominal pitch: a sole layer is graded about its ink at it
+    ir::ValueId gradX = ir::kNoValue, gradY = ir::kNoValue; // its index gradient
+};
+
+struct EnvelopeSettings {
+    ir::ValueId gain; // contrast about the pivot
+    ir::ValueId taps; // M, rounded and held within [1, sema::kMaxEnvelopeTaps]
+};
+
+// The local period of a layer at the pixel: the gap between the two members that bracket
+// it (z - down when the nearest member is ahead of the pixel, up - z otherwise). Eq. 15 takes
+// |up - z|; the two agree for the phase families, and where a walking family bunches the
+// bracketing gap is the one a member crosses the pixel in, once per period.
+ir::ValueId sampleGap(ir::Builder& b, const PhaseSample& s);
+
+// The distance to the nearest member after advancing the layer's index by `advance` (in
+// (-1, 1)): Eq. 15, max(min over z, up, down of |k - advance * gap|, floor).
+ir::ValueId tapDistance(ir::Builder& b, const PhaseSample& s, ir::ValueId gap, ir::ValueId advance);
+
+// The sweep direction w: how fast each layer's index advances as the tap u goes over [0, 1).
+// The one place it is chosen. The diagonal (1, ..., 1) keeps every zero-sum character (every
+// difference beat, and for three layers the zero-sum ternaries such as (1, 1, -2)); a pair
+// whose first-order sum beat is the slower one (Eq. 11: its index gradients point more
+// against each other than along, g1 . g2 < 0) has its second layer swept backwards,
+// w = (1, -1), which keeps the sum instead. Per pixel, as §4.4 allows for first-order sum
+// beats.
+// Any other deviation is licensed once per stack, never per pixel (§4.4): the pair's nominal
+// pitch ratio (the two spacings alone, as parallel carriers) is run through the character
+// search, and when the character it certifies is a fringe (mu <= 1/4) that is not zero-sum,
+// the sweep keeps it, w = (|k2|, -k1 sgn k2), wherever it is also the pixel's own winner:
+// w = (1, 3) for the (3, -1) beat of pitches 15 and 5 (Fig. 7). Elsewhere the diagonal.
+std::vector<ir::ValueId> sweepDirection(ir::Builder& b, const std::vector<EnvelopeLayer>& layers);
+
+// The envelope over `paper` (premultiplied), graded by the settings: premultiplied RGBA.
+Ink envelopeInk(ir::Builder& b, const Ink& paper, const std::vector<EnvelopeLayer>& layers,
+                const EnvelopeSettings& settings);
+
+} // namespace moire::lower

@@ -3,10 +3,11 @@
 //   build/bin/moire_views_bench [--size WxH] [--repeat N] [scene.moire ...]
 //
 // For the default scene and every example (or the scenes given): the JIT's frame time of the
-// pattern, the envelope (§4.4: one phase sample per layer, then 24 taps of arithmetic) and
-// the split (the pattern left, the envelope right), on the same frame, repeated with the
-// fastest run kept, and each view's time over the pattern's. A scene whose layers the
-// envelope cannot sweep (a pencil, a lattice, a walking layer) is listed with the reason.
+// pattern and of every other view (sema/Views.h: the envelope, §4.4, one phase sample per
+// layer then 24 taps of arithmetic; the split; the ratio view, the character search of
+// §4.2-4.3 per pixel) and of the pattern with the fringe overlay, on the same frame, repeated
+// with the fastest run kept, and each one's time over the pattern's. A view a scene's layers
+// cannot take (the envelope of a pencil or a lattice) is marked '-', its reason listed below.
 #include "bench/BenchScenes.h"
 #include "compiler/backend/llvm/LlvmJit.h"
 #include "compiler/Compile.h"
@@ -24,10 +25,11 @@ using bench::Scene;
 namespace {
 
 // The best frame time of `s` drawn as `view`, or nothing (with the first diagnostic line).
-std::optional<double> frameTime(const Scene& s, sema::ViewMode view, int width, int height,
-                                int repeat, std::string& why) {
+std::optional<double> frameTime(const Scene& s, sema::ViewMode view, bool overlay, int width,
+                                int height, int repeat, std::string& why) {
     CompileOptions opt;
     opt.view = view;
+    opt.overlay = overlay;
     CompileResult r = compileScene(s.path, s.text, opt);
     if (!r.program) {
         why = r.diagnostics.substr(0, r.diagnostics.find('\n'));
@@ -56,25 +58,42 @@ int main(int argc, char** argv) {
 
     fmt::print("moire views benchmark: {}x{}, JIT, best of {}, {} threads\n\n", width, height,
                repeat, std::max(1u, std::thread::hardware_concurrency()));
-    fmt::print("{:<22} {:>10} {:>11} {:>8} {:>9} {:>8}\n", "scene", "pattern ms", "envelope ms",
-               "ratio", "split ms", "ratio");
+    // The columns: every view but the pattern, then the pattern with the overlay.
+    struct Column {
+        std::string name;
+        sema::ViewMode view;
+        bool overlay;
+    };
+    std::vector<Column> columns;
+    for (const sema::ViewName& v : sema::viewNames())
+        if (v.mode != sema::ViewMode::Pattern) columns.push_back({v.name, v.mode, false});
+    columns.push_back({"overlay", sema::ViewMode::Pattern, true});
+    fmt::print("{:<22} {:>10}", "scene", "pattern ms");
+    for (const Column& c : columns) fmt::print(" {:>17}", c.name + " ms (x)");
+    fmt::print("\n");
+    std::vector<std::string> notes;
     for (const Scene& s : scenes) {
         std::string why;
         std::optional<double> pattern =
-            frameTime(s, sema::ViewMode::Pattern, width, height, repeat, why);
-        std::optional<double> envelope =
-            frameTime(s, sema::ViewMode::Envelope, width, height, repeat, why);
-        if (!pattern || !envelope) {
+            frameTime(s, sema::ViewMode::Pattern, false, width, height, repeat, why);
+        if (!pattern) {
             fmt::print("{:<22} not drawn: {}\n", s.name, why);
             continue;
         }
-        std::optional<double> split =
-            frameTime(s, sema::ViewMode::Split, width, height, repeat, why);
-        fmt::print("{:<22} {:>10.2f} {:>11.2f} {:>7.2f}x {:>9.2f} {:>7.2f}x\n", s.name,
-                   *pattern * 1e3, *envelope * 1e3, *envelope / *pattern, *split * 1e3,
-                   *split / *pattern);
+        fmt::print("{:<22} {:>10.2f}", s.name, *pattern * 1e3);
+        for (const Column& c : columns) {
+            std::optional<double> t = frameTime(s, c.view, c.overlay, width, height, repeat, why);
+            if (!t) {
+                fmt::print(" {:>17}", "-");
+                notes.push_back(fmt::format("{} {}: {}", s.name, c.name, why));
+                continue;
+            }
+            fmt::print(" {:>17}", fmt::format("{:.2f} ({:.2f}x)", *t * 1e3, *t / *pattern));
+        }
+        fmt::print("\n");
     }
-    fmt::print("\nratio: the view's frame time over the pattern's, same scene, frame and JIT.\n"
+    fmt::print("\n(x): the view's frame time over the pattern's, same scene, frame and JIT.\n"
                "The envelope's default is 24 taps (envelope_taps).\n");
+    for (const std::string& n : notes) fmt::print("- {}\n", n);
     return 0;
 }

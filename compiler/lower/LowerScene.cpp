@@ -71,8 +71,10 @@ LoweredScene lowerScene(const sema::CheckedScene& scene, const LowerOptions& opt
     LowerOptions settled = options;
     settled.view = out.view = viewOf(scene, options);
     settled.overlay = out.overlay = overlayOf(scene, options);
-    // The ratio view and the overlay read every layer's index field and its gradient.
-    const bool wantIndex = layout.layerFields || out.overlay || sema::viewReadsCharacters(out.view);
+    // The ratio view and the overlay read every layer's index field and its gradient, and the
+    // envelope's sweep reads the gradients (a walking layer has them only with its index).
+    const bool wantIndex = layout.layerFields || out.overlay ||
+                           sema::viewReadsCharacters(out.view) || sema::viewSweeps(out.view);
     SceneContext ctx{scene, settled, b, exprs, timings, out.probeSlot, out.viewSlot, {}, {}};
 
     // 1. The frame's size and camera; the pixel's world point.

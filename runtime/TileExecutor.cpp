@@ -108,9 +108,10 @@ int threadsFor(const ExecOptions& options, int items) {
 
 bool runKernelInBands(const CompiledKernel& kernel, const KernelFrame& frame,
                       const ExecOptions& options, int bandRows, const BandSink& sink,
-                      BandTimes* times) {
+                      BandTimes* times, int stepRows) {
     const int n = kernel.numOutputs();
     bandRows = std::max(1, bandRows);
+    stepRows = stepRows > 0 ? std::min(stepRows, bandRows) : bandRows;
     const int total = (frame.imageH + bandRows - 1) / bandRows;
     const int ts = std::max(8, options.tileSize);
     const int threads = threadsFor(options, total);
@@ -120,20 +121,26 @@ bool runKernelInBands(const CompiledKernel& kernel, const KernelFrame& frame,
     using Clock = std::chrono::steady_clock;
     return runItems(total, threads, options, [&](int b, int w) {
         std::vector<float>& rows = buffers[static_cast<size_t>(w)];
-        rows.resize(static_cast<size_t>(bandRows) * stride);
-        const int y0 = b * bandRows, y1 = std::min(frame.imageH, y0 + bandRows);
-        const auto t0 = Clock::now();
-        for (int x0 = 0; x0 < frame.imageW; x0 += ts) {
-            if (x0 > 0 && options.cancelled && options.cancelled()) return false;
-            kernel.runTile(frame, TileRect{x0, y0, std::min(x0 + ts, frame.imageW), y1},
-                           rows.data() + static_cast<size_t>(x0) * n, stride);
+        rows.resize(static_cast<size_t>(stepRows) * stride);
+        const int top = b * bandRows, bottom = std::min(frame.imageH, top + bandRows);
+        double kernelSeconds = 0, sinkSeconds = 0;
+        for (int y0 = top; y0 < bottom; y0 += stepRows) {
+            const int y1 = std::min(bottom, y0 + stepRows);
+            const auto t0 = Clock::now();
+            for (int x0 = 0; x0 < frame.imageW; x0 += ts) {
+                if ((x0 > 0 || y0 > top) && options.cancelled && options.cancelled()) return false;
+                kernel.runTile(frame, TileRect{x0, y0, std::min(x0 + ts, frame.imageW), y1},
+                               rows.data() + static_cast<size_t>(x0) * n, stride);
+            }
+            const auto t1 = Clock::now();
+            sink(b, y0 - top, y1 - y0, rows.data(), stride);
+            kernelSeconds += std::chrono::duration<double>(t1 - t0).count();
+            sinkSeconds += std::chrono::duration<double>(Clock::now() - t1).count();
         }
-        const auto t1 = Clock::now();
-        sink(b, rows.data(), stride);
         if (times) {
             std::lock_guard<std::mutex> lock(timesMutex);
-            times->kernel += std::chrono::duration<double>(t1 - t0).count();
-            times->sink += std::chrono::duration<double>(Clock::now() - t1).count();
+            times->kernel += kernelSeconds;
+            times->sink += sinkSeconds;
         }
         return true;
     });

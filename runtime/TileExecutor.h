@@ -32,20 +32,23 @@ struct BandTimes {
     double sink = 0.0;   // in the sink
 };
 
-// Called with band `band`'s rows (from row band * bandRows; numOutputs() floats a pixel,
-// `stride` floats from one row to the next), on the thread that rendered them.
-using BandSink = std::function<void(int band, const float* rows, size_t stride)>;
+// Called with `count` rows of band `band` from its row `first` (the frame's row
+// band * bandRows + first; numOutputs() floats a pixel, `stride` floats from one row to the
+// next), on the thread that renders the band: a band's rows come in order, and the call with
+// its last rows ends it.
+using BandSink =
+    std::function<void(int band, int first, int count, const float* rows, size_t stride)>;
 
 // Evaluates a CPU kernel (not wholeFrame()) in whole-width bands of `bandRows` rows, each
-// worker taking the next band in order, rendering it tile by tile into a buffer of its own
-// and handing it to `sink` as soon as it is done, so that a band is encoded while it is
-// still in the cache and no image of the whole frame is ever made: memory holds one band a
-// thread. Bands reach the sink once each, in any order. Progress and cancellation as for
-// runKernel (progress in bands); returns false when cancelled. An exception from the kernel
-// or the sink stops the other workers and is rethrown. `times`, when given, receives where
-// the threads' time went.
+// worker taking the next band in order and rendering it `stepRows` rows at a time (0: the
+// whole band at once), tile by tile into a buffer of its own, each step handed to `sink` as
+// soon as it is done: rows are encoded while they are still in the cache, and no image of
+// the whole frame is ever made: memory holds one step a thread. Bands are handed over once
+// each, in any order. Progress and cancellation as for runKernel (progress in bands); returns
+// false when cancelled. An exception from the kernel or the sink stops the other workers and
+// is rethrown. `times`, when given, receives where the threads' time went.
 bool runKernelInBands(const CompiledKernel& kernel, const KernelFrame& frame,
                       const ExecOptions& options, int bandRows, const BandSink& sink,
-                      BandTimes* times = nullptr);
+                      BandTimes* times = nullptr, int stepRows = 0);
 
 } // namespace moire

@@ -78,11 +78,12 @@ TEST_CASE("tile executor: a cancelled frame stops between tiles and comes back e
     }
 }
 
-TEST_CASE("runKernelInBands hands every band over once, every pixel in it") {
+TEST_CASE("runKernelInBands hands every band over once, its rows in order, every pixel in it") {
     const int w = 131, h = 77;
     for (int bandRows : {1, 16, 64, 100})
         for (int threads : {1, 2, 5})
-            for (int tile : {8, 64}) {
+            for (auto [tile, step] : {std::pair{8, 0}, {64, 0}, {8, 3}, {64, 8}}) {
+                CAPTURE(step);
                 CAPTURE(bandRows);
                 CAPTURE(threads);
                 CAPTURE(tile);
@@ -96,21 +97,26 @@ TEST_CASE("runKernelInBands hands every band over once, every pixel in it") {
                 BandTimes times;
                 CHECK(runKernelInBands(
                     k, KernelFrame{nullptr, w, h}, o, bandRows,
-                    [&](int band, const float* rows, size_t stride) {
+                    [&](int band, int first, int count, const float* rows, size_t stride) {
                         CHECK(stride == size_t{w} * 2);
                         int bad = 0;
-                        for (int y = band * bandRows; y < std::min(h, (band + 1) * bandRows); ++y)
+                        const int y0 = band * bandRows + first;
+                        for (int y = y0; y < y0 + count; ++y)
                             for (int x = 0; x < w; ++x) {
-                                const float* p = rows + (y - band * bandRows) * stride + x * 2;
+                                const float* p = rows + (y - y0) * stride + x * 2;
                                 bad += p[0] != x || p[1] != y;
                             }
                         std::lock_guard<std::mutex> lock(m);
-                        ++seen.at(static_cast<size_t>(band));
+                        // Each band's steps in order, the last ending at the band's end.
+                        int& next = seen.at(static_cast<size_t>(band));
+                        bad += first != next;
+                        next = first + count;
                         wrong += bad;
                     },
-                    &times));
+                    &times, step));
                 CHECK(wrong == 0);
-                for (int s : seen) CHECK(s == 1);
+                for (size_t b = 0; b < seen.size(); ++b)
+                    CHECK(seen[b] == std::min(bandRows, h - static_cast<int>(b) * bandRows));
                 CHECK(times.kernel >= 0.0);
                 CHECK(times.sink >= 0.0);
             }
@@ -122,7 +128,7 @@ TEST_CASE("runKernelInBands stops on the sink's failure and rethrows it") {
     o.threads = 1;
     std::atomic<int> calls{0};
     CHECK_THROWS_AS(runKernelInBands(k, KernelFrame{nullptr, 64, 640}, o, 8,
-                                     [&](int band, const float*, size_t) {
+                                     [&](int band, int, int, const float*, size_t) {
                                          ++calls;
                                          if (band == 2) throw std::runtime_error("disk full");
                                      }),
@@ -137,10 +143,10 @@ TEST_CASE("runKernelInBands: a cancelled frame hands over no band after the canc
     std::atomic<int> bands{0};
     std::atomic<bool> stop{false};
     o.cancelled = [&] { return stop.load(); };
-    CHECK_FALSE(
-        runKernelInBands(k, KernelFrame{nullptr, 64, 6400}, o, 8, [&](int, const float*, size_t) {
-            if (++bands == 3) stop.store(true);
-        }));
+    CHECK_FALSE(runKernelInBands(k, KernelFrame{nullptr, 64, 6400}, o, 8,
+                                 [&](int, int, int, const float*, size_t) {
+                                     if (++bands == 3) stop.store(true);
+                                 }));
     // The two workers may each have been in a band when the third arrived.
     CHECK(bands.load() <= 4);
 }

@@ -21,6 +21,7 @@
 #include <filesystem>
 #include <fmt/format.h>
 #include <fmt/ranges.h>
+#include <future>
 #include <optional>
 #include <unistd.h>
 
@@ -275,8 +276,16 @@ int render(const RenderArgs& args) {
         fmt::print(stderr, "moire: interrupted: {} was not written\n", output);
         return 128 + StopSignals::received();
     };
-    std::unique_ptr<Backend> backend = openBackend(args.backend, args.device);
-    if (!backend) return kExitMachine;
+    // The JIT (the default backend, which cannot be missing) starts LLVM on another thread
+    // while the scene is read and compiled: a few milliseconds of every render. Another
+    // backend is opened first, so that a missing device is said before anything else.
+    const bool jitBackend = args.backend.empty() || args.backend == "jit";
+    std::future<std::unique_ptr<Backend>> opening;
+    std::unique_ptr<Backend> backend;
+    if (jitBackend)
+        opening = std::async(std::launch::async, [&] { return openBackend("jit", -1); });
+    else if (!(backend = openBackend(args.backend, args.device)))
+        return kExitMachine;
 
     auto t0 = std::chrono::steady_clock::now();
     Stages stages(args.verbosity);
@@ -284,6 +293,7 @@ int render(const RenderArgs& args) {
     if (!readScene(args.scene, src)) return kExitIo;
     auto program = compileOrReport(src, compileOptions);
     if (!program) return kExitScene;
+    if (opening.valid() && !(backend = opening.get())) return kExitMachine;
     stages.done(fmt::format("compiled {}", src.path));
     if (StopSignals::received()) return interrupted();
     const double compiledAt = secondsSince(t0);
@@ -356,10 +366,10 @@ int render(const RenderArgs& args) {
             const int channels = kernel->numOutputs();
             runKernelInBands(
                 *kernel, kf, exec, png->bandRows(),
-                [&](int band, const float* rows, size_t stride) {
-                    png->add(band, rows, stride, channels);
+                [&](int band, int first, int count, const float* rows, size_t stride) {
+                    png->addRows(band, first, count, rows, stride, channels);
                 },
-                &times);
+                &times, kPngStepRows);
         } else {
             img = runKernel(*kernel, kf, exec);
         }

@@ -81,3 +81,23 @@ TEST_CASE("a streamed PNG dropped before its end leaves no file and no temporary
     BandedPng png(dir.file("early.png"), 40, 200, WriteOptions{}, &file);
     CHECK_THROWS_AS(png.finish(), IoError); // bands missing
 }
+
+TEST_CASE("a PNG whose bands come a few rows at a time is the PNG of whole bands") {
+    for (auto [w, h, bits] : {std::tuple{97, 300, 8}, {64, 70, 16}}) {
+        const Image img = noisy(w, h, 11);
+        WriteOptions wo;
+        wo.depth = bits == 16 ? PixelDepth::U16 : PixelDepth::U8;
+        BandedPng whole("w.png", w, h, wo), steps("s.png", w, h, wo);
+        for (int band = 0; band < whole.bands(); ++band) {
+            const float* top = img.row(band * whole.bandRows());
+            const size_t stride = static_cast<size_t>(w) * 4;
+            whole.add(band, top, stride, 4);
+            const int rows = std::min(whole.bandRows(), h - band * whole.bandRows());
+            for (int first = 0; first < rows; first += 5)
+                steps.addRows(band, first, std::min(5, rows - first), top + first * stride, stride,
+                              4);
+        }
+        CAPTURE(w);
+        CHECK(steps.file() == whole.file());
+    }
+}

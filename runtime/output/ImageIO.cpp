@@ -79,12 +79,18 @@ int BandedPng::bandRows() const {
 }
 
 void BandedPng::add(int band, const float* rows, size_t stride, int channels) {
+    addRows(band, 0, png_->rowsIn(band), rows, stride, channels);
+}
+
+void BandedPng::addRows(int band, int first, int count, const float* rows, size_t stride,
+                        int channels) {
+    bool done = false;
     try {
-        png_->encode(band, rows, stride, channels);
+        done = png_->encodeRows(band, first, count, rows, stride, channels);
     } catch (const std::exception& e) {
         throw encodeFailure(path_, e.what());
     }
-    if (!stream_) return;
+    if (!done || !stream_) return;
     // Whoever completes the run of encoded bands from the top writes it, in order; the others
     // only mark theirs. A write that fails throws IoError from here.
     std::lock_guard<std::mutex> lock(streamMutex_);

@@ -30,6 +30,9 @@ enum class PixelDepth { Default, U8, U16, Half, Float };
 // (and clip's frames) and an image soon replaced (watch: level 1, in 0.6-0.75x level 4's time
 // for files 5-9% larger).
 constexpr int kPrintCompression = 4;
+// Rows a CPU render hands the PNG encoder at a time (runKernelInBands' step): a worker's
+// floats stay in the cache between the kernel and the encoder.
+constexpr int kPngStepRows = 8;
 constexpr int kPreviewCompression = 1;
 
 struct WriteOptions {
@@ -69,6 +72,8 @@ class BandedPng {
     int bandRows() const;
     // Band `band`'s rows: `channels` floats a pixel (RGBA first), `stride` floats a row.
     void add(int band, const float* rows, size_t stride, int channels);
+    // The same a few rows at a time, in order, on one thread (PngBands::encodeRows).
+    void addRows(int band, int first, int count, const float* rows, size_t stride, int channels);
     std::vector<unsigned char> file() const; // every band added; not when streamed
     void finish();                           // every band added; streamed only
 

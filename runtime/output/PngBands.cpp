@@ -198,19 +198,29 @@ thread_local Scratch scratch;
 } // namespace
 
 void PngBands::encode(int band, const float* rows, size_t stride, int channels) {
+    encodeRows(band, 0, rowsIn(band), rows, stride, channels);
+}
+
+bool PngBands::encodeRows(int band, int first, int count, const float* rows, size_t stride,
+                          int channels) {
     const int bpp = 4 * bits_ / 8;
     const size_t rowBytes = static_cast<size_t>(width_) * bpp;
-    const int count = rowsIn(band);
+    const int total = rowsIn(band);
+    if (first < 0 || count < 1 || first + count > total)
+        throw std::logic_error("PngBands: rows outside the band");
 
+    // The thread's scratch holds the band's filtered rows so far and its last raw row (the
+    // Up and Paeth filters read the row above) from one call to the next.
     unsigned char* raw[2] = {scratch.raw(0, rowBytes), scratch.raw(1, rowBytes)};
-    const size_t filteredSize = static_cast<size_t>(count) * (rowBytes + 1);
+    const size_t filteredSize = static_cast<size_t>(total) * (rowBytes + 1);
     unsigned char* filtered = scratch.filtered(filteredSize);
-    for (int r = 0; r < count; ++r) {
+    for (int r = first; r < first + count; ++r) {
         unsigned char* cur = raw[r % 2];
-        quantizeRow(rows + static_cast<size_t>(r) * stride, width_, channels, bits_, cur);
+        quantizeRow(rows + static_cast<size_t>(r - first) * stride, width_, channels, bits_, cur);
         filterRow(cur, r > 0 ? raw[(r + 1) % 2] : nullptr, rowBytes, static_cast<size_t>(bpp),
                   filtered + static_cast<size_t>(r) * (rowBytes + 1));
     }
+    if (first + count < total) return false;
 
     Band& b = bands_[static_cast<size_t>(band)];
     b.adler = static_cast<uint32_t>(adler32(1, filtered, static_cast<uInt>(filteredSize)));
@@ -234,6 +244,7 @@ void PngBands::encode(int band, const float* rows, size_t stride, int channels) 
         throw std::runtime_error("zlib failed to compress the image");
     b.deflated.assign(out, out + used);
     b.done = true;
+    return true;
 }
 
 std::vector<unsigned char> PngBands::head(const std::vector<unsigned char>& chunks) const {

@@ -41,6 +41,10 @@ class PngBands {
     // row to the next, `channels` floats a pixel, RGBA first). Bands may be encoded in any
     // order, from any threads, each once.
     void encode(int band, const float* rows, size_t stride, int channels);
+    // The same a few rows at a time: `count` rows from the band's row `first`. A band's rows
+    // come in order, all on one thread, which encodes no other band meanwhile; the call with
+    // its last rows compresses it. Returns whether the band is done.
+    bool encodeRows(int band, int first, int count, const float* rows, size_t stride, int channels);
 
     // The whole file: the signature, IHDR, `chunks` (whole chunks, as they go between IHDR and
     // the pixel data: colour space, text, resolution), the bands' pixel data, IEND. Every band

@@ -319,6 +319,7 @@ int render(const RenderArgs& args) {
         footprint.sink = FrameSink::PngBands;
         footprint.threads = args.threads;
         footprint.bytesPerSample = image.depth == PixelDepth::U16 ? 2 : 1;
+        footprint.streamed = !toStdout;
     }
     if (!checkMemory(footprint)) return kExitMachine;
 

@@ -52,20 +52,23 @@ uint64_t sinkBytes(const FrameFootprint& f) {
     case FrameSink::Video:
         return px * 4; // the 8-bit RGBA frame written to ffmpeg's pipe
     case FrameSink::PngBands: {
-        // The compressed bands and the file made of them: zlib's output is at most the
-        // filtered samples and a little (incompressible data is stored), each counted at the
-        // samples' full size. A thread's band: its floats, the filtered band and its
-        // compressed copy, and zlib's state (under 1 MiB).
+        // zlib's output is at most the filtered samples and a little (incompressible data is
+        // stored), so every compressed band is counted at the samples' full size. A thread's
+        // share: a step of floats, the filtered band and its compressed copy, and zlib's state
+        // (under 1 MiB). Written to standard output, the compressed bands and the file made of
+        // them; streamed to a file, the bands that finished before those above them, which
+        // another thread holds at most one of at a time: a band a thread.
         const uint64_t sampleBytes = static_cast<uint64_t>(std::clamp(f.bytesPerSample, 1, 2));
         const uint64_t width = static_cast<uint64_t>(std::max(f.width, 0));
         const uint64_t rowFloats = width * static_cast<uint64_t>(std::max(f.channels, 1));
         const uint64_t rowSamples = 1 + width * 4 * sampleBytes;
-        const uint64_t band =
-            kBandRows * (rowFloats * sizeof(float) + 2 * rowSamples) + (1ull << 20);
+        const uint64_t perThread = kPngStepRows * rowFloats * sizeof(float) +
+                                   2 * kBandRows * rowSamples + (1ull << 20);
         const uint64_t threads = static_cast<uint64_t>(
             f.threads > 0 ? f.threads : std::max(1u, std::thread::hardware_concurrency()));
         const uint64_t file = px * 4 * sampleBytes + px * 4 * sampleBytes / 500 + (1ull << 16);
-        return 2 * file + threads * band;
+        const uint64_t waiting = f.streamed ? threads * kBandRows * rowSamples : 2 * file;
+        return waiting + threads * perThread;
     }
     case FrameSink::Window:
         // The frame in 8 bits as rendered, as shown and as kept for reuse, the window's

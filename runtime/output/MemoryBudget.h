@@ -18,7 +18,9 @@ enum class FrameSink {
     Video,     // ffmpeg's pipe: one 8-bit RGBA frame
     Window,    // the viewer: 8-bit copies for the window, the last frame and the texture
     // render's PNG from a CPU kernel, encoded band by band (runKernelInBands, BandedPng): no
-    // frame, a band of floats and its encoding buffers a thread, and the compressed file
+    // frame, a step of floats and a band's encoding buffers a thread, and the compressed file
+    // (to standard output), or only the bands waiting for those above them (to a file, which
+    // takes each band as soon as it can)
     PngBands,
 };
 
@@ -33,6 +35,7 @@ struct FrameFootprint {
     bool gpu = false;       // the Vulkan executor: its staging buffers
     int threads = 0;        // PngBands: the workers (0: one per hardware thread)
     int bytesPerSample = 1; // PngBands: 1 (8-bit) or 2 (16-bit)
+    bool streamed = false;  // PngBands: written to a file as the bands come (not assembled)
 };
 
 // An upper bound, in bytes, of the memory the process holds at its peak while rendering and

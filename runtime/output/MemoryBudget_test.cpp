@@ -57,16 +57,17 @@ TEST_CASE("memory budget: the estimate counts the frame and each copy of it") {
 }
 
 TEST_CASE("memory budget: a PNG encoded in bands holds no frame, only the file and bands") {
-    // 32768x32768 at 8 bits: 4 GiB of samples, counted twice (the compressed bands and the
-    // file made of them, each at most the samples when nothing compresses); 16 GiB of float
-    // frame that is never made; a band of 64 rows a thread, 32 MiB of floats here.
+    // 32768x32768 at 8 bits to standard output: 4 GiB of samples, counted twice (the
+    // compressed bands and the file made of them, each at most the samples when nothing
+    // compresses); 16 GiB of float frame that is never made; a step of 8 rows a thread, 4 MiB
+    // of floats here, and a band of 64 rows of samples filtered and compressed.
     FrameFootprint png;
     png.width = png.height = 32768;
     png.sink = FrameSink::PngBands;
     png.threads = 4;
     const double samples = double(uint64_t{1} << 30) * 4;
     const double bytes = double(estimateFrameBytes(png));
-    CHECK(bytes >= 2 * samples + 4 * 64 * 32768.0 * 16);
+    CHECK(bytes >= 2 * samples + 4 * (8 * 32768.0 * 16 + 2 * 64 * 32768.0 * 4));
     CHECK(bytes <= 2 * samples + 1e9);
     CHECK(bytes < double(uint64_t{1} << 30) * 16); // less than the float frame alone
     // 16-bit samples double the file; more threads, more bands in flight.
@@ -76,6 +77,13 @@ TEST_CASE("memory budget: a PNG encoded in bands holds no frame, only the file a
     FrameFootprint more = png;
     more.threads = 8;
     CHECK(estimateFrameBytes(more) > estimateFrameBytes(png));
+    // Streamed to a file, only the bands waiting for those above them: one a thread, never
+    // the file.
+    FrameFootprint streamed = png;
+    streamed.streamed = true;
+    const double perThread = 8 * 32768.0 * 16 + 2 * 64 * 32768.0 * 4;
+    CHECK(double(estimateFrameBytes(streamed)) >= 4 * (perThread + 64 * 32768.0 * 4));
+    CHECK(double(estimateFrameBytes(streamed)) <= 4 * (perThread + 64 * 32768.0 * 4) + 4e8);
 }
 
 TEST_CASE("memory budget: the address space limit lowers what is available") {

@@ -62,8 +62,8 @@ uint64_t sinkBytes(const FrameFootprint& f) {
         const uint64_t width = static_cast<uint64_t>(std::max(f.width, 0));
         const uint64_t rowFloats = width * static_cast<uint64_t>(std::max(f.channels, 1));
         const uint64_t rowSamples = 1 + width * 4 * sampleBytes;
-        const uint64_t perThread = kPngStepRows * rowFloats * sizeof(float) +
-                                   2 * kBandRows * rowSamples + (1ull << 20);
+        const uint64_t perThread =
+            kPngStepRows * rowFloats * sizeof(float) + 2 * kBandRows * rowSamples + (1ull << 20);
         const uint64_t threads = static_cast<uint64_t>(
             f.threads > 0 ? f.threads : std::max(1u, std::thread::hardware_concurrency()));
         const uint64_t file = px * 4 * sampleBytes + px * 4 * sampleBytes / 500 + (1ull << 16);

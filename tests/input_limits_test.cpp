@@ -77,18 +77,6 @@ Measured runMeasured(const std::vector<std::string>& args, const test::TempDir& 
     return m;
 }
 
-// AddressSanitizer reserves terabytes of shadow address space when a program starts and
-// inflates what it keeps resident: under it neither an address-space limit nor a peak RSS
-// says anything about moire's own memory, so those tests are skipped.
-bool underAddressSanitizer() {
-#ifdef __SANITIZE_ADDRESS__
-    test::skip("memory limits are not measurable under AddressSanitizer");
-    return true;
-#else
-    return false;
-#endif
-}
-
 } // namespace
 
 TEST_CASE("input: --size takes only digits, each side 1 to 32768") {
@@ -261,7 +249,7 @@ TEST_CASE("input: a scene is a regular file of at most 4 MiB, or standard input"
 }
 
 TEST_CASE("input: a frame larger than the memory the process may have is refused at once") {
-    if (underAddressSanitizer()) return;
+    if (test::skipUnderAddressSanitizer()) return;
     test::TempDir dir("memory");
     dir.write("s.moire", kTiny);
     const std::string scene = dir.file("s.moire");
@@ -305,7 +293,7 @@ TEST_CASE("input: a frame larger than the memory the process may have is refused
 }
 
 TEST_CASE("input: the memory estimate bounds a real render's peak from above, within 2x") {
-    if (underAddressSanitizer()) return;
+    if (test::skipUnderAddressSanitizer()) return;
     test::TempDir dir("peak");
     dir.write("s.moire", kTiny);
     for (auto [size, w, h, out] : {std::tuple{"2400x1600", 2400, 1600, "out.png"},

@@ -18,4 +18,13 @@ int skipCount() {
     return skips.load();
 }
 
+bool skipUnderAddressSanitizer() {
+#ifdef __SANITIZE_ADDRESS__
+    skip("memory limits are not measurable under AddressSanitizer");
+    return true;
+#else
+    return false;
+#endif
+}
+
 } // namespace moire::test

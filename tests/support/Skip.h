@@ -20,5 +20,9 @@ inline constexpr const char* kSkipStatusVariable = "MOIRE_TEST_SKIP_STATUS";
 void skip(const std::string& reason);
 // How many skip() calls this run made.
 int skipCount();
+// True, with a skip, under AddressSanitizer: it reserves terabytes of shadow address space
+// when a program starts and inflates what it keeps resident, so neither an address-space
+// limit nor a peak RSS says anything about moire's own memory there.
+bool skipUnderAddressSanitizer();
 
 } // namespace moire::test

@@ -279,7 +279,7 @@ int render(const RenderArgs& args) {
     // The JIT (the default backend, which cannot be missing) starts LLVM on another thread
     // while the scene is read and compiled: a few milliseconds of every render. Another
     // backend is opened first, so that a missing device is said before anything else.
-    const bool jitBackend = args.backend.empty() || args.backend == "jit";
+    const bool jitBackend = args.backend == "jit";
     std::future<std::unique_ptr<Backend>> opening;
     std::unique_ptr<Backend> backend;
     if (jitBackend)

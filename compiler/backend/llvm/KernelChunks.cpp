@@ -1,5 +1,7 @@
 #include "compiler/backend/llvm/KernelChunks.h"
 
+#include "compiler/backend/llvm/OutlineRegions.h"
+
 #include <algorithm>
 
 namespace moire::llvmbackend {
@@ -9,10 +11,12 @@ using ir::ValueId;
 
 namespace {
 
-size_t sizeOf(const ir::Function& f, const Inst& inst) {
+// An instruction's size in the chunk that holds it: an arm compiled as a function of its own
+// (outlineInsts, OutlineRegions.h) is a call there.
+size_t sizeOf(const ir::Function& f, const Inst& inst, size_t outlineInsts) {
     size_t n = 1;
     for (ir::BlockId r : inst.regions)
-        for (const Inst& i : f.blocks[r].insts) n += sizeOf(f, i);
+        if (!outlinedArm(f, inst, r, outlineInsts)) n += ownSize(f, r, outlineInsts);
     return n;
 }
 
@@ -29,7 +33,7 @@ bool isLeaf(const Inst& inst) {
 
 } // namespace
 
-ChunkPlan planChunks(const ir::Function& f, size_t maxInsts) {
+ChunkPlan planChunks(const ir::Function& f, size_t maxInsts, size_t outlineInsts) {
     const std::vector<Inst>& insts = f.blocks[0].insts;
     ChunkPlan plan;
     std::vector<int> chunkOf(insts.size());
@@ -42,7 +46,7 @@ ChunkPlan planChunks(const ir::Function& f, size_t maxInsts) {
             plan.chunks.back().begin = i;
             size = 0;
         }
-        size += sizeOf(f, insts[i]);
+        size += sizeOf(f, insts[i], outlineInsts);
         chunkOf[i] = static_cast<int>(plan.chunks.size()) - 1;
     }
     plan.chunks.back().end = insts.size();

@@ -33,6 +33,8 @@ struct ChunkPlan {
     int numSlots = 0;
 };
 
-ChunkPlan planChunks(const ir::Function& kernel, size_t maxInsts);
+// With `outlineInsts`, the arms compiled as functions of their own (OutlineRegions.h) do not
+// count towards their chunk's size.
+ChunkPlan planChunks(const ir::Function& kernel, size_t maxInsts, size_t outlineInsts = 0);
 
 } // namespace moire::llvmbackend

@@ -212,11 +212,11 @@ struct LlvmJitBackend::Impl {
             MOIRE_ICE("the JIT runs 1, 4, 8 or 16 lanes, not {}", options.lanes);
         vectorMaths = tm->getTargetTriple().isX86() && libmvecAvailable() &&
                       (lanes != 16 || tm->getTargetFeatureString().contains("+avx512f"));
-        codeConfig =
-            fnv1a(fmt::format("{}|{}|{}|{}|{}|{}|{}|{}|{}|{}", LLVM_VERSION_STRING,
-                              tm->getTargetCPU().str(), tm->getTargetFeatureString().str(),
-                              options.chunkInsts, chunkVectorWidth, options.classicChunks, lanes,
-                              vectorMaths, static_cast<int>(pipeline()), options.codegenLess));
+        codeConfig = fnv1a(fmt::format("{}|{}|{}|{}|{}|{}|{}|{}|{}|{}|{}", LLVM_VERSION_STRING,
+                                       tm->getTargetCPU().str(), tm->getTargetFeatureString().str(),
+                                       options.chunkInsts, chunkVectorWidth, options.classicChunks,
+                                       lanes, vectorMaths, static_cast<int>(pipeline()),
+                                       options.codegenLess, options.outlineInsts));
         auto built = llvm::orc::LLJITBuilder().setJITTargetMachineBuilder(*jtmb).create();
         if (!built) MOIRE_ICE("cannot start the LLVM JIT: {}", errorText(built.takeError()));
         jit = std::move(*built);
@@ -242,6 +242,7 @@ struct LlvmJitBackend::Impl {
         t.chunkVectorWidth = chunkVectorWidth;
         t.lanes = lanes;
         t.vectorMaths = vectorMaths;
+        t.outlineInsts = options.outlineInsts;
         return llvmbackend::translate(kernel, name, t);
     }
 
@@ -277,10 +278,20 @@ struct LlvmJitBackend::Impl {
         std::vector<std::string> errors(modules.size());
         std::vector<char> compiled(modules.size(), 0);
         ObjectStore* store = options.objects.get();
+        // Largest first: the threads then finish close together (LLVM's time for a module
+        // grows with its instructions).
+        std::vector<size_t> order(modules.size()), size(modules.size(), 0);
+        for (size_t i = 0; i < modules.size(); ++i) {
+            order[i] = i;
+            for (const llvm::Function& fn : *modules[i].module) size[i] += fn.getInstructionCount();
+        }
+        std::stable_sort(order.begin(), order.end(),
+                         [&](size_t a, size_t b) { return size[a] > size[b]; });
         std::atomic<size_t> next{0};
         auto work = [&](llvm::TargetMachine& machine) {
             llvm::orc::SimpleCompiler compile(machine);
-            for (size_t i; (i = next++) < modules.size();) {
+            for (size_t n; (n = next++) < modules.size();) {
+                const size_t i = order[n];
                 if (store) {
                     if (auto object = loadObject(*store, keys[i])) {
                         objects[i] = std::move(object);

@@ -43,6 +43,11 @@ class LlvmJitBackend : public Backend {
         static constexpr int kHostLanes = -1;
         int lanes = kHostLanes;
         Pipeline pipeline = Pipeline::Auto;
+        // With lanes, an arm of an `if` of at least this many instructions is compiled as a
+        // function of its own, once for all arms of the same structure (OutlineRegions.h):
+        // the default scene's two walking layers share their solver's code. 0: never.
+        static constexpr size_t kDefaultOutlineInsts = 128;
+        size_t outlineInsts = kDefaultOutlineInsts;
         // Instruction selection and register allocation at LLVM's -O1 instead of -O2.
         bool codegenLess = false;
         // Object code kept between runs (ObjectStore.h); none: every kernel is compiled.

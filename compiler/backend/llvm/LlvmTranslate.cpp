@@ -15,9 +15,10 @@ namespace moire::llvmbackend {
 using ir::Op;
 using ir::ValueId;
 
-Translator::Translator(const ir::Function& f, llvm::Module& m, TranslatorShape shape)
+Translator::Translator(const ir::Function& f, llvm::Module& m, TranslatorShape shape,
+                       Outliner* outliner)
     : f_(f), m_(m), ctx_(m.getContext()), b_(ctx_), vals_(f.numValues(), nullptr),
-      invariant_(f.numValues(), 0), shape_(shape) {
+      invariant_(f.numValues(), 0), shape_(shape), outliner_(outliner) {
     sf_ = llvm::Type::getFloatTy(ctx_);
     si32_ = llvm::Type::getInt32Ty(ctx_);
     i64_ = llvm::Type::getInt64Ty(ctx_);
@@ -284,10 +285,19 @@ std::vector<OwnedModule> translate(const ir::Function& kernel, const std::string
         om.module = std::make_unique<llvm::Module>(moduleName, *om.ctx);
         return *om.module;
     };
-    ChunkPlan plan = planChunks(kernel, options.chunkInsts);
     TranslatorShape shape{.lanes = std::max(1u, options.lanes), .vectorMaths = options.vectorMaths};
+    // Arms as functions: with lanes only (a call in a scalar pixel loop would keep LLVM's
+    // vectoriser from it), and each in a module of its own.
+    const bool outline = shape.lanes > 1 && options.outlineInsts > 0 && options.separateModules;
+    Outliner outliner{.prefix = name,
+                      .minInsts = options.outlineInsts,
+                      .binInsts = options.armModuleInsts,
+                      .newModule = newModule,
+                      .names = {}};
+    Outliner* arms = outline ? &outliner : nullptr;
+    ChunkPlan plan = planChunks(kernel, options.chunkInsts, outline ? options.outlineInsts : 0);
     if (plan.chunks.size() == 1) {
-        Translator(kernel, newModule(name), shape).run(name);
+        Translator(kernel, newModule(name), shape, arms).run(name);
         return out;
     }
     bool split = options.separateModules, whole = options.wholeStrips;
@@ -296,7 +306,7 @@ std::vector<OwnedModule> translate(const ir::Function& kernel, const std::string
     for (size_t c = 0; c < plan.chunks.size(); ++c) {
         std::string chunkName = name + ".chunk" + std::to_string(c);
         llvm::Function* fn =
-            Translator(kernel, split ? newModule(chunkName) : driver, shape)
+            Translator(kernel, split ? newModule(chunkName) : driver, shape, arms)
                 .run(chunkName, &plan.chunks[c], whole, split, options.chunkVectorWidth);
         // In a module of its own, the driver calls the chunk through a declaration.
         if (split) {

@@ -42,6 +42,13 @@ struct TranslateOptions {
     // Lane-wide libm calls go to glibc's libmvec (loaded in the process; 4, 8 or 16 lanes);
     // otherwise each lane calls the scalar function.
     bool vectorMaths = false;
+    // With lanes (and separate modules), an arm of an `if` of at least this many instructions
+    // is compiled as a function of its own, once for all arms of its structure
+    // (OutlineRegions.h); 0: never.
+    size_t outlineInsts = 0;
+    // Outlined arms are packed into modules of about this many IR instructions (Translator.h:
+    // Outliner): fewer modules cost less, more compile in parallel.
+    size_t armModuleInsts = 200;
 };
 
 // Whether the translation computes `op` with a call to a libm function (with lanes, to its
@@ -49,7 +56,7 @@ struct TranslateOptions {
 bool callsLibm(ir::Op op);
 
 // The module of tile function NAME; for a chunked kernel, the driver's module first, then one
-// per chunk where options.separateModules.
+// per chunk where options.separateModules; then one per outlined arm.
 std::vector<OwnedModule> translate(const ir::Function& kernel, const std::string& name,
                                    const TranslateOptions& options);
 

@@ -162,8 +162,13 @@ void Translator::maskedIf(const ir::Inst& inst) {
             b_.CreateCondBr(b_.CreateOrReduce(mask), armB, join);
             b_.SetInsertPoint(armB);
             exec_ = mask;
-            block(region);
-            std::vector<llvm::Value*> vals = yielded(region);
+            std::vector<llvm::Value*> vals;
+            if (outlines(region)) {
+                vals = callOutlined(region);
+            } else {
+                block(region);
+                vals = yielded(region);
+            }
             auto* armEnd = b_.GetInsertBlock();
             b_.CreateBr(join);
             b_.SetInsertPoint(join);

@@ -12,8 +12,10 @@
 
 #include "compiler/backend/llvm/KernelChunks.h"
 #include "compiler/backend/llvm/LlvmTranslate.h"
+#include "compiler/backend/llvm/OutlineRegions.h"
 #include "compiler/ir/IR.h"
 
+#include <functional>
 #include <llvm/IR/IRBuilder.h>
 #include <llvm/IR/Module.h>
 #include <string>
@@ -27,9 +29,36 @@ struct TranslatorShape {
     bool vectorMaths = false; // libm calls go to glibc's libmvec (4, 8 or 16 lanes)
 };
 
+// The arms of `if`s a kernel's translators compile as functions of their own
+// (OutlineRegions.h), each once; shared by the translators of one kernel. Arms are packed
+// into modules of up to about `binInsts` instructions: modules compile in parallel, but each
+// has a fixed cost (LLVM's code generation pipeline is built and run for it), so a module per
+// arm would cost more than it saves.
+struct Outliner {
+    std::string prefix;                                         // the kernel's name
+    size_t minInsts = 0;                                        // arms at least this big
+    size_t binInsts = 0;                                        // instructions per module
+    std::function<llvm::Module&(const std::string&)> newModule; // a module of that name
+    std::unordered_map<std::string, std::string> names; // key (with lanes' invariance): name
+    llvm::Module* bin = nullptr;
+    size_t binSize = 0;
+    int bins = 0;
+
+    // The module for an arm of `insts` instructions.
+    llvm::Module& moduleFor(size_t insts) {
+        if (!bin || (binSize > 0 && binSize + insts > binInsts)) {
+            bin = &newModule(prefix + ".arms" + std::to_string(bins++));
+            binSize = 0;
+        }
+        binSize += insts;
+        return *bin;
+    }
+};
+
 class Translator {
   public:
-    Translator(const ir::Function& f, llvm::Module& m, TranslatorShape shape = {});
+    Translator(const ir::Function& f, llvm::Module& m, TranslatorShape shape = {},
+               Outliner* outliner = nullptr);
 
     // The tile function of the whole kernel, or with `chunk`, the function of one chunk: the
     // same loop over the tile's pixels, with a tenth parameter, the strip's carry buffer.
@@ -77,6 +106,13 @@ class Translator {
     bool cheapRegion(ir::BlockId id, int& budget) const;
     llvm::Value* andMask(llvm::Value* mask, llvm::Value* cond);
 
+    // --- arms run as functions of their own (TranslateOutline.cpp)
+    bool outlines(ir::BlockId region) const;
+    std::vector<llvm::Value*> callOutlined(ir::BlockId region);
+    llvm::FunctionType* armType(ir::BlockId region, const RegionSignature& sig);
+    void runRegion(const std::string& name, ir::BlockId region, const RegionSignature& sig,
+                   const std::vector<char>& invariant);
+
     const ir::Function& f_;
     llvm::Module& m_;
     llvm::LLVMContext& ctx_;
@@ -87,6 +123,7 @@ class Translator {
     std::vector<char> invariant_;
     bool argsInvariant_ = false;
     TranslatorShape shape_;
+    Outliner* outliner_ = nullptr;
     llvm::Type *sf_, *si32_, *i64_; // scalars
     llvm::Type *fTy_, *iTy_, *bTy_; // the types of IR values (vectors with lanes)
     llvm::Function* fn_ = nullptr;

@@ -16,7 +16,8 @@ namespace {
 size_t sizeOf(const ir::Function& f, const Inst& inst, size_t outlineInsts) {
     size_t n = 1;
     for (ir::BlockId r : inst.regions)
-        if (!outlinedArm(f, inst, r, outlineInsts)) n += ownSize(f, r, outlineInsts);
+        if (inst.op != ir::Op::If || !outlinedArm(f, r, outlineInsts))
+            n += ownSize(f, r, outlineInsts);
     return n;
 }
 

@@ -46,7 +46,7 @@ class LlvmJitBackend : public Backend {
         // With lanes, an arm of an `if` of at least this many instructions is compiled as a
         // function of its own, once for all arms of the same structure (OutlineRegions.h):
         // the default scene's two walking layers share their solver's code. 0: never.
-        static constexpr size_t kDefaultOutlineInsts = 128;
+        static constexpr size_t kDefaultOutlineInsts = 64;
         size_t outlineInsts = kDefaultOutlineInsts;
         // Instruction selection and register allocation at LLVM's -O1 instead of -O2.
         bool codegenLess = false;

@@ -291,9 +291,10 @@ std::vector<OwnedModule> translate(const ir::Function& kernel, const std::string
     const bool outline = shape.lanes > 1 && options.outlineInsts > 0 && options.separateModules;
     Outliner outliner{.prefix = name,
                       .minInsts = options.outlineInsts,
-                      .binInsts = options.armModuleInsts,
+                      .binInsts = options.chunkInsts,
                       .newModule = newModule,
-                      .names = {}};
+                      .names = {},
+                      .bins = {}};
     Outliner* arms = outline ? &outliner : nullptr;
     ChunkPlan plan = planChunks(kernel, options.chunkInsts, outline ? options.outlineInsts : 0);
     if (plan.chunks.size() == 1) {

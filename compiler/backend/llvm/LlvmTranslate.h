@@ -45,10 +45,8 @@ struct TranslateOptions {
     // With lanes (and separate modules), an arm of an `if` of at least this many instructions
     // is compiled as a function of its own, once for all arms of its structure
     // (OutlineRegions.h); 0: never.
+    // The arms are packed into modules of up to `chunkInsts` instructions (Translator.h).
     size_t outlineInsts = 0;
-    // Outlined arms are packed into modules of about this many IR instructions (Translator.h:
-    // Outliner): fewer modules cost less, more compile in parallel.
-    size_t armModuleInsts = 200;
 };
 
 // Whether the translation computes `op` with a call to a libm function (with lanes, to its

@@ -27,10 +27,11 @@ bool outlinable(const ir::Function& f, ir::BlockId region) {
     return true;
 }
 
-bool outlinedArm(const ir::Function& f, const ir::Inst& inst, ir::BlockId region,
-                 size_t minInsts) {
-    return inst.op == Op::If && minInsts > 0 && regionSize(f, region) >= minInsts &&
-           outlinable(f, region);
+bool outlinedArm(const ir::Function& f, ir::BlockId region, size_t minInsts) {
+    // An arm that is mostly arms compiled apart (a dispatch between solver paths) stays in
+    // place: as a function it would cost a call and a module's share for a few instructions.
+    return minInsts > 0 && regionSize(f, region) >= minInsts &&
+           ownSize(f, region, minInsts) >= minInsts / 4 && outlinable(f, region);
 }
 
 size_t ownSize(const ir::Function& f, ir::BlockId region, size_t minInsts) {
@@ -38,7 +39,7 @@ size_t ownSize(const ir::Function& f, ir::BlockId region, size_t minInsts) {
     for (const ir::Inst& inst : f.blocks[region].insts) {
         ++n;
         for (ir::BlockId r : inst.regions)
-            if (!outlinedArm(f, inst, r, minInsts)) n += ownSize(f, r, minInsts);
+            if (inst.op != Op::If || !outlinedArm(f, r, minInsts)) n += ownSize(f, r, minInsts);
     }
     return n;
 }
@@ -135,7 +136,8 @@ class KeyWriter {
             scan(scan, f_.blocks[0]);
         }
         const ir::Inst* def = defs_[v];
-        bool constant = def && (def->op == Op::ConstF || def->op == Op::ConstI || def->op == Op::ConstB);
+        bool constant =
+            def && (def->op == Op::ConstF || def->op == Op::ConstI || def->op == Op::ConstB);
         return constant ? def : nullptr;
     }
 

@@ -50,10 +50,9 @@ struct RegionSignature {
 
 RegionSignature regionSignature(const ir::Function& f, ir::BlockId region);
 
-// Whether arm `region` of `inst` is compiled as a function where arms of at least `minInsts`
-// instructions are (0: none is).
-bool outlinedArm(const ir::Function& f, const ir::Inst& inst, ir::BlockId region,
-                 size_t minInsts);
+// Whether `region`, an arm of an `if`, is compiled as a function where arms of at least
+// `minInsts` instructions are (0: none is).
+bool outlinedArm(const ir::Function& f, ir::BlockId region, size_t minInsts);
 
 // Instructions in a region that are compiled where it is: those of nested regions too, but
 // not those of the arms in it compiled as functions of their own (each counts as one, a call).

@@ -20,8 +20,8 @@ namespace {
 
 // A layer's worth of an arm: reads uniforms [slot, slot + 1], the pixel, a shared constant
 // and `outside`, and loops (a loop is what makes an arm worth a function).
-std::vector<ir::ValueId> layerArm(ir::Builder& b, int slot, ir::ValueId outside,
-                                  ir::ValueId shared, double step) {
+std::vector<ir::ValueId> layerArm(ir::Builder& b, int slot, ir::ValueId outside, ir::ValueId shared,
+                                  double step) {
     ir::ValueId u = b.uniform(slot), v = b.uniform(slot + 1);
     ir::ValueId x = b.add(b.leaf(ir::Op::PixelX), b.mul(u, outside));
     std::vector<ir::ValueId> r = b.loop(

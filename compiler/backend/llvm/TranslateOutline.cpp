@@ -13,7 +13,7 @@ namespace moire::llvmbackend {
 using ir::ValueId;
 
 bool Translator::outlines(ir::BlockId region) const {
-    return outliner_ && regionSize(f_, region) >= outliner_->minInsts && outlinable(f_, region);
+    return outliner_ && outlinedArm(f_, region, outliner_->minInsts);
 }
 
 std::vector<llvm::Value*> Translator::callOutlined(ir::BlockId region) {
@@ -66,8 +66,8 @@ llvm::FunctionType* Translator::armType(ir::BlockId region, const RegionSignatur
 }
 
 // The body of an outlined arm: the arm's translation under the mask it is given.
-void Translator::runRegion(const std::string& name, ir::BlockId region,
-                           const RegionSignature& sig, const std::vector<char>& invariant) {
+void Translator::runRegion(const std::string& name, ir::BlockId region, const RegionSignature& sig,
+                           const std::vector<char>& invariant) {
     for (size_t k = 0; k < sig.inputs.size(); ++k) invariant_[sig.inputs[k]] = invariant[k];
     llvm::FunctionType* type = armType(region, sig);
     fn_ = llvm::Function::Create(type, llvm::Function::ExternalLinkage, name, m_);

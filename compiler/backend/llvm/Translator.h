@@ -31,27 +31,26 @@ struct TranslatorShape {
 
 // The arms of `if`s a kernel's translators compile as functions of their own
 // (OutlineRegions.h), each once; shared by the translators of one kernel. Arms are packed
-// into modules of up to about `binInsts` instructions: modules compile in parallel, but each
-// has a fixed cost (LLVM's code generation pipeline is built and run for it), so a module per
-// arm would cost more than it saves.
+// into modules of up to about `binInsts` instructions, each into the first with room:
+// modules compile in parallel, but each has a fixed cost (LLVM's code generation pipeline is
+// built and run for it), so a module per arm would cost more than it saves.
 struct Outliner {
     std::string prefix;                                         // the kernel's name
     size_t minInsts = 0;                                        // arms at least this big
     size_t binInsts = 0;                                        // instructions per module
     std::function<llvm::Module&(const std::string&)> newModule; // a module of that name
     std::unordered_map<std::string, std::string> names; // key (with lanes' invariance): name
-    llvm::Module* bin = nullptr;
-    size_t binSize = 0;
-    int bins = 0;
+    std::vector<std::pair<llvm::Module*, size_t>> bins; // modules and their instructions
 
     // The module for an arm of `insts` instructions.
     llvm::Module& moduleFor(size_t insts) {
-        if (!bin || (binSize > 0 && binSize + insts > binInsts)) {
-            bin = &newModule(prefix + ".arms" + std::to_string(bins++));
-            binSize = 0;
-        }
-        binSize += insts;
-        return *bin;
+        for (auto& [module, size] : bins)
+            if (size + insts <= binInsts) {
+                size += insts;
+                return *module;
+            }
+        bins.emplace_back(&newModule(prefix + ".arms" + std::to_string(bins.size())), insts);
+        return *bins.back().first;
     }
 };
 

@@ -1,0 +1,61 @@
+#include "compiler/format/Formatter.h"
+
+#include "compiler/diag/Diagnostics.h"
+#include "compiler/format/Layout.h"
+#include "compiler/format/TokenList.h"
+#include "compiler/parse/Ast.h"
+#include "compiler/parse/Parser.h"
+
+#include <filesystem>
+#include <fmt/format.h>
+
+namespace moire::format {
+
+namespace {
+// The compiler reads stdlib/*.moire as library modules (Compile.cpp); a file in a folder
+// named stdlib is formatted the same way, so that its builtin families parse.
+bool isLibraryFile(std::string_view fileName) {
+    return std::filesystem::path(fileName).parent_path().filename() == "stdlib";
+}
+
+// What the formatter must keep: the tree (with every literal) and the comments, in order.
+std::string meaning(const SourceManager& sm, uint32_t id, const ast::Module& m) {
+    std::string s = ast::printModule(m);
+    TokenList tokens(sm, id);
+    for (const GapComment& c : tokens.comments()) s += "\ncomment " + c.text;
+    return s;
+}
+} // namespace
+
+FormatResult formatSource(std::string_view fileName, std::string_view text) {
+    FormatResult result;
+    bool library = isLibraryFile(fileName);
+    SourceManager sm;
+    uint32_t id = sm.add(std::string(fileName), std::string(text), library);
+    DiagEngine diags(sm);
+    ast::Module before = Parser(sm, id, diags).parseModule();
+    if (diags.hasErrors()) {
+        result.diagnostics = diags.render();
+        return result;
+    }
+    TokenList tokens(sm, id);
+    std::string formatted = Layout(tokens).format();
+
+    // The formatted text must mean what the file meant. A difference is a bug in the layout,
+    // which must not reach the user's file.
+    uint32_t again = sm.add(std::string(fileName), formatted, library);
+    DiagEngine check(sm);
+    ast::Module after = Parser(sm, again, check).parseModule();
+    if (check.hasErrors() || meaning(sm, id, before) != meaning(sm, again, after)) {
+        result.diagnostics = fmt::format(
+            "moire: internal error: formatting '{}' would change it; the file is left as it "
+            "was. Please report this with the file.\n",
+            fileName);
+        return result;
+    }
+    result.ok = true;
+    result.text = std::move(formatted);
+    return result;
+}
+
+} // namespace moire::format

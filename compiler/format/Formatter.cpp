@@ -6,6 +6,7 @@
 #include "compiler/parse/Ast.h"
 #include "compiler/parse/Parser.h"
 
+#include <exception>
 #include <filesystem>
 #include <fmt/format.h>
 
@@ -38,21 +39,28 @@ FormatResult formatSource(std::string_view fileName, std::string_view text) {
         result.diagnostics = diags.render();
         return result;
     }
-    TokenList tokens(sm, id);
-    std::string formatted = Layout(tokens).format();
+    auto internalError = [&] {
+        result.diagnostics = fmt::format(
+            "moire: internal error: formatting '{}' would change it; the file is left as it "
+            "was. Please report this with the file.\n",
+            fileName);
+        return result;
+    };
+    std::string formatted;
+    try {
+        TokenList tokens(sm, id);
+        formatted = Layout(tokens).format();
+    } catch (const std::exception&) { // a token the layout did not expect (out of range)
+        return internalError();
+    }
 
     // The formatted text must mean what the file meant. A difference is a bug in the layout,
     // which must not reach the user's file.
     uint32_t again = sm.add(std::string(fileName), formatted, library);
     DiagEngine check(sm);
     ast::Module after = Parser(sm, again, check).parseModule();
-    if (check.hasErrors() || meaning(sm, id, before) != meaning(sm, again, after)) {
-        result.diagnostics = fmt::format(
-            "moire: internal error: formatting '{}' would change it; the file is left as it "
-            "was. Please report this with the file.\n",
-            fileName);
-        return result;
-    }
+    if (check.hasErrors() || meaning(sm, id, before) != meaning(sm, again, after))
+        return internalError();
     result.ok = true;
     result.text = std::move(formatted);
     return result;

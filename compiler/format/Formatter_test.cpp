@@ -39,7 +39,7 @@ TEST_CASE("fmt: numbers, units and colours are kept as written") {
           "field f = 1.50e+2 + 30deg + 1rad\nscene { background = #FfFf00aa }\n");
 }
 
-TEST_CASE("fmt: a block written on one line stays on one line, its properties split by semicolons") {
+TEST_CASE("fmt: a block written on one line stays on one line, semicolons between properties") {
     CHECK(formatted("layer a {family=circles , spacing=6}") ==
           "layer a { family = circles; spacing = 6 }\n");
     CHECK(formatted("timing t { period = 12; mode = loop; }") ==

@@ -2,6 +2,7 @@
 
 #include "compiler/diag/Diagnostics.h"
 #include "compiler/format/Layout.h"
+#include "compiler/format/SameTree.h"
 #include "compiler/format/TokenList.h"
 #include "compiler/parse/Ast.h"
 #include "compiler/parse/Parser.h"
@@ -9,6 +10,7 @@
 #include <exception>
 #include <filesystem>
 #include <fmt/format.h>
+#include <vector>
 
 namespace moire::format {
 
@@ -19,12 +21,12 @@ bool isLibraryFile(std::string_view fileName) {
     return std::filesystem::path(fileName).parent_path().filename() == "stdlib";
 }
 
-// What the formatter must keep: the tree (with every literal) and the comments, in order.
-std::string meaning(const SourceManager& sm, uint32_t id, const ast::Module& m) {
-    std::string s = ast::printModule(m);
+// The comments of a file, in order, as the layout writes them.
+std::vector<std::string> commentsOf(const SourceManager& sm, uint32_t id) {
+    std::vector<std::string> out;
     TokenList tokens(sm, id);
-    for (const GapComment& c : tokens.comments()) s += "\ncomment " + c.text;
-    return s;
+    for (const GapComment& c : tokens.comments()) out.push_back(c.text);
+    return out;
 }
 } // namespace
 
@@ -59,7 +61,8 @@ FormatResult formatSource(std::string_view fileName, std::string_view text) {
     uint32_t again = sm.add(std::string(fileName), formatted, library);
     DiagEngine check(sm);
     ast::Module after = Parser(sm, again, check).parseModule();
-    if (check.hasErrors() || meaning(sm, id, before) != meaning(sm, again, after))
+    if (check.hasErrors() || !sameModule(before, after) ||
+        commentsOf(sm, id) != commentsOf(sm, again))
         return internalError();
     result.ok = true;
     result.text = std::move(formatted);

@@ -177,3 +177,11 @@ TEST_CASE("fmt: a scene with errors past parsing is still formatted") {
     // An unknown family is the checks' to report, not the formatter's.
     CHECK(formatted("layer{family=circels}") == "layer { family = circels }\n");
 }
+
+TEST_CASE("fmt: a chain of fifty thousand terms is formatted (no recursion, no quadratic check)") {
+    std::string chain = "field f = x";
+    for (int i = 0; i < 50000; ++i) chain += "+x";
+    std::string expected = "field f = x";
+    for (int i = 0; i < 50000; ++i) expected += " + x";
+    CHECK(formatted(chain) == expected + "\n");
+}

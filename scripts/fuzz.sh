@@ -13,7 +13,7 @@
 # also reads the seed corpus (BUILD/fuzz/seeds) and the regression cases.
 set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
-targets=(parse sema lower autodiff spirv render)
+targets=(parse sema lower autodiff spirv render format)
 
 # Limits shared by every run. -max_len matches fuzz::kMaxInput; -timeout is per input (the
 # slowest target, render, needs well under a second on the seeds); -rss_limit_mb catches

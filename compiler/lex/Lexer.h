@@ -5,8 +5,16 @@
 #include "compiler/lex/Token.h"
 
 #include <string_view>
+#include <vector>
 
 namespace moire {
+
+// A comment, which the parser never sees; the formatter asks for them to keep them in place.
+struct Comment {
+    uint32_t offset = 0;
+    uint32_t length = 0; // a line comment ends before its newline
+    bool block = false;  // /* ... */ rather than // ...
+};
 
 class Lexer {
   public:
@@ -17,6 +25,9 @@ class Lexer {
     Token next();
     std::string_view spelling(const Token& t) const { return text_.substr(t.offset, t.length); }
     uint32_t fileId() const { return file_; }
+    // From now on every comment skipped is also appended to `sink` (null: none kept). The
+    // tokens next() returns are the same either way.
+    void keepComments(std::vector<Comment>* sink) { comments_ = sink; }
 
     // The longest name, in characters (docs/language.md). Longer names are an error: nothing
     // needs them, and every later stage (suggestions, messages) would carry them along.
@@ -36,6 +47,7 @@ class Lexer {
     std::string_view text_;
     DiagEngine& diags_;
     size_t pos_ = 0;
+    std::vector<Comment>* comments_ = nullptr;
 };
 
 } // namespace moire

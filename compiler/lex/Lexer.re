@@ -48,6 +48,9 @@ void Lexer::skipBlockComment(size_t start) {
     } else {
         pos_ = close + 2;
     }
+    if (comments_)
+        comments_->push_back(
+            {static_cast<uint32_t>(start), static_cast<uint32_t>(pos_ - start), true});
 }
 
 void Lexer::lexNumber(Token& t, size_t start, size_t end) {
@@ -194,6 +197,9 @@ Token Lexer::next() {
                 // at NUL, so the rest of the line is skipped here).
                 size_t end = text_.find('\n', start);
                 pos_ = end == std::string_view::npos ? text_.size() : end;
+                if (comments_)
+                    comments_->push_back({static_cast<uint32_t>(start),
+                                          static_cast<uint32_t>(pos_ - start), false});
                 continue;
             }
             "/*" { skipBlockComment(start); continue; }

@@ -114,4 +114,14 @@ struct CompileArgs {
 };
 int compile(const CompileArgs& args);
 
+// `moire fmt`: every file is formatted in place (only when that changes it; - : standard
+// input to standard output), or with --check listed when formatting would change it. The
+// status is the first failing file's (FmtCommand.cpp).
+struct FmtArgs {
+    std::vector<std::string> files; // "-": standard input
+    bool check = false;
+    Verbosity verbosity;
+};
+int formatFiles(const FmtArgs& args);
+
 } // namespace moire::cli

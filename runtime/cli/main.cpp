@@ -242,6 +242,19 @@ int main(int argc, char** argv) {
                  "Also print how long the scene took to compile");
     compileCmd->footer(exitStatuses("the scene has errors"));
 
+    cli::FmtArgs fmtArgs;
+    CLI::App* fmtCmd =
+        app.add_subcommand("fmt", "Rewrite scenes in the canonical layout (docs/formatting.md)");
+    fmtCmd->add_option("files", fmtArgs.files, "The .moire files, - for standard input")
+        ->required();
+    fmtCmd->add_flag("--check", fmtArgs.check,
+                     "Write nothing; name the files that formatting would change");
+    addVerbosity(fmtCmd, fmtArgs.verbosity, "Print nothing but errors (--check: not the names)",
+                 "Also say of each file whether it was rewritten");
+    fmtCmd->footer("Exit status: 0 every file is formatted (or was rewritten); otherwise the first "
+                   "failing\nfile's: 1 it has errors, or --check would change it; 3 it cannot be "
+                   "read or written;\n2 a wrong command line.");
+
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {
@@ -259,6 +272,7 @@ int main(int argc, char** argv) {
         if (*checkCmd) return cli::check(checkArgs);
         if (*compileCmd) return cli::compile(compileArgs);
         if (*devicesCmd) return cli::devices(devicesVerbosity);
+        if (*fmtCmd) return cli::formatFiles(fmtArgs);
         fmt::print("{}", app.help());
         return 0;
     } catch (const std::bad_alloc&) {

@@ -114,4 +114,10 @@ struct CompileArgs {
 };
 int compile(const CompileArgs& args);
 
+// `moire names`: the language's names by kind (compiler/LanguageNames.h), as text or JSON.
+struct NamesArgs {
+    bool json = false;
+};
+int names(const NamesArgs& args);
+
 } // namespace moire::cli

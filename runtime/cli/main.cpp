@@ -242,6 +242,11 @@ int main(int argc, char** argv) {
                  "Also print how long the scene took to compile");
     compileCmd->footer(exitStatuses("the scene has errors"));
 
+    cli::NamesArgs namesArgs;
+    CLI::App* namesCmd = app.add_subcommand(
+        "names", "List the language's keywords, properties, families, functions and other names");
+    namesCmd->add_flag("--json", namesArgs.json, "As JSON, grouped by kind (for editors)");
+
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {
@@ -259,6 +264,7 @@ int main(int argc, char** argv) {
         if (*checkCmd) return cli::check(checkArgs);
         if (*compileCmd) return cli::compile(compileArgs);
         if (*devicesCmd) return cli::devices(devicesVerbosity);
+        if (*namesCmd) return cli::names(namesArgs);
         fmt::print("{}", app.help());
         return 0;
     } catch (const std::bad_alloc&) {

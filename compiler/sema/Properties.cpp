@@ -99,8 +99,7 @@ const std::vector<std::string>& timingPropertyNames() {
 }
 
 const std::vector<std::string>& familyBodyPropertyNames() {
-    static const std::vector<std::string> names = {"phase", "first", "facets", "distance",
-                                                   "index"};
+    static const std::vector<std::string> names = {"phase", "first", "facets", "distance", "index"};
     return names;
 }
 

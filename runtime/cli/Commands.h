@@ -117,6 +117,7 @@ int compile(const CompileArgs& args);
 // `moire names`: the language's names by kind (compiler/LanguageNames.h), as text or JSON.
 struct NamesArgs {
     bool json = false;
+    Verbosity verbosity;
 };
 int names(const NamesArgs& args);
 

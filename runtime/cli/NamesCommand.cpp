@@ -37,6 +37,13 @@ nlohmann::ordered_json asJson(const LanguageNames& n) {
 
 int names(const NamesArgs& args) {
     const LanguageNames n = languageNames();
+    if (args.verbosity.verbose)
+        fmt::print(stderr,
+                   "moire: {} keywords, {} properties, {} families, {} functions, {} fields, {} "
+                   "easings, {} constants, {} variables, {} words, {} units\n",
+                   n.keywords.size(), n.properties.size(), n.families.size(), n.functions.size(),
+                   n.fields.size(), n.easings.size(), n.constants.size(), n.variables.size(),
+                   n.words.size(), n.units.size());
     if (args.json) {
         fmt::print("{}\n", asJson(n).dump(2));
         return kExitOk;

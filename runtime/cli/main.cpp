@@ -246,6 +246,9 @@ int main(int argc, char** argv) {
     CLI::App* namesCmd = app.add_subcommand(
         "names", "List the language's keywords, properties, families, functions and other names");
     namesCmd->add_flag("--json", namesArgs.json, "As JSON, grouped by kind (for editors)");
+    addVerbosity(namesCmd, namesArgs.verbosity, "Print the names and nothing else",
+                 "Also say how many names of each kind there are");
+    namesCmd->footer("Exit status: 0 done; 2 a wrong command line.");
 
     try {
         app.parse(argc, argv);

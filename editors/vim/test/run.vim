@@ -4,9 +4,11 @@
 "  - the sample scene's tricky places (a property that is also a keyword, a parameter that is
 "    also a family, a comment);
 "  - indentation (gg=G) of a flattened scene gives the scene back;
-"  - commentstring, and :make's errorformat on moire check's output.
+"  - commentstring, and :make through moire check (MOIRE_BINARY) into the quickfix list.
 " Writes the failures to MOIRE_OUT and exits non-zero when there are any.
 let s:errors = []
+" The moire under test, for :make (run-test.sh sets MOIRE_BINARY).
+let g:moire_program = $MOIRE_BINARY
 let s:dir = fnamemodify($MOIRE_EDITORS, ':p')
 execute 'set runtimepath^=' . fnameescape(s:dir . 'vim')
 set hidden
@@ -102,9 +104,21 @@ if len(s:qf) != 1 || s:qf[0].lnum != 3 || s:qf[0].col != 7 || s:qf[0].type !=# '
       \ || s:qf[0].text !~# '^unknown name'
   call add(s:errors, 'errorformat reads: ' . string(s:qf))
 endif
-if &l:makeprg !~# '^moire check '
+if &l:makeprg !=# $MOIRE_BINARY . ' check %:S'
   call add(s:errors, 'makeprg is ' . &l:makeprg)
 endif
+
+" And :make itself, through the real moire, on a scene with an error.
+let s:bad = tempname() . ' bad.moire'
+call writefile(['layer { family = circls }'], s:bad)
+execute 'edit ' . fnameescape(s:bad)
+silent make
+let s:qf = filter(getqflist(), 'v:val.valid')
+if len(s:qf) != 1 || bufname(s:qf[0].bufnr) !=# s:bad || s:qf[0].lnum != 1 || s:qf[0].col != 18
+      \ || s:qf[0].text !=# "unknown family 'circls'; did you mean 'circles'?"
+  call add(s:errors, ':make gives: ' . string(s:qf))
+endif
+call delete(s:bad)
 
 call writefile(s:errors, $MOIRE_OUT)
 if empty(s:errors)

@@ -3,7 +3,7 @@
 // the settings) lives in the modules beside this one, which node's test runner tests.
 import * as vscode from 'vscode';
 import { LanguageClient, LanguageClientOptions, ServerOptions, TransportKind } from 'vscode-languageclient/node';
-import { renderCommandLine, run, viewCommandLine } from './commands';
+import { CommandLine, renderCommandLine, run, viewCommandLine } from './commands';
 import { resolveMoire } from './moirePath';
 import { hasSubcommand, serverCommand } from './server';
 import { MoireSettings, readSettings } from './settings';
@@ -77,13 +77,23 @@ async function activeScene(): Promise<string | undefined> {
   return doc.uri.fsPath;
 }
 
-async function renderCurrentFile(): Promise<void> {
+// The active scene, the moire to run on it and the settings, or undefined after saying why not.
+async function sceneToRun(): Promise<{ scene: string; moire: string; s: MoireSettings } | undefined> {
   const scene = await activeScene();
   const s = settings();
   const moire = scene && moireProgram(s);
-  if (!scene || !moire) return;
-  const line = renderCommandLine(moire, scene, s);
+  return scene && moire ? { scene, moire, s } : undefined;
+}
+
+function echo(line: CommandLine): void {
   output.appendLine(`$ ${line.command} ${line.args.join(' ')}`);
+}
+
+async function renderCurrentFile(): Promise<void> {
+  const target = await sceneToRun();
+  if (!target) return;
+  const line = renderCommandLine(target.moire, target.scene, target.s);
+  echo(line);
   const result = await vscode.window.withProgress(
     { location: vscode.ProgressLocation.Window, title: 'moire: rendering' },
     () => run(line),
@@ -100,13 +110,11 @@ async function renderCurrentFile(): Promise<void> {
 }
 
 async function openViewer(): Promise<void> {
-  const scene = await activeScene();
-  const s = settings();
-  const moire = scene && moireProgram(s);
-  if (!scene || !moire) return;
+  const target = await sceneToRun();
+  if (!target) return;
   // The viewer reloads the scene on every save, so it is started once and left running.
-  const line = viewCommandLine(moire, scene, s);
-  output.appendLine(`$ ${line.command} ${line.args.join(' ')}`);
+  const line = viewCommandLine(target.moire, target.scene, target.s);
+  echo(line);
   const child = spawn(line.command, line.args, { cwd: line.cwd, stdio: ['ignore', 'pipe', 'pipe'] });
   child.stdout.setEncoding('utf8').on('data', (d: string) => output.append(d));
   child.stderr.setEncoding('utf8').on('data', (d: string) => output.append(d));

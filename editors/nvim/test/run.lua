@@ -41,5 +41,6 @@ if entry then
   expect(entry.default_config.root_dir('/tmp/x/scene.moire') == '/tmp/x', 'root_dir')
 end
 expect(set_up and set_up.name == 'moire' and set_up.opts.on_attach == 'x', 'lspconfig.moire.setup was not called with the options')
+expect(vim.v.errmsg == '', 'Neovim said: ' .. vim.v.errmsg)
 vim.fn.writefile(errors, os.getenv('MOIRE_OUT'))
 vim.cmd(#errors == 0 and 'qall!' or 'cquit!')

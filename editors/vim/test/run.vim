@@ -120,6 +120,11 @@ if len(s:qf) != 1 || bufname(s:qf[0].bufnr) !=# s:bad || s:qf[0].lnum != 1 || s:
 endif
 call delete(s:bad)
 
+" No error message on the way (a script of the package that failed to load leaves one).
+if v:errmsg !=# ''
+  call add(s:errors, 'Vim said: ' . v:errmsg)
+endif
+
 call writefile(s:errors, $MOIRE_OUT)
 if empty(s:errors)
   qall!

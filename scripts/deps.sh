@@ -24,6 +24,8 @@ packages=(
   xvfb xauth xdotool             # the viewer's tests: a virtual X server, and input for it
   clang-16 libclang-rt-16-dev    # the libFuzzer build of fuzz/ (libFuzzer, ASan, UBSan runtimes)
   clang-format-16                # CI's format check (scripts/check-format.sh): the toolchain's version
+  nodejs npm                     # the editor packages: the VS Code extension's build and tests (npm ci, tsc, vsce)
+  vim                            # the editor packages' tests: the Vim package loaded in batch mode
 )
 
 if [[ "${1:-}" == "--list" ]]; then
@@ -31,10 +33,19 @@ if [[ "${1:-}" == "--list" ]]; then
   exit 0
 fi
 
+# Installed, or provided by an installed package: a Node.js from outside Debian (NodeSource's)
+# provides npm, and conflicts with Debian's, which apt would otherwise put in its place.
+present() {
+  local status
+  status=$(dpkg-query -W -f='${db:Status-Status}' "$1" 2>/dev/null || true)
+  [[ "$status" == "installed" ]] ||
+    grep -qE "^installed (.*[ ,])?$1( \(|,|$)" <<<"$provided"
+}
+provided=$(dpkg-query -W -f='${db:Status-Status} ${Provides}\n' 2>/dev/null || true)
+
 missing=()
 for p in "${packages[@]}"; do
-  status=$(dpkg-query -W -f='${db:Status-Status}' "$p" 2>/dev/null || true)
-  [[ "$status" == "installed" ]] || missing+=("$p")
+  present "$p" || missing+=("$p")
 done
 
 if [[ ${#missing[@]} -eq 0 ]]; then

@@ -12,7 +12,7 @@ const std::vector<std::string>& declarationKeywords() {
 
 bool isKeyword(std::string_view word) {
     const std::vector<std::string>& decl = declarationKeywords();
-    return word == "let" || std::find(decl.begin(), decl.end(), word) != decl.end();
+    return word == kLetKeyword || std::find(decl.begin(), decl.end(), word) != decl.end();
 }
 
 bool isBuiltinValueName(std::string_view word) {

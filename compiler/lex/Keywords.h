@@ -14,11 +14,15 @@ namespace moire {
 const std::vector<std::string>& declarationKeywords();
 
 // A declaration keyword, or `let` (which begins a binding in a family's body).
+inline constexpr const char* kLetKeyword = "let";
 bool isKeyword(std::string_view word);
 
 // The spellings of the built-in values, in the order of sema::Name (sema/Builtins.h gives
 // them their meaning).
 inline constexpr const char* kBuiltinValueNames[] = {"x", "y", "r", "theta", "pi", "tau", "e", "t"};
 bool isBuiltinValueName(std::string_view word);
+
+// The units a number may carry (`30deg`, `0.5rad`), as the lexer reads them.
+inline constexpr const char* kUnitNames[] = {"deg", "rad"};
 
 } // namespace moire

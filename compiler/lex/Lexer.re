@@ -5,6 +5,7 @@
 #include <charconv>
 #include <cstdlib>
 #include <cmath>
+#include <iterator>
 #include <numbers>
 #include <string>
 
@@ -78,7 +79,7 @@ void Lexer::lexNumber(Token& t, size_t start, size_t end) {
         // and `1dg` are misspelt units.
         Hint hint;
         std::string number(text_.substr(start, digitsEnd - start));
-        std::string near = nearestName(suffix, {"deg", "rad"}, 2);
+        std::string near = nearestName(suffix, {std::begin(kUnitNames), std::end(kUnitNames)}, 2);
         // A suggestion must keep some of what was written: "e4" is not a misspelt "deg".
         if (!near.empty() && editDistance(suffix, near) >= static_cast<int>(suffix.size())) near.clear();
         if (suffix.size() == 1 || isBuiltinValueName(suffix)) near.clear();

@@ -20,6 +20,12 @@ struct NameInfo {
 const NameInfo& nameInfo(Name n);
 std::optional<Name> lookupName(std::string_view s);
 
+// Names with a meaning in one context only: an easing's raw progress, the spacing of a
+// family's layer (reserved everywhere), and the call that makes a layer's family a morph.
+inline constexpr const char* kEasingProgressName = "u";
+inline constexpr const char* kSpacingName = "spacing";
+inline constexpr const char* kMorphName = "morph";
+
 // Built-in functions.
 enum class Fn {
     Sin,

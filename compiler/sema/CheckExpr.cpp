@@ -259,7 +259,7 @@ Type Checker::callType(Expr& e) {
 
 Type Checker::resolveName(Expr& e, const Scope& scope) {
     const std::string& n = e.name;
-    if (scope.easing && n == "u") { // the progress an easing shapes
+    if (scope.easing && n == kEasingProgressName) { // the progress an easing shapes
         e.ref = RefKind::EasingVar;
         return Type::Num;
     }
@@ -287,7 +287,7 @@ Type Checker::resolveName(Expr& e, const Scope& scope) {
             return p.type;
         }
     }
-    if (n == "spacing") {
+    if (n == kSpacingName) {
         if (!scope.allowSpacing) {
             diags_.error(e.opRange, Msg::NameNotHere, n, "in a family's phase");
             return Type::Error;
@@ -364,7 +364,7 @@ Type Checker::resolveName(Expr& e, const Scope& scope) {
             candidates.push_back(scope.family->lets[i].name);
         for (const FamilyParam& p : scope.family->params) candidates.push_back(p.name);
     }
-    if (scope.allowSpacing) candidates.push_back("spacing");
+    if (scope.allowSpacing) candidates.push_back(kSpacingName);
     diags_.error(e.opRange, Msg::UnknownName, n, didYouMean(n, candidates));
     return Type::Error;
 }

@@ -93,6 +93,21 @@ const std::vector<PropertySpec>& layerProperties() {
     return props;
 }
 
+const std::vector<std::string>& timingPropertyNames() {
+    static const std::vector<std::string> names = {"period", "delay", "mode", "easing"};
+    return names;
+}
+
+const std::vector<std::string>& familyBodyPropertyNames() {
+    static const std::vector<std::string> names = {"phase", "first", "facets", "distance", "index"};
+    return names;
+}
+
+const std::vector<std::string>& timingModeNames() {
+    static const std::vector<std::string> names = {"once", "loop", "pingpong"};
+    return names;
+}
+
 const PropertySpec& propertySpec(const std::vector<PropertySpec>& table, std::string_view name) {
     for (const PropertySpec& s : table)
         if (name == s.name) return s;

@@ -5,6 +5,7 @@
 
 #include "compiler/parse/Ast.h"
 
+#include <string>
 #include <string_view>
 #include <vector>
 
@@ -28,6 +29,13 @@ struct PropertySpec {
 const std::vector<PropertySpec>& sceneProperties();
 const std::vector<PropertySpec>& cameraProperties();
 const std::vector<PropertySpec>& layerProperties(); // `family` is listed with type Error
+
+// The properties of a timing and of a family's body, and a timing's modes. Sema.cpp checks each
+// by hand (their values are not expressions of one type); listed here for its suggestions and
+// for the tools that name them (`moire names`, the editor packages).
+const std::vector<std::string>& timingPropertyNames();     // period, delay, mode, easing
+const std::vector<std::string>& familyBodyPropertyNames(); // phase, first, facets, distance, index
+const std::vector<std::string>& timingModeNames();         // once, loop, pingpong
 
 // The entry for `name` in `table`; an internal error when there is none (a bug in moire).
 const PropertySpec& propertySpec(const std::vector<PropertySpec>& table, std::string_view name);

@@ -28,7 +28,7 @@ Hint modeHint(const std::string& word) {
         {"single", "once"},      {"one", "once"},        {"hold", "once"}};
     for (const auto& [other, mode] : synonyms)
         if (word == other) return suggest(mode);
-    std::string near = nearestName(word, {"once", "loop", "pingpong"}, 1);
+    std::string near = nearestName(word, timingModeNames(), 1);
     return near.empty() ? Hint() : suggest(near);
 }
 
@@ -64,7 +64,7 @@ bool Checker::reserved(const std::string& name, SourceRange at) {
     auto is = [&](const std::vector<std::string>& v) {
         return std::find(v.begin(), v.end(), name) != v.end();
     };
-    if (is(builtinNames()) || is(builtinFunctions()) || isKeyword(name) || name == "spacing") {
+    if (is(builtinNames()) || is(builtinFunctions()) || isKeyword(name) || name == kSpacingName) {
         diags_.error(at, Msg::ReservedName, name);
         return true;
     }
@@ -229,7 +229,7 @@ void Checker::checkTiming(Decl& t) {
         } else {
             diags_.error(p.nameRange, Msg::UnknownProperty, p.name,
                          "a timing (its properties are period, delay, mode and easing)",
-                         didYouMean(p.name, {"period", "delay", "mode", "easing"}));
+                         didYouMean(p.name, timingPropertyNames()));
         }
     }
     if (!ct.period)
@@ -257,13 +257,13 @@ bool Checker::timingArgument(Expr& arg, const std::string& fn) {
 
 bool Checker::checkMorph(const Property& fam, CheckedLayer& layer) {
     Expr& call = *fam.value;
-    if (call.kind != ExprKind::Call || call.name != "morph") return false;
+    if (call.kind != ExprKind::Call || call.name != kMorphName) return false;
     if (call.args.size() < 3) {
         diags_.error(call.range, Msg::MorphArgs);
         return true;
     }
     call.type = Type::Num;
-    if (timingArgument(*call.args[0], "morph")) layer.morphTiming = call.args[0]->refDecl;
+    if (timingArgument(*call.args[0], kMorphName)) layer.morphTiming = call.args[0]->refDecl;
     for (size_t i = 1; i < call.args.size(); ++i) {
         Expr& a = *call.args[i];
         auto it = a.kind == ExprKind::Name ? globals_.find(a.name) : globals_.end();
@@ -362,7 +362,7 @@ void Checker::checkFamily(Decl& f) {
             }
         } else {
             // `w = 2` in a family body is most likely a value meant to be named.
-            Hint hint = didYouMean(p.name, {"phase", "first", "facets", "distance", "index"});
+            Hint hint = didYouMean(p.name, familyBodyPropertyNames());
             if (hint.text.empty())
                 hint = fmt::format("; to name a value, write: let {} = ...", p.name);
             diags_.error(p.nameRange, Msg::UnknownProperty, p.name,
@@ -486,7 +486,7 @@ void Checker::checkLayer(Decl& d) {
     } else if (checkMorph(*fam, layer)) {
         members = layer.morph;
     } else if (fam->value->kind == ExprKind::Name && !lookupName(fam->value->name) &&
-               fam->value->name != "spacing" && // a (constant) phase, like any built-in name
+               fam->value->name != kSpacingName && // a (constant) phase, like any built-in name
                !(globals_.count(fam->value->name) &&
                  globals_[fam->value->name]->kind == DeclKind::Field)) {
         auto it = globals_.find(fam->value->name);

@@ -46,8 +46,8 @@ bool viewReadsCharacters(ViewMode mode) {
 }
 
 std::optional<bool> switchNamed(std::string_view name) {
-    if (name == "true") return true;
-    if (name == "false") return false;
+    if (name == kSwitchNames[1]) return true;
+    if (name == kSwitchNames[0]) return false;
     return std::nullopt;
 }
 

@@ -45,6 +45,8 @@ bool viewReadsCharacters(ViewMode mode);
 // The fringe overlay (`overlay = true`, `--overlay`, the viewer's o): the unit level sets of
 // the winning character where a fringe stands, laid over any view. A switch written as a
 // name: `true` or `false`.
+// kSwitchNames[0] is off, [1] on.
+inline constexpr const char* kSwitchNames[] = {"false", "true"};
 std::optional<bool> switchNamed(std::string_view name);
 
 } // namespace moire::sema

@@ -124,4 +124,11 @@ struct FmtArgs {
 };
 int formatFiles(const FmtArgs& args);
 
+// `moire names`: the language's names by kind (compiler/LanguageNames.h), as text or JSON.
+struct NamesArgs {
+    bool json = false;
+    Verbosity verbosity;
+};
+int names(const NamesArgs& args);
+
 } // namespace moire::cli

@@ -254,6 +254,13 @@ int main(int argc, char** argv) {
     fmtCmd->footer("Exit status: 0 every file is formatted (or was rewritten); otherwise the first "
                    "failing\nfile's: 1 it has errors, or --check would change it; 3 it cannot be "
                    "read or written;\n2 a wrong command line.");
+    cli::NamesArgs namesArgs;
+    CLI::App* namesCmd = app.add_subcommand(
+        "names", "List the language's keywords, properties, families, functions and other names");
+    namesCmd->add_flag("--json", namesArgs.json, "As JSON, grouped by kind (for editors)");
+    addVerbosity(namesCmd, namesArgs.verbosity, "Print the names and nothing else",
+                 "Also say how many names of each kind there are");
+    namesCmd->footer("Exit status: 0 done; 2 a wrong command line.");
 
     try {
         app.parse(argc, argv);
@@ -273,6 +280,7 @@ int main(int argc, char** argv) {
         if (*compileCmd) return cli::compile(compileArgs);
         if (*devicesCmd) return cli::devices(devicesVerbosity);
         if (*fmtCmd) return cli::formatFiles(fmtArgs);
+        if (*namesCmd) return cli::names(namesArgs);
         fmt::print("{}", app.help());
         return 0;
     } catch (const std::bad_alloc&) {

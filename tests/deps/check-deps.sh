@@ -30,8 +30,9 @@ set -euo pipefail
 # Programs run by the tests, by moire itself and by CI, found on PATH: clip and its tests
 # (ffmpeg, ffprobe), the viewer's tests (Xvfb, xdotool under timeout), the Vulkan device list
 # test, which compares `moire devices` with vulkaninfo, and CI's format check
-# (clang-format-16, scripts/check-format.sh).
-TOOLS=(ffmpeg ffprobe Xvfb xdotool timeout vulkaninfo clang-format-16)
+# (clang-format-16, scripts/check-format.sh), and the editor packages' tests (node and npm for
+# the VS Code extension, vim for the Vim package: editors/test/run-test.sh).
+TOOLS=(ffmpeg ffprobe Xvfb xdotool timeout vulkaninfo clang-format-16 node npm vim)
 
 here=$(cd "$(dirname "$0")" && pwd)
 source_dir=$(cd "$here/../.." && pwd)

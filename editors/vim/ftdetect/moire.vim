@@ -1,0 +1,2 @@
+" .moire scenes (Vim and Neovim).
+autocmd BufNewFile,BufRead *.moire setfiletype moire

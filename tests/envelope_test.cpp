@@ -11,7 +11,6 @@
 // The strokes are wider than the hairline floor at these zooms, so the pattern the oracle
 // averages draws them at their true width, as the view does; and two taps are narrower than
 // the pattern's 0.7 px antialias band, so the view ramps the edges as the pattern does.
-#include "runtime/FrameEval.h"
 #include "tests/support/Support.h"
 
 #include <algorithm>
@@ -75,30 +74,6 @@ std::vector<Example> examples() {
     };
 }
 
-int slotOf(const SceneProgram& p, double value) {
-    for (size_t i = 0; i < p.literals.size(); ++i)
-        if (p.literals[i] == value) return static_cast<int>(i);
-    FAIL("no literal ", value);
-    return -1;
-}
-
-// Runs a compiled kernel over the frame with the literal table `literals`.
-Image run(const SceneProgram& p, CompiledKernel& k, const std::vector<double>& literals,
-          int width = 0, int height = 0) {
-    FrameRequest req;
-    req.literals = &literals;
-    req.width = width;
-    req.height = height;
-    FrameValues fv;
-    std::string diags;
-    REQUIRE(evaluateFrame(p, req, fv, diags));
-    Image img(fv.width, fv.height, k.numOutputs());
-    KernelFrame frame{fv.uniforms.data(), fv.width, fv.height};
-    k.runTile(frame, TileRect{0, 0, fv.width, fv.height}, img.pixels.data(),
-              static_cast<size_t>(fv.width) * k.numOutputs());
-    return img;
-}
-
 // The brute-force mean of the pattern's RGB over kBruteTaps advances of every layer's
 // index, swept as Eq. 11 says per pixel; `alone` >= 0 sweeps only that layer (the other's
 // opacity 0). Returns kW x kH x 3.
@@ -109,8 +84,8 @@ std::vector<double> bruteMean(const Example& ex, int alone = -1) {
     const int layers = p->layout.numLayers;
     std::vector<int> phase, opacity;
     for (int i = 0; i < layers; ++i) {
-        phase.push_back(slotOf(*p, kPhase[i]));
-        opacity.push_back(slotOf(*p, kOpacity[i]));
+        phase.push_back(test::literalSlot(*p, kPhase[i]));
+        opacity.push_back(test::literalSlot(*p, kOpacity[i]));
     }
     std::vector<double> lits = p->literals;
     if (alone >= 0)
@@ -119,7 +94,7 @@ std::vector<double> bruteMean(const Example& ex, int alone = -1) {
     // Which way the second layer runs: backwards where g1 . g2 < 0 (the sum is slower).
     std::vector<bool> backwards(kW * kH, false);
     if (layers == 2) {
-        Image f = run(*p, *kernel, lits);
+        Image f = test::runWithLiterals(*p, *kernel, lits);
         const auto& L = p->layout;
         for (int px = 0; px < kW * kH; ++px) {
             const float* o = &f.pixels[static_cast<size_t>(px) * f.channels];
@@ -138,7 +113,7 @@ std::vector<double> bruteMean(const Example& ex, int alone = -1) {
                 const double w = i == 1 && dir == 1 ? -1.0 : 1.0;
                 l[phase[i]] = kPhase[i] - u * w * ex.spacing[i];
             }
-            Image img = run(*p, *kernel, l);
+            Image img = test::runWithLiterals(*p, *kernel, l);
             for (int px = 0; px < kW * kH; ++px)
                 for (int c = 0; c < 3; ++c)
                     sums[dir][px * 3 + c] += img.pixels[static_cast<size_t>(px) * img.channels + c];
@@ -246,7 +221,7 @@ TEST_CASE("envelope: the same world points give the same value at zoom 1 and zoo
                 // World points spread over the frame (a fixed low-discrepancy walk).
                 lits[p->probeSlot] = -28.0 + std::fmod(k * 0.6180339887 * 56.0, 56.0);
                 lits[p->probeSlot + 1] = -20.0 + std::fmod(k * 0.7548776662 * 40.0, 40.0);
-                Image img = run(*p, *kernel, lits, 1, 1);
+                Image img = test::runWithLiterals(*p, *kernel, lits, 1, 1);
                 for (int c = 0; c < 3; ++c) out.push_back(img.pixels[c]);
             }
             return out;

@@ -31,7 +31,7 @@ void Compose::layer(const LayerInk& ink) {
     // (LoweredScene::unsweepable); its ink then stays put while the others sweep.
     if (l.sample.z == ir::kNoValue)
         l.sample = {ink.fields.distance, b_.constF(kNoMember), b_.constF(kNoMember), zero_,
-                    std::nullopt};
+                    std::nullopt,        std::nullopt};
     sweep_.push_back(l);
 }
 

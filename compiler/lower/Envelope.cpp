@@ -4,6 +4,9 @@
 #include "compiler/ir/Semantics.h"
 #include "compiler/lower/Characters.h"
 
+#include <algorithm>
+#include <numbers>
+
 namespace moire::lower {
 
 using ir::Op;
@@ -99,7 +102,20 @@ Ink envelopeInk(ir::Builder& b, const Ink& paper, const std::vector<EnvelopeLaye
                 const EnvelopeSettings& settings) {
     if (layers.empty()) return paper;
     const std::vector<ValueId> w = sweepDirection(b, layers);
+    const bool rankTwo = std::any_of(layers.begin(), layers.end(), [](const EnvelopeLayer& l) {
+        return l.sample.lattice.has_value();
+    });
     ValueId taps = b.clamp(b.round(settings.taps), b.constF(1.0), b.constF(sema::kMaxEnvelopeTaps));
+    // The rank-two sweep covers the unit cell of the index pair (u, v) with a rank-one
+    // lattice rule: tap j at ((j + 1/2) / N, ((j g mod N) + 1/2) / N), g the whole number
+    // nearest N / golden ratio, a Fibonacci number's predecessor when N is one (N = 144 at
+    // the default M = 24). So M taps per generator's period on average, M^2 / 4 in all.
+    ValueId skew = ir::kNoValue;
+    if (rankTwo) {
+        taps = b.clamp(b.round(b.mul(b.mul(taps, taps), b.constF(0.25))), b.constF(1.0),
+                       b.constF(kMaxLatticeTaps));
+        skew = b.round(b.div(taps, b.constF(std::numbers::phi)));
+    }
     ValueId step = b.div(b.constF(1.0), taps);
     // What each tap reads of a layer, set once per pixel: its stroke's edge (Envelope.h) as
     // the start of the ramp and the ramp's slope, and the ink's strength.
@@ -110,9 +126,11 @@ Ink envelopeInk(ir::Builder& b, const Ink& paper, const std::vector<EnvelopeLaye
     std::vector<Edge> edges;
     for (size_t i = 0; i < layers.size(); ++i) {
         const EnvelopeLayer& l = layers[i];
-        ValueId gap = sampleGap(b, l.sample);
-        // A layer swept |w_i| periods over the taps moves |w_i| times as far each tap.
-        ValueId perTap = b.mul(b.mul(gap, step), b.abs(w[i]));
+        ValueId gap = l.sample.lattice ? l.sample.lattice->cell : sampleGap(b, l.sample);
+        // A layer swept |w_i| periods over the taps moves |w_i| times as far each tap; a
+        // lattice's taps are spread over its cell, about 1 / sqrt(N) of a step apart.
+        ValueId spread = l.sample.lattice ? b.sqrt(step) : step;
+        ValueId perTap = b.mul(b.mul(gap, spread), b.abs(w[i]));
         ValueId a = b.min(b.max(l.antialias, b.mul(perTap, b.constF(kTapBand))), l.halfWidth);
         // On a fold itself the members do not slide by the gap (Eq. 5 has none there): the
         // fold's estimate moves the first member, and its edge keeps the pattern's band.
@@ -132,12 +150,20 @@ Ink envelopeInk(ir::Builder& b, const Ink& paper, const std::vector<EnvelopeLaye
     auto more = [&](std::span<const ValueId> v) { return std::vector<ValueId>{b.lt(v[0], taps)}; };
     std::vector<ValueId> sums = b.loop(init, more, [&](std::span<const ValueId> v) {
         ValueId u = b.mul(b.add(v[0], b.constF(0.5)), step);
+        ValueId t = ir::kNoValue; // the second generator's advance, in a rank-two sweep
+        if (rankTwo)
+            t = b.mul(b.add(b.emit(Op::Mod, {b.mul(v[0], skew), taps}), b.constF(0.5)), step);
+        // An advance x w_i, less its whole periods, keeps its sign: within (-1, 1).
+        auto advance = [&](ValueId x, size_t i) {
+            ValueId a = b.mul(x, w[i]);
+            return b.sub(a, b.mul(b.emit(ir::Op::Sign, {a}), b.floor(b.abs(a))));
+        };
         std::vector<ValueId> cov(n);
         for (size_t i = 0; i < n; ++i) {
-            // The advance u w_i, less its whole periods, keeps its sign: within (-1, 1).
-            ValueId a = b.mul(u, w[i]);
-            a = b.sub(a, b.mul(b.emit(ir::Op::Sign, {a}), b.floor(b.abs(a))));
-            ValueId d = tapDistance(b, layers[i].sample, edges[i].gap, a);
+            // A one-index layer rides the first generator's advance.
+            const PhaseSample& sample = layers[i].sample;
+            ValueId d = sample.lattice ? sample.lattice->at(b, advance(u, i), advance(t, i))
+                                       : tapDistance(b, sample, edges[i].gap, advance(u, i));
             // Eq. 4's 1 - smoothstep(h - a, h + a, d), with the ramp's slope set outside.
             ValueId t = b.clamp(b.mul(b.sub(d, edges[i].start), edges[i].slope), b.constF(0.0),
                                 b.constF(1.0));
@@ -168,7 +194,10 @@ Ink envelopeInk(ir::Builder& b, const Ink& paper, const std::vector<EnvelopeLaye
     // The pivot: the layers' own mean coverages composited, or a sole layer's nominal ink.
     Ink pivot = paper;
     for (size_t i = 0; i < n; ++i) {
-        ValueId own = n == 1 ? nominalCoverage(b, layers[i]) : meanOf(1 + i);
+        // A lattice's own mean is its nominal ink: translating it moves no point closer to
+        // another.
+        const bool nominal = n == 1 && !layers[i].sample.lattice;
+        ValueId own = nominal ? nominalCoverage(b, layers[i]) : meanOf(1 + i);
         pivot = over(b, pivot, layers[i], own);
     }
     auto grade = [&](ValueId p, ValueId m) { return b.add(p, b.mul(settings.gain, b.sub(m, p))); };

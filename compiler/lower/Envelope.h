@@ -25,6 +25,11 @@ constexpr double kTapBand = 2.0;
 
 namespace moire::lower {
 
+// A stack with a lattice sweeps the pair (u, v) of every lattice's generators over their
+// unit cell (§4.4's rank-two case): M^2 / 4 taps of a rank-one lattice rule (Envelope.cpp),
+// at most this many.
+constexpr double kMaxLatticeTaps = 4096;
+
 // What the envelope is given of one layer.
 struct EnvelopeLayer {
     PhaseSample sample;

@@ -88,6 +88,30 @@ Image renderScene(const SceneProgram& program, Backend& backend, int width, int 
     return renderFrame(program, backend, fv);
 }
 
+int literalSlot(const SceneProgram& program, double value) {
+    for (size_t i = 0; i < program.literals.size(); ++i)
+        if (program.literals[i] == value) return static_cast<int>(i);
+    FAIL("no literal ", value);
+    return -1;
+}
+
+Image runWithLiterals(const SceneProgram& program, CompiledKernel& kernel,
+                      const std::vector<double>& literals, int width, int height) {
+    FrameRequest req;
+    req.literals = &literals;
+    req.width = width;
+    req.height = height;
+    FrameValues fv;
+    std::string diags;
+    INFO(diags);
+    REQUIRE(evaluateFrame(program, req, fv, diags));
+    Image img(fv.width, fv.height, kernel.numOutputs());
+    KernelFrame frame{fv.uniforms.data(), fv.width, fv.height};
+    kernel.runTile(frame, TileRect{0, 0, fv.width, fv.height}, img.pixels.data(),
+                   static_cast<size_t>(fv.width) * kernel.numOutputs());
+    return img;
+}
+
 Image renderWindow(const SceneProgram& program, Backend& backend, int x0, int y0, int width,
                    int height, double t) {
     FrameRequest req;

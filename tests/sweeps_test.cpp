@@ -177,6 +177,34 @@ TEST_CASE(
     }
 }
 
+TEST_CASE("envelope of lines over a lattice: the lines ride the generator they beat with") {
+    // Lines at the lattice's pitch, their normal 4 degrees off the square grid's second
+    // generator: the fringe is lines minus the v rows. The lines must advance with v (the
+    // envelope reads that from the winning character, per pixel); riding u, the first
+    // generator, would average that fringe away (checked below against the same oracle).
+    const Origins at = {{{0.000123, 0.000234}, {0.000345, 0.000456}}};
+    const std::string scene =
+        twoLayers("family = square_lattice; spacing = 6; stroke = 3",
+                  "family = lines; angle = 90deg; spacing = 6; stroke = 2.4; color = #2040a0", at);
+    auto moveWith = [&](bool rideV) {
+        return [&, rideV](std::vector<double>& l, const Slots& slot, int i, double du, double dv) {
+            // The lattice's frame moves by 6 (du, dv); the lines' (index y / 6) by 6 along y
+            // per unit of the generator they ride.
+            const double x = i == 0 ? 6 * du : 0.0;
+            const double y = i == 0 ? 6 * dv : 6 * (rideV ? dv : du);
+            const double t = kTurn[i];
+            l[slot.ox] -= std::cos(t) * x - std::sin(t) * y;
+            l[slot.oy] -= std::sin(t) * x + std::cos(t) * y;
+        };
+    };
+    std::vector<std::pair<double, double>> grid;
+    for (int a = 0; a < 48; ++a)
+        for (int b = 0; b < 48; ++b) grid.push_back({(a + 0.5) / 48, (b + 0.5) / 48});
+    const Image view = envelopeOf(scene, 80);
+    CHECK(shareWithin(view, bruteMean(scene, at, moveWith(true), grid, false)) >= 0.999);
+    CHECK(shareWithin(view, bruteMean(scene, at, moveWith(false), grid, false)) < 0.5);
+}
+
 TEST_CASE("envelope of radial pencils: 24 taps match the pattern turned over 1,024 rotations") {
     // Two fans with centres 17 units apart, as panel 7's are.
     const int lines = 24;

@@ -3,6 +3,7 @@
 #include "compiler/diag/Diagnostics.h"
 #include "compiler/lower/RatioView.h"
 
+#include <algorithm>
 #include <optional>
 
 namespace moire::lower {
@@ -36,6 +37,16 @@ void Compose::layer(const LayerInk& ink) {
 }
 
 Ink Compose::envelope() {
+    const bool lattice = std::any_of(sweep_.begin(), sweep_.end(), [](const EnvelopeLayer& l) {
+        return l.sample.lattice.has_value();
+    });
+    const bool oneIndex = std::any_of(sweep_.begin(), sweep_.end(),
+                                      [](const EnvelopeLayer& l) { return !l.sample.lattice; });
+    if (lattice && oneIndex) {
+        std::vector<EnvelopeLayer> layers = sweep_;
+        rankTwoRides(b_, stackCharacter(b_, fields_), layers);
+        return envelopeInk(b_, paper_, layers, settings_);
+    }
     return envelopeInk(b_, paper_, sweep_, settings_);
 }
 

@@ -79,6 +79,31 @@ std::vector<ValueId> sweepDirection(ir::Builder& b, const std::vector<EnvelopeLa
     return licensedW;
 }
 
+void rankTwoRides(ir::Builder& b, const Character& c, std::vector<EnvelopeLayer>& layers) {
+    const ValueId zero = b.constF(0.0), one = b.constF(1.0);
+    for (int j = 0; j < c.count; ++j) {
+        EnvelopeLayer& l = layers.at(static_cast<size_t>(c.layer[static_cast<size_t>(j)]));
+        if (l.sample.lattice) continue;
+        // The character's term on this layer is k idx; k = +-1 is its own inverse.
+        const ValueId k = c.k[static_cast<size_t>(j)];
+        const ValueId unit = b.emit(Op::Eq, {b.abs(k), one});
+        ValueId u = one, v = zero;
+        for (int i = 0; i < c.count; ++i) {
+            const EnvelopeLayer& other =
+                layers.at(static_cast<size_t>(c.layer[static_cast<size_t>(i)]));
+            if (i == j || !other.sample.lattice) continue;
+            // k d(idx) + ku s + kv t = 0: idx rides -(ku s + kv t) / k.
+            auto [ku, kv] = characterGenerators(b, c, i);
+            ValueId pairs =
+                b.emit(Op::And, {unit, b.emit(Op::Ne, {c.k[static_cast<size_t>(i)], zero})});
+            u = b.select(pairs, b.neg(b.mul(ku, k)), u);
+            v = b.select(pairs, b.neg(b.mul(kv, k)), v);
+        }
+        l.rideU = u;
+        l.rideV = v;
+    }
+}
+
 namespace {
 
 Ink over(ir::Builder& b, const Ink& acc, const EnvelopeLayer& l, ValueId cov) {
@@ -160,10 +185,14 @@ Ink envelopeInk(ir::Builder& b, const Ink& paper, const std::vector<EnvelopeLaye
         };
         std::vector<ValueId> cov(n);
         for (size_t i = 0; i < n; ++i) {
-            // A one-index layer rides the first generator's advance.
+            // A one-index layer rides the generators' advance its character says
+            // (rankTwoRides), else the first's.
             const PhaseSample& sample = layers[i].sample;
+            ValueId ride = u;
+            if (rankTwo && layers[i].rideU != ir::kNoValue)
+                ride = b.add(b.mul(layers[i].rideU, u), b.mul(layers[i].rideV, t));
             ValueId d = sample.lattice ? sample.lattice->at(b, advance(u, i), advance(t, i))
-                                       : tapDistance(b, sample, edges[i].gap, advance(u, i));
+                                       : tapDistance(b, sample, edges[i].gap, advance(ride, i));
             // Eq. 4's 1 - smoothstep(h - a, h + a, d), with the ramp's slope set outside.
             ValueId t = b.clamp(b.mul(b.sub(d, edges[i].start), edges[i].slope), b.constF(0.0),
                                 b.constF(1.0));

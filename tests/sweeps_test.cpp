@@ -9,9 +9,10 @@
 //    layer turned backwards where the two index gradients point against each other (the
 //    sum beat, as tests/envelope_test.cpp's oracle does for the phase families).
 // The envelope must match within one colour step at 99.9% of the samples, at enough taps.
-// Then the families' other views: the pencil's winding index feeds the ratio view (two fans
-// name a fringe), and a family given by its distance alone is still refused by the views
-// that sweep, at the layer's family.
+// Then the pencil's other views: its winding index's gradient against its closed form, and
+// two fans beating in the ratio view. (A family given by its distance alone is still refused
+// by the views that sweep: tests/errors/view_cannot_sweep.)
+#include "runtime/Probe.h"
 #include "tests/support/Support.h"
 
 #include <algorithm>
@@ -224,4 +225,50 @@ TEST_CASE("envelope of radial pencils: 24 taps match the pattern turned over 1,0
     std::vector<std::pair<double, double>> turns;
     for (int j = 0; j < 1024; ++j) turns.push_back({(j + 0.5) / 1024, 0.0});
     CHECK(shareWithin(envelopeOf(scene, 24), bruteMean(scene, at, move, turns, true)) >= 0.999);
+}
+
+TEST_CASE("the pencil's winding index: its gradient is N / (pi r) around the centre, and two "
+          "fans beat in the ratio view") {
+    // The gradient of theta N / pi in world units, worked out by hand: N / (pi r) along the
+    // direction of increasing angle about the layer's origin (a rotation turns the lines,
+    // not the gradient's direction).
+    const int lines = 36;
+    const double ox = 4, oy = -3;
+    const std::string layer = fmt::format(
+        "layer {{ family = pencil; lines = {}; start = 2; origin = ({}, {}); rotation = 20deg }}\n",
+        lines, ox, oy);
+    auto program =
+        test::compileOk(layer, {.mode = CompileOptions::Mode::Probe, .layerFields = true});
+    Prober probe(*program, nullptr);
+    const auto& L = program->layout;
+    for (double r : {3.0, 10.0, 41.0})
+        for (int k = 0; k < 12; ++k) {
+            const double a = 0.1 + k * kPi / 6;
+            const std::vector<double> out = probe.at(ox + r * std::cos(a), oy + r * std::sin(a));
+            const double g = lines / (kPi * r);
+            CAPTURE(r);
+            CAPTURE(a);
+            CHECK(out[L.gradXSlot(0)] == doctest::Approx(-g * std::sin(a)).epsilon(1e-6));
+            CHECK(out[L.gradYSlot(0)] == doctest::Approx(g * std::cos(a)).epsilon(1e-6));
+        }
+    // Two fans 6 units apart: far from both centres their gradients nearly agree, so the
+    // difference beat is slow and the ratio view is dark there (a fan's gradient read as
+    // zero, as the sector index's is, would leave the whole frame white).
+    const std::string fans = "scene { size = (60, 40) }\ncamera { zoom = 0.5 }\n"
+                             "layer { family = pencil; lines = 60; start = 3; origin = (-3, 0) }\n"
+                             "layer { family = pencil; lines = 60; start = 3; origin = (3, 0) }\n";
+    auto ratio = test::compileOk(fans, {.view = sema::ViewMode::Ratio});
+    auto jit = test::makeBackendOrSkip("jit");
+    REQUIRE(jit);
+    const Image img = test::renderScene(*ratio, *jit);
+    double dark = 0;
+    int n = 0;
+    for (int y = 0; y < img.height; ++y)
+        for (int x = 0; x < img.width; ++x) {
+            if (std::abs(x - 30) < 12) continue; // the centres' lobes
+            const float* p = img.row(y) + static_cast<size_t>(x) * img.channels;
+            dark += (p[0] + p[1] + p[2]) / 3 < 0.25;
+            ++n;
+        }
+    CHECK(dark / n > 0.5);
 }

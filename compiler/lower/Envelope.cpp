@@ -5,6 +5,7 @@
 #include "compiler/lower/Characters.h"
 
 #include <algorithm>
+#include <cmath>
 #include <numbers>
 
 namespace moire::lower {
@@ -131,15 +132,22 @@ Ink envelopeInk(ir::Builder& b, const Ink& paper, const std::vector<EnvelopeLaye
         return l.sample.lattice.has_value();
     });
     ValueId taps = b.clamp(b.round(settings.taps), b.constF(1.0), b.constF(sema::kMaxEnvelopeTaps));
-    // The rank-two sweep covers the unit cell of the index pair (u, v) with a rank-one
-    // lattice rule: tap j at ((j + 1/2) / N, ((j g mod N) + 1/2) / N), g the whole number
-    // nearest N / golden ratio, a Fibonacci number's predecessor when N is one (N = 144 at
-    // the default M = 24). So M taps per generator's period on average, M^2 / 4 in all.
+    // The rank-two sweep covers the unit cell of the index pair (u, v) with a Fibonacci
+    // lattice rule: N = F_k taps, tap j at ((j + 1/2) / N, ((j F_(k-1) mod N) + 1/2) / N),
+    // which integrates every harmonic of the cell shorter than about 0.9 sqrt(N) exactly.
+    // F_k is the Fibonacci number nearest M^2 / 8 (on a log scale), at most F_18 = 2584: 89 at
+    // the default M = 24. Each tap re-solves every lattice, so a lattice's envelope costs
+    // about N of its pattern's evaluations (docs/views.md).
     ValueId skew = ir::kNoValue;
     if (rankTwo) {
-        taps = b.clamp(b.round(b.mul(b.mul(taps, taps), b.constF(0.25))), b.constF(1.0),
-                       b.constF(kMaxLatticeTaps));
-        skew = b.round(b.div(taps, b.constF(std::numbers::phi)));
+        const double phi = std::numbers::phi, root5 = std::sqrt(5.0);
+        ValueId wanted = b.max(b.mul(b.mul(taps, taps), b.constF(0.125)), b.constF(1.0));
+        ValueId k = b.round(
+            b.div(b.emit(Op::Log, {b.mul(wanted, b.constF(root5))}), b.constF(std::log(phi))));
+        k = b.clamp(k, b.constF(2.0), b.constF(kLatticeRuleOrder));
+        taps =
+            b.round(b.div(b.emit(Op::Exp, {b.mul(k, b.constF(std::log(phi)))}), b.constF(root5)));
+        skew = b.round(b.div(taps, b.constF(phi))); // F_(k-1)
     }
     ValueId step = b.div(b.constF(1.0), taps);
     // What each tap reads of a layer, set once per pixel: its stroke's edge (Envelope.h) as
@@ -156,13 +164,27 @@ Ink envelopeInk(ir::Builder& b, const Ink& paper, const std::vector<EnvelopeLaye
         // lattice's taps are spread over its cell, about 1 / sqrt(N) of a step apart.
         ValueId spread = l.sample.lattice ? b.sqrt(step) : step;
         ValueId perTap = b.mul(b.mul(gap, spread), b.abs(w[i]));
-        ValueId a = b.min(b.max(l.antialias, b.mul(perTap, b.constF(kTapBand))), l.halfWidth);
+        ValueId a = b.max(l.antialias, b.mul(perTap, b.constF(kTapBand)));
+        ValueId half = l.halfWidth;
+        if (l.sample.lattice) {
+            // A band symmetric about a round dot's edge adds ink: a dot of radius h ramped
+            // over h +- a holds pi (h^2 + a^2 / 5). The pattern's own band is kept (the
+            // envelope averages what the pattern draws); what the taps widen it by is taken
+            // back from the radius, so the dot keeps the pattern's ink. Held under 0.9 h,
+            // the ramp stays clear of the dot's centre.
+            a = b.min(a, b.mul(l.halfWidth, b.constF(0.9)));
+            ValueId widened = b.sub(b.mul(a, a), b.mul(l.antialias, l.antialias));
+            ValueId r2 = b.sub(b.mul(half, half), b.mul(widened, b.constF(0.2)));
+            half = b.select(l.sample.lattice->dots, b.sqrt(b.max(r2, b.constF(0.0))), half);
+        } else {
+            a = b.min(a, l.halfWidth);
+        }
         // On a fold itself the members do not slide by the gap (Eq. 5 has none there): the
         // fold's estimate moves the first member, and its edge keeps the pattern's band.
         if (l.sample.fold) a = b.select(l.sample.fold->exact, l.antialias, a);
         ValueId strength = b.mul(b.clamp(l.opacity, b.constF(0.0), b.constF(1.0)),
                                  b.clamp(l.color[3], b.constF(0.0), b.constF(1.0)));
-        edges.push_back({gap, b.sub(l.halfWidth, a),
+        edges.push_back({gap, b.sub(half, a),
                          b.div(b.constF(1.0), b.max(b.mul(b.constF(2.0), a), b.constF(ir::kTiny))),
                          strength});
     }

@@ -27,9 +27,9 @@ constexpr double kTapBand = 2.0;
 namespace moire::lower {
 
 // A stack with a lattice sweeps the pair (u, v) of every lattice's generators over their
-// unit cell (§4.4's rank-two case): M^2 / 4 taps of a rank-one lattice rule (Envelope.cpp),
-// at most this many.
-constexpr double kMaxLatticeTaps = 4096;
+// unit cell (§4.4's rank-two case): F_k taps of a Fibonacci lattice rule, F_k nearest
+// M^2 / 8 (Envelope.cpp), k at most this (F_18 = 2584 taps).
+constexpr double kLatticeRuleOrder = 18;
 
 // What the envelope is given of one layer.
 struct EnvelopeLayer {

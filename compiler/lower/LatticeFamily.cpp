@@ -316,7 +316,8 @@ LayerFields latticeFields(ir::Builder& b, LatticeKind kind, const LatticeInputs&
     ValueId sx = b.abs(in.scale[0]), sy = b.abs(in.scale.size() == 2 ? in.scale[1] : in.scale[0]);
     ValueId cell =
         b.mul(b.mul(b.abs(in.spacing), b.constF(std::hypot(c.c1x, c.c1y))), b.sqrt(b.mul(sx, sy)));
-    out.sample.lattice = LatticeSample{moved, cell};
+    ValueId dots = b.emit(ir::Op::Eq, {in.edges, b.constF(0.0)});
+    out.sample.lattice = LatticeSample{moved, cell, dots};
     return out;
 }
 

@@ -33,9 +33,11 @@ struct FoldSample {
 // rounding in the lattice's basis, straight-line arithmetic, so a tap re-solves the
 // translated lattice exactly: `at(b, du, dv)` emits the distance there. `cell` is the world
 // length of one generating step, the lattice's period for the edge's band (Envelope.cpp).
+// `dots` is true where the layer draws its points (round strokes), false for its edges.
 struct LatticeSample {
     std::function<ir::ValueId(ir::Builder&, ir::ValueId du, ir::ValueId dv)> at;
     ir::ValueId cell = ir::kNoValue;
+    ir::ValueId dots = ir::kNoValue;
 };
 struct PhaseSample {
     ir::ValueId z = ir::kNoValue, up = ir::kNoValue, down = ir::kNoValue, floor = ir::kNoValue;

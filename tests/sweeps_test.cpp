@@ -7,7 +7,9 @@
 //  - the radial pencil advances by a rotation (its `rotation` literal moved by a pi / N per
 //    advance a), its member gap growing with the radius; 1,024 rotations, with the second
 //    layer turned backwards where the two index gradients point against each other (the
-//    sum beat, as tests/envelope_test.cpp's oracle does for the phase families).
+//    sum beat, as tests/envelope_test.cpp's oracle does for the phase families);
+//  - a morph across kinds (rings into a fan) advances each member its own way, blended as the
+//    pattern blends them: its oracle moves the rings' phase and the fan's rotation at once.
 // The envelope must match within one colour step at 99.9% of the samples, at enough taps.
 // Then the pencil's other views: its winding index's gradient against its closed form, and
 // two fans beating in the ratio view. (A family given by its distance alone is still refused
@@ -57,7 +59,7 @@ using Advance = std::function<void(std::vector<double>&, const Slots&, int i, do
 // except that the second layer takes (-a, -b) where `backwards`), kW x kH x 3.
 std::vector<double> bruteMean(const std::string& scene, const Origins& at, const Advance& move,
                               const std::vector<std::pair<double, double>>& taps,
-                              bool sumWhereOpposed) {
+                              bool sumWhereOpposed, double time = 0.0) {
     auto p = test::compileOk(scene, {.layerFields = true});
     auto jit = test::makeBackendOrSkip("jit");
     REQUIRE(jit);
@@ -68,7 +70,7 @@ std::vector<double> bruteMean(const std::string& scene, const Origins& at, const
                     test::literalSlot(*p, kTurn[i])};
     std::vector<bool> backwards(kW * kH, false);
     if (sumWhereOpposed) {
-        Image f = test::runWithLiterals(*p, *kernel, p->literals);
+        Image f = test::runWithLiterals(*p, *kernel, p->literals, 0, 0, time);
         const auto& L = p->layout;
         for (int px = 0; px < kW * kH; ++px) {
             const float* o = &f.pixels[static_cast<size_t>(px) * f.channels];
@@ -84,7 +86,7 @@ std::vector<double> bruteMean(const std::string& scene, const Origins& at, const
             const double sign = dir == 1 ? -1.0 : 1.0;
             move(l, slots[0], 0, a, b);
             move(l, slots[1], 1, sign * a, sign * b);
-            Image img = test::runWithLiterals(*p, *kernel, l);
+            Image img = test::runWithLiterals(*p, *kernel, l, 0, 0, time);
             for (int px = 0; px < kW * kH; ++px)
                 for (int c = 0; c < 3; ++c)
                     sums[dir][px * 3 + c] += img.pixels[static_cast<size_t>(px) * img.channels + c];
@@ -111,12 +113,12 @@ double shareWithin(const Image& got, const std::vector<double>& want) {
     return static_cast<double>(ok) / (kW * kH * 3);
 }
 
-Image envelopeOf(const std::string& scene, double taps) {
+Image envelopeOf(const std::string& scene, double taps, double time = 0.0) {
     auto p = test::compileOk(
         scene, {.view = sema::ViewMode::Envelope, .envelopeGain = 1.0, .envelopeTaps = taps});
     auto jit = test::makeBackendOrSkip("jit");
     REQUIRE(jit);
-    return test::renderScene(*p, *jit);
+    return test::renderScene(*p, *jit, 0, 0, time);
 }
 
 // A lattice's generating steps per unit of spacing, in its unstretched frame (the bases of
@@ -225,6 +227,60 @@ TEST_CASE("envelope of radial pencils: 24 taps match the pattern turned over 1,0
     std::vector<std::pair<double, double>> turns;
     for (int j = 0; j < 1024; ++j) turns.push_back({(j + 0.5) / 1024, 0.0});
     CHECK(shareWithin(envelopeOf(scene, 24), bruteMean(scene, at, move, turns, true)) >= 0.999);
+}
+
+TEST_CASE("envelope of a morph across kinds: each member advances its own way, blended") {
+    // Rings morphing into a fan, half-way (the timing's first share, travelling all of it,
+    // read at its middle: weight 1/2), over plain lines. Advancing the morph's index moves
+    // the rings' phase (a s) and turns the fan (a pi / N): the rings ignore the turn, the fan
+    // the phase, so the oracle moves both literals at once.
+    const int lines = 30;
+    const double spacing = 6, phase = 0.000789;
+    const Origins at = {{{0.000123, 0.000234}, {0.000345, 0.000456}}};
+    const std::string scene =
+        "timing m { period = 2; mode = loop }\n" +
+        twoLayers(fmt::format("family = morph(m, circles, pencil); lines = {}; start = 4; "
+                              "morph_time = 1; spacing = {}; phase = {}; stroke = 2.4",
+                              lines, spacing, phase),
+                  "family = lines; spacing = 6.3; stroke = 2.4; color = #2040a0", at);
+    const double time = 0.5;
+    // The phase's slot, in the program the oracle compiles (with the layers' fields).
+    const int phaseSlot = test::literalSlot(*test::compileOk(scene, {.layerFields = true}), phase);
+    Advance move = [&](std::vector<double>& l, const Slots& slot, int i, double a, double) {
+        if (i == 0) {
+            l[slot.turn] -= a * kPi / lines;
+            l[phaseSlot] = phase - a * spacing;
+            return;
+        }
+        // The lines' index x / 6.3 (in their frame) advances by a as the frame moves 6.3 a.
+        const double t = kTurn[1];
+        l[slot.ox] -= std::cos(t) * 6.3 * a;
+        l[slot.oy] -= std::sin(t) * 6.3 * a;
+    };
+    std::vector<std::pair<double, double>> turns;
+    for (int j = 0; j < 512; ++j) turns.push_back({(j + 0.5) / 512, 0.0});
+    CHECK(shareWithin(envelopeOf(scene, 48, time),
+                      bruteMean(scene, at, move, turns, false, time)) >= 0.999);
+    // The blend of the members' taps, drawn alike by every backend (one missing is skipped),
+    // a lattice among the members too.
+    const std::string three =
+        "timing m { period = 3; mode = loop }\nscene { size = (48, 32) }\n"
+        "layer { family = morph(m, circles, pencil, hex_lattice); lines = 40; morph_time = 1; "
+        "spacing = 5; stroke = 2 }\n"
+        "layer { family = lines; spacing = 5.2; stroke = 2; rotation = 5deg }\n";
+    auto split = test::compileOk(three, {.view = sema::ViewMode::Split});
+    auto interp = test::makeBackendOrSkip("interp");
+    REQUIRE(interp);
+    for (double t : {0.5, 1.5, 2.5})
+        for (const char* name : {"jit", "vulkan"}) {
+            auto backend = test::makeBackendOrSkip(name);
+            if (!backend) continue;
+            INFO(name, " at t = ", t);
+            test::ImageDiff d =
+                test::compareImages(test::renderScene(*split, *interp, 0, 0, t),
+                                    test::renderScene(*split, *backend, 0, 0, t), 2.0 / 255);
+            CHECK(d.fractionWithin() >= 0.99);
+        }
 }
 
 TEST_CASE("the pencil's winding index: its gradient is N / (pi r) around the centre, and two "

@@ -31,8 +31,13 @@ void Compose::layer(const LayerInk& ink) {
     // A family without a phase sample is reported before the kernel is used
     // (LoweredScene::unsweepable); its ink then stays put while the others sweep.
     if (l.sample.z == ir::kNoValue)
-        l.sample = {ink.fields.distance, b_.constF(kNoMember), b_.constF(kNoMember), zero_,
-                    std::nullopt,        std::nullopt};
+        l.sample = {ink.fields.distance,
+                    b_.constF(kNoMember),
+                    b_.constF(kNoMember),
+                    zero_,
+                    std::nullopt,
+                    std::nullopt,
+                    nullptr};
     sweep_.push_back(l);
 }
 

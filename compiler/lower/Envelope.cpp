@@ -107,6 +107,34 @@ void rankTwoRides(ir::Builder& b, const Character& c, std::vector<EnvelopeLayer>
 
 namespace {
 
+bool hasLattice(const PhaseSample& s) {
+    if (s.lattice) return true;
+    if (s.morph)
+        for (const PhaseSample& m : s.morph->members)
+            if (hasLattice(m)) return true;
+    return false;
+}
+
+// The distance to a layer's nearest member once its index is advanced: by `a` (Eq. 15, with
+// the local gap `gap`) for one index, by (du, dv) for a lattice's pair (solved there anew),
+// and for a morph across kinds each member by its own, blended as the pattern blends them.
+ValueId advancedDistance(ir::Builder& b, const PhaseSample& s, ValueId gap, ValueId a, ValueId du,
+                         ValueId dv) {
+    if (s.lattice) return s.lattice->at(b, du, dv);
+    if (!s.morph) return tapDistance(b, s, gap, a);
+    const MorphSample& m = *s.morph;
+    std::vector<ValueId> d;
+    for (const PhaseSample& member : m.members)
+        d.push_back(advancedDistance(b, member, sampleGap(b, member), a, du, dv));
+    auto pick = [&](ValueId which) {
+        ValueId v = d.back();
+        for (size_t i = d.size() - 1; i-- > 0;)
+            v = b.select(b.emit(Op::Eq, {which, b.constF(double(i))}), d[i], v);
+        return v;
+    };
+    return b.mix(pick(m.from), pick(m.to), m.weight);
+}
+
 Ink over(ir::Builder& b, const Ink& acc, const EnvelopeLayer& l, ValueId cov) {
     return inkOver(b, acc, l.color[0], l.color[1], l.color[2], cov);
 }
@@ -128,9 +156,8 @@ Ink envelopeInk(ir::Builder& b, const Ink& paper, const std::vector<EnvelopeLaye
                 const EnvelopeSettings& settings) {
     if (layers.empty()) return paper;
     const std::vector<ValueId> w = sweepDirection(b, layers);
-    const bool rankTwo = std::any_of(layers.begin(), layers.end(), [](const EnvelopeLayer& l) {
-        return l.sample.lattice.has_value();
-    });
+    const bool rankTwo = std::any_of(layers.begin(), layers.end(),
+                                     [](const EnvelopeLayer& l) { return hasLattice(l.sample); });
     ValueId taps = b.clamp(b.round(settings.taps), b.constF(1.0), b.constF(sema::kMaxEnvelopeTaps));
     // The rank-two sweep covers the unit cell of the index pair (u, v) with a Fibonacci
     // lattice rule: N = F_k taps, tap j at ((j + 1/2) / N, ((j F_(k-1) mod N) + 1/2) / N),
@@ -159,7 +186,10 @@ Ink envelopeInk(ir::Builder& b, const Ink& paper, const std::vector<EnvelopeLaye
     std::vector<Edge> edges;
     for (size_t i = 0; i < layers.size(); ++i) {
         const EnvelopeLayer& l = layers[i];
-        ValueId gap = l.sample.lattice ? l.sample.lattice->cell : sampleGap(b, l.sample);
+        // A morph's members measure their own gaps (advancedDistance).
+        ValueId gap = l.sample.lattice ? l.sample.lattice->cell
+                      : l.sample.morph ? b.constF(1.0)
+                                       : sampleGap(b, l.sample);
         // A layer swept |w_i| periods over the taps moves |w_i| times as far each tap; a
         // lattice's taps are spread over its cell, about 1 / sqrt(N) of a step apart.
         ValueId spread = l.sample.lattice ? b.sqrt(step) : step;
@@ -176,6 +206,9 @@ Ink envelopeInk(ir::Builder& b, const Ink& paper, const std::vector<EnvelopeLaye
             ValueId widened = b.sub(b.mul(a, a), b.mul(l.antialias, l.antialias));
             ValueId r2 = b.sub(b.mul(half, half), b.mul(widened, b.constF(0.2)));
             half = b.select(l.sample.lattice->dots, b.sqrt(b.max(r2, b.constF(0.0))), half);
+        } else if (l.sample.morph) {
+            // Its members' periods differ; it keeps the pattern's band.
+            a = b.min(l.antialias, l.halfWidth);
         } else {
             a = b.min(a, l.halfWidth);
         }
@@ -213,8 +246,9 @@ Ink envelopeInk(ir::Builder& b, const Ink& paper, const std::vector<EnvelopeLaye
             ValueId ride = u;
             if (rankTwo && layers[i].rideU != ir::kNoValue)
                 ride = b.add(b.mul(layers[i].rideU, u), b.mul(layers[i].rideV, t));
-            ValueId d = sample.lattice ? sample.lattice->at(b, advance(u, i), advance(t, i))
-                                       : tapDistance(b, sample, edges[i].gap, advance(ride, i));
+            ValueId du = rankTwo ? advance(u, i) : ir::kNoValue;
+            ValueId dv = rankTwo ? advance(t, i) : ir::kNoValue;
+            ValueId d = advancedDistance(b, sample, edges[i].gap, advance(ride, i), du, dv);
             // Eq. 4's 1 - smoothstep(h - a, h + a, d), with the ramp's slope set outside.
             ValueId t = b.clamp(b.mul(b.sub(d, edges[i].start), edges[i].slope), b.constF(0.0),
                                 b.constF(1.0));

@@ -9,6 +9,7 @@
 
 #include <algorithm>
 #include <functional>
+#include <memory>
 #include <optional>
 
 namespace moire::lower {
@@ -39,10 +40,19 @@ struct LatticeSample {
     ir::ValueId cell = ir::kNoValue;
     ir::ValueId dots = ir::kNoValue;
 };
+struct MorphSample;
 struct PhaseSample {
     ir::ValueId z = ir::kNoValue, up = ir::kNoValue, down = ir::kNoValue, floor = ir::kNoValue;
     std::optional<FoldSample> fold;
-    std::optional<LatticeSample> lattice; // rank two: z is the distance, up and down unused
+    std::optional<LatticeSample> lattice;     // rank two: z is the distance, up and down unused
+    std::shared_ptr<const MorphSample> morph; // a morph across kinds: z, up, down unused
+};
+// A morph across kinds draws mix(d_from, d_to, weight) of two of its members' distances
+// (MorphFamily.cpp): advanced, each member advances in its own parameter, and the blend of
+// the advanced distances is the layer's. `from` and `to` are the members' positions.
+struct MorphSample {
+    std::vector<PhaseSample> members;
+    ir::ValueId from, to, weight;
 };
 
 struct LayerFields {

@@ -96,8 +96,9 @@ int literalSlot(const SceneProgram& program, double value) {
 }
 
 Image runWithLiterals(const SceneProgram& program, CompiledKernel& kernel,
-                      const std::vector<double>& literals, int width, int height) {
+                      const std::vector<double>& literals, int width, int height, double t) {
     FrameRequest req;
+    req.time = t;
     req.literals = &literals;
     req.width = width;
     req.height = height;

@@ -15,6 +15,7 @@
 // two fans beating in the ratio view. (A family given by its distance alone is still refused
 // by the views that sweep: tests/errors/view_cannot_sweep.)
 #include "runtime/Probe.h"
+#include "tests/support/BruteMean.h"
 #include "tests/support/Support.h"
 
 #include <algorithm>
@@ -68,49 +69,18 @@ std::vector<double> bruteMean(const std::string& scene, const Origins& at, const
     for (int i = 0; i < 2; ++i)
         slots[i] = {test::literalSlot(*p, at[i][0]), test::literalSlot(*p, at[i][1]),
                     test::literalSlot(*p, kTurn[i])};
-    std::vector<bool> backwards(kW * kH, false);
-    if (sumWhereOpposed) {
-        Image f = test::runWithLiterals(*p, *kernel, p->literals, 0, 0, time);
-        const auto& L = p->layout;
-        for (int px = 0; px < kW * kH; ++px) {
-            const float* o = &f.pixels[static_cast<size_t>(px) * f.channels];
-            backwards[px] =
-                o[L.gradXSlot(0)] * o[L.gradXSlot(1)] + o[L.gradYSlot(0)] * o[L.gradYSlot(1)] < 0;
-        }
-    }
-    std::vector<double> sums[2] = {std::vector<double>(kW * kH * 3, 0.0),
-                                   std::vector<double>(kW * kH * 3, 0.0)};
+    std::vector<bool> backwards;
+    if (sumWhereOpposed) backwards = test::opposedGradients(*p, *kernel, p->literals, time);
+    std::vector<double> sums[2];
     for (int dir = 0; dir < (sumWhereOpposed ? 2 : 1); ++dir)
         for (const auto& [a, b] : taps) {
             std::vector<double> l = p->literals;
             const double sign = dir == 1 ? -1.0 : 1.0;
             move(l, slots[0], 0, a, b);
             move(l, slots[1], 1, sign * a, sign * b);
-            Image img = test::runWithLiterals(*p, *kernel, l, 0, 0, time);
-            for (int px = 0; px < kW * kH; ++px)
-                for (int c = 0; c < 3; ++c)
-                    sums[dir][px * 3 + c] += img.pixels[static_cast<size_t>(px) * img.channels + c];
+            test::addFrameRGB(*p, *kernel, l, sums[dir], time);
         }
-    std::vector<double> mean(kW * kH * 3);
-    for (int px = 0; px < kW * kH; ++px)
-        for (int c = 0; c < 3; ++c)
-            mean[px * 3 + c] = sums[backwards[px] ? 1 : 0][px * 3 + c] / taps.size();
-    return mean;
-}
-
-// The share of samples of `got` within one colour step of `want`.
-double shareWithin(const Image& got, const std::vector<double>& want) {
-    size_t ok = 0;
-    double worst = 0;
-    for (int px = 0; px < kW * kH; ++px)
-        for (int c = 0; c < 3; ++c) {
-            const double d =
-                std::abs(got.pixels[static_cast<size_t>(px) * got.channels + c] - want[px * 3 + c]);
-            worst = std::max(worst, d);
-            ok += d <= 1.0 / 255.0;
-        }
-    MESSAGE("largest difference ", worst * 255.0, " colour steps");
-    return static_cast<double>(ok) / (kW * kH * 3);
+    return test::chosenMean(sums, backwards, static_cast<double>(taps.size()));
 }
 
 Image envelopeOf(const std::string& scene, double taps, double time = 0.0) {
@@ -176,7 +146,8 @@ TEST_CASE(
             for (int b = 0; b < g; ++b) grid.push_back({(a + 0.5) / g, (b + 0.5) / g});
         // 80 taps a generator: 1,600 over the cell, whose rule integrates every harmonic of
         // the cell below 37 exactly; two taps stay under the pattern's antialias band.
-        CHECK(shareWithin(envelopeOf(scene, 80), bruteMean(scene, at, move, grid, false)) >= 0.999);
+        CHECK(test::shareWithinOneStep(envelopeOf(scene, 80),
+                                       bruteMean(scene, at, move, grid, false)) >= 0.999);
     }
 }
 
@@ -204,8 +175,9 @@ TEST_CASE("envelope of lines over a lattice: the lines ride the generator they b
     for (int a = 0; a < 48; ++a)
         for (int b = 0; b < 48; ++b) grid.push_back({(a + 0.5) / 48, (b + 0.5) / 48});
     const Image view = envelopeOf(scene, 80);
-    CHECK(shareWithin(view, bruteMean(scene, at, moveWith(true), grid, false)) >= 0.999);
-    CHECK(shareWithin(view, bruteMean(scene, at, moveWith(false), grid, false)) < 0.5);
+    CHECK(test::shareWithinOneStep(view, bruteMean(scene, at, moveWith(true), grid, false)) >=
+          0.999);
+    CHECK(test::shareWithinOneStep(view, bruteMean(scene, at, moveWith(false), grid, false)) < 0.5);
 }
 
 TEST_CASE("envelope of radial pencils: 24 taps match the pattern turned over 1,024 rotations") {
@@ -226,7 +198,8 @@ TEST_CASE("envelope of radial pencils: 24 taps match the pattern turned over 1,0
     };
     std::vector<std::pair<double, double>> turns;
     for (int j = 0; j < 1024; ++j) turns.push_back({(j + 0.5) / 1024, 0.0});
-    CHECK(shareWithin(envelopeOf(scene, 24), bruteMean(scene, at, move, turns, true)) >= 0.999);
+    CHECK(test::shareWithinOneStep(envelopeOf(scene, 24),
+                                   bruteMean(scene, at, move, turns, true)) >= 0.999);
 }
 
 TEST_CASE("envelope of a morph across kinds: each member advances its own way, blended") {
@@ -259,8 +232,8 @@ TEST_CASE("envelope of a morph across kinds: each member advances its own way, b
     };
     std::vector<std::pair<double, double>> turns;
     for (int j = 0; j < 512; ++j) turns.push_back({(j + 0.5) / 512, 0.0});
-    CHECK(shareWithin(envelopeOf(scene, 48, time),
-                      bruteMean(scene, at, move, turns, false, time)) >= 0.999);
+    CHECK(test::shareWithinOneStep(envelopeOf(scene, 48, time),
+                                   bruteMean(scene, at, move, turns, false, time)) >= 0.999);
     // The blend of the members' taps, drawn alike by every backend (one missing is skipped),
     // a lattice among the members too.
     const std::string three =

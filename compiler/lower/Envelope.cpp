@@ -198,13 +198,12 @@ Ink envelopeInk(ir::Builder& b, const Ink& paper, const std::vector<EnvelopeLaye
         ValueId half = l.halfWidth;
         if (l.sample.lattice) {
             // A band symmetric about a round dot's edge adds ink: a dot of radius h ramped
-            // over h +- a holds pi (h^2 + a^2 / 5). The pattern's own band is kept (the
-            // envelope averages what the pattern draws); what the taps widen it by is taken
-            // back from the radius, so the dot keeps the pattern's ink. Held under 0.9 h,
-            // the ramp stays clear of the dot's centre.
+            // over h +- a holds pi (h^2 + a^2 / 5). The ramp is centred on sqrt(h^2 - a^2 / 5)
+            // instead, so the dot holds pi h^2, its true width's ink, whatever the band: the
+            // mean does not depend on the band, so not on the pixel's size either. Held
+            // under 0.9 h, the ramp stays clear of the dot's centre.
             a = b.min(a, b.mul(l.halfWidth, b.constF(0.9)));
-            ValueId widened = b.sub(b.mul(a, a), b.mul(l.antialias, l.antialias));
-            ValueId r2 = b.sub(b.mul(half, half), b.mul(widened, b.constF(0.2)));
+            ValueId r2 = b.sub(b.mul(half, half), b.mul(b.mul(a, a), b.constF(0.2)));
             half = b.select(l.sample.lattice->dots, b.sqrt(b.max(r2, b.constF(0.0))), half);
         } else if (l.sample.morph) {
             // Its members' periods differ; it keeps the pattern's band.

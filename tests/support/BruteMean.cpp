@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <doctest/doctest.h>
+#include <fmt/format.h>
 
 namespace moire::test {
 
@@ -35,6 +36,31 @@ std::vector<double> chosenMean(const std::vector<double> (&sums)[2],
     for (size_t k = 0; k < mean.size(); ++k)
         mean[k] = sums[!backwards.empty() && backwards[k / 3] ? 1 : 0][k] / count;
     return mean;
+}
+
+double zoomDifference(const std::string& scene, double width, double height,
+                      const std::string& backend) {
+    auto at = [&](double zoom) {
+        auto p = compileOk(scene + fmt::format("camera {{ zoom = {} }}\n", zoom),
+                           {.mode = CompileOptions::Mode::Probe,
+                            .view = sema::ViewMode::Envelope,
+                            .envelopeGain = 1.0});
+        auto b = makeBackendOrSkip(backend);
+        REQUIRE(b);
+        auto kernel = b->compile(p->kernel);
+        std::vector<double> out, lits = p->literals;
+        for (int k = 0; k < 60; ++k) {
+            lits[p->probeSlot] = -width / 2 + std::fmod(k * 0.6180339887 * width, width);
+            lits[p->probeSlot + 1] = -height / 2 + std::fmod(k * 0.7548776662 * height, height);
+            Image img = runWithLiterals(*p, *kernel, lits, 1, 1);
+            for (int c = 0; c < 3; ++c) out.push_back(img.pixels[c]);
+        }
+        return out;
+    };
+    const std::vector<double> one = at(1.0), four = at(4.0);
+    double worst = 0;
+    for (size_t k = 0; k < one.size(); ++k) worst = std::max(worst, std::abs(one[k] - four[k]));
+    return worst * 255.0;
 }
 
 double shareWithinOneStep(const Image& got, const std::vector<double>& want) {

@@ -27,6 +27,12 @@ void addFrameRGB(const SceneProgram& program, CompiledKernel& kernel,
 std::vector<double> chosenMean(const std::vector<double> (&sums)[2],
                                const std::vector<bool>& backwards, double count);
 
+// The largest difference, in colour steps, between the envelope (gain 1) of `scene` at zoom 1
+// and at zoom 4, at 60 world points spread over a width x height window about the origin (a
+// fixed low-discrepancy walk), probed on `backend`.
+double zoomDifference(const std::string& scene, double width, double height,
+                      const std::string& backend);
+
 // The share of the RGB samples of `got` within one colour step (1/255) of `want` (pixels x
 // 3); reports the largest difference, in colour steps.
 double shareWithinOneStep(const Image& got, const std::vector<double>& want);

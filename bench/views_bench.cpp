@@ -6,8 +6,10 @@
 // pattern and of every other view (sema/Views.h: the envelope, §4.4, one phase sample per
 // layer then 24 taps of arithmetic; the split; the ratio view, the character search of
 // §4.2-4.3 per pixel) and of the pattern with the fringe overlay, on the same frame, repeated
-// with the fastest run kept, and each one's time over the pattern's. A view a scene's layers
-// cannot take (the envelope of a pencil or a lattice) is marked '-', its reason listed below.
+// with the fastest run kept, and each one's time over the pattern's. A stack with a lattice
+// sweeps M^2 / 4 taps (the rank-two sweep, 144 at the default M), each re-solving the lattice.
+// A view a scene's layers cannot take (the envelope of a family given by its distance alone)
+// is marked '-', its reason listed below.
 #include "bench/BenchScenes.h"
 #include "compiler/backend/llvm/LlvmJit.h"
 #include "compiler/Compile.h"

@@ -98,9 +98,12 @@ CompileResult compileScene(const std::string& path, std::string text,
     for (int i : lowered.unsweepable) {
         const sema::CheckedLayer& layer = program->checked.layers.at(i);
         const ast::Property* fam = layer.decl->prop("family");
-        std::string what = layer.morph.size() > 1 ? "a morph between families of different kinds"
-                           : layer.family ? fmt::format("the {} family", layer.family->decl->name)
-                                          : std::string("this layer");
+        // The family without a sample: in a morph, the member given by its distance.
+        const sema::CheckedFamily* family = layer.family;
+        for (const sema::CheckedLayer::Member& m : layer.morph)
+            if (m.family && m.family->kind == sema::FamilyKind::Distance) family = m.family;
+        std::string what =
+            family ? fmt::format("the {} family", family->decl->name) : std::string("this layer");
         diags.error(fam ? fam->value->range : layer.decl->range, Msg::ViewCannotSweep,
                     sema::viewName(lowered.view), what);
     }

@@ -9,12 +9,14 @@ out=docs/images
 mkdir -p "$out"
 render() { "$moire" render -q --compression 9 --size 480x320 "$@"; }
 
-# The teaser (Fig. 1): panels whose families the envelope can sweep.
+# The teaser (Fig. 1).
 render --view split examples/two_rings.moire -o "$out/teaser-1-two-rings.png"
 render --view split examples/terrain_contours.moire -o "$out/teaser-2-terrain.png"
 render --view split examples/counter_spirals.moire -o "$out/teaser-3-counter-spirals.png"
+render --view split examples/hexagonal_twist.moire -o "$out/teaser-4-hexagonal-twist.png"
 render --view split examples/vortex_streamlines.moire -o "$out/teaser-5-vortices.png"
 render --view split examples/walking_squares.moire -o "$out/teaser-6-one-walking-family.png"
+render --view split examples/radial_fans.moire -o "$out/teaser-7-radial-fans.png"
 render --view split -o "$out/teaser-8-two-walking-families.png" # the default scene
 
 # Fig. 5: the two ring families alone, together, averaged with {D in Z}, and the ratio view.

@@ -11,7 +11,7 @@
 // The strokes are wider than the hairline floor at these zooms, so the pattern the oracle
 // averages draws them at their true width, as the view does; and two taps are narrower than
 // the pattern's 0.7 px antialias band, so the view ramps the edges as the pattern does.
-#include "runtime/FrameEval.h"
+#include "tests/support/BruteMean.h"
 #include "tests/support/Support.h"
 
 #include <algorithm>
@@ -75,30 +75,6 @@ std::vector<Example> examples() {
     };
 }
 
-int slotOf(const SceneProgram& p, double value) {
-    for (size_t i = 0; i < p.literals.size(); ++i)
-        if (p.literals[i] == value) return static_cast<int>(i);
-    FAIL("no literal ", value);
-    return -1;
-}
-
-// Runs a compiled kernel over the frame with the literal table `literals`.
-Image run(const SceneProgram& p, CompiledKernel& k, const std::vector<double>& literals,
-          int width = 0, int height = 0) {
-    FrameRequest req;
-    req.literals = &literals;
-    req.width = width;
-    req.height = height;
-    FrameValues fv;
-    std::string diags;
-    REQUIRE(evaluateFrame(p, req, fv, diags));
-    Image img(fv.width, fv.height, k.numOutputs());
-    KernelFrame frame{fv.uniforms.data(), fv.width, fv.height};
-    k.runTile(frame, TileRect{0, 0, fv.width, fv.height}, img.pixels.data(),
-              static_cast<size_t>(fv.width) * k.numOutputs());
-    return img;
-}
-
 // The brute-force mean of the pattern's RGB over kBruteTaps advances of every layer's
 // index, swept as Eq. 11 says per pixel; `alone` >= 0 sweeps only that layer (the other's
 // opacity 0). Returns kW x kH x 3.
@@ -109,26 +85,17 @@ std::vector<double> bruteMean(const Example& ex, int alone = -1) {
     const int layers = p->layout.numLayers;
     std::vector<int> phase, opacity;
     for (int i = 0; i < layers; ++i) {
-        phase.push_back(slotOf(*p, kPhase[i]));
-        opacity.push_back(slotOf(*p, kOpacity[i]));
+        phase.push_back(test::literalSlot(*p, kPhase[i]));
+        opacity.push_back(test::literalSlot(*p, kOpacity[i]));
     }
     std::vector<double> lits = p->literals;
     if (alone >= 0)
         for (int i = 0; i < layers; ++i)
             if (i != alone) lits[opacity[i]] = 0.0;
     // Which way the second layer runs: backwards where g1 . g2 < 0 (the sum is slower).
-    std::vector<bool> backwards(kW * kH, false);
-    if (layers == 2) {
-        Image f = run(*p, *kernel, lits);
-        const auto& L = p->layout;
-        for (int px = 0; px < kW * kH; ++px) {
-            const float* o = &f.pixels[static_cast<size_t>(px) * f.channels];
-            backwards[px] =
-                o[L.gradXSlot(0)] * o[L.gradXSlot(1)] + o[L.gradYSlot(0)] * o[L.gradYSlot(1)] < 0;
-        }
-    }
-    std::vector<double> sums[2] = {std::vector<double>(kW * kH * 3, 0.0),
-                                   std::vector<double>(kW * kH * 3, 0.0)};
+    std::vector<bool> backwards;
+    if (layers == 2) backwards = test::opposedGradients(*p, *kernel, lits);
+    std::vector<double> sums[2];
     for (int dir = 0; dir < (layers == 2 ? 2 : 1); ++dir)
         for (int j = 0; j < kBruteTaps; ++j) {
             const double u = (j + 0.5) / kBruteTaps;
@@ -138,16 +105,9 @@ std::vector<double> bruteMean(const Example& ex, int alone = -1) {
                 const double w = i == 1 && dir == 1 ? -1.0 : 1.0;
                 l[phase[i]] = kPhase[i] - u * w * ex.spacing[i];
             }
-            Image img = run(*p, *kernel, l);
-            for (int px = 0; px < kW * kH; ++px)
-                for (int c = 0; c < 3; ++c)
-                    sums[dir][px * 3 + c] += img.pixels[static_cast<size_t>(px) * img.channels + c];
+            test::addFrameRGB(*p, *kernel, l, sums[dir]);
         }
-    std::vector<double> mean(kW * kH * 3);
-    for (int px = 0; px < kW * kH; ++px)
-        for (int c = 0; c < 3; ++c)
-            mean[px * 3 + c] = sums[backwards[px] ? 1 : 0][px * 3 + c] / kBruteTaps;
-    return mean;
+    return test::chosenMean(sums, backwards, kBruteTaps);
 }
 
 Image envelope(const Example& ex, double gain, const std::string& backend = "interp") {
@@ -156,28 +116,12 @@ Image envelope(const Example& ex, double gain, const std::string& backend = "int
     return test::renderScene(*p, *b);
 }
 
-// The share of samples within one colour step of the expectation.
-double shareWithin(const Image& got, const std::vector<double>& want) {
-    size_t ok = 0, n = 0;
-    double worst = 0;
-    for (int px = 0; px < kW * kH; ++px)
-        for (int c = 0; c < 3; ++c) {
-            const double d =
-                std::abs(got.pixels[static_cast<size_t>(px) * got.channels + c] - want[px * 3 + c]);
-            worst = std::max(worst, d);
-            ok += d <= 1.0 / 255.0;
-            ++n;
-        }
-    MESSAGE("largest difference ", worst * 255.0, " colour steps");
-    return static_cast<double>(ok) / n;
-}
-
 } // namespace
 
 TEST_CASE("envelope: 24 taps of Eq. 15 match the pattern re-rendered at 1,024 index advances") {
     for (const Example& ex : examples()) {
         INFO(ex.name);
-        CHECK(shareWithin(envelope(ex, 1.0), bruteMean(ex)) >= 0.999);
+        CHECK(test::shareWithinOneStep(envelope(ex, 1.0), bruteMean(ex)) >= 0.999);
     }
 }
 
@@ -210,7 +154,7 @@ TEST_CASE("envelope: the gain grades about the composite of the layers' own mean
         std::vector<double> want(pivot.size());
         for (size_t k = 0; k < want.size(); ++k)
             want[k] = std::clamp(pivot[k] + gain * (mean[k] - pivot[k]), 0.0, 1.0);
-        CHECK(shareWithin(envelope(ex, gain), want) >= 0.999);
+        CHECK(test::shareWithinOneStep(envelope(ex, gain), want) >= 0.999);
     }
 }
 
@@ -233,27 +177,7 @@ TEST_CASE("envelope: the same world points give the same value at zoom 1 and zoo
     };
     for (const Example& ex : cases) {
         INFO(ex.name);
-        auto at = [&](double zoom) {
-            std::string text = ex.scene + fmt::format("camera {{ zoom = {} }}\n", zoom);
-            auto p = test::compileOk(text, {.mode = CompileOptions::Mode::Probe,
-                                            .view = sema::ViewMode::Envelope,
-                                            .envelopeGain = 1.0});
-            auto interp = test::makeBackendOrSkip("interp");
-            auto kernel = interp->compile(p->kernel);
-            std::vector<double> out;
-            std::vector<double> lits = p->literals;
-            for (int k = 0; k < 60; ++k) {
-                // World points spread over the frame (a fixed low-discrepancy walk).
-                lits[p->probeSlot] = -28.0 + std::fmod(k * 0.6180339887 * 56.0, 56.0);
-                lits[p->probeSlot + 1] = -20.0 + std::fmod(k * 0.7548776662 * 40.0, 40.0);
-                Image img = run(*p, *kernel, lits, 1, 1);
-                for (int c = 0; c < 3; ++c) out.push_back(img.pixels[c]);
-            }
-            return out;
-        };
-        const std::vector<double> one = at(1.0), four = at(4.0);
-        double worst = 0;
-        for (size_t k = 0; k < one.size(); ++k) worst = std::max(worst, std::abs(one[k] - four[k]));
-        CHECK(worst * 255.0 <= 1.0);
+        // World points spread over the frame.
+        CHECK(test::zoomDifference(ex.scene, 56.0, 40.0, "interp") <= 1.0);
     }
 }

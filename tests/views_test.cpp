@@ -23,6 +23,10 @@ const char* const kScenes[] = {
     "layer { family = spiral; spacing = 7; stroke = 1; opacity = 0.5 }\n",
     "scene { size = (64, 40) }\n"
     "layer { family = hyperbola; spacing = 8; stroke = 3; field = x / 20 }\n",
+    // A lattice (swept over its unit cell) under a radial pencil (swept by rotation).
+    "scene { size = (64, 40) }\n"
+    "layer { family = hex_lattice; spacing = 5; stroke = 2.4; rotation = 3deg }\n"
+    "layer { family = pencil; lines = 40; start = 4; stroke = 1.5; origin = (6, 2) }\n",
 };
 
 Image render(const std::string& text, sema::ViewMode view, Backend& backend) {

@@ -13,6 +13,11 @@ ValueId orZero(ir::Builder& b, ValueId v) {
     return v == ir::kNoValue ? b.constF(0.0) : v;
 }
 
+// The fractional index a one-index layer's characters combine (LayerFields::smooth).
+ValueId indexOf(ir::Builder& b, const LayerFields& f) {
+    return f.smooth != ir::kNoValue ? f.smooth : orZero(b, f.index);
+}
+
 bool isLattice(const LayerFields& f) {
     return f.genU != ir::kNoValue;
 }
@@ -28,7 +33,7 @@ ValueId rowCoefficient(ir::Builder& b, ValueId row, size_t column) {
 } // namespace
 
 std::vector<IndexField> characterRows(ir::Builder& b, const LayerFields& f) {
-    if (!isLattice(f)) return {{orZero(b, f.index), orZero(b, f.gradX), orZero(b, f.gradY)}};
+    if (!isLattice(f)) return {{indexOf(b, f), orZero(b, f.gradX), orZero(b, f.gradY)}};
     auto built = [&](ValueId v) { return BuiltValue(b, v); };
     const BuiltValue u = built(f.genU), v = built(f.genV);
     std::vector<Grad<BuiltValue>> grads = latticeRowGradients<BuiltValue>(
@@ -84,7 +89,7 @@ Combination characterCombination(ir::Builder& b, const Character& c,
         // The layer's term: k idx, or a lattice's k (rowU u + rowV v).
         auto [ku, kv] = characterGenerators(b, c, i);
         if (c.rowU[static_cast<size_t>(i)] == ir::kNoValue) {
-            value = b.add(value, b.mul(ku, orZero(b, f.index)));
+            value = b.add(value, b.mul(ku, indexOf(b, f)));
             gx = b.add(gx, b.mul(ku, orZero(b, f.gradX)));
             gy = b.add(gy, b.mul(ku, orZero(b, f.gradY)));
             continue;

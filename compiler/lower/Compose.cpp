@@ -3,6 +3,7 @@
 #include "compiler/diag/Diagnostics.h"
 #include "compiler/lower/RatioView.h"
 
+#include <algorithm>
 #include <optional>
 
 namespace moire::lower {
@@ -30,12 +31,27 @@ void Compose::layer(const LayerInk& ink) {
     // A family without a phase sample is reported before the kernel is used
     // (LoweredScene::unsweepable); its ink then stays put while the others sweep.
     if (l.sample.z == ir::kNoValue)
-        l.sample = {ink.fields.distance, b_.constF(kNoMember), b_.constF(kNoMember), zero_,
-                    std::nullopt};
+        l.sample = {ink.fields.distance,
+                    b_.constF(kNoMember),
+                    b_.constF(kNoMember),
+                    zero_,
+                    std::nullopt,
+                    std::nullopt,
+                    nullptr};
     sweep_.push_back(l);
 }
 
 Ink Compose::envelope() {
+    const bool lattice = std::any_of(sweep_.begin(), sweep_.end(), [](const EnvelopeLayer& l) {
+        return l.sample.lattice.has_value();
+    });
+    const bool oneIndex = std::any_of(sweep_.begin(), sweep_.end(),
+                                      [](const EnvelopeLayer& l) { return !l.sample.lattice; });
+    if (lattice && oneIndex) {
+        std::vector<EnvelopeLayer> layers = sweep_;
+        rankTwoRides(b_, stackCharacter(b_, fields_), layers);
+        return envelopeInk(b_, paper_, layers, settings_);
+    }
     return envelopeInk(b_, paper_, sweep_, settings_);
 }
 

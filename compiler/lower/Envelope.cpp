@@ -4,6 +4,10 @@
 #include "compiler/ir/Semantics.h"
 #include "compiler/lower/Characters.h"
 
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
 namespace moire::lower {
 
 using ir::Op;
@@ -76,7 +80,60 @@ std::vector<ValueId> sweepDirection(ir::Builder& b, const std::vector<EnvelopeLa
     return licensedW;
 }
 
+void rankTwoRides(ir::Builder& b, const Character& c, std::vector<EnvelopeLayer>& layers) {
+    const ValueId zero = b.constF(0.0), one = b.constF(1.0);
+    for (int j = 0; j < c.count; ++j) {
+        EnvelopeLayer& l = layers.at(static_cast<size_t>(c.layer[static_cast<size_t>(j)]));
+        if (l.sample.lattice) continue;
+        // The character's term on this layer is k idx; k = +-1 is its own inverse.
+        const ValueId k = c.k[static_cast<size_t>(j)];
+        const ValueId unit = b.emit(Op::Eq, {b.abs(k), one});
+        ValueId u = one, v = zero;
+        for (int i = 0; i < c.count; ++i) {
+            const EnvelopeLayer& other =
+                layers.at(static_cast<size_t>(c.layer[static_cast<size_t>(i)]));
+            if (i == j || !other.sample.lattice) continue;
+            // k d(idx) + ku s + kv t = 0: idx rides -(ku s + kv t) / k.
+            auto [ku, kv] = characterGenerators(b, c, i);
+            ValueId pairs =
+                b.emit(Op::And, {unit, b.emit(Op::Ne, {c.k[static_cast<size_t>(i)], zero})});
+            u = b.select(pairs, b.neg(b.mul(ku, k)), u);
+            v = b.select(pairs, b.neg(b.mul(kv, k)), v);
+        }
+        l.rideU = u;
+        l.rideV = v;
+    }
+}
+
 namespace {
+
+bool hasLattice(const PhaseSample& s) {
+    if (s.lattice) return true;
+    if (s.morph)
+        for (const PhaseSample& m : s.morph->members)
+            if (hasLattice(m)) return true;
+    return false;
+}
+
+// The distance to a layer's nearest member once its index is advanced: by `a` (Eq. 15, with
+// the local gap `gap`) for one index, by (du, dv) for a lattice's pair (solved there anew),
+// and for a morph across kinds each member by its own, blended as the pattern blends them.
+ValueId advancedDistance(ir::Builder& b, const PhaseSample& s, ValueId gap, ValueId a, ValueId du,
+                         ValueId dv) {
+    if (s.lattice) return s.lattice->at(b, du, dv);
+    if (!s.morph) return tapDistance(b, s, gap, a);
+    const MorphSample& m = *s.morph;
+    std::vector<ValueId> d;
+    for (const PhaseSample& member : m.members)
+        d.push_back(advancedDistance(b, member, sampleGap(b, member), a, du, dv));
+    auto pick = [&](ValueId which) {
+        ValueId v = d.back();
+        for (size_t i = d.size() - 1; i-- > 0;)
+            v = b.select(b.emit(Op::Eq, {which, b.constF(double(i))}), d[i], v);
+        return v;
+    };
+    return b.mix(pick(m.from), pick(m.to), m.weight);
+}
 
 Ink over(ir::Builder& b, const Ink& acc, const EnvelopeLayer& l, ValueId cov) {
     return inkOver(b, acc, l.color[0], l.color[1], l.color[2], cov);
@@ -99,7 +156,26 @@ Ink envelopeInk(ir::Builder& b, const Ink& paper, const std::vector<EnvelopeLaye
                 const EnvelopeSettings& settings) {
     if (layers.empty()) return paper;
     const std::vector<ValueId> w = sweepDirection(b, layers);
+    const bool rankTwo = std::any_of(layers.begin(), layers.end(),
+                                     [](const EnvelopeLayer& l) { return hasLattice(l.sample); });
     ValueId taps = b.clamp(b.round(settings.taps), b.constF(1.0), b.constF(sema::kMaxEnvelopeTaps));
+    // The rank-two sweep covers the unit cell of the index pair (u, v) with a Fibonacci
+    // lattice rule: N = F_k taps, tap j at ((j + 1/2) / N, ((j F_(k-1) mod N) + 1/2) / N),
+    // which integrates every harmonic of the cell shorter than about 0.9 sqrt(N) exactly.
+    // F_k is the Fibonacci number nearest M^2 / 8 (on a log scale), at most F_18 = 2584: 89 at
+    // the default M = 24. Each tap re-solves every lattice, so a lattice's envelope costs
+    // about N of its pattern's evaluations (docs/views.md).
+    ValueId skew = ir::kNoValue;
+    if (rankTwo) {
+        const double phi = std::numbers::phi, root5 = std::sqrt(5.0);
+        ValueId wanted = b.max(b.mul(b.mul(taps, taps), b.constF(0.125)), b.constF(1.0));
+        ValueId k = b.round(
+            b.div(b.emit(Op::Log, {b.mul(wanted, b.constF(root5))}), b.constF(std::log(phi))));
+        k = b.clamp(k, b.constF(2.0), b.constF(kLatticeRuleOrder));
+        taps =
+            b.round(b.div(b.emit(Op::Exp, {b.mul(k, b.constF(std::log(phi)))}), b.constF(root5)));
+        skew = b.round(b.div(taps, b.constF(phi))); // F_(k-1)
+    }
     ValueId step = b.div(b.constF(1.0), taps);
     // What each tap reads of a layer, set once per pixel: its stroke's edge (Envelope.h) as
     // the start of the ramp and the ramp's slope, and the ink's strength.
@@ -110,16 +186,37 @@ Ink envelopeInk(ir::Builder& b, const Ink& paper, const std::vector<EnvelopeLaye
     std::vector<Edge> edges;
     for (size_t i = 0; i < layers.size(); ++i) {
         const EnvelopeLayer& l = layers[i];
-        ValueId gap = sampleGap(b, l.sample);
-        // A layer swept |w_i| periods over the taps moves |w_i| times as far each tap.
-        ValueId perTap = b.mul(b.mul(gap, step), b.abs(w[i]));
-        ValueId a = b.min(b.max(l.antialias, b.mul(perTap, b.constF(kTapBand))), l.halfWidth);
+        // A morph's members measure their own gaps (advancedDistance).
+        ValueId gap = l.sample.lattice ? l.sample.lattice->cell
+                      : l.sample.morph ? b.constF(1.0)
+                                       : sampleGap(b, l.sample);
+        // A layer swept |w_i| periods over the taps moves |w_i| times as far each tap; a
+        // lattice's taps are spread over its cell, about 1 / sqrt(N) of a step apart.
+        ValueId spread = l.sample.lattice ? b.sqrt(step) : step;
+        ValueId perTap = b.mul(b.mul(gap, spread), b.abs(w[i]));
+        ValueId a = b.max(l.antialias, b.mul(perTap, b.constF(kTapBand)));
+        ValueId half = l.halfWidth;
+        if (l.sample.lattice) {
+            // A band symmetric about a round dot's edge adds ink: a dot of radius h ramped
+            // over h +- a holds pi (h^2 + a^2 / 5). The ramp is centred on sqrt(h^2 - a^2 / 5)
+            // instead, so the dot holds pi h^2, its true width's ink, whatever the band: the
+            // mean does not depend on the band, so not on the pixel's size either. Held
+            // under 0.9 h, the ramp stays clear of the dot's centre.
+            a = b.min(a, b.mul(l.halfWidth, b.constF(0.9)));
+            ValueId r2 = b.sub(b.mul(half, half), b.mul(b.mul(a, a), b.constF(0.2)));
+            half = b.select(l.sample.lattice->dots, b.sqrt(b.max(r2, b.constF(0.0))), half);
+        } else if (l.sample.morph) {
+            // Its members' periods differ; it keeps the pattern's band.
+            a = b.min(l.antialias, l.halfWidth);
+        } else {
+            a = b.min(a, l.halfWidth);
+        }
         // On a fold itself the members do not slide by the gap (Eq. 5 has none there): the
         // fold's estimate moves the first member, and its edge keeps the pattern's band.
         if (l.sample.fold) a = b.select(l.sample.fold->exact, l.antialias, a);
         ValueId strength = b.mul(b.clamp(l.opacity, b.constF(0.0), b.constF(1.0)),
                                  b.clamp(l.color[3], b.constF(0.0), b.constF(1.0)));
-        edges.push_back({gap, b.sub(l.halfWidth, a),
+        edges.push_back({gap, b.sub(half, a),
                          b.div(b.constF(1.0), b.max(b.mul(b.constF(2.0), a), b.constF(ir::kTiny))),
                          strength});
     }
@@ -132,12 +229,25 @@ Ink envelopeInk(ir::Builder& b, const Ink& paper, const std::vector<EnvelopeLaye
     auto more = [&](std::span<const ValueId> v) { return std::vector<ValueId>{b.lt(v[0], taps)}; };
     std::vector<ValueId> sums = b.loop(init, more, [&](std::span<const ValueId> v) {
         ValueId u = b.mul(b.add(v[0], b.constF(0.5)), step);
+        ValueId t = ir::kNoValue; // the second generator's advance, in a rank-two sweep
+        if (rankTwo)
+            t = b.mul(b.add(b.emit(Op::Mod, {b.mul(v[0], skew), taps}), b.constF(0.5)), step);
+        // An advance x w_i, less its whole periods, keeps its sign: within (-1, 1).
+        auto advance = [&](ValueId x, size_t i) {
+            ValueId a = b.mul(x, w[i]);
+            return b.sub(a, b.mul(b.emit(ir::Op::Sign, {a}), b.floor(b.abs(a))));
+        };
         std::vector<ValueId> cov(n);
         for (size_t i = 0; i < n; ++i) {
-            // The advance u w_i, less its whole periods, keeps its sign: within (-1, 1).
-            ValueId a = b.mul(u, w[i]);
-            a = b.sub(a, b.mul(b.emit(ir::Op::Sign, {a}), b.floor(b.abs(a))));
-            ValueId d = tapDistance(b, layers[i].sample, edges[i].gap, a);
+            // A one-index layer rides the generators' advance its character says
+            // (rankTwoRides), else the first's.
+            const PhaseSample& sample = layers[i].sample;
+            ValueId ride = u;
+            if (rankTwo && layers[i].rideU != ir::kNoValue)
+                ride = b.add(b.mul(layers[i].rideU, u), b.mul(layers[i].rideV, t));
+            ValueId du = rankTwo ? advance(u, i) : ir::kNoValue;
+            ValueId dv = rankTwo ? advance(t, i) : ir::kNoValue;
+            ValueId d = advancedDistance(b, sample, edges[i].gap, advance(ride, i), du, dv);
             // Eq. 4's 1 - smoothstep(h - a, h + a, d), with the ramp's slope set outside.
             ValueId t = b.clamp(b.mul(b.sub(d, edges[i].start), edges[i].slope), b.constF(0.0),
                                 b.constF(1.0));
@@ -168,7 +278,10 @@ Ink envelopeInk(ir::Builder& b, const Ink& paper, const std::vector<EnvelopeLaye
     // The pivot: the layers' own mean coverages composited, or a sole layer's nominal ink.
     Ink pivot = paper;
     for (size_t i = 0; i < n; ++i) {
-        ValueId own = n == 1 ? nominalCoverage(b, layers[i]) : meanOf(1 + i);
+        // A lattice's own mean is its nominal ink: translating it moves no point closer to
+        // another.
+        const bool nominal = n == 1 && !layers[i].sample.lattice;
+        ValueId own = nominal ? nominalCoverage(b, layers[i]) : meanOf(1 + i);
         pivot = over(b, pivot, layers[i], own);
     }
     auto grade = [&](ValueId p, ValueId m) { return b.add(p, b.mul(settings.gain, b.sub(m, p))); };

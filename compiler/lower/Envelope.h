@@ -17,6 +17,7 @@ constexpr double kTapBand = 2.0;
 #pragma once
 
 #include "compiler/ir/Builder.h"
+#include "compiler/lower/Characters.h"
 #include "compiler/lower/LayerPipeline.h"
 #include "compiler/lower/LowerExpr.h"
 #include "compiler/sema/Views.h"
@@ -24,6 +25,11 @@ constexpr double kTapBand = 2.0;
 #include <vector>
 
 namespace moire::lower {
+
+// A stack with a lattice sweeps the pair (u, v) of every lattice's generators over their
+// unit cell (§4.4's rank-two case): F_k taps of a Fibonacci lattice rule, F_k nearest
+// M^2 / 8 (Envelope.cpp), k at most this (F_18 = 2584 taps).
+constexpr double kLatticeRuleOrder = 18;
 
 // What the envelope is given of one layer.
 struct EnvelopeLayer {
@@ -34,6 +40,10 @@ struct EnvelopeLayer {
     ir::ValueId opacity;
     ir::ValueId spacing; // the nominal pitch: a sole layer is graded about its ink at it
     ir::ValueId gradX = ir::kNoValue, gradY = ir::kNoValue; // its index gradient
+    // In a rank-two sweep (a stack with a lattice), how far a one-index layer's index
+    // advances per advance (s, t) of the lattices' generators: rideU s + rideV t. Unset, it
+    // rides the first generator, (1, 0). See rankTwoRides.
+    ir::ValueId rideU = ir::kNoValue, rideV = ir::kNoValue;
 };
 
 struct EnvelopeSettings {
@@ -64,6 +74,14 @@ ir::ValueId tapDistance(ir::Builder& b, const PhaseSample& s, ir::ValueId gap, i
 // the sweep keeps it, w = (|k2|, -k1 sgn k2), wherever it is also the pixel's own winner:
 // w = (1, 3) for the (3, -1) beat of pitches 15 and 5 (Fig. 7). Elsewhere the diagonal.
 std::vector<ir::ValueId> sweepDirection(ir::Builder& b, const std::vector<EnvelopeLayer>& layers);
+
+// Sets the rides of the one-index layers of a stack with a lattice, per pixel, from the
+// stack's winning character `c` over `layers` (Characters.h): a layer the character pairs
+// with a lattice's row, with a coefficient of +-1, rides that row, so that the character is
+// kept (a line family beating with a lattice's second generator rides it, where riding the
+// first would average that fringe away: §4.4, the combination of the generators that rides
+// the sweep is the character choice again). Any other layer rides the first generator.
+void rankTwoRides(ir::Builder& b, const Character& c, std::vector<EnvelopeLayer>& layers);
 
 // The envelope over `paper` (premultiplied), graded by the settings: premultiplied RGBA.
 Ink envelopeInk(ir::Builder& b, const Ink& paper, const std::vector<EnvelopeLayer>& layers,

@@ -2,6 +2,7 @@
 
 #include "compiler/diag/Diagnostics.h"
 #include "compiler/lower/LatticeFamily.h"
+#include "compiler/lower/PencilFamily.h"
 #include "compiler/lower/WalkingFamily.h"
 
 namespace moire::lower {
@@ -11,6 +12,7 @@ const std::vector<RegisteredFamily>& registeredFamilies() {
         {"square_lattice", latticeBuilder(LatticeKind::Square)},
         {"triangle_lattice", latticeBuilder(LatticeKind::Triangle)},
         {"hex_lattice", latticeBuilder(LatticeKind::Hex)},
+        {"pencil", pencilBuilder()},
         {kWalking, walkingLayerFields},
     };
     return all;

@@ -42,6 +42,7 @@ struct LatticeFrame {
     ValueId px, py; // the layer's frame (world units)
     ValueId ux, uy; // unstretched: (px / sx, py / sy)
     ValueId s, sx, sy;
+    bool generators = true; // also the generators' index fields (not for the envelope's taps)
 };
 
 // A running minimum over candidate points: the world distance and the integer pair of the
@@ -99,7 +100,8 @@ A2Point a2Round(ir::Builder& b, ValueId x, ValueId y, ValueId step) {
 // a field of x and y, the viewer's motion) lies between the world and (px, py), and AD
 // carries all of it. Nothing the render draws reads them, so a plain frame does not
 // change; the character search does (Characters.h).
-void setGenerators(ir::Builder& b, LayerFields& out, ValueId u, ValueId v) {
+void setGenerators(ir::Builder& b, const LatticeFrame& f, LayerFields& out, ValueId u, ValueId v) {
+    if (!f.generators) return;
     out.genU = u;
     out.genUX = b.emit(ir::Op::DerivX, {u});
     out.genUY = b.emit(ir::Op::DerivY, {u});
@@ -124,7 +126,7 @@ LayerFields squareLattice(ir::Builder& b, const LatticeFrame& f, ValueId drawEdg
     out.distance = b.select(drawEdges, edge, vertex);
     out.index = i;
     out.aux0 = j;
-    setGenerators(b, out, u, v);
+    setGenerators(b, f, out, u, v);
     return out;
 }
 
@@ -173,7 +175,7 @@ LayerFields triangleLattice(ir::Builder& b, const LatticeFrame& f, ValueId drawE
     out.distance = b.select(drawEdges, edge, best.d);
     out.index = best.i;
     out.aux0 = best.j;
-    setGenerators(b, out, u, v);
+    setGenerators(b, f, out, u, v);
     return out;
 }
 
@@ -240,13 +242,12 @@ LayerFields hexLattice(ir::Builder& b, const LatticeFrame& f, ValueId drawEdges)
     out.distance = b.select(drawEdges, edge, best.d);
     out.index = best.i;
     out.aux0 = best.j;
-    setGenerators(b, out, cu, cv);
+    setGenerators(b, f, out, cu, cv);
     return out;
 }
 
-} // namespace
-
-LayerFields latticeFields(ir::Builder& b, LatticeKind kind, const LatticeInputs& in) {
+// The fields at `in`, the generators' index fields with them when `generators`.
+LayerFields solve(ir::Builder& b, LatticeKind kind, const LatticeInputs& in, bool generators) {
     MOIRE_CHECK(!in.scale.empty() && in.scale.size() <= 2,
                 "a lattice's scale is one or two numbers");
     // All three point sets are symmetric under x -> -x and y -> -y, so a negative spacing or
@@ -260,6 +261,7 @@ LayerFields latticeFields(ir::Builder& b, LatticeKind kind, const LatticeInputs&
     f.sy = b.abs(in.scale.size() == 2 ? in.scale[1] : in.scale[0]);
     f.ux = b.div(in.px, f.sx);
     f.uy = b.div(in.py, f.sy);
+    f.generators = generators;
     ValueId drawEdges = b.emit(ir::Op::Ne, {in.edges, b.constF(0.0)});
     switch (kind) {
     case LatticeKind::Square:
@@ -270,6 +272,53 @@ LayerFields latticeFields(ir::Builder& b, LatticeKind kind, const LatticeInputs&
         return hexLattice(b, f, drawEdges);
     }
     MOIRE_ICE("unknown lattice kind");
+}
+
+// The generating steps of each kind in the unstretched frame, per unit of spacing: the basis
+// whose coordinates are the generators (u, v) of setGenerators.
+struct Basis {
+    double c1x, c1y, c2x, c2y;
+};
+Basis basisOf(LatticeKind kind) {
+    switch (kind) {
+    case LatticeKind::Square:
+        return {1, 0, 0, 1};
+    case LatticeKind::Triangle:
+        return {1, 0, 0.5, kSqrt3 / 2};
+    case LatticeKind::Hex: // the centres', s sqrt3 apart
+        return {kSqrt3, 0, kSqrt3 / 2, 1.5};
+    }
+    MOIRE_ICE("unknown lattice kind");
+}
+
+} // namespace
+
+LayerFields latticeFields(ir::Builder& b, LatticeKind kind, const LatticeInputs& in) {
+    LayerFields out = solve(b, kind, in, true);
+    // The phase sample (Envelope.h): the lattice advanced by (du, dv) is the lattice at the
+    // point moved by du c1 + dv c2 (stretched into the layer's frame), solved there anew.
+    const Basis c = basisOf(kind);
+    out.sample.z = out.distance;
+    out.sample.up = out.sample.down = b.constF(kNoMember);
+    out.sample.floor = b.constF(0.0);
+    LatticeInputs at = in;
+    auto moved = [c, at, kind](ir::Builder& bb, ValueId du, ValueId dv) {
+        ValueId s = bb.abs(at.spacing);
+        ValueId sx = at.scale[0], sy = at.scale.size() == 2 ? at.scale[1] : at.scale[0];
+        auto step = [&](double a, double d) {
+            return bb.mul(s, bb.add(bb.mul(du, bb.constF(a)), bb.mul(dv, bb.constF(d))));
+        };
+        LatticeInputs there = at;
+        there.px = bb.add(at.px, bb.mul(bb.abs(sx), step(c.c1x, c.c2x)));
+        there.py = bb.add(at.py, bb.mul(bb.abs(sy), step(c.c1y, c.c2y)));
+        return solve(bb, kind, there, false).distance;
+    };
+    ValueId sx = b.abs(in.scale[0]), sy = b.abs(in.scale.size() == 2 ? in.scale[1] : in.scale[0]);
+    ValueId cell =
+        b.mul(b.mul(b.abs(in.spacing), b.constF(std::hypot(c.c1x, c.c1y))), b.sqrt(b.mul(sx, sy)));
+    ValueId dots = b.emit(ir::Op::Eq, {in.edges, b.constF(0.0)});
+    out.sample.lattice = LatticeSample{moved, cell, dots};
+    return out;
 }
 
 FamilyBuilder latticeBuilder(LatticeKind kind) {

@@ -89,7 +89,7 @@ PhaseSample phaseSample(ir::Builder& b, ValueId index, ValueId nearest, ValueId 
     auto at = [&](double step) {
         return b.mul(b.sub(b.add(nearest, b.constF(step)), index), perIndex);
     };
-    PhaseSample s{at(0.0), at(1.0), at(-1.0), b.constF(0.0), std::nullopt};
+    PhaseSample s{at(0.0), at(1.0), at(-1.0), b.constF(0.0), std::nullopt, std::nullopt, nullptr};
     if (fold) {
         s.down = b.select(b.lt(nearest, b.constF(fold->first + 1.0)), b.constF(kNoMember), s.down);
         s.fold = *fold;

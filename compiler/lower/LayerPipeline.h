@@ -8,6 +8,8 @@
 #include "compiler/ir/Builder.h"
 
 #include <algorithm>
+#include <functional>
+#include <memory>
 #include <optional>
 
 namespace moire::lower {
@@ -27,9 +29,30 @@ struct FoldSample {
     int first = 0;
     ir::ValueId index, lo, hi, step, scale, exact;
 };
+// A lattice's index is a pair (spec §3.6, §4.4): advancing it by (du, dv) translates the
+// lattice by du and dv of its two generating steps. Finding the nearest point or edge is
+// rounding in the lattice's basis, straight-line arithmetic, so a tap re-solves the
+// translated lattice exactly: `at(b, du, dv)` emits the distance there. `cell` is the world
+// length of one generating step, the lattice's period for the edge's band (Envelope.cpp).
+// `dots` is true where the layer draws its points (round strokes), false for its edges.
+struct LatticeSample {
+    std::function<ir::ValueId(ir::Builder&, ir::ValueId du, ir::ValueId dv)> at;
+    ir::ValueId cell = ir::kNoValue;
+    ir::ValueId dots = ir::kNoValue;
+};
+struct MorphSample;
 struct PhaseSample {
     ir::ValueId z = ir::kNoValue, up = ir::kNoValue, down = ir::kNoValue, floor = ir::kNoValue;
     std::optional<FoldSample> fold;
+    std::optional<LatticeSample> lattice;     // rank two: z is the distance, up and down unused
+    std::shared_ptr<const MorphSample> morph; // a morph across kinds: z, up, down unused
+};
+// A morph across kinds draws mix(d_from, d_to, weight) of two of its members' distances
+// (MorphFamily.cpp): advanced, each member advances in its own parameter, and the blend of
+// the advanced distances is the layer's. `from` and `to` are the members' positions.
+struct MorphSample {
+    std::vector<PhaseSample> members;
+    ir::ValueId from, to, weight;
 };
 
 struct LayerFields {
@@ -46,6 +69,10 @@ struct LayerFields {
     // kNoValue on every other family.
     ir::ValueId genU = ir::kNoValue, genUX = ir::kNoValue, genUY = ir::kNoValue;
     ir::ValueId genV = ir::kNoValue, genVX = ir::kNoValue, genVY = ir::kNoValue;
+    // Where `index` is a member's number rather than the fractional index (the pencil's
+    // sector), the fractional index itself, whose gradient gradX, gradY are: what the
+    // characters and the overlay read (Characters.h). kNoValue elsewhere (`index` is it).
+    ir::ValueId smooth = ir::kNoValue;
 };
 
 // The stroke in world units: half-width h = max(t/2, 1.15 px) and antialias band

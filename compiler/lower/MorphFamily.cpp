@@ -19,7 +19,8 @@ using ir::ValueId;
 // half-way, a point on a member of one family but between members of the other is at
 // half a gap from both, and the strokes break up instead of travelling. Only a morph that
 // mixes kinds (a lattice, a pencil, a walking family with one that cannot walk) falls
-// back to interpolating the two distances.
+// back to interpolating the two distances; its phase sample (for the views that sweep)
+// is then its members' samples, blended tap by tap.
 LayerFields morphFields(LayerLowering& layers, const sema::CheckedLayer& layer,
                         const LayerFrame& lf, const StrokeBand& band, const Encoding& enc,
                         bool wantIndex) {
@@ -98,15 +99,31 @@ LayerFields morphFields(LayerLowering& layers, const sema::CheckedLayer& layer,
     }
     std::vector<LayerFields> fields;
     Vals distances, indices;
+    auto sample = std::make_shared<MorphSample>();
+    bool sweeps = true;
     for (const BoundFamily& m : members) {
         LayerFields f = layers.familyFields(layer, lf, m, band, enc, wantIndex);
         distances.push_back(f.distance);
         indices.push_back(f.index);
+        sample->members.push_back(f.sample);
+        sweeps &= f.sample.z != ir::kNoValue;
     }
     b.setLoc(layer.decl->range.begin);
     LayerFields out;
     out.distance = blend(distances);
     out.index = pick(b.select(b.lt(w, b.constF(0.5)), k, next), indices);
+    // The views that sweep advance each member in its own parameter and blend the advanced
+    // distances as the pattern blends them (Envelope.cpp); a member without a sample (a
+    // family given by its distance) leaves the morph without one.
+    if (sweeps) {
+        sample->from = k;
+        sample->to = next;
+        sample->weight = w;
+        out.sample.z = out.distance;
+        out.sample.up = out.sample.down = b.constF(kNoMember);
+        out.sample.floor = b.constF(0.0);
+        out.sample.morph = std::move(sample);
+    }
     return out;
 }
 

@@ -76,16 +76,46 @@ std::unique_ptr<Backend> makeBackendOrSkip(const std::string& name) {
     }
 }
 
-Image renderScene(const SceneProgram& program, Backend& backend, int width, int height, double t) {
+namespace {
+
+// The frame's values for `program` at size width x height (0: the scene's), time `t`, with
+// `literals` in place of the program's own when given; fails the current test if the frame
+// cannot be drawn.
+FrameValues frameOf(const SceneProgram& program, int width, int height, double t,
+                    const std::vector<double>* literals = nullptr) {
     FrameRequest req;
     req.time = t;
     req.width = width;
     req.height = height;
+    req.literals = literals;
     FrameValues fv;
     std::string diags;
     INFO(diags);
     REQUIRE(evaluateFrame(program, req, fv, diags));
-    return renderFrame(program, backend, fv);
+    return fv;
+}
+
+} // namespace
+
+Image renderScene(const SceneProgram& program, Backend& backend, int width, int height, double t) {
+    return renderFrame(program, backend, frameOf(program, width, height, t));
+}
+
+int literalSlot(const SceneProgram& program, double value) {
+    for (size_t i = 0; i < program.literals.size(); ++i)
+        if (program.literals[i] == value) return static_cast<int>(i);
+    FAIL("no literal ", value);
+    return -1;
+}
+
+Image runWithLiterals(const SceneProgram& program, CompiledKernel& kernel,
+                      const std::vector<double>& literals, int width, int height, double t) {
+    FrameValues fv = frameOf(program, width, height, t, &literals);
+    Image img(fv.width, fv.height, kernel.numOutputs());
+    KernelFrame frame{fv.uniforms.data(), fv.width, fv.height};
+    kernel.runTile(frame, TileRect{0, 0, fv.width, fv.height}, img.pixels.data(),
+                   static_cast<size_t>(fv.width) * kernel.numOutputs());
+    return img;
 }
 
 Image renderWindow(const SceneProgram& program, Backend& backend, int x0, int y0, int width,

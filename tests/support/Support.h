@@ -40,6 +40,15 @@ Image renderScene(const SceneProgram& program, Backend& backend, int width = 0, 
 Image renderWindow(const SceneProgram& program, Backend& backend, int x0, int y0, int width,
                    int height, double t = 0.0);
 
+// The slot of the literal `value` in the program's table (a sentinel written in the scene, to
+// move that number between renders); fails the current test when there is none.
+int literalSlot(const SceneProgram& program, double value);
+// Runs an already compiled kernel of `program` over its frame with the literal table
+// `literals` (the program's own, some moved), at the given size (0: the scene's), frame `t`.
+Image runWithLiterals(const SceneProgram& program, CompiledKernel& kernel,
+                      const std::vector<double>& literals, int width = 0, int height = 0,
+                      double t = 0.0);
+
 // Per-channel comparison of two images of the same size.
 struct ImageDiff {
     size_t samples = 0; // pixels x channels compared

@@ -92,9 +92,10 @@ std::vector<double> bruteMean(const Example& ex, int alone = -1) {
     if (alone >= 0)
         for (int i = 0; i < layers; ++i)
             if (i != alone) lits[opacity[i]] = 0.0;
-    // Which way the second layer runs: backwards where g1 . g2 < 0 (the sum is slower).
-    std::vector<bool> backwards;
-    if (layers == 2) backwards = test::opposedGradients(*p, *kernel, lits);
+    // Which way the second layer runs: backwards where g1 . g2 < 0 (the sum is slower), both
+    // ways mixed across the hand-over.
+    std::vector<double> backwards;
+    if (layers == 2) backwards = test::sumSweepShares(*p, *kernel, lits);
     std::vector<double> sums[2];
     for (int dir = 0; dir < (layers == 2 ? 2 : 1); ++dir)
         for (int j = 0; j < kBruteTaps; ++j) {
@@ -107,7 +108,7 @@ std::vector<double> bruteMean(const Example& ex, int alone = -1) {
             }
             test::addFrameRGB(*p, *kernel, l, sums[dir]);
         }
-    return test::chosenMean(sums, backwards, kBruteTaps);
+    return test::fadedMean(sums, backwards, kBruteTaps);
 }
 
 Image envelope(const Example& ex, double gain, const std::string& backend = "interp") {

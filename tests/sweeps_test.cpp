@@ -69,8 +69,8 @@ std::vector<double> bruteMean(const std::string& scene, const Origins& at, const
     for (int i = 0; i < 2; ++i)
         slots[i] = {test::literalSlot(*p, at[i][0]), test::literalSlot(*p, at[i][1]),
                     test::literalSlot(*p, kTurn[i])};
-    std::vector<bool> backwards;
-    if (sumWhereOpposed) backwards = test::opposedGradients(*p, *kernel, p->literals, time);
+    std::vector<double> backwards;
+    if (sumWhereOpposed) backwards = test::sumSweepShares(*p, *kernel, p->literals, time);
     std::vector<double> sums[2];
     for (int dir = 0; dir < (sumWhereOpposed ? 2 : 1); ++dir)
         for (const auto& [a, b] : taps) {
@@ -80,7 +80,7 @@ std::vector<double> bruteMean(const std::string& scene, const Origins& at, const
             move(l, slots[1], 1, sign * a, sign * b);
             test::addFrameRGB(*p, *kernel, l, sums[dir], time);
         }
-    return test::chosenMean(sums, backwards, static_cast<double>(taps.size()));
+    return test::fadedMean(sums, backwards, static_cast<double>(taps.size()));
 }
 
 Image envelopeOf(const std::string& scene, double taps, double time = 0.0) {

@@ -80,6 +80,24 @@ std::vector<ValueId> sweepDirection(ir::Builder& b, const std::vector<EnvelopeLa
     return licensedW;
 }
 
+ValueId sumFade(ir::Builder& b, const std::vector<EnvelopeLayer>& layers,
+                const std::vector<ValueId>& w) {
+    if (layers.size() != 2) return ir::kNoValue;
+    const EnvelopeLayer& l1 = layers[0];
+    const EnvelopeLayer& l2 = layers[1];
+    if (l1.gradX == ir::kNoValue || l2.gradX == ir::kNoValue) return ir::kNoValue;
+    if (l1.sample.lattice || l2.sample.lattice) return ir::kNoValue;
+    ValueId dot = b.add(b.mul(l1.gradX, l2.gradX), b.mul(l1.gradY, l2.gradY));
+    ValueId norms = b.add(b.add(b.mul(l1.gradX, l1.gradX), b.mul(l1.gradY, l1.gradY)),
+                          b.add(b.mul(l2.gradX, l2.gradX), b.mul(l2.gradY, l2.gradY)));
+    ValueId q = b.div(b.mul(b.constF(2.0), dot), b.max(norms, b.constF(ir::kTiny)));
+    ValueId share = b.smoothstep(b.constF(kSumFade), b.constF(-kSumFade), q);
+    // Not where a licensed character holds the pixel: w = (1, +-1) otherwise.
+    ValueId plain = b.emit(Op::And, {b.emit(Op::Eq, {w[0], b.constF(1.0)}),
+                                     b.emit(Op::Eq, {b.abs(w[1]), b.constF(1.0)})});
+    return b.select(plain, b.denan(share, b.constF(0.0)), b.constF(0.0));
+}
+
 void rankTwoRides(ir::Builder& b, const Character& c, std::vector<EnvelopeLayer>& layers) {
     const ValueId zero = b.constF(0.0), one = b.constF(1.0);
     for (int j = 0; j < c.count; ++j) {
@@ -152,10 +170,15 @@ ValueId nominalCoverage(ir::Builder& b, const EnvelopeLayer& l) {
 
 } // namespace
 
-Ink envelopeInk(ir::Builder& b, const Ink& paper, const std::vector<EnvelopeLayer>& layers,
-                const EnvelopeSettings& settings) {
-    if (layers.empty()) return paper;
-    const std::vector<ValueId> w = sweepDirection(b, layers);
+namespace {
+
+// The stack's mean ink swept along `w` (Eq. 13-15), and the pivot it is graded about.
+struct Swept {
+    Ink mean, pivot;
+};
+
+Swept sweptMean(ir::Builder& b, const Ink& paper, const std::vector<EnvelopeLayer>& layers,
+                const EnvelopeSettings& settings, const std::vector<ValueId>& w) {
     const bool rankTwo = std::any_of(layers.begin(), layers.end(),
                                      [](const EnvelopeLayer& l) { return hasLattice(l.sample); });
     ValueId taps = b.clamp(b.round(settings.taps), b.constF(1.0), b.constF(sema::kMaxEnvelopeTaps));
@@ -284,10 +307,47 @@ Ink envelopeInk(ir::Builder& b, const Ink& paper, const std::vector<EnvelopeLaye
         ValueId own = nominal ? nominalCoverage(b, layers[i]) : meanOf(1 + i);
         pivot = over(b, pivot, layers[i], own);
     }
+    return {mean, pivot};
+}
+
+// The mean graded about the pivot by the envelope's gain (§4.4).
+Ink graded(ir::Builder& b, const Swept& s, const EnvelopeSettings& settings) {
+    const Ink& mean = s.mean;
+    const Ink& pivot = s.pivot;
     auto grade = [&](ValueId p, ValueId m) { return b.add(p, b.mul(settings.gain, b.sub(m, p))); };
     ValueId alpha = b.clamp(grade(pivot.a, mean.a), b.constF(0.0), b.constF(1.0));
     auto channel = [&](ValueId p, ValueId m) { return b.clamp(grade(p, m), b.constF(0.0), alpha); };
     return {channel(pivot.r, mean.r), channel(pivot.g, mean.g), channel(pivot.b, mean.b), alpha};
+}
+
+} // namespace
+
+Ink envelopeInk(ir::Builder& b, const Ink& paper, const std::vector<EnvelopeLayer>& layers,
+                const EnvelopeSettings& settings) {
+    if (layers.empty()) return paper;
+    const std::vector<ValueId> w = sweepDirection(b, layers);
+    const ValueId fade = sumFade(b, layers, w);
+    if (fade == ir::kNoValue) return graded(b, sweptMean(b, paper, layers, settings, w), settings);
+    // Inside the hand-over band both sweeps, their means mixed; elsewhere the one w picks.
+    ValueId inBand = b.emit(Op::And, {b.gt(fade, b.constF(0.0)), b.lt(fade, b.constF(1.0))});
+    auto values = [](const Swept& s) {
+        return std::vector<ValueId>{s.mean.r,  s.mean.g,  s.mean.b,  s.mean.a,
+                                    s.pivot.r, s.pivot.g, s.pivot.b, s.pivot.a};
+    };
+    std::vector<ValueId> mixed = b.ifThenElse(
+        inBand,
+        [&] {
+            std::vector<ValueId> diff =
+                values(sweptMean(b, paper, layers, settings, {w[0], b.constF(1.0)}));
+            std::vector<ValueId> sum =
+                values(sweptMean(b, paper, layers, settings, {w[0], b.constF(-1.0)}));
+            for (size_t k = 0; k < diff.size(); ++k) diff[k] = b.mix(diff[k], sum[k], fade);
+            return diff;
+        },
+        [&] { return values(sweptMean(b, paper, layers, settings, w)); });
+    const Swept s{{mixed[0], mixed[1], mixed[2], mixed[3]},
+                  {mixed[4], mixed[5], mixed[6], mixed[7]}};
+    return graded(b, s, settings);
 }
 
 } // namespace moire::lower

@@ -75,6 +75,17 @@ ir::ValueId tapDistance(ir::Builder& b, const PhaseSample& s, ir::ValueId gap, i
 // w = (1, 3) for the (3, -1) beat of pitches 15 and 5 (Fig. 7). Elsewhere the diagonal.
 std::vector<ir::ValueId> sweepDirection(ir::Builder& b, const std::vector<EnvelopeLayer>& layers);
 
+// The hand-over between a pair's first-order difference and sum beats is a fade, not a
+// switch (§4.4: the sum beat's per-pixel freedom is one fade): with
+// q = 2 g1.g2 / (|g1|^2 + |g2|^2), which is 0 where the two beats are equally slow, the sweep
+// w = (1, -1) takes the weight smoothstep(kSumFade, -kSumFade, q) and w = (1, 1) the rest.
+// Inside the band (the beats' rates within about 10% of each other) both sweeps run and their
+// envelopes are mixed; outside it, one sweep, the one sweepDirection picks. kNoValue where
+// there is no such pair, and 0 where a licensed deviation holds the pixel (w is not (1, +-1)).
+constexpr double kSumFade = 0.1;
+ir::ValueId sumFade(ir::Builder& b, const std::vector<EnvelopeLayer>& layers,
+                    const std::vector<ir::ValueId>& w);
+
 // Sets the rides of the one-index layers of a stack with a lattice, per pixel, from the
 // stack's winning character `c` over `layers` (Characters.h): a layer the character pairs
 // with a lattice's row, with a coefficient of +-1, rides that row, so that the character is

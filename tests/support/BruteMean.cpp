@@ -9,14 +9,19 @@
 
 namespace moire::test {
 
-std::vector<bool> opposedGradients(const SceneProgram& program, CompiledKernel& kernel,
+std::vector<double> sumSweepShares(const SceneProgram& program, CompiledKernel& kernel,
                                    const std::vector<double>& literals, double t) {
     Image f = runWithLiterals(program, kernel, literals, 0, 0, t);
     const auto& L = program.layout;
-    std::vector<bool> out(static_cast<size_t>(f.width) * f.height);
+    std::vector<double> out(static_cast<size_t>(f.width) * f.height);
     for (size_t px = 0; px < out.size(); ++px) {
         const float* o = &f.pixels[px * f.channels];
-        out[px] = o[L.gradXSlot(0)] * o[L.gradXSlot(1)] + o[L.gradYSlot(0)] * o[L.gradYSlot(1)] < 0;
+        const double x1 = o[L.gradXSlot(0)], y1 = o[L.gradYSlot(0)];
+        const double x2 = o[L.gradXSlot(1)], y2 = o[L.gradYSlot(1)];
+        const double q =
+            2 * (x1 * x2 + y1 * y2) / std::max(x1 * x1 + y1 * y1 + x2 * x2 + y2 * y2, 1e-30);
+        const double u = std::clamp((q - 0.1) / (-0.1 - 0.1), 0.0, 1.0);
+        out[px] = std::isfinite(q) ? u * u * (3 - 2 * u) : 0.0;
     }
     return out;
 }
@@ -30,11 +35,13 @@ void addFrameRGB(const SceneProgram& program, CompiledKernel& kernel,
         for (size_t c = 0; c < 3; ++c) sum[px * 3 + c] += img.pixels[px * img.channels + c];
 }
 
-std::vector<double> chosenMean(const std::vector<double> (&sums)[2],
-                               const std::vector<bool>& backwards, double count) {
+std::vector<double> fadedMean(const std::vector<double> (&sums)[2],
+                              const std::vector<double>& shares, double count) {
     std::vector<double> mean(sums[0].size());
-    for (size_t k = 0; k < mean.size(); ++k)
-        mean[k] = sums[!backwards.empty() && backwards[k / 3] ? 1 : 0][k] / count;
+    for (size_t k = 0; k < mean.size(); ++k) {
+        const double share = shares.empty() ? 0.0 : shares[k / 3];
+        mean[k] = ((1 - share) * sums[0][k] + (share > 0 ? share * sums[1][k] : 0.0)) / count;
+    }
     return mean;
 }
 

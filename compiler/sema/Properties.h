@@ -5,6 +5,7 @@
 
 #include "compiler/parse/Ast.h"
 
+#include <string>
 #include <string_view>
 #include <vector>
 
@@ -28,6 +29,12 @@ struct PropertySpec {
 const std::vector<PropertySpec>& sceneProperties();
 const std::vector<PropertySpec>& cameraProperties();
 const std::vector<PropertySpec>& layerProperties(); // `family` is listed with type Error
+// A timing's properties; `mode` and `easing` are names, listed with type Error.
+const std::vector<PropertySpec>& timingProperties();
+// The properties of a family's body (its parameters and lets are the family's own).
+const std::vector<PropertySpec>& familyProperties();
+// The names of a table's properties, in order (for "did you mean" and an editor's lists).
+std::vector<std::string> propertyNames(const std::vector<PropertySpec>& table);
 
 // The entry for `name` in `table`; an internal error when there is none (a bug in moire).
 const PropertySpec& propertySpec(const std::vector<PropertySpec>& table, std::string_view name);

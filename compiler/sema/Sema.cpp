@@ -229,7 +229,7 @@ void Checker::checkTiming(Decl& t) {
         } else {
             diags_.error(p.nameRange, Msg::UnknownProperty, p.name,
                          "a timing (its properties are period, delay, mode and easing)",
-                         didYouMean(p.name, {"period", "delay", "mode", "easing"}));
+                         didYouMean(p.name, propertyNames(timingProperties())));
         }
     }
     if (!ct.period)
@@ -362,7 +362,7 @@ void Checker::checkFamily(Decl& f) {
             }
         } else {
             // `w = 2` in a family body is most likely a value meant to be named.
-            Hint hint = didYouMean(p.name, {"phase", "first", "facets", "distance", "index"});
+            Hint hint = didYouMean(p.name, propertyNames(familyProperties()));
             if (hint.text.empty())
                 hint = fmt::format("; to name a value, write: let {} = ...", p.name);
             diags_.error(p.nameRange, Msg::UnknownProperty, p.name,

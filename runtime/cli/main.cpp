@@ -3,6 +3,7 @@
 // so that they read and behave the same in every command that takes them.
 #include "compiler/diag/Diagnostics.h"
 #include "compiler/sema/Views.h"
+#include "lsp/Server.h"
 #include "runtime/cli/Commands.h"
 #include "runtime/output/ImageIO.h"
 #include "runtime/output/JitCache.h"
@@ -242,6 +243,10 @@ int main(int argc, char** argv) {
                  "Also print how long the scene took to compile");
     compileCmd->footer(exitStatuses("the scene has errors"));
 
+    CLI::App* lspCmd = app.add_subcommand(
+        "lsp", "Serve the Language Server Protocol on standard input and output (docs/editors.md)");
+    lspCmd->footer("Started by an editor, not by hand. Exit status: 0 after shutdown, else 1.");
+
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {
@@ -259,6 +264,7 @@ int main(int argc, char** argv) {
         if (*checkCmd) return cli::check(checkArgs);
         if (*compileCmd) return cli::compile(compileArgs);
         if (*devicesCmd) return cli::devices(devicesVerbosity);
+        if (*lspCmd) return lsp::runServer(0, 1);
         fmt::print("{}", app.help());
         return 0;
     } catch (const std::bad_alloc&) {

@@ -88,23 +88,19 @@ std::optional<Frame> FrameReader::next() {
 }
 
 void FrameReader::resync() {
-    // The next header starts a line with Content-Length (or Content-Type) after this point.
-    for (size_t i = 1; i < buffer_.size(); ++i) {
-        if (buffer_[i - 1] != '\n') continue;
-        std::string_view rest(buffer_.data() + i, buffer_.size() - i);
-        if (startsWithNoCase(rest, kLengthField) || startsWithNoCase(rest, "Content-Type:")) {
+    // The next header is the next Content-Length after this point (a body whose length the
+    // bad header did not say is skipped with it).
+    for (size_t i = 1; i + kLengthField.size() <= buffer_.size(); ++i)
+        if (startsWithNoCase(std::string_view(buffer_).substr(i), kLengthField)) {
             buffer_.erase(0, i);
             return;
         }
-    }
-    // Keep the last line when it may be a header cut short by the read.
-    size_t nl = buffer_.rfind('\n');
-    std::string_view tail =
-        nl == std::string::npos ? std::string_view() : std::string_view(buffer_).substr(nl + 1);
-    if (tail.size() < kLengthField.size() && startsWithNoCase(kLengthField, tail))
-        buffer_.erase(0, nl + 1);
-    else
-        buffer_.clear();
+    // Keep a tail that may be a Content-Length cut short by the read.
+    size_t keep = 0;
+    for (size_t k = std::min(buffer_.size(), kLengthField.size() - 1); k > 0 && keep == 0; --k)
+        if (startsWithNoCase(kLengthField, std::string_view(buffer_).substr(buffer_.size() - k)))
+            keep = k;
+    buffer_.erase(0, buffer_.size() - keep);
 }
 
 std::string frameMessage(std::string_view body) {

@@ -24,6 +24,7 @@ packages=(
   xvfb xauth xdotool             # the viewer's tests: a virtual X server, and input for it
   clang-16 libclang-rt-16-dev    # the libFuzzer build of fuzz/ (libFuzzer, ASan, UBSan runtimes)
   clang-format-16                # CI's format check (scripts/check-format.sh): the toolchain's version
+  nodejs npm                     # moire lsp's scripted session test (tests/lsp: node --test, npm ci)
 )
 
 if [[ "${1:-}" == "--list" ]]; then
@@ -34,7 +35,10 @@ fi
 missing=()
 for p in "${packages[@]}"; do
   status=$(dpkg-query -W -f='${db:Status-Status}' "$p" 2>/dev/null || true)
-  [[ "$status" == "installed" ]] || missing+=("$p")
+  # A package another installed one provides counts (NodeSource's nodejs provides npm).
+  [[ "$status" == "installed" ]] ||
+    dpkg-query -W -f='${db:Status-Status} ${Provides}\n' 2>/dev/null |
+    grep -qE "^installed .*(^|[ ,])$p([ ,(]|$)" || missing+=("$p")
 done
 
 if [[ ${#missing[@]} -eq 0 ]]; then

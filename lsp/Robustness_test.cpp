@@ -3,9 +3,7 @@
 // short and with bytes spliced in, goes through every document feature at places all over it,
 // and so do documents of random bytes. Every request gets an answer, never an internal error.
 #include "lsp/SessionHelper_test.h"
-#include "tests/support/Support.h"
 
-#include <filesystem>
 #include <random>
 
 using namespace moire;
@@ -14,15 +12,11 @@ using namespace moire::lsp::test;
 
 namespace {
 
+// The stdlib folder holds scenes/ too; the regressions are .moire files as well.
 std::vector<std::string> corpus() {
     std::vector<std::string> out;
-    for (const char* dir : {"examples", "stdlib", "stdlib/scenes", "tests/errors"})
-        for (const auto& e : std::filesystem::directory_iterator(moire::test::sourcePath(dir)))
-            if (e.path().extension() == ".moire") out.push_back(moire::test::readFile(e.path()));
-    for (const auto& e :
-         std::filesystem::recursive_directory_iterator(moire::test::sourcePath("fuzz/regressions")))
-        if (e.is_regular_file() && e.path().extension() != ".md")
-            out.push_back(moire::test::readFile(e.path()));
+    for (const char* dir : {"examples", "stdlib", "tests/errors", "fuzz/regressions"})
+        for (const std::string& path : sceneFiles(dir)) out.push_back(moire::test::readFile(path));
     return out;
 }
 

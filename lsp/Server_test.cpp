@@ -2,24 +2,12 @@
 // real binary is the oracle, over every case of tests/errors/), debounced after changes,
 // initialize and shutdown as LSP orders them, and malformed frames answered.
 #include "lsp/SessionHelper_test.h"
-#include "tests/support/Support.h"
-
-#include <filesystem>
 
 using namespace moire;
 using namespace moire::lsp;
 using namespace moire::lsp::test;
 
 namespace {
-
-std::vector<std::string> errorCases() {
-    std::vector<std::string> out;
-    for (const auto& e :
-         std::filesystem::directory_iterator(moire::test::sourcePath("tests/errors")))
-        if (e.path().extension() == ".moire") out.push_back(e.path().string());
-    std::sort(out.begin(), out.end());
-    return out;
-}
 
 bool validUtf8(const std::string& text) {
     uint32_t cp = 0;
@@ -31,7 +19,7 @@ bool validUtf8(const std::string& text) {
 } // namespace
 
 TEST_CASE("lsp server: diagnostics are moire check's, message for message and range for range") {
-    std::vector<std::string> cases = errorCases();
+    std::vector<std::string> cases = sceneFiles("tests/errors");
     REQUIRE(cases.size() > 50);
     std::string command = moire::test::moireBinary() + " check --format=json";
     for (const std::string& c : cases) command += " '" + c + "'";

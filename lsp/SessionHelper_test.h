@@ -2,8 +2,11 @@
 #pragma once
 
 #include "lsp/Server.h"
+#include "tests/support/Support.h"
 
+#include <algorithm>
 #include <doctest/doctest.h>
+#include <filesystem>
 #include <string>
 #include <vector>
 
@@ -28,6 +31,16 @@ inline Json request(Server& s, int id, const std::string& method, Json params) {
 inline std::vector<Json> notify(Server& s, const std::string& method, Json params,
                                 Clock::time_point now = Clock::now()) {
     return send(s, {{"jsonrpc", "2.0"}, {"method", method}, {"params", params}}, now);
+}
+
+// The .moire files of a folder of the source tree (recursively), sorted.
+inline std::vector<std::string> sceneFiles(const std::string& dir) {
+    std::vector<std::string> out;
+    for (const auto& e :
+         std::filesystem::recursive_directory_iterator(moire::test::sourcePath(dir)))
+        if (e.is_regular_file() && e.path().extension() == ".moire") out.push_back(e.path());
+    std::sort(out.begin(), out.end());
+    return out;
 }
 
 inline const std::string kUri = "file:///scenes/test.moire";

@@ -95,7 +95,6 @@ test('a session: diagnostics as moire check prints them, then hover, completion,
   t.after(() => s.proc.kill());
   const init = await initialize(s.conn);
   assert.equal(init.capabilities.hoverProvider, true);
-  assert.equal(init.capabilities.documentFormattingProvider, undefined); // not wired yet
 
   await s.conn.sendNotification(lsp.DidOpenTextDocumentNotification.type,
     { textDocument: { uri, languageId: 'moire', version: 1, text } });
@@ -141,6 +140,19 @@ test('a session: diagnostics as moire check prints them, then hover, completion,
   const lib = await s.conn.sendRequest('workspace/textDocumentContent', { uri: def.uri });
   const line = lib.text.split('\n')[def.range.start.line];
   assert.equal(line.slice(def.range.start.character, def.range.end.character), 'circles');
+
+  // Formatting, where the server offers it: the edits leave a scene without diagnostics.
+  if (init.capabilities.documentFormattingProvider) {
+    const edits = await s.conn.sendRequest(lsp.DocumentFormattingRequest.type,
+      { textDocument: { uri }, options: { tabSize: 4, insertSpaces: true } });
+    assert.ok(Array.isArray(edits));
+    // The edits all refer to the text before them: applied one by one, last first.
+    const last = [...edits].sort((a, b) => b.range.start.line - a.range.start.line ||
+                                           b.range.start.character - a.range.start.character);
+    await s.conn.sendNotification(lsp.DidChangeTextDocumentNotification.type,
+      { textDocument: { uri, version: 3 }, contentChanges: last.map((e) => ({ range: e.range, text: e.newText })) });
+    assert.equal((await s.diagnostics(uri, 3)).length, 0);
+  }
 
   await shutDown(s);
 });

@@ -13,12 +13,6 @@ namespace moire {
 
 namespace {
 
-std::vector<std::string> propertyNames(const std::vector<sema::PropertySpec>& table) {
-    std::vector<std::string> names;
-    for (const sema::PropertySpec& p : table) names.push_back(p.name);
-    return names;
-}
-
 void addOnce(std::vector<std::string>& to, const std::vector<std::string>& names) {
     for (const std::string& n : names)
         if (std::find(to.begin(), to.end(), n) == to.end()) to.push_back(n);
@@ -31,9 +25,9 @@ LanguageNames languageNames() {
     out.keywords = declarationKeywords();
     out.keywords.push_back(kLetKeyword);
 
-    out.blocks = {{"scene", propertyNames(sema::sceneProperties())},
-                  {"camera", propertyNames(sema::cameraProperties())},
-                  {"layer", propertyNames(sema::layerProperties())},
+    out.blocks = {{"scene", sema::propertyNames(sema::sceneProperties())},
+                  {"camera", sema::propertyNames(sema::cameraProperties())},
+                  {"layer", sema::propertyNames(sema::layerProperties())},
                   {"family", sema::familyBodyPropertyNames()},
                   {"timing", sema::timingPropertyNames()}};
     for (const BlockNames& b : out.blocks) addOnce(out.properties, b.properties);

@@ -24,7 +24,7 @@ packages=(
   xvfb xauth xdotool             # the viewer's tests: a virtual X server, and input for it
   clang-16 libclang-rt-16-dev    # the libFuzzer build of fuzz/ (libFuzzer, ASan, UBSan runtimes)
   clang-format-16                # CI's format check (scripts/check-format.sh): the toolchain's version
-  nodejs npm                     # the editor packages: the VS Code extension's build and tests (npm ci, tsc, vsce)
+  nodejs npm                     # the editor packages (npm ci, tsc, vsce) and moire lsp's scripted session (node --test)
   vim                            # the editor packages' tests: the Vim package loaded in batch mode
 )
 

@@ -93,13 +93,48 @@ const std::vector<PropertySpec>& layerProperties() {
     return props;
 }
 
+// The checks read these names (Sema.cpp: checkTiming, checkFamily); what each one may depend
+// on is checked there, so only the name, type and meaning are listed.
+const std::vector<PropertySpec>& timingProperties() {
+    static const std::vector<PropertySpec> props = {
+        {"period", Type::Num, true, true, "seconds one pass from 0 to 1 takes"},
+        {"delay", Type::Num, true, true, "seconds before the first pass starts", {0}},
+        {"mode", Type::Error, true, true,
+         "what follows a pass: once (held at 1), loop (again from 0) or pingpong (back to 0)"},
+        {"easing", Type::Error, true, true,
+         "the easing that shapes each pass, by name (default: linear)"},
+    };
+    return props;
+}
+
+const std::vector<PropertySpec>& familyProperties() {
+    static const std::vector<PropertySpec> props = {
+        {"phase", Type::Num, false, false,
+         "the phase, in world units: the members are its level sets n * spacing + offset"},
+        {"first", Type::Num, true, true, "the lowest member index drawn (a whole number)"},
+        {"facets", Type::Num, true, true,
+         "the phase is a regular polygon's support function with this many flat sides (0: a "
+         "circle), so the members can walk"},
+        {"distance", Type::Num, false, false,
+         "the distance to the nearest member, for a family that is not one phase"},
+        {"index", Type::Num, false, false, "with distance: the index of the nearest member"},
+    };
+    return props;
+}
+
+std::vector<std::string> propertyNames(const std::vector<PropertySpec>& table) {
+    std::vector<std::string> names;
+    for (const PropertySpec& s : table) names.push_back(s.name);
+    return names;
+}
+
 const std::vector<std::string>& timingPropertyNames() {
-    static const std::vector<std::string> names = {"period", "delay", "mode", "easing"};
+    static const std::vector<std::string> names = propertyNames(timingProperties());
     return names;
 }
 
 const std::vector<std::string>& familyBodyPropertyNames() {
-    static const std::vector<std::string> names = {"phase", "first", "facets", "distance", "index"};
+    static const std::vector<std::string> names = propertyNames(familyProperties());
     return names;
 }
 

@@ -29,10 +29,16 @@ struct PropertySpec {
 const std::vector<PropertySpec>& sceneProperties();
 const std::vector<PropertySpec>& cameraProperties();
 const std::vector<PropertySpec>& layerProperties(); // `family` is listed with type Error
+// A timing's properties; `mode` and `easing` are names, listed with type Error.
+const std::vector<PropertySpec>& timingProperties();
+// The properties of a family's body (its parameters and lets are the family's own).
+const std::vector<PropertySpec>& familyProperties();
+// The names of a table's properties, in order (for "did you mean" and an editor's lists).
+std::vector<std::string> propertyNames(const std::vector<PropertySpec>& table);
 
-// The properties of a timing and of a family's body, and a timing's modes. Sema.cpp checks each
-// by hand (their values are not expressions of one type); listed here for its suggestions and
-// for the tools that name them (`moire names`, the editor packages).
+// The names of a timing's and a family body's properties (those tables' names), and a timing's
+// modes: for Sema.cpp's suggestions and the tools that name them (`moire names`, the editor
+// packages).
 const std::vector<std::string>& timingPropertyNames();     // period, delay, mode, easing
 const std::vector<std::string>& familyBodyPropertyNames(); // phase, first, facets, distance, index
 const std::vector<std::string>& timingModeNames();         // once, loop, pingpong

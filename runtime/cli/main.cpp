@@ -3,6 +3,7 @@
 // so that they read and behave the same in every command that takes them.
 #include "compiler/diag/Diagnostics.h"
 #include "compiler/sema/Views.h"
+#include "lsp/Server.h"
 #include "runtime/cli/Commands.h"
 #include "runtime/output/ImageIO.h"
 #include "runtime/output/JitCache.h"
@@ -261,6 +262,9 @@ int main(int argc, char** argv) {
     addVerbosity(namesCmd, namesArgs.verbosity, "Print the names and nothing else",
                  "Also say how many names of each kind there are");
     namesCmd->footer("Exit status: 0 done; 2 a wrong command line.");
+    CLI::App* lspCmd = app.add_subcommand(
+        "lsp", "Serve the Language Server Protocol on standard input and output (docs/editors.md)");
+    lspCmd->footer("Started by an editor, not by hand. Exit status: 0 after shutdown, else 1.");
 
     try {
         app.parse(argc, argv);
@@ -281,6 +285,7 @@ int main(int argc, char** argv) {
         if (*devicesCmd) return cli::devices(devicesVerbosity);
         if (*fmtCmd) return cli::formatFiles(fmtArgs);
         if (*namesCmd) return cli::names(namesArgs);
+        if (*lspCmd) return lsp::runServer(0, 1);
         fmt::print("{}", app.help());
         return 0;
     } catch (const std::bad_alloc&) {

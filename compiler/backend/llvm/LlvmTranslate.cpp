@@ -287,7 +287,7 @@ std::vector<OwnedModule> translate(const ir::Function& kernel, const std::string
     };
     TranslatorShape shape{.lanes = std::max(1u, options.lanes), .vectorMaths = options.vectorMaths};
     // Arms as functions: with lanes only (a call in a scalar pixel loop would keep LLVM's
-    // vectoriser from it), and each in a module of its own.
+    // vectoriser from it), packed into modules of their own (Translator.h: Outliner).
     const bool outline = shape.lanes > 1 && options.outlineInsts > 0 && options.separateModules;
     Outliner outliner{.prefix = name,
                       .minInsts = options.outlineInsts,

@@ -54,7 +54,7 @@ struct TranslateOptions {
 bool callsLibm(ir::Op op);
 
 // The module of tile function NAME; for a chunked kernel, the driver's module first, then one
-// per chunk where options.separateModules; then one per outlined arm.
+// per chunk where options.separateModules; then the outlined arms' modules.
 std::vector<OwnedModule> translate(const ir::Function& kernel, const std::string& name,
                                    const TranslateOptions& options);
 

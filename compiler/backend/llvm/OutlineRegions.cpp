@@ -27,19 +27,30 @@ bool outlinable(const ir::Function& f, ir::BlockId region) {
     return true;
 }
 
+namespace {
+
+// outlinedArm, given the arm's ownSize. An arm that is mostly arms compiled apart (a dispatch
+// between solver paths) stays in place: as a function it would cost a call and a module's
+// share for a few instructions.
+bool outlinedArm(const ir::Function& f, ir::BlockId region, size_t minInsts, size_t own) {
+    return minInsts > 0 && own >= minInsts / 4 && regionSize(f, region) >= minInsts &&
+           outlinable(f, region);
+}
+
+} // namespace
+
 bool outlinedArm(const ir::Function& f, ir::BlockId region, size_t minInsts) {
-    // An arm that is mostly arms compiled apart (a dispatch between solver paths) stays in
-    // place: as a function it would cost a call and a module's share for a few instructions.
-    return minInsts > 0 && regionSize(f, region) >= minInsts &&
-           ownSize(f, region, minInsts) >= minInsts / 4 && outlinable(f, region);
+    return minInsts > 0 && outlinedArm(f, region, minInsts, ownSize(f, region, minInsts));
 }
 
 size_t ownSize(const ir::Function& f, ir::BlockId region, size_t minInsts) {
     size_t n = 0;
     for (const ir::Inst& inst : f.blocks[region].insts) {
         ++n;
-        for (ir::BlockId r : inst.regions)
-            if (inst.op != Op::If || !outlinedArm(f, r, minInsts)) n += ownSize(f, r, minInsts);
+        for (ir::BlockId r : inst.regions) {
+            const size_t own = ownSize(f, r, minInsts);
+            if (inst.op != Op::If || !outlinedArm(f, r, minInsts, own)) n += own;
+        }
     }
     return n;
 }

@@ -8,7 +8,7 @@
 // differ only in which uniforms they read. So, with lanes, a large arm of an `if` is compiled
 // as a function of its own, called where the arm would have run: arms of the same structure
 // (the same ops in the same order, reading their inputs in the same pattern) share one
-// function, and the functions are compiled in parallel, each in a module of its own.
+// function, and the functions, packed into a few modules, compile in parallel with the rest.
 //
 // An outlined arm reads every value it does not define as an argument. The leaves it reads
 // whose value depends on where it is called (a uniform's slot, the pixel, the image size) are

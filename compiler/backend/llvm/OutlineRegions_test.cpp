@@ -50,10 +50,8 @@ TwoLayers twoLayers(int slot0, int slot1, double step0, double step1) {
         std::vector<ir::ValueId> r = b.ifThenElse(
             c, [&] { return std::vector{shared}; },
             [&] { return layerArm(b, slots[k], outside, shared, steps[k]); });
+        t.arm[k] = t.f.blocks[0].insts.back().regions[1]; // the if just built
         b.output(k, r[0]);
-        t.arm[k] = t.f.blocks[0].insts.back().op == ir::Op::Output
-                       ? t.f.blocks[0].insts[t.f.blocks[0].insts.size() - 2].regions[1]
-                       : 0;
     }
     return t;
 }

@@ -26,6 +26,9 @@ packages=(
   clang-format-16                # CI's format check (scripts/check-format.sh): the toolchain's version
   nodejs npm                     # the editor packages (npm ci, tsc, vsce) and moire lsp's scripted session (node --test)
   vim                            # the editor packages' tests: the Vim package loaded in batch mode
+  libimgui-dev                   # the viewer's parameter panel (Dear ImGui over GLFW and OpenGL 2)
+  libcpp-httplib-dev             # moire serve: the preview page's HTTP server
+  chromium                       # the browser tests of moire serve's and moire export's pages
 )
 
 if [[ "${1:-}" == "--list" ]]; then

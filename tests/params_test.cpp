@@ -256,6 +256,12 @@ TEST_CASE("params: moire render -D equals the scene edited, for every type") {
     auto both = test::runCommand("cd '" + dir.path() + "' && '" + test::moireBinary() +
                                  "' render -q both.moire -o both.png");
     REQUIRE(both.status == 0);
+    // watch --once builds with the same values.
+    auto watch = test::runCommand("cd '" + dir.path() + "' && '" + test::moireBinary() +
+                                  "' watch --once -q s.moire -o w.png -D gap=9.5 -D bold=true");
+    REQUIRE_MESSAGE(watch.status == 0, watch.err);
+    CHECK(test::compareImages(readImage(dir.file("w.png")), readImage(dir.file("both.png")), 0.0)
+              .maxAbs == 0.0);
     CHECK(test::compareImages(readImage(dir.file("f_00.png")), readImage(dir.file("both.png")),
                               0.0)
               .maxAbs == 0.0);

@@ -2,11 +2,10 @@
 
 #include "compiler/sema/ConstantValue.h"
 
-#include <fmt/format.h>
-
 #include <algorithm>
 #include <charconv>
 #include <cmath>
+#include <fmt/format.h>
 #include <numbers>
 
 namespace moire {
@@ -110,8 +109,7 @@ std::string formatParameterValue(const Parameter& p, std::span<const double> val
         auto byte = [](double v) {
             return static_cast<int>(std::lround(std::clamp(v, 0.0, 1.0) * 255.0));
         };
-        std::string hex =
-            fmt::format("#{:02x}{:02x}{:02x}", byte(at(0)), byte(at(1)), byte(at(2)));
+        std::string hex = fmt::format("#{:02x}{:02x}{:02x}", byte(at(0)), byte(at(1)), byte(at(2)));
         if (byte(at(3)) != 255) hex += fmt::format("{:02x}", byte(at(3)));
         return hex;
     }

@@ -211,8 +211,9 @@ int main(int argc, char** argv) {
         "stroke selects its layer. Keys: 1-9 select a layer, 0 or Esc none; space pauses and\n"
         "plays; . and , step a frame; the arrows move the clock 1 s (shift: 0.1 s); r resets\n"
         "the view; s saves a still beside the scene; p prints the placement; w writes it\n"
-        "into the scene file; e shows the envelope (again: the pattern); h hides the status\n"
-        "line; q quits. Saves reload; a save with\n"
+        "into the scene file; Tab shows the parameter panel (a slider per param, the clock)\n"
+        "and W writes its values into the scene file; e shows the envelope (again: the\n"
+        "pattern); h hides the status line; q quits. Saves reload; a save with\n"
         "errors keeps the last good picture under the diagnostics.");
 
     cli::CheckArgs checkArgs;

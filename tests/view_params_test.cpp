@@ -75,7 +75,7 @@ bool stderrSays(Viewer& viewer, const std::string& what) {
 
 } // namespace
 
-TEST_CASE("view params: sliders change the picture as render -D does; W writes the file") {
+TEST_CASE("view params: sliders change the picture as render -D does, and W writes the file") {
     SKIP_WITHOUT_X();
     Session session;
     if (!session.start(kScene, true, kWidth, kHeight)) return;

@@ -288,7 +288,7 @@ void Parser::parseParam(Decl& d) {
         advance();
         d.unitRange = range();
         if (!at(Tok::Ident)) {
-            diags_.error(range(), Msg::Expected, "a unit's name after 'unit' (px, mm, s, %...)",
+            diags_.error(range(), Msg::Expected, "a unit's name after 'unit' (a word: px, mm, s...)",
                          describeCurrent());
             recoverTo(false);
             return;

@@ -5,6 +5,7 @@
 #include "compiler/sema/Views.h"
 #include "lsp/Server.h"
 #include "runtime/cli/Commands.h"
+#include "runtime/cli/ExportCommand.h"
 #include "runtime/output/ImageIO.h"
 #include "runtime/output/JitCache.h"
 
@@ -262,6 +263,8 @@ int main(int argc, char** argv) {
     addVerbosity(namesCmd, namesArgs.verbosity, "Print the names and nothing else",
                  "Also say how many names of each kind there are");
     namesCmd->footer("Exit status: 0 done; 2 a wrong command line.");
+    cli::ExportArgs exportArgs;
+    CLI::App* exportCmd = cli::addExportCommand(app, exportArgs);
     CLI::App* lspCmd = app.add_subcommand(
         "lsp", "Serve the Language Server Protocol on standard input and output (docs/editors.md)");
     lspCmd->footer("Started by an editor, not by hand. Exit status: 0 after shutdown, else 1.");
@@ -285,6 +288,7 @@ int main(int argc, char** argv) {
         if (*devicesCmd) return cli::devices(devicesVerbosity);
         if (*fmtCmd) return cli::formatFiles(fmtArgs);
         if (*namesCmd) return cli::names(namesArgs);
+        if (*exportCmd) return cli::exportPiece(exportArgs);
         if (*lspCmd) return lsp::runServer(0, 1);
         fmt::print("{}", app.help());
         return 0;

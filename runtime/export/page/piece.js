@@ -1,0 +1,259 @@
+// The page of a moire piece (`moire export`). Each frame, the scene's frame program (compiled
+// to JavaScript) turns the literal table and the clock into the kernel's uniforms; the kernel
+// (compiled to a GLSL ES 3.00 fragment shader) draws every pixel of the canvas from them. A
+// slider writes a parameter's value into the literal table, so moving it never recompiles.
+"use strict";
+(() => {
+  const data = JSON.parse(document.getElementById("moire-data").textContent);
+  const frameProgram = window.moireFrameProgram;
+  const canvas = document.getElementById("picture");
+  const problem = document.getElementById("problem");
+  const controls = document.getElementById("controls");
+
+  const api = { ready: false, problem: "" };
+  window.moirePiece = api;
+
+  function say(text) {
+    api.problem = text;
+    problem.textContent = text;
+    problem.hidden = text === "";
+  }
+
+  // --- WebGL2: one triangle over the whole canvas, the kernel as its fragment shader ---
+  // premultipliedAlpha: false, since the kernel's colour is straight RGBA; the drawing
+  // buffer is kept so that the picture can be read back (and saved) between frames.
+  const gl = canvas.getContext("webgl2", {
+    alpha: true, antialias: false, depth: false, premultipliedAlpha: false,
+    preserveDrawingBuffer: true,
+  });
+  if (!gl) {
+    say("This piece needs WebGL2, which this browser does not offer (or has turned off).");
+    return;
+  }
+  const vertexSource = `#version 300 es
+void main() {
+  vec2 p = vec2(float((gl_VertexID << 1) & 2), float(gl_VertexID & 2));
+  gl_Position = vec4(p * 2.0 - 1.0, 0.0, 1.0);
+}`;
+  function shader(type, source) {
+    const s = gl.createShader(type);
+    gl.shaderSource(s, source);
+    gl.compileShader(s);
+    if (!gl.getShaderParameter(s, gl.COMPILE_STATUS))
+      throw new Error("the browser could not compile the shader: " + gl.getShaderInfoLog(s));
+    return s;
+  }
+  let program;
+  try {
+    program = gl.createProgram();
+    gl.attachShader(program, shader(gl.VERTEX_SHADER, vertexSource));
+    gl.attachShader(program, shader(gl.FRAGMENT_SHADER, data.shader));
+    gl.linkProgram(program);
+    if (!gl.getProgramParameter(program, gl.LINK_STATUS))
+      throw new Error("the browser could not link the shader: " + gl.getProgramInfoLog(program));
+  } catch (e) {
+    say(String(e.message));
+    return;
+  }
+  const uniformsAt = gl.getUniformLocation(program, "m_u");
+  const imageAt = gl.getUniformLocation(program, "m_image");
+  gl.bindVertexArray(gl.createVertexArray());
+
+  // --- The frame: literals and clock -> uniforms, then the picture ---
+  const literals = Float64Array.from(data.literals, (v) => (v === null ? NaN : v));
+  const outputs = new Float64Array(data.frameOutputs);
+  const uniforms = new Float32Array(4 * data.uniformVectors);
+
+  // What the frame's values must be for the picture to be drawn (as `moire render` checks
+  // them); the first that is not, in words, or "".
+  const rules = {
+    finite: (v) => Math.abs(v) <= 1e12 || "between -1e12 and 1e12",
+    positive: (v) => (v > 0 && v <= 1e12) || "more than 0 and at most 1e12",
+    spacing: (v) => (v >= 1e-6 && v <= 1e12) || "from 1e-6 to 1e12",
+    unit: (v) => (v >= 0 && v <= 1) || "from 0 to 1",
+    sides: (v) => (v >= 3 && v <= 1e12 && v === Math.floor(v)) || "a whole number, 3 or more",
+    period: (v) => (Number.isFinite(v) && v > 0) || "more than 0",
+    delay: (v) => (Number.isFinite(v) && v >= 0) || "0 or more",
+    zoom: (v) => (v >= 1e-6 && v <= 1e6) || "from 1e-6 to 1e6",
+  };
+  function frameProblem() {
+    for (const c of data.checks) {
+      const v = outputs[c.output];
+      const ok = rules[c.rule](v);
+      if (ok !== true) return `${c.what} must be ${ok}, not ${+v.toPrecision(6)}`;
+    }
+    return "";
+  }
+
+  let time = data.time;
+  function draw() {
+    frameProgram(literals, time, outputs);
+    const wrong = frameProblem();
+    say(wrong === "" ? "" : "The picture cannot be drawn: " + wrong + ".");
+    if (wrong !== "") return false;
+    for (let i = 0; i < data.numUniforms; ++i) uniforms[i] = outputs[i];
+    gl.viewport(0, 0, canvas.width, canvas.height);
+    gl.useProgram(program);
+    gl.uniform4fv(uniformsAt, uniforms);
+    gl.uniform2f(imageAt, canvas.width, canvas.height);
+    gl.drawArrays(gl.TRIANGLES, 0, 3);
+    return true;
+  }
+
+  // --- The clock: play, pause, scrub ---
+  // A looping scene's clock wraps at its loop (the least common multiple of its timings'
+  // cycles, as `moire clip` finds it); one that only reads t runs on.
+  const span = data.loop > 0 ? data.loop : 60;
+  let playing = data.playing && data.moves;
+  let startClock = 0, startTime = time; // performance.now() and time when play began
+  const row = (labelText, input, output) => {
+    const label = document.createElement("label");
+    label.textContent = labelText;
+    if (input.id) label.htmlFor = input.id;
+    controls.append(label, input);
+    if (output) controls.append(output);
+    else input.classList.add("wide");
+  };
+  const slider = (id, min, max, step, value) => {
+    const s = document.createElement("input");
+    Object.assign(s, { type: "range", id, min, max, step, value });
+    return s;
+  };
+  const readout = () => document.createElement("output");
+
+  const playButton = document.createElement("button");
+  playButton.id = "play";
+  const timeSlider = slider("time", 0, span, "any", time);
+  const timeText = readout();
+  const showTime = () => {
+    timeSlider.value = String(time);
+    timeText.textContent = time.toFixed(2) + " s";
+    playButton.textContent = playing ? "Pause" : "Play";
+  };
+  if (data.moves) {
+    row("", playButton);
+    row("t", timeSlider, timeText);
+    playButton.addEventListener("click", () => (playing ? api.pause() : api.play()));
+    timeSlider.addEventListener("input", () => {
+      api.setTime(Number(timeSlider.value));
+    });
+  }
+
+  function tick(now) {
+    if (!playing) return;
+    if (startClock === 0) startClock = now;
+    let t = startTime + (now - startClock) / 1000;
+    if (data.loop > 0) t %= data.loop;
+    time = t;
+    draw();
+    showTime();
+    requestAnimationFrame(tick);
+  }
+
+  // --- Parameters: a slider (or picker, or box) each, writing the literal table ---
+  const parameterInputs = new Map(); // name -> { p, set(values) }
+  for (const p of data.parameters || []) addParameter(p);
+
+  function setParameterValue(p, values) {
+    for (let i = 0; i < p.components; ++i) literals[p.valueSlot + i] = values[i];
+    literals[p.setSlot] = 1;
+  }
+
+  function addParameter(p) {
+    const id = "param-" + p.name;
+    const values = p.value.slice();
+    const apply = () => {
+      setParameterValue(p, values);
+      if (!playing) draw();
+    };
+    if (p.type === "bool") {
+      const box = document.createElement("input");
+      Object.assign(box, { type: "checkbox", id, checked: values[0] !== 0 });
+      box.addEventListener("input", () => {
+        values[0] = box.checked ? 1 : 0;
+        apply();
+      });
+      row(p.name, box);
+      parameterInputs.set(p.name, { p, values, apply, inputs: [box] });
+      return;
+    }
+    if (p.type === "color") {
+      const pick = document.createElement("input");
+      const hex = (v) => Math.round(Math.min(Math.max(v, 0), 1) * 255).toString(16).padStart(2, "0");
+      Object.assign(pick, { type: "color", id, value: "#" + values.slice(0, 3).map(hex).join("") });
+      pick.addEventListener("input", () => {
+        for (let i = 0; i < 3; ++i) values[i] = parseInt(pick.value.substr(1 + 2 * i, 2), 16) / 255;
+        apply();
+      });
+      row(p.name, pick);
+      parameterInputs.set(p.name, { p, values, apply, inputs: [pick] });
+      return;
+    }
+    // Numbers, angles (shown in degrees when written so) and each component of a vector.
+    const degrees = p.unit === "deg";
+    const scale = degrees ? 180 / Math.PI : 1;
+    const inputs = [];
+    for (let i = 0; i < p.components; ++i) {
+      const lo = p.min ?? Math.min(0, values[i]), hi = p.max ?? Math.max(1, 2 * Math.abs(values[i]));
+      const s = slider(p.components > 1 ? `${id}-${i}` : id, lo * scale, hi * scale,
+                       p.step ? p.step * scale : "any", values[i] * scale);
+      const out = readout();
+      const show = () => (out.textContent = +(values[i] * scale).toPrecision(6) + (degrees ? "°" : ""));
+      show();
+      s.addEventListener("input", () => {
+        values[i] = Number(s.value) / scale;
+        show();
+        apply();
+      });
+      row(p.components > 1 ? `${p.name}.${"xy"[i]}` : p.name, s, out);
+      inputs.push(s);
+    }
+    parameterInputs.set(p.name, { p, values, apply, inputs });
+  }
+
+  // --- What tests and a host page may call ---
+  Object.assign(api, {
+    draw,
+    play() {
+      if (!data.moves) return;
+      playing = true;
+      startClock = 0;
+      startTime = time;
+      showTime();
+      requestAnimationFrame(tick);
+    },
+    pause() {
+      playing = false;
+      showTime();
+    },
+    setTime(t) {
+      time = t;
+      startClock = 0;
+      startTime = t;
+      showTime();
+      if (!playing) draw();
+    },
+    // Sets a parameter as its slider does; `values` has one number per component.
+    setParameter(name, values) {
+      const entry = parameterInputs.get(name);
+      if (!entry) throw new Error(`no parameter '${name}'`);
+      values.forEach((v, i) => (entry.values[i] = v));
+      entry.apply();
+    },
+    // The picture's RGBA bytes, rows from the top.
+    pixels() {
+      const w = canvas.width, h = canvas.height, bytes = new Uint8Array(w * h * 4);
+      gl.readPixels(0, 0, w, h, gl.RGBA, gl.UNSIGNED_BYTE, bytes);
+      const rows = new Uint8Array(w * h * 4);
+      for (let y = 0; y < h; ++y) rows.set(bytes.subarray((h - 1 - y) * w * 4, (h - y) * w * 4), y * w * 4);
+      return rows;
+    },
+    get time() { return time; },
+    get playing() { return playing; },
+  });
+
+  showTime();
+  draw();
+  api.ready = true;
+  if (playing) api.play();
+})();

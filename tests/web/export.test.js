@@ -1,0 +1,119 @@
+// `moire export`: the page it writes, opened in headless Chromium (software WebGL2 through
+// SwiftShader), draws the same picture as `moire render` of the same scene, size and time,
+// within 2/255 per channel, and a slider changes it as `moire render -D` does.
+"use strict";
+const { test, before, after } = require("node:test");
+const assert = require("node:assert");
+const { execFileSync } = require("node:child_process");
+const fs = require("node:fs");
+const os = require("node:os");
+const path = require("node:path");
+const puppeteer = require("puppeteer-core");
+const { decodePng } = require("./png-decode.js");
+
+const moire = process.env.MOIRE_BINARY;
+const source = process.env.MOIRE_SOURCE_DIR;
+let browser, dir;
+
+before(async () => {
+  dir = fs.mkdtempSync(path.join(os.tmpdir(), "moire-export-"));
+  browser = await puppeteer.launch({
+    executablePath: process.env.MOIRE_CHROMIUM,
+    headless: true,
+    // WebGL2 without a GPU: ANGLE over SwiftShader, which Chromium keeps behind this flag.
+    args: ["--no-sandbox", "--use-angle=swiftshader", "--enable-unsafe-swiftshader",
+           "--ignore-gpu-blocklist", "--disable-dev-shm-usage"],
+  });
+});
+
+after(async () => {
+  if (browser) await browser.close();
+  if (dir) fs.rmSync(dir, { recursive: true, force: true });
+});
+
+function run(args) {
+  return execFileSync(moire, args, { cwd: source, stdio: ["ignore", "pipe", "pipe"] });
+}
+
+// The page's picture after `prepare` (run in the page) and a draw, as RGBA rows from the top.
+async function pagePixels(file, prepare = () => {}) {
+  const page = await browser.newPage();
+  const errors = [];
+  page.on("pageerror", (e) => errors.push(String(e)));
+  await page.goto("file://" + file);
+  await page.waitForFunction(() => window.moirePiece && (window.moirePiece.ready || window.moirePiece.problem));
+  const problem = await page.evaluate(() => window.moirePiece.problem);
+  assert.strictEqual(problem, "", "the page says: " + problem);
+  await page.evaluate(prepare);
+  const pixels = await page.evaluate(() => {
+    window.moirePiece.draw();
+    return Array.from(window.moirePiece.pixels());
+  });
+  await page.close();
+  assert.deepStrictEqual(errors, []);
+  return Uint8Array.from(pixels);
+}
+
+// How the page's picture differs from the PNG: the largest difference, and the share of
+// samples within 2/255.
+function compare(got, png) {
+  assert.strictEqual(got.length, png.rgba.length);
+  let worst = 0, over = 0;
+  for (let i = 0; i < got.length; ++i) {
+    const d = Math.abs(got[i] - png.rgba[i]);
+    worst = Math.max(worst, d);
+    if (d > 2) ++over;
+  }
+  return { worst, within: 1 - over / got.length };
+}
+
+// One scene: exported and rendered at the same size and time; every sample within 2/255.
+async function matches(name, { size = "240x160", time = 0, render = [], prepare } = {}) {
+  const scene = path.join("examples", name + ".moire");
+  const html = path.join(dir, `${name}-${time}.html`), png = path.join(dir, `${name}-${time}.png`);
+  run(["export", scene, "-o", html, "--size", size, "--time", String(time), "--paused", "-q"]);
+  run(["render", scene, "-o", png, "--size", size, "--time", String(time), "-q", ...render]);
+  const want = decodePng(fs.readFileSync(png));
+  const got = await pagePixels(html, prepare);
+  const d = compare(got, want);
+  assert.ok(d.worst <= 2, `${name} at t=${time}: ${(100 * (1 - d.within)).toFixed(3)}% of ` +
+            `samples differ by more than 2/255 (worst ${d.worst})`);
+  return d;
+}
+
+test("two rings: the exported page draws what moire render draws", async () => {
+  await matches("two_rings");
+});
+
+test("a walking family: the walk's loops run in the fragment shader", async () => {
+  await matches("walking_squares");
+  await matches("unwinding_walk");
+});
+
+test("an animated scene at a given time", async () => {
+  await matches("wave_over_lines", { time: 1.25 });
+  await matches("counter_spirals", { time: 3.5 });
+});
+
+test("every example scene", async () => {
+  const names = fs.readdirSync(path.join(source, "examples"))
+    .filter((f) => f.endsWith(".moire")).map((f) => f.slice(0, -6)).sort();
+  assert.ok(names.length > 10);
+  for (const name of names) await matches(name, { size: "160x120" });
+});
+
+test("the page without WebGL2 says so instead of failing", async () => {
+  const html = path.join(dir, "nogl.html");
+  run(["export", "examples/two_rings.moire", "-o", html, "-q"]);
+  const page = await browser.newPage();
+  await page.evaluateOnNewDocument(() => {
+    const original = HTMLCanvasElement.prototype.getContext;
+    HTMLCanvasElement.prototype.getContext = function (kind, ...rest) {
+      return kind === "webgl2" ? null : original.call(this, kind, ...rest);
+    };
+  });
+  await page.goto("file://" + html);
+  const problem = await page.evaluate(() => window.moirePiece.problem);
+  await page.close();
+  assert.match(problem, /needs WebGL2/);
+});

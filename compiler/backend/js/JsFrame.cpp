@@ -103,13 +103,13 @@ constexpr bool formsInOrder() {
 static_assert(formsInOrder(), "kForms follows the order of Ops.def");
 
 // Semantics.h where Math differs: C's pow gives 1 for pow(1, NaN) and pow(-1, +-inf), where
-// Math.pow gives NaN.
+// Math.pow gives NaN; an integer has no negative zero (`| 0` drops floor(-0)'s sign).
 constexpr const char* kPrelude = R"(const m_min = (a, b) => (b < a ? b : a);
 const m_max = (a, b) => (b > a ? b : a);
 const m_mulz = (a, b) => (a === 0 || b === 0 ? 0 : a * b);
 const m_sign = (a) => (a > 0 ? 1 : a < 0 ? -1 : 0);
 const m_pow = (x, y) => (x === 1 || (x === -1 && Math.abs(y) === Infinity) ? 1 : Math.pow(x, y));
-const m_ftoi = (a) => (a !== a ? 0 : Math.min(Math.max(Math.floor(a), -1073741824), 1073741824));
+const m_ftoi = (a) => (a !== a ? 0 : Math.min(Math.max(Math.floor(a), -1073741824), 1073741824) | 0);
 )";
 
 std::string floatLiteral(double v) {

@@ -90,9 +90,37 @@ test("a walking family: the walk's loops run in the fragment shader", async () =
   await matches("unwinding_walk");
 });
 
-test("an animated scene at a given time", async () => {
-  await matches("wave_over_lines", { time: 1.25 });
-  await matches("counter_spirals", { time: 3.5 });
+test("animated scenes at a given time, a walking family among them", async () => {
+  await matches("morphing_shapes", { time: 3.7 });
+  await matches("unwinding_walk", { time: 5.5 });
+  await matches("unwinding_walk", { time: 13.25 });
+});
+
+test("the clock's controls: the time slider scrubs, play runs the clock, pause stops it", async () => {
+  // Exported at t = 0, then scrubbed to 2.25 s by the slider, as a person would.
+  const scene = "examples/morphing_shapes.moire";
+  const html = path.join(dir, "clock.html"), png = path.join(dir, "clock.png");
+  run(["export", scene, "-o", html, "--size", "200x120", "--paused", "-q"]);
+  run(["render", scene, "-o", png, "--size", "200x120", "--time", "2.25", "-q"]);
+  const got = await pagePixels(html, () => {
+    const slider = document.getElementById("time");
+    slider.value = "2.25";
+    slider.dispatchEvent(new Event("input"));
+  });
+  assert.ok(compare(got, decodePng(fs.readFileSync(png))).worst <= 2);
+
+  const page = await browser.newPage();
+  await page.goto("file://" + html);
+  await page.waitForFunction(() => window.moirePiece.ready);
+  assert.strictEqual(await page.evaluate(() => window.moirePiece.playing), false);
+  await page.click("#play");
+  await page.waitForFunction(() => window.moirePiece.time > 0.2);
+  await page.click("#play");
+  const stopped = await page.evaluate(() => window.moirePiece.time);
+  await new Promise((done) => setTimeout(done, 200));
+  assert.strictEqual(await page.evaluate(() => window.moirePiece.time), stopped);
+  assert.strictEqual(await page.evaluate(() => document.getElementById("play").textContent), "Play");
+  await page.close();
 });
 
 test("every example scene", async () => {

@@ -30,6 +30,11 @@
     say("This piece needs WebGL2, which this browser does not offer (or has turned off).");
     return;
   }
+  const most = gl.getParameter(gl.MAX_FRAGMENT_UNIFORM_VECTORS);
+  if (data.uniformVectors > most) {
+    say(`This piece needs ${data.uniformVectors} uniform vectors; this browser offers ${most}.`);
+    return;
+  }
   const vertexSource = `#version 300 es
 void main() {
   vec2 p = vec2(float((gl_VertexID << 1) & 2), float(gl_VertexID & 2));
@@ -248,8 +253,11 @@ void main() {
       for (let y = 0; y < h; ++y) rows.set(bytes.subarray((h - 1 - y) * w * 4, (h - y) * w * 4), y * w * 4);
       return rows;
     },
-    get time() { return time; },
-    get playing() { return playing; },
+  });
+  // Getters, which Object.assign would read once instead of copying.
+  Object.defineProperties(api, {
+    time: { get: () => time },
+    playing: { get: () => playing },
   });
 
   showTime();

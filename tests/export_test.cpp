@@ -94,3 +94,22 @@ TEST_CASE("export -v names each stage; --help says what the page holds and the e
     CHECK(r.out.find("WebGL2") != std::string::npos);
     CHECK(r.out.find("Exit status") != std::string::npos);
 }
+
+TEST_CASE("compile --dump=glsl-es and --dump=js show the page's two translations") {
+    Workdir w;
+    w.write("s.moire", kScene);
+    test::CommandResult es = w.moire("compile s.moire --dump=glsl-es");
+    REQUIRE(es.status == 0);
+    CHECK(es.out.rfind("#version 300 es\n", 0) == 0);
+    CHECK(es.out.find("out vec4 m_color;") != std::string::npos);
+    test::CommandResult js = w.moire("compile s.moire --dump=js");
+    REQUIRE(js.status == 0);
+    CHECK(js.out.find("return (literals, time, out) =>") != std::string::npos);
+    // Both are what the page carries.
+    REQUIRE(w.moire("export s.moire -q").status == 0);
+    const std::string page = test::readFile(w.file("s.html"));
+    CHECK(page.find(js.out.substr(0, js.out.size() - 1)) != std::string::npos);
+    test::CommandResult bad = w.moire("compile s.moire --dump=webgl");
+    CHECK(bad.status == 2);
+    CHECK(bad.err.find("glsl-es, js") != std::string::npos);
+}

@@ -234,8 +234,9 @@ int main(int argc, char** argv) {
     CLI::App* compileCmd = app.add_subcommand(
         "compile", "Show a compiler stage: the AST, the IR, LLVM IR, GLSL or SPIR-V (--dump)");
     addScene(compileCmd, compileArgs.scene);
-    compileCmd->add_option("--dump", compileArgs.dump,
-                           "ast, ir, ir-ad, frame, kernel, llvm, glsl or spirv (default ir)");
+    compileCmd->add_option(
+        "--dump", compileArgs.dump,
+        "ast, ir, ir-ad, frame, kernel, llvm, glsl, glsl-es, js or spirv (default ir)");
     compileCmd->add_flag("--fields", compileArgs.layerFields,
                          "Also output each layer's index and distance");
     compileCmd->add_option("-o,--output", compileArgs.output,

@@ -7,6 +7,7 @@
 // dialects share the table, the prelude and the body; only the shader's interface (how the
 // uniforms and the pixel come in and the outputs go out) differs.
 #include "compiler/backend/glsl/GlslKernel.h"
+#include "compiler/backend/StructuredText.h"
 #include "compiler/diag/Diagnostics.h"
 #include "compiler/ir/Semantics.h"
 
@@ -96,13 +97,7 @@ constexpr Form kForms[] = {
     {Op::Output, ""},
     {Op::Tally, ""},
 };
-static_assert(sizeof(kForms) / sizeof(kForms[0]) == ir::kNumOps, "every op needs a GLSL form");
-constexpr bool formsInOrder() {
-    for (int i = 0; i < ir::kNumOps; ++i)
-        if (static_cast<int>(kForms[i].op) != i) return false;
-    return true;
-}
-static_assert(formsInOrder(), "kForms follows the order of Ops.def");
+static_assert(backend::formsFollowOps(kForms), "kForms has a GLSL form per op, in Ops.def's order");
 
 // Without this execution mode Vulkan lets the driver assume that no value is NaN or infinite
 // and ignore the sign of zero (and drivers do: without it lavapipe's atan(NaN) is 0).
@@ -258,9 +253,9 @@ std::string intLiteral(int64_t v) {
     return i == INT32_MIN ? "(-2147483647 - 1)" : fmt::format("{}", i);
 }
 
-class Emitter {
+class Emitter : backend::StructuredText {
   public:
-    Emitter(const ir::Function& f, Dialect d) : f_(f), dialect_(d) {}
+    Emitter(const ir::Function& f, Dialect d) : StructuredText(f, Syntax{}), dialect_(d) {}
 
     std::string run() { return dialect_ == Dialect::Vulkan ? vulkanCompute() : webglFragment(); }
 
@@ -340,149 +335,40 @@ class Emitter {
         return out_;
     }
 
-    std::string v(ValueId id) const { return fmt::format("v{}", id); }
-    void line(int depth, const std::string& text) {
-        out_ += std::string(4 * depth, ' ') + text + "\n";
-    }
-    void define(int depth, ValueId id, const std::string& expr) {
-        line(depth, fmt::format("{} {} = {};", typeName(f_.type(id)), v(id), expr));
-    }
-
-    std::string expression(const ir::Inst& inst) {
+    std::string floatLiteral(double v) const override { return glsl::floatLiteral(v); }
+    std::string intLiteral(int64_t v) const override { return glsl::intLiteral(v); }
+    std::string output(int64_t slot) const override { return fmt::format("r{}", slot); }
+    std::string constant(ir::Type t) const override { return typeName(t); }
+    std::string variable(ir::Type t) const override { return typeName(t); }
+    const char* form(const ir::Inst& inst) const override {
         const Form& entry = kForms[static_cast<int>(inst.op)];
-        const char* form = dialect_ == Dialect::WebGl && entry.webgl ? entry.webgl : entry.glsl;
-        // NaN tests: x != x is the IR's NaN check, and isnan says so to every driver.
-        if (inst.op == Op::Ne && inst.args[0] == inst.args[1])
-            return fmt::format("isnan({})", v(inst.args[0]));
-        if (inst.op == Op::Uniform && dialect_ == Dialect::WebGl)
-            return fmt::format("m_u[{}].{}", inst.iimm / 4, "xyzw"[inst.iimm % 4]);
-        std::string s;
-        for (const char* p = form; *p; ++p) {
-            if (*p == '$' && p[1] >= '0' && p[1] <= '2') {
-                s += v(inst.args.at(p[1] - '0'));
-                ++p;
-            } else if (*p == '$' && p[1] == 'i') {
-                s += std::to_string(inst.iimm);
-                ++p;
-            } else {
-                s += *p;
-            }
-        }
-        return s;
+        return dialect_ == Dialect::WebGl && entry.webgl ? entry.webgl : entry.glsl;
     }
 
-    // x^n by the same binary exponentiation as Semantics.h's semPowI.
-    std::string powi(const ir::Inst& inst, int depth) {
-        int64_t n = inst.iimm;
-        std::string base = n < 0 ? fmt::format("(1.0 / {})", v(inst.args[0])) : v(inst.args[0]);
-        uint64_t e = static_cast<uint64_t>(n < 0 ? -n : n);
-        if (e == 0) return "1.0";
-        std::string acc;
-        std::string cur = fmt::format("p{}", inst.results[0]);
-        line(depth, fmt::format("float {} = {};", cur, base));
-        int step = 0;
-        while (e) {
-            if (e & 1) acc = acc.empty() ? cur : fmt::format("({} * {})", acc, cur);
-            e >>= 1;
-            if (e) {
-                std::string next = fmt::format("p{}_{}", inst.results[0], ++step);
-                line(depth, fmt::format("float {} = {} * {};", next, cur, cur));
-                cur = next;
-            }
-        }
-        return acc;
-    }
-
-    std::vector<ValueId> yields(ir::BlockId b) const { return f_.blocks[b].insts.back().args; }
-
-    void block(ir::BlockId id, int depth) {
-        for (const ir::Inst& inst : f_.blocks[id].insts) {
-            if (inst.op == Op::Yield) break;
-            instruction(inst, depth);
-        }
-    }
-
-    void instruction(const ir::Inst& inst, int depth) {
+    bool special(const ir::Inst& inst, int depth) override {
         switch (inst.op) {
-        case Op::ConstF:
-            define(depth, inst.results[0], floatLiteral(inst.imm));
-            return;
-        case Op::ConstI:
-            define(depth, inst.results[0], intLiteral(inst.iimm));
-            return;
-        case Op::ConstB:
-            define(depth, inst.results[0], inst.iimm ? "true" : "false");
-            return;
         case Op::Time:
         case Op::Param:
             MOIRE_ICE("'{}' belongs to the frame program, not the kernel", ir::spelling(inst.op));
         case Op::DerivX:
         case Op::DerivY:
             MOIRE_ICE("derivative markers must be removed by the AD pass");
-        case Op::PowI:
-            define(depth, inst.results[0], powi(inst, depth));
-            return;
-        case Op::Output:
-            line(depth, fmt::format("r{} = {};", inst.iimm, v(inst.args[0])));
-            return;
-        case Op::Tally:
-            return; // counted by the interpreter only
-        case Op::If: {
-            for (ValueId r : inst.results)
-                line(depth, fmt::format("{} {};", typeName(f_.type(r)), v(r)));
-            line(depth, fmt::format("if ({}) {{", v(inst.args[0])));
-            branch(inst, inst.regions[0], depth + 1);
-            line(depth, "} else {");
-            branch(inst, inst.regions[1], depth + 1);
-            line(depth, "}");
-            return;
-        }
-        case Op::Loop:
-            loop(inst, depth);
-            return;
-        case Op::Yield:
-            MOIRE_ICE("stray yield");
+        case Op::Ne:
+            // NaN tests: x != x is the IR's NaN check, and isnan says so to every driver.
+            if (inst.args[0] != inst.args[1]) return false;
+            define(depth, inst.results[0], fmt::format("isnan({})", v(inst.args[0])));
+            return true;
+        case Op::Uniform:
+            if (dialect_ != Dialect::WebGl) return false;
+            define(depth, inst.results[0],
+                   fmt::format("m_u[{}].{}", inst.iimm / 4, "xyzw"[inst.iimm % 4]));
+            return true;
         default:
-            define(depth, inst.results[0], expression(inst));
-            return;
+            return false;
         }
     }
 
-    void branch(const ir::Inst& inst, ir::BlockId region, int depth) {
-        block(region, depth);
-        std::vector<ValueId> y = yields(region);
-        for (size_t i = 0; i < y.size(); ++i)
-            line(depth, fmt::format("{} = {};", v(inst.results[i]), v(y[i])));
-    }
-
-    void loop(const ir::Inst& inst, int depth) {
-        const int id = loops_++;
-        auto carried = [&](size_t i) { return fmt::format("l{}_{}", id, i); };
-        for (size_t i = 0; i < inst.args.size(); ++i)
-            line(depth, fmt::format("{} {} = {};", typeName(f_.type(inst.args[i])), carried(i),
-                                    v(inst.args[i])));
-        line(depth, "while (true) {");
-        const ir::Block& cond = f_.blocks[inst.regions[0]];
-        const ir::Block& body = f_.blocks[inst.regions[1]];
-        for (size_t i = 0; i < cond.params.size(); ++i)
-            define(depth + 1, cond.params[i], carried(i));
-        block(inst.regions[0], depth + 1);
-        line(depth + 1, fmt::format("if (!{}) break;", v(yields(inst.regions[0])[0])));
-        for (size_t i = 0; i < body.params.size(); ++i)
-            define(depth + 1, body.params[i], carried(i));
-        block(inst.regions[1], depth + 1);
-        // The next values are all read before any carried variable is written.
-        std::vector<ValueId> next = yields(inst.regions[1]);
-        for (size_t i = 0; i < next.size(); ++i)
-            line(depth + 1, fmt::format("{} = {};", carried(i), v(next[i])));
-        line(depth, "}");
-        for (size_t i = 0; i < inst.results.size(); ++i) define(depth, inst.results[i], carried(i));
-    }
-
-    const ir::Function& f_;
     Dialect dialect_;
-    std::string out_;
-    int loops_ = 0;
 };
 
 } // namespace

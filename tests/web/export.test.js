@@ -68,11 +68,12 @@ function compare(got, png) {
 }
 
 // One scene: exported and rendered at the same size and time; every sample within 2/255.
+// The name "default" is the embedded default scene (no scene argument).
 async function matches(name, { size = "240x160", time = 0, render = [], prepare } = {}) {
-  const scene = path.join("examples", name + ".moire");
+  const scene = name === "default" ? [] : [path.join("examples", name + ".moire")];
   const html = path.join(dir, `${name}-${time}.html`), png = path.join(dir, `${name}-${time}.png`);
-  run(["export", scene, "-o", html, "--size", size, "--time", String(time), "--paused", "-q"]);
-  run(["render", scene, "-o", png, "--size", size, "--time", String(time), "-q", ...render]);
+  run(["export", ...scene, "-o", html, "--size", size, "--time", String(time), "--paused", "-q"]);
+  run(["render", ...scene, "-o", png, "--size", size, "--time", String(time), "-q", ...render]);
   const want = decodePng(fs.readFileSync(png));
   const got = await pagePixels(html, prepare);
   const d = compare(got, want);
@@ -81,8 +82,9 @@ async function matches(name, { size = "240x160", time = 0, render = [], prepare 
   return d;
 }
 
-test("two rings: the exported page draws what moire render draws", async () => {
+test("two rings, and the default scene: the exported page draws what moire render draws", async () => {
   await matches("two_rings");
+  await matches("default");
 });
 
 test("a walking family: the walk's loops run in the fragment shader", async () => {

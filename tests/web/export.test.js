@@ -132,6 +132,17 @@ test("every example scene", async () => {
   for (const name of names) await matches(name, { size: "160x120" });
 });
 
+test("a canvas larger than the browser draws is said so, not drawn in part", async () => {
+  const html = path.join(dir, "wide.html");
+  run(["export", "examples/two_rings.moire", "-o", html, "--size", "32768x64", "-q"]);
+  const page = await browser.newPage();
+  await page.goto("file://" + html);
+  await page.waitForFunction(() => window.moirePiece.problem !== "");
+  assert.match(await page.evaluate(() => window.moirePiece.problem),
+               /^This piece is 32768x64 pixels; this browser draws at most \d+x\d+\.$/);
+  await page.close();
+});
+
 test("the page without WebGL2 says so instead of failing", async () => {
   const html = path.join(dir, "nogl.html");
   run(["export", "examples/two_rings.moire", "-o", html, "-q"]);

@@ -35,6 +35,12 @@
     say(`This piece needs ${data.uniformVectors} uniform vectors; this browser offers ${most}.`);
     return;
   }
+  const [widest, tallest] = gl.getParameter(gl.MAX_VIEWPORT_DIMS);
+  if (canvas.width > widest || canvas.height > tallest) {
+    say(`This piece is ${canvas.width}x${canvas.height} pixels; this browser draws at most ` +
+        `${widest}x${tallest}.`);
+    return;
+  }
   const vertexSource = `#version 300 es
 void main() {
   vec2 p = vec2(float((gl_VertexID << 1) & 2), float(gl_VertexID & 2));

@@ -113,3 +113,21 @@ TEST_CASE("compile --dump=glsl-es and --dump=js show the page's two translations
     CHECK(bad.status == 2);
     CHECK(bad.err.find("glsl-es, js") != std::string::npos);
 }
+
+TEST_CASE("export -D sets where a param's slider starts; a wrong -D points into the command line") {
+    Workdir w;
+    w.write("p.moire", "scene { size = (64, 40) }\nparam gap = 8 in 4 .. 20\n"
+                       "layer { family = circles; spacing = gap }\n");
+    test::CommandResult r = w.moire("export p.moire -D gap=40");
+    CHECK(r.status == 1);
+    CHECK(r.err.find("<command line>:1:") != std::string::npos);
+    CHECK(r.err.find("param 'gap' must be from 4 to 20, not 40") != std::string::npos);
+    r = w.moire("export p.moire -D gap");
+    CHECK(r.status == 2);
+    CHECK(w.names() == std::vector<std::string>{"p.moire"});
+    // The literal table the page starts from holds the value -D gave.
+    REQUIRE(w.moire("export p.moire -q -o plain.html").status == 0);
+    REQUIRE(w.moire("export p.moire -q -D gap=13.25 -o set.html").status == 0);
+    CHECK(test::readFile(w.file("plain.html")).find("13.25") == std::string::npos);
+    CHECK(test::readFile(w.file("set.html")).find("13.25") != std::string::npos);
+}

@@ -1,6 +1,7 @@
 #include "runtime/cli/ExportCommand.h"
 
 #include "compiler/lower/ClipClock.h"
+#include "runtime/cli/DefineOption.h"
 #include "runtime/cli/Shared.h"
 #include "runtime/export/PiecePage.h"
 #include "runtime/FrameEval.h"
@@ -19,7 +20,7 @@ namespace {
 constexpr double kLoopFps = 1000.0;
 } // namespace
 
-CLI::App* addExportCommand(CLI::App& app, ExportArgs& args) {
+CLI::App* addExportCommand(CLI::App& app, ExportArgs& args, std::vector<std::string>& rawDefines) {
     CLI::App* cmd = app.add_subcommand(
         "export", "Write a scene as one HTML page that draws it live in a browser (WebGL2)");
     cmd->add_option("scene", args.scene,
@@ -30,15 +31,17 @@ CLI::App* addExportCommand(CLI::App& app, ExportArgs& args) {
     cmd->add_option("--size", args.size, "Canvas size WIDTHxHEIGHT, replacing the scene's");
     cmd->add_option("--time", args.time, "Clock time t in seconds when the page opens (default 0)");
     cmd->add_flag("--paused", args.paused, "Open with the clock stopped");
+    addDefineOption(cmd, rawDefines);
     CLI::Option* q = cmd->add_flag("-q,--quiet", args.verbosity.quiet, "Print nothing but errors");
     cmd->add_flag("-v,--verbose", args.verbosity.verbose,
                   "Also print each stage and how long it took")
         ->excludes(q);
     cmd->footer("The page holds the scene compiled twice: the pixel kernel as a WebGL2 fragment\n"
-                "shader and the frame program as JavaScript, so the clock and the sliders run in\n"
-                "the browser without moire. It is written beside its name and renamed into place\n"
-                "when complete. Exit status: 0 done; 1 the scene has errors; 2 a wrong command\n"
-                "line; 3 a file that cannot be read or written.");
+                "shader and the frame program as JavaScript, so the clock and the sliders (one\n"
+                "per param; -D sets where they start) run in the browser without moire. The page\n"
+                "is written beside its name and renamed into place when complete.\n"
+                "Exit status: 0 done; 1 the scene has errors; 2 a wrong command line; 3 a file\n"
+                "that cannot be read or written.");
     return cmd;
 }
 
@@ -54,7 +57,9 @@ int exportPiece(const ExportArgs& args) {
     if (!checkTime(args.time, "--time")) return kExitUsage;
     Source src;
     if (!readScene(args.scene, src)) return kExitIo;
-    std::unique_ptr<SceneProgram> program = compileOrReport(src);
+    CompileOptions compileOptions;
+    compileOptions.defines = args.defines;
+    std::unique_ptr<SceneProgram> program = compileOrReport(src, compileOptions);
     if (!program) return kExitScene;
     stages.done("compiled " + src.path);
 

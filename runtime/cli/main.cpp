@@ -271,7 +271,7 @@ int main(int argc, char** argv) {
                  "Also say how many names of each kind there are");
     namesCmd->footer("Exit status: 0 done; 2 a wrong command line.");
     cli::ExportArgs exportArgs;
-    CLI::App* exportCmd = cli::addExportCommand(app, exportArgs);
+    CLI::App* exportCmd = cli::addExportCommand(app, exportArgs, rawDefines);
     CLI::App* lspCmd = app.add_subcommand(
         "lsp", "Serve the Language Server Protocol on standard input and output (docs/editors.md)");
     lspCmd->footer("Started by an editor, not by hand. Exit status: 0 after shutdown, else 1.");
@@ -290,6 +290,7 @@ int main(int argc, char** argv) {
             return cli::kExitUsage;
         }
         renderArgs.defines = clipArgs.defines = watchArgs.defines = viewArgs.defines = defines;
+        exportArgs.defines = defines;
     }
     try {
         if (*renderCmd) return cli::render(renderArgs);

@@ -60,6 +60,8 @@ const char* ruleName(lower::ValueCheck::Rule rule) {
         return "unit";
     case R::Sides:
         return "sides";
+    case R::Range:
+        return "range";
     }
     return "finite";
 }
@@ -86,10 +88,54 @@ nlohmann::json frameChecks(const SceneProgram& program) {
     }
     for (size_t i = 0; i < layout.checks.size(); ++i) {
         const lower::ValueCheck& c = layout.checks[i];
-        if (!c.perPixel)
-            add(layout.firstCheckSetting() + static_cast<int>(i), ruleName(c.rule), c.what);
+        if (c.perPixel) continue;
+        add(layout.firstCheckSetting() + static_cast<int>(i), ruleName(c.rule), c.what);
+        if (c.rule == lower::ValueCheck::Range) {
+            checks.back()["lo"] = c.lo;
+            checks.back()["hi"] = c.hi;
+        }
     }
     return checks;
+}
+
+const char* sliderKind(ast::Type t) {
+    switch (t) {
+    case ast::Type::Angle:
+        return "angle";
+    case ast::Type::Vec2:
+        return "vector";
+    case ast::Type::Color:
+        return "color";
+    case ast::Type::Bool:
+        return "bool";
+    default:
+        return "number";
+    }
+}
+
+// The sliders' parameters: what each is, its range, the literal slots a slider writes
+// (compiler/Parameters.h), and the frame output that holds its value, set or default (a
+// default may be an expression of t: the slider follows it until it is moved).
+nlohmann::json parameters(const SceneProgram& program) {
+    nlohmann::json out = nlohmann::json::array();
+    for (size_t i = 0; i < program.parameters.size(); ++i) {
+        const Parameter& p = program.parameters[i];
+        nlohmann::json j = {
+            {"name", p.name},
+            {"type", sliderKind(p.type)},
+            {"components", p.components},
+            {"unit", p.unit == Unit::Deg ? "deg" : ""},
+            {"label", p.unitLabel},
+            {"valueSlot", p.valueSlot},
+            {"setSlot", p.setSlot},
+            {"output", program.numUniforms + program.layout.parameterSetting(static_cast<int>(i))},
+        };
+        if (p.min) j["min"] = *p.min;
+        if (p.max) j["max"] = *p.max;
+        if (p.step) j["step"] = *p.step;
+        out.push_back(std::move(j));
+    }
+    return out;
 }
 
 // `text` with every marker replaced, in one pass (a replacement is never searched again).
@@ -139,7 +185,7 @@ std::string piecePage(const SceneProgram& program, const PieceOptions& options) 
         {"frameOutputs", program.frame.numOutputs},
         {"literals", literals},
         {"checks", frameChecks(program)},
-        {"parameters", nlohmann::json::array()},
+        {"parameters", parameters(program)},
         {"shader", glsl::emitGlsl(program.kernel, glsl::Dialect::WebGl)},
     };
     // Inside a <script> element nothing may read as "</script": '<' is written as its JSON

@@ -4,6 +4,7 @@
 // with the data its script reads. The page drawn in a browser: tests/web/export.test.js.
 #include "compiler/backend/glsl/GlslKernel.h"
 #include "compiler/backend/js/JsFrame.h"
+#include "compiler/ir/OpTable_test.h"
 #include "runtime/export/PiecePage.h"
 #include "runtime/FrameEval.h"
 #include "tests/support/Support.h"
@@ -147,4 +148,55 @@ TEST_CASE("export: the page carries the shader, the frame program and what its s
         CHECK(c["output"].get<int>() >= p->numUniforms);
         CHECK(c["output"].get<int>() < p->frame.numOutputs);
     }
+}
+
+TEST_CASE("export: each param becomes a slider's data: its kind, range, slots and value output") {
+    std::unique_ptr<SceneProgram> p = test::compileOk(
+        "scene { size = (64, 40) }\n"
+        "param gap = 8 in 4 .. 20 step 0.5 unit px\n"
+        "param tilt = 10deg in 0deg .. 45deg\n"
+        "param shift = (10, 0) in -40 .. 40\n"
+        "param ink = #18181c\n"
+        "param bold = false\n"
+        "param wide = gap * 1.5 + sin(t)\n"
+        "layer a { family = circles; spacing = gap; color = ink }\n"
+        "layer b { family = lines; spacing = wide; rotation = tilt; origin = shift; stroke = "
+        "select(bold, 3, 1.5) }\n");
+    REQUIRE(p);
+    PieceOptions o;
+    o.width = 64;
+    o.height = 40;
+    const nlohmann::json params = pageData(piecePage(*p, o))["parameters"];
+    REQUIRE(params.size() == 6);
+    const std::vector<std::pair<std::string, std::string>> kinds = {
+        {"gap", "number"}, {"tilt", "angle"}, {"shift", "vector"},
+        {"ink", "color"},  {"bold", "bool"},  {"wide", "number"}};
+    // The frame program's value of each param, where the page reads it to place the slider.
+    FrameValues fv;
+    std::string diags;
+    REQUIRE(evaluateFrame(*p, FrameRequest{2.0}, fv, diags));
+    optest::InterpInputs in;
+    in.params = p->literals;
+    in.time = 2.0;
+    const std::vector<double> out = optest::interpret(p->frame, in);
+    for (size_t i = 0; i < kinds.size(); ++i) {
+        CAPTURE(kinds[i].first);
+        const nlohmann::json& j = params[i];
+        CHECK(j["name"] == kinds[i].first);
+        CHECK(j["type"] == kinds[i].second);
+        CHECK(j["components"] == p->parameters[i].components);
+        CHECK(j["valueSlot"] == p->parameters[i].valueSlot);
+        CHECK(j["setSlot"] == p->parameters[i].setSlot);
+        for (int k = 0; k < p->parameters[i].components; ++k)
+            CHECK(out.at(j["output"].get<size_t>() + k) == fv.parameters[i][k]);
+    }
+    CHECK(params[0]["min"] == 4.0);
+    CHECK(params[0]["max"] == 20.0);
+    CHECK(params[0]["step"] == 0.5);
+    CHECK(params[0]["label"] == "px");
+    CHECK(params[1]["unit"] == "deg");
+    CHECK(params[1]["max"].get<double>() == doctest::Approx(45.0 * 3.14159265358979 / 180.0));
+    CHECK_FALSE(params[3].contains("min")); // a colour has no range
+    // wide = 1.5 gap + sin(t), evaluated at t = 2 as the page would.
+    CHECK(fv.parameters[5][0] == doctest::Approx(12.0 + std::sin(2.0)));
 }

@@ -132,6 +132,90 @@ test("every example scene", async () => {
   for (const name of names) await matches(name, { size: "160x120" });
 });
 
+// A scene of every kind of param (docs/language.md's own example).
+const paramScene = `scene { size = (320, 200) }
+param gap   = 8 in 4 .. 20 step 0.5 unit px
+param tilt  = 10deg in 0deg .. 45deg
+param shift = (10, 0) in -40 .. 40
+param ink   = #18181c
+param bold  = false
+param wide  = gap * 1.5 + sin(t) in 0 .. 25
+param thin  = 1.5 in -1 .. 4
+layer a { family = circles; spacing = gap; color = ink; stroke = thin }
+layer b { family = lines; spacing = wide; rotation = tilt; origin = shift
+          stroke = select(bold, 3, 1.5) }
+`;
+
+// The page exported from `paramScene` (with `exportArgs`), changed by `prepare`, against
+// `moire render -D ...`.
+async function paramsMatch(label, renderDefines, prepare, exportArgs = []) {
+  const scene = path.join(dir, "params.moire");
+  fs.writeFileSync(scene, paramScene);
+  const html = path.join(dir, `params-${label}.html`), png = path.join(dir, `params-${label}.png`);
+  run(["export", scene, "-o", html, "--paused", "-q", ...exportArgs]);
+  run(["render", scene, "-o", png, "-q", ...renderDefines.flatMap((d) => ["-D", d])]);
+  const got = await pagePixels(html, prepare);
+  const d = compare(got, decodePng(fs.readFileSync(png)));
+  assert.ok(d.worst <= 2, `${label}: worst ${d.worst}, ${(100 * (1 - d.within)).toFixed(3)}% over 2`);
+}
+
+// Moves an input of the page as a person would: its value, then the event it fires.
+function setInput(id, value, event = "input") {
+  return [id, value, event];
+}
+
+test("params: as exported, the page draws what render draws", async () => {
+  await paramsMatch("plain", [], () => {});
+});
+
+test("params: each kind of slider redraws as moire render -D draws that value", async () => {
+  const drive = (moves) => new Function(`for (const [id, value] of ${JSON.stringify(moves)}) {
+      const input = document.getElementById(id);
+      if (input.type === "checkbox") input.checked = value; else input.value = value;
+      input.dispatchEvent(new Event("input"));
+    }`);
+  await paramsMatch("gap", ["gap=12.5"], drive([setInput("param-gap", "12.5")]));
+  // Degrees on the slider, as the scene wrote the angle.
+  await paramsMatch("tilt", ["tilt=30deg"], drive([setInput("param-tilt", "30")]));
+  await paramsMatch("shift", ["shift=(-15, 5)"],
+                    drive([setInput("param-shift", "-15"), setInput("param-shift-1", "5")]));
+  await paramsMatch("ink", ["ink=#c03020"], drive([setInput("param-ink", "#c03020")]));
+  await paramsMatch("bold", ["bold=true"], drive([setInput("param-bold", true)]));
+  // A param whose default is an expression, set outright.
+  await paramsMatch("wide", ["wide=25"], drive([setInput("param-wide", "25")]));
+});
+
+test("params: setParameter, and -D on export sets where the sliders start", async () => {
+  await paramsMatch("api", ["gap=6", "shift=(3, -7)"], () => {
+    window.moirePiece.setParameter("gap", [6]);
+    window.moirePiece.setParameter("shift", [3, -7]);
+  });
+  await paramsMatch("defined", ["gap=16"], () => {}, ["-D", "gap=16"]);
+});
+
+test("params: a value the picture cannot take is said, as render says it", async () => {
+  const scene = path.join(dir, "params.moire");
+  fs.writeFileSync(scene, paramScene);
+  const html = path.join(dir, "params-bad.html");
+  run(["export", scene, "-o", html, "--paused", "-q"]);
+  const page = await browser.newPage();
+  await page.goto("file://" + html);
+  await page.waitForFunction(() => window.moirePiece.ready);
+  const said = async (name, values) => page.evaluate((n, v) => {
+    window.moirePiece.setParameter(n, v);
+    return window.moirePiece.problem;
+  }, name, values);
+  // A stroke of -0.5 is in the param's range but no stroke can be negative.
+  assert.match(await said("thin", [-0.5]), /'stroke' must be more than 0.*, not -0\.5/);
+  assert.strictEqual(await said("thin", [2]), "");
+  // A param set past its own range (from script: a slider stops at its ends).
+  assert.match(await said("gap", [30]), /param 'gap' must be from 4 to 20, not 30/);
+  // wide = 1.5 gap: past its range of 0 .. 25 when gap is 20, inside its own.
+  assert.match(await said("gap", [20]), /param 'wide' must be from 0 to 25, not 30/);
+  assert.strictEqual(await said("gap", [10]), "");
+  await page.close();
+});
+
 test("a canvas larger than the browser draws is said so, not drawn in part", async () => {
   const html = path.join(dir, "wide.html");
   run(["export", "examples/two_rings.moire", "-o", html, "--size", "32768x64", "-q"]);

@@ -78,6 +78,7 @@ void main() {
   // What the frame's values must be for the picture to be drawn (as `moire render` checks
   // them); the first that is not, in words, or "".
   const rules = {
+    range: (v, c) => (v >= c.lo && v <= c.hi) || `from ${+c.lo.toPrecision(6)} to ${+c.hi.toPrecision(6)}`,
     finite: (v) => Math.abs(v) <= 1e12 || "between -1e12 and 1e12",
     positive: (v) => (v > 0 && v <= 1e12) || "more than 0 and at most 1e12",
     spacing: (v) => (v >= 1e-6 && v <= 1e12) || "from 1e-6 to 1e12",
@@ -90,7 +91,7 @@ void main() {
   function frameProblem() {
     for (const c of data.checks) {
       const v = outputs[c.output];
-      const ok = rules[c.rule](v);
+      const ok = rules[c.rule](v, c);
       if (ok !== true) return `${c.what} must be ${ok}, not ${+v.toPrecision(6)}`;
     }
     return "";
@@ -99,6 +100,7 @@ void main() {
   let time = data.time;
   function draw() {
     frameProgram(literals, time, outputs);
+    follow();
     const wrong = frameProblem();
     say(wrong === "" ? "" : "The picture cannot be drawn: " + wrong + ".");
     if (wrong !== "") return false;
@@ -162,64 +164,95 @@ void main() {
   }
 
   // --- Parameters: a slider (or picker, or box) each, writing the literal table ---
-  const parameterInputs = new Map(); // name -> { p, set(values) }
-  for (const p of data.parameters || []) addParameter(p);
-
-  function setParameterValue(p, values) {
-    for (let i = 0; i < p.components; ++i) literals[p.valueSlot + i] = values[i];
-    literals[p.setSlot] = 1;
-  }
+  // A slider writes its param's value slots and sets its switch slot (compiler/Parameters.h);
+  // until one is moved, it follows the param's value as the frame program gives it (a
+  // default may be an expression of t or of other params). A double click on the name goes
+  // back to the default.
+  const parameterInputs = new Map(); // name -> { p, values, apply, show }
+  frameProgram(literals, time, outputs);
+  for (const p of data.parameters) addParameter(p);
 
   function addParameter(p) {
     const id = "param-" + p.name;
-    const values = p.value.slice();
+    const values = Array.from(outputs.subarray(p.output, p.output + p.components));
     const apply = () => {
-      setParameterValue(p, values);
+      for (let i = 0; i < p.components; ++i) literals[p.valueSlot + i] = values[i];
+      literals[p.setSlot] = 1;
       if (!playing) draw();
     };
+    const entry = { p, values, apply, show: () => {} };
+    parameterInputs.set(p.name, entry);
+    const name = document.createElement("label");
+    name.textContent = p.name;
+    name.htmlFor = id;
+    name.title = "double click: back to the scene's value";
+    name.addEventListener("dblclick", () => {
+      literals[p.setSlot] = 0;
+      if (!playing) draw();
+      follow();
+    });
     if (p.type === "bool") {
       const box = document.createElement("input");
-      Object.assign(box, { type: "checkbox", id, checked: values[0] !== 0 });
+      Object.assign(box, { type: "checkbox", id });
       box.addEventListener("input", () => {
         values[0] = box.checked ? 1 : 0;
         apply();
       });
-      row(p.name, box);
-      parameterInputs.set(p.name, { p, values, apply, inputs: [box] });
-      return;
-    }
-    if (p.type === "color") {
+      entry.show = () => (box.checked = values[0] !== 0);
+      box.classList.add("wide");
+      controls.append(name, box);
+    } else if (p.type === "color") {
       const pick = document.createElement("input");
+      Object.assign(pick, { type: "color", id });
       const hex = (v) => Math.round(Math.min(Math.max(v, 0), 1) * 255).toString(16).padStart(2, "0");
-      Object.assign(pick, { type: "color", id, value: "#" + values.slice(0, 3).map(hex).join("") });
       pick.addEventListener("input", () => {
         for (let i = 0; i < 3; ++i) values[i] = parseInt(pick.value.substr(1 + 2 * i, 2), 16) / 255;
         apply();
       });
-      row(p.name, pick);
-      parameterInputs.set(p.name, { p, values, apply, inputs: [pick] });
-      return;
-    }
-    // Numbers, angles (shown in degrees when written so) and each component of a vector.
-    const degrees = p.unit === "deg";
-    const scale = degrees ? 180 / Math.PI : 1;
-    const inputs = [];
-    for (let i = 0; i < p.components; ++i) {
-      const lo = p.min ?? Math.min(0, values[i]), hi = p.max ?? Math.max(1, 2 * Math.abs(values[i]));
-      const s = slider(p.components > 1 ? `${id}-${i}` : id, lo * scale, hi * scale,
-                       p.step ? p.step * scale : "any", values[i] * scale);
-      const out = readout();
-      const show = () => (out.textContent = +(values[i] * scale).toPrecision(6) + (degrees ? "°" : ""));
-      show();
-      s.addEventListener("input", () => {
-        values[i] = Number(s.value) / scale;
-        show();
-        apply();
+      entry.show = () => (pick.value = "#" + values.slice(0, 3).map(hex).join(""));
+      pick.classList.add("wide");
+      controls.append(name, pick);
+    } else {
+      // Numbers, angles (in degrees when the scene wrote degrees) and each component of a
+      // vector, each its own slider. Without a declared range a slider spans a guess around
+      // the value: half a turn each way for an angle, else from 0 to twice the value.
+      const degrees = p.unit === "deg";
+      const scale = degrees ? 180 / Math.PI : 1;
+      const suffix = degrees ? "°" : p.label ? " " + p.label : "";
+      const sliders = [], readouts = [];
+      for (let i = 0; i < p.components; ++i) {
+        const v = values[i], angle = p.type === "angle";
+        const lo = p.min ?? (angle ? -Math.PI : v === 0 ? -1 : Math.min(0, 2 * v));
+        const hi = p.max ?? (angle ? Math.PI : v === 0 ? 1 : Math.max(0, 2 * v));
+        const s = slider(i === 0 ? id : `${id}-${i}`, lo * scale, hi * scale,
+                         p.step ? p.step * scale : "any", v * scale);
+        const out = readout();
+        s.addEventListener("input", () => {
+          values[i] = Number(s.value) / scale;
+          out.textContent = +(values[i] * scale).toPrecision(6) + suffix;
+          apply();
+        });
+        if (i === 0) controls.append(name);
+        else controls.append(Object.assign(document.createElement("label"), { textContent: "" }));
+        controls.append(s, out);
+        sliders.push(s);
+        readouts.push(out);
+      }
+      entry.show = () => values.forEach((v, i) => {
+        sliders[i].value = String(v * scale);
+        readouts[i].textContent = +(v * scale).toPrecision(6) + suffix;
       });
-      row(p.components > 1 ? `${p.name}.${"xy"[i]}` : p.name, s, out);
-      inputs.push(s);
     }
-    parameterInputs.set(p.name, { p, values, apply, inputs });
+    entry.show();
+  }
+
+  // After each frame: the sliders not moved show the value the scene gave their param.
+  function follow() {
+    for (const { p, values, show } of parameterInputs.values()) {
+      if (literals[p.setSlot] !== 0) continue;
+      for (let i = 0; i < p.components; ++i) values[i] = outputs[p.output + i];
+      show();
+    }
   }
 
   // --- What tests and a host page may call ---
@@ -249,6 +282,7 @@ void main() {
       const entry = parameterInputs.get(name);
       if (!entry) throw new Error(`no parameter '${name}'`);
       values.forEach((v, i) => (entry.values[i] = v));
+      entry.show();
       entry.apply();
     },
     // The picture's RGBA bytes, rows from the top.

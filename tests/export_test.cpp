@@ -82,7 +82,7 @@ TEST_CASE("export: a bad scene, a bad option, a file it cannot read or write: no
     CHECK(w.names() == std::vector<std::string>{"bad.moire", "s.moire", "taken.html"});
 }
 
-TEST_CASE("export -v names each stage; --help says what the page holds and the exit statuses") {
+TEST_CASE("export -v names each stage, and --help says what the page holds and the exit statuses") {
     Workdir w;
     w.write("s.moire", kScene);
     test::CommandResult r = w.moire("export s.moire -v");
@@ -114,7 +114,7 @@ TEST_CASE("compile --dump=glsl-es and --dump=js show the page's two translations
     CHECK(bad.err.find("glsl-es, js") != std::string::npos);
 }
 
-TEST_CASE("export -D sets where a param's slider starts; a wrong -D points into the command line") {
+TEST_CASE("export -D sets where a param's slider starts, and a wrong -D points into the command line") {
     Workdir w;
     w.write("p.moire", "scene { size = (64, 40) }\nparam gap = 8 in 4 .. 20\n"
                        "layer { family = circles; spacing = gap }\n");

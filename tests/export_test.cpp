@@ -114,7 +114,8 @@ TEST_CASE("compile --dump=glsl-es and --dump=js show the page's two translations
     CHECK(bad.err.find("glsl-es, js") != std::string::npos);
 }
 
-TEST_CASE("export -D sets where a param's slider starts, and a wrong -D points into the command line") {
+TEST_CASE(
+    "export -D sets where a param's slider starts, and a wrong -D points into the command line") {
     Workdir w;
     w.write("p.moire", "scene { size = (64, 40) }\nparam gap = 8 in 4 .. 20\n"
                        "layer { family = circles; spacing = gap }\n");

@@ -6,6 +6,7 @@
 #include "lsp/Server.h"
 #include "runtime/cli/Commands.h"
 #include "runtime/cli/DefineOption.h"
+#include "runtime/cli/ExportCommand.h"
 #include "runtime/output/ImageIO.h"
 #include "runtime/output/JitCache.h"
 
@@ -240,8 +241,9 @@ int main(int argc, char** argv) {
     CLI::App* compileCmd = app.add_subcommand(
         "compile", "Show a compiler stage: the AST, the IR, LLVM IR, GLSL or SPIR-V (--dump)");
     addScene(compileCmd, compileArgs.scene);
-    compileCmd->add_option("--dump", compileArgs.dump,
-                           "ast, ir, ir-ad, frame, kernel, llvm, glsl or spirv (default ir)");
+    compileCmd->add_option(
+        "--dump", compileArgs.dump,
+        "ast, ir, ir-ad, frame, kernel, llvm, glsl, glsl-es, js or spirv (default ir)");
     compileCmd->add_flag("--fields", compileArgs.layerFields,
                          "Also output each layer's index and distance");
     compileCmd->add_option("-o,--output", compileArgs.output,
@@ -269,6 +271,8 @@ int main(int argc, char** argv) {
     addVerbosity(namesCmd, namesArgs.verbosity, "Print the names and nothing else",
                  "Also say how many names of each kind there are");
     namesCmd->footer("Exit status: 0 done; 2 a wrong command line.");
+    cli::ExportArgs exportArgs;
+    CLI::App* exportCmd = cli::addExportCommand(app, exportArgs, rawDefines);
     CLI::App* lspCmd = app.add_subcommand(
         "lsp", "Serve the Language Server Protocol on standard input and output (docs/editors.md)");
     lspCmd->footer("Started by an editor, not by hand. Exit status: 0 after shutdown, else 1.");
@@ -287,6 +291,7 @@ int main(int argc, char** argv) {
             return cli::kExitUsage;
         }
         renderArgs.defines = clipArgs.defines = watchArgs.defines = viewArgs.defines = defines;
+        exportArgs.defines = defines;
     }
     try {
         if (*renderCmd) return cli::render(renderArgs);
@@ -301,6 +306,7 @@ int main(int argc, char** argv) {
         if (*devicesCmd) return cli::devices(devicesVerbosity);
         if (*fmtCmd) return cli::formatFiles(fmtArgs);
         if (*namesCmd) return cli::names(namesArgs);
+        if (*exportCmd) return cli::exportPiece(exportArgs);
         if (*lspCmd) return lsp::runServer(0, 1);
         fmt::print("{}", app.help());
         return 0;

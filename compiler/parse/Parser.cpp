@@ -275,6 +275,7 @@ void Parser::parseParam(Decl& d) {
         advance();
         d.rangeLo = parseExpr();
         if (!expect(Tok::DotDot, "'..' between the range's ends")) {
+            d.rangeLo.reset(); // a range has both ends or none, for every reader of the tree
             recoverTo(false);
             return;
         }

@@ -1,0 +1,150 @@
+// What a `moire serve` page shows and how its controls change it, with no HTTP in sight: the
+// scene's last good build (reloaded on every save), the diagnostics of a bad save, the view's
+// pan and zoom, the view and the overlay, the clock, and the frames the render thread makes.
+// The server (Server.h) turns requests into calls here; the unit tests and the benchmark call
+// them directly.
+//
+// Every change bumps a version and asks the render thread for a frame of the new state; every
+// change and every frame publishes the state (stateJson) on the channel the page's event
+// stream reads. A save with errors keeps the last good build and its picture under the
+// diagnostics; the next good save takes them away.
+#pragma once
+
+#include "compiler/backend/Backend.h"
+#include "compiler/Compile.h"
+#include "runtime/live/SceneReloader.h"
+#include "runtime/serve/FrameWorker.h"
+#include "runtime/serve/StateChannel.h"
+#include "runtime/view/ViewCamera.h"
+#include "runtime/view/ViewClock.h"
+
+#include <condition_variable>
+#include <cstdint>
+#include <deque>
+#include <memory>
+#include <mutex>
+#include <optional>
+#include <stdexcept>
+#include <string>
+#include <thread>
+#include <vector>
+
+namespace moire::serve {
+
+// A request the session refuses (a value out of range, an unknown view): the reason, one line.
+class RequestError : public std::runtime_error {
+  public:
+    using std::runtime_error::runtime_error;
+};
+
+struct SessionOptions {
+    std::string scene;         // the scene file (the only file the server reads)
+    CompileOptions compile;    // the mode is set to Interactive (the view's pan and zoom)
+    int width = 0, height = 0; // a fixed frame size (--size); 0: the scene's, until the page's
+    double time = 0.0;
+    bool paused = false;
+    int threads = 0; // render and encode threads; 0: one per core
+    FileWatch::Options watch;
+    std::string backend; // the backend's name, for the page
+};
+
+// The largest zoom step one gesture may ask for, either way.
+constexpr double kMaxZoomStep = 100.0;
+// Frames the page may still fetch by id after newer ones replaced them.
+constexpr size_t kFramesKept = 4;
+
+class Session {
+  public:
+    // Throws std::runtime_error (one line) when the scene's directory cannot be watched.
+    Session(Backend& backend, SessionOptions options);
+    ~Session();
+    Session(const Session&) = delete;
+    Session& operator=(const Session&) = delete;
+
+    // Builds the scene as it is now (on the calling thread), asks for its first frame, and
+    // starts following the file. The BuildResult says whether the scene had errors.
+    BuildResult start();
+    // Stops following the file and rendering; closes the channel (the event streams end).
+    void stop();
+
+    // --- The page's requests: each returns the version whose frame will show the change, or
+    // throws RequestError with the reason it was refused.
+
+    // The frame's size in pixels: the picture's box on the page (ignored with a fixed size).
+    uint64_t resize(int width, int height);
+    // "pattern", "envelope", "split", "ratio", or "scene" (the scene's own view); the overlay
+    // on or off, or the scene's own (nullopt). Both are structure: the scene is built again.
+    uint64_t setView(const std::string& view);
+    uint64_t setOverlay(std::optional<bool> overlay);
+    // Gestures, in the frame's pixels from its top-left corner (pixel centres at i + 0.5).
+    uint64_t zoom(double x, double y, double factor);
+    uint64_t pan(double fromX, double fromY, double toX, double toY);
+    uint64_t resetView();
+    // The clock.
+    uint64_t play();
+    uint64_t pause();
+    uint64_t seek(double time);
+
+    StateChannel& channel() { return channel_; }
+    // The state the page sees, as JSON (docs/live.md lists its fields).
+    std::string stateJson() const;
+    // A frame's PNG by its id, while it is among the last kFramesKept; null after that.
+    std::shared_ptr<const std::vector<unsigned char>> frame(uint64_t id) const;
+    // The version of the newest change, and of the newest frame published (tests).
+    uint64_t version() const;
+    uint64_t shownVersion() const;
+
+  private:
+    struct Shown {
+        uint64_t id = 0, version = 0;
+        int width = 0, height = 0;
+        double time = 0.0, renderMs = 0.0, encodeMs = 0.0;
+        bool reused = false;
+    };
+
+    // The reloader's thread (and start, and setView): a new state of the file.
+    void reloaded(const BuildResult& result);
+    // The render thread: a finished frame.
+    void framed(EncodedFrame frame);
+    // Builds the scene again with the view and overlay now asked for (structure).
+    void rebuild();
+    // Records a change and asks for its frame; the caller holds mutex_.
+    uint64_t changedLocked();
+    FrameJob jobLocked(double time) const;
+    void publishLocked();
+    std::string stateJsonLocked() const;
+    // The scene's camera at the clock's time, for the gestures; the last known when the
+    // frame cannot be evaluated.
+    view::SceneCamera sceneCameraLocked();
+    void tick(); // the clock's thread
+
+    Backend& backend_;
+    SessionOptions options_;
+    std::mutex rebuildMutex_; // one rebuild at a time
+    std::unique_ptr<SceneReloader> reloader_;
+
+    mutable std::mutex mutex_;
+    std::shared_ptr<const LiveProgram> build_;
+    std::string buildKind_; // "structure" or "numbers": how the last good build came
+    double kernelMs_ = 0.0;
+    std::string buildErrors_; // the file's diagnostics while its last save has errors
+    std::string frameError_;  // why the last frame could not be drawn
+    std::optional<sema::ViewMode> viewOverride_;
+    std::optional<bool> overlayOverride_;
+    view::ViewAdjust view_;
+    view::SceneCamera camera_;
+    int width_ = 0, height_ = 0;
+    view::ViewClock clock_;
+    uint64_t version_ = 0;
+    uint64_t nextFrameId_ = 1;
+    Shown shown_;
+    std::deque<std::pair<uint64_t, std::shared_ptr<const std::vector<unsigned char>>>> frames_;
+
+    StateChannel channel_;
+    std::unique_ptr<FrameWorker> worker_;
+    std::condition_variable clockWake_;
+    bool stopping_ = false;
+    std::thread clockThread_;
+};
+
+} // namespace moire::serve

@@ -13,10 +13,25 @@ namespace moire::serve {
 
 namespace {
 using Clock = std::chrono::steady_clock;
+// Rows a CPU worker renders and turns into bytes at a time.
+constexpr int kBandRows = 16;
 double msSince(Clock::time_point t0) {
     return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
 }
 } // namespace
+
+std::vector<unsigned char> encodeFramePng(int width, int height, const std::vector<uint8_t>& rgba) {
+    Image image;
+    image.width = width;
+    image.height = height;
+    image.channels = 4;
+    image.pixels.resize(rgba.size());
+    // b / 255 goes back to b through toByte: the PNG holds the frame's bytes exactly.
+    for (size_t i = 0; i < rgba.size(); ++i) image.pixels[i] = rgba[i] / 255.0f;
+    WriteOptions write;
+    write.compression = kPreviewCompression;
+    return encodeImage("frame.png", "png", image, write);
+}
 
 FrameWorker::FrameWorker(int threads, std::function<void(EncodedFrame)> onFrame)
     : threads_(threads), onFrame_(std::move(onFrame)) {
@@ -94,9 +109,8 @@ EncodedFrame FrameWorker::render(const FrameJob& job) {
         if (last_.build && last_.build->kernel == job.build->kernel &&
             last_.width == values.width && last_.height == values.height &&
             last_.uniforms == values.uniforms) {
-            out.png = last_.png;
+            out.rgba = last_.rgba;
             out.renderMs = last_.renderMs;
-            out.encodeMs = last_.encodeMs;
             out.reused = true;
             return out;
         }
@@ -104,7 +118,7 @@ EncodedFrame FrameWorker::render(const FrameJob& job) {
         footprint.width = values.width;
         footprint.height = values.height;
         footprint.channels = job.build->kernel->numOutputs();
-        footprint.format = "png";
+        footprint.format = "png"; // at most: a PNG is made when asked for
         footprint.gpu = job.build->kernel->wholeFrame();
         if (std::string problem = memoryProblem(footprint); !problem.empty()) {
             out.error = fmt::format("moire: error: {}", problem);
@@ -116,26 +130,39 @@ EncodedFrame FrameWorker::render(const FrameJob& job) {
         kf.imageH = values.height;
         ExecOptions exec;
         exec.threads = threads_;
-        Image image = runKernel(*job.build->kernel, kf, exec);
+        const CompiledKernel& kernel = *job.build->kernel;
+        const size_t width = static_cast<size_t>(values.width);
+        auto rgba = std::make_shared<std::vector<uint8_t>>(width * values.height * 4);
+        auto toBytes = [&](const float* px, size_t count, int channels, uint8_t* to) {
+            for (size_t i = 0; i < count; ++i)
+                for (int c = 0; c < 4; ++c) to[i * 4 + c] = toByte(px[i * channels + c]);
+        };
+        if (kernel.wholeFrame()) {
+            Image image = runKernel(kernel, kf, exec);
+            toBytes(image.pixels.data(), width * image.height, image.channels, rgba->data());
+        } else {
+            // On the CPU each band's rows become bytes on the thread that rendered them,
+            // while they are still in its cache.
+            const int channels = kernel.numOutputs();
+            runKernelInBands(
+                kernel, kf, exec, kBandRows,
+                [&](int band, int first, int count, const float* rows, size_t stride) {
+                    for (int r = 0; r < count; ++r) {
+                        const size_t y = static_cast<size_t>(band) * kBandRows + first + r;
+                        toBytes(rows + r * stride, width, channels, rgba->data() + y * width * 4);
+                    }
+                });
+        }
         out.renderMs = msSince(t0);
-        const auto t1 = Clock::now();
-        WriteOptions write;
-        // Shown once and soon replaced: the fast level, as `moire watch` writes.
-        write.compression = kPreviewCompression;
-        write.threads = threads_;
-        auto png = std::make_shared<const std::vector<unsigned char>>(
-            encodeImage("frame.png", "png", image, write));
-        out.encodeMs = msSince(t1);
-        out.png = png;
-        last_ = Last{job.build, values.uniforms, values.width, values.height,
-                     png,       out.renderMs,    out.encodeMs};
+        out.rgba = rgba;
+        last_ = Last{job.build, values.uniforms, values.width, values.height, rgba, out.renderMs};
     } catch (const std::bad_alloc&) {
         out.error =
             fmt::format("moire: error: out of memory drawing a {}x{} frame", job.width, job.height);
-        out.png.reset();
+        out.rgba.reset();
     } catch (const std::exception& e) { // a lost device, a bug in the backend
         out.error = fmt::format("moire: error: {}", e.what());
-        out.png.reset();
+        out.rgba.reset();
     }
     return out;
 }

@@ -1,5 +1,7 @@
-// The render thread of `moire serve`: renders the newest job it was given and encodes the
-// picture as a PNG for the page to fetch.
+// The render thread of `moire serve`: renders the newest job it was given, as the 8-bit RGBA
+// bytes the page draws (the very bytes `moire render` writes to a PNG: toByte). Encoding a
+// PNG of 1280x720 took as long as rendering it, so the page takes the bytes as they are and a
+// PNG is made only when one is asked for (Session::framePng).
 //
 // Only the newest job matters, but a frame in hand is finished rather than abandoned: while a
 // slider is dragged, jobs come faster than frames, and abandoning the frame in hand for each
@@ -35,11 +37,15 @@ struct EncodedFrame {
     uint64_t version = 0; // the job's
     double time = 0.0;
     int width = 0, height = 0;
-    std::shared_ptr<const std::vector<unsigned char>> png; // null when `error` is set
+    // Straight sRGB RGBA, rows top to bottom; null when `error` is set.
+    std::shared_ptr<const std::vector<uint8_t>> rgba;
     bool reused = false; // the uniforms were the last frame's: its picture, not rendered again
-    double renderMs = 0.0, encodeMs = 0.0;
+    double renderMs = 0.0;
     std::string error; // the frame could not be evaluated or rendered: why
 };
+
+// A frame's bytes as a PNG file (the fast zlib level: a page's picture, not a print).
+std::vector<unsigned char> encodeFramePng(int width, int height, const std::vector<uint8_t>& rgba);
 
 class FrameWorker {
   public:
@@ -73,8 +79,8 @@ class FrameWorker {
         std::shared_ptr<const LiveProgram> build;
         std::vector<double> uniforms;
         int width = 0, height = 0;
-        std::shared_ptr<const std::vector<unsigned char>> png;
-        double renderMs = 0.0, encodeMs = 0.0;
+        std::shared_ptr<const std::vector<uint8_t>> rgba;
+        double renderMs = 0.0;
     } last_;
     std::thread thread_;
 };

@@ -18,6 +18,8 @@ using json = nlohmann::json;
 // (the write fails) and its thread freed.
 constexpr auto kHeartbeat = std::chrono::milliseconds(1000);
 
+constexpr const char* kFrameGone = "that frame is gone: a newer one replaced it";
+
 void answerError(httplib::Response& res, int status, const std::string& message) {
     res.status = status;
     res.set_content(json{{"error", message}}.dump(-1, ' ', false, json::error_handler_t::replace),
@@ -141,11 +143,23 @@ void Server::routes() {
     s.Post("/api/view", message(session_, applyViewMessage));
     s.Post("/api/clock", message(session_, applyClockMessage));
 
+    // A frame by id: as the page takes it (.rgba: the bytes, width x height x 4, the size in
+    // the X-Frame-Width and X-Frame-Height headers), or as a PNG file.
+    s.Get(R"(/frame/(\d{1,18})\.rgba)",
+          [this](const httplib::Request& req, httplib::Response& res) {
+              std::optional<Session::Frame> f = session_.frame(std::stoull(req.matches[1].str()));
+              if (!f) return answerError(res, 404, kFrameGone);
+              res.set_content(reinterpret_cast<const char*>(f->rgba->data()), f->rgba->size(),
+                              "application/octet-stream");
+              res.set_header("X-Frame-Width", std::to_string(f->width));
+              res.set_header("X-Frame-Height", std::to_string(f->height));
+              // A frame's id names one picture for good.
+              res.set_header("Cache-Control", "private, max-age=3600, immutable");
+          });
     s.Get(R"(/frame/(\d{1,18})\.png)", [this](const httplib::Request& req, httplib::Response& res) {
-        auto png = session_.frame(std::stoull(req.matches[1].str()));
-        if (!png) return answerError(res, 404, "that frame is gone: a newer one replaced it");
+        auto png = session_.framePng(std::stoull(req.matches[1].str()));
+        if (!png) return answerError(res, 404, kFrameGone);
         res.set_content(reinterpret_cast<const char*>(png->data()), png->size(), "image/png");
-        // A frame's id names one picture for good.
         res.set_header("Cache-Control", "private, max-age=3600, immutable");
     });
 

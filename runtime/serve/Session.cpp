@@ -235,8 +235,8 @@ void Session::framed(EncodedFrame f) {
         return;
     }
     frameError_.clear();
-    if (!f.reused || frames_.empty() || frames_.back().second != f.png) {
-        frames_.emplace_back(nextFrameId_++, f.png);
+    if (!f.reused || frames_.empty() || frames_.back().rgba != f.rgba) {
+        frames_.push_back(Frame{nextFrameId_++, f.width, f.height, f.rgba});
         while (frames_.size() > kFramesKept) frames_.pop_front();
     }
     if (options_.width <= 0 && width_ <= 0) {
@@ -244,16 +244,28 @@ void Session::framed(EncodedFrame f) {
         width_ = f.width;
         height_ = f.height;
     }
-    shown_ = Shown{frames_.back().first, f.version,  f.width, f.height, f.time,
-                   f.renderMs,           f.encodeMs, f.reused};
+    shown_ = Shown{frames_.back().id, f.version, f.width, f.height, f.time, f.renderMs, f.reused};
     publishLocked();
 }
 
-std::shared_ptr<const std::vector<unsigned char>> Session::frame(uint64_t id) const {
+std::optional<Session::Frame> Session::frame(uint64_t id) const {
     std::lock_guard<std::mutex> lock(mutex_);
-    for (const auto& [fid, png] : frames_)
-        if (fid == id) return png;
-    return nullptr;
+    for (const Frame& f : frames_)
+        if (f.id == id) return f;
+    return std::nullopt;
+}
+
+std::shared_ptr<const std::vector<unsigned char>> Session::framePng(uint64_t id) const {
+    std::optional<Frame> f = frame(id);
+    if (!f) return nullptr;
+    std::lock_guard<std::mutex> lock(pngMutex_);
+    for (const auto& [pid, png] : pngs_)
+        if (pid == id) return png;
+    auto png = std::make_shared<const std::vector<unsigned char>>(
+        encodeFramePng(f->width, f->height, *f->rgba));
+    pngs_.emplace_back(id, png);
+    while (pngs_.size() > kFramesKept) pngs_.pop_front();
+    return png;
 }
 
 uint64_t Session::version() const {
@@ -312,13 +324,9 @@ std::string Session::stateJsonLocked() const {
     state["scene"] = options_.scene;
     state["backend"] = options_.backend;
     if (shown_.id > 0) {
-        state["frame"] = {{"id", shown_.id},
-                          {"version", shown_.version},
-                          {"width", shown_.width},
-                          {"height", shown_.height},
-                          {"time", shown_.time},
-                          {"renderMs", shown_.renderMs},
-                          {"encodeMs", shown_.encodeMs},
+        state["frame"] = {{"id", shown_.id},        {"version", shown_.version},
+                          {"width", shown_.width},  {"height", shown_.height},
+                          {"time", shown_.time},    {"renderMs", shown_.renderMs},
                           {"reused", shown_.reused}};
     } else {
         state["frame"] = nullptr;

@@ -88,8 +88,15 @@ class Session {
     StateChannel& channel() { return channel_; }
     // The state the page sees, as JSON (docs/live.md lists its fields).
     std::string stateJson() const;
-    // A frame's PNG by its id, while it is among the last kFramesKept; null after that.
-    std::shared_ptr<const std::vector<unsigned char>> frame(uint64_t id) const;
+    struct Frame {
+        uint64_t id = 0;
+        int width = 0, height = 0;
+        std::shared_ptr<const std::vector<uint8_t>> rgba; // straight sRGB, rows top to bottom
+    };
+    // A frame by its id, while it is among the last kFramesKept; nothing after that.
+    std::optional<Frame> frame(uint64_t id) const;
+    // The same frame as a PNG file (made on the first request); null when it is gone.
+    std::shared_ptr<const std::vector<unsigned char>> framePng(uint64_t id) const;
     // The version of the newest change, and of the newest frame published (tests).
     uint64_t version() const;
     uint64_t shownVersion() const;
@@ -98,7 +105,7 @@ class Session {
     struct Shown {
         uint64_t id = 0, version = 0;
         int width = 0, height = 0;
-        double time = 0.0, renderMs = 0.0, encodeMs = 0.0;
+        double time = 0.0, renderMs = 0.0;
         bool reused = false;
     };
 
@@ -138,7 +145,10 @@ class Session {
     uint64_t version_ = 0;
     uint64_t nextFrameId_ = 1;
     Shown shown_;
-    std::deque<std::pair<uint64_t, std::shared_ptr<const std::vector<unsigned char>>>> frames_;
+    std::deque<Frame> frames_;
+    mutable std::mutex pngMutex_; // one PNG made at a time, outside mutex_
+    mutable std::deque<std::pair<uint64_t, std::shared_ptr<const std::vector<unsigned char>>>>
+        pngs_;
 
     StateChannel channel_;
     std::unique_ptr<FrameWorker> worker_;

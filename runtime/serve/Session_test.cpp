@@ -46,9 +46,10 @@ json waitShown(Session& session, uint64_t version) {
     });
 }
 
-// The session's frame `id` as 8-bit RGBA, read back through OpenImageIO.
+// The session's frame `id` as 8-bit RGBA, as a PNG read back through OpenImageIO; the same
+// as the bytes the page takes.
 std::vector<uint8_t> framePixels(Session& session, uint64_t id, const test::TempDir& dir) {
-    auto png = session.frame(id);
+    auto png = session.framePng(id);
     REQUIRE(png);
     const std::string path = dir.file("frame.png");
     std::ofstream(path, std::ios::binary)
@@ -58,6 +59,9 @@ std::vector<uint8_t> framePixels(Session& session, uint64_t id, const test::Temp
     std::vector<uint8_t> out;
     for (size_t i = 0; i < static_cast<size_t>(img.width) * img.height; ++i)
         for (int c = 0; c < 4; ++c) out.push_back(toByte(img.pixels[i * img.channels + c]));
+    std::optional<Session::Frame> raw = session.frame(id);
+    REQUIRE(raw);
+    CHECK(*raw->rgba == out);
     return out;
 }
 

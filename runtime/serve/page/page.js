@@ -1,5 +1,5 @@
 // The page of `moire serve`. It follows the session's state through server-sent events
-// (/api/events), fetches each new frame by id as a PNG and draws it into the canvas, and sends
+// (/api/events), fetches each new frame's bytes by id and puts them into the canvas, and sends
 // the controls' changes as small JSON messages. Every request carries the run's token.
 'use strict';
 
@@ -75,22 +75,19 @@ async function showFrame(frame) {
   }
   wantedFrame = frame.id;
   try {
-    const response = await fetch(withToken(`/frame/${frame.id}.png`));
+    // The frame's bytes as they are (what moire render writes into a PNG): no decoding, no
+    // colour management.
+    const response = await fetch(withToken(`/frame/${frame.id}.rgba`));
     if (!response.ok) return; // replaced already: the newer one is on its way
-    const blob = await response.blob();
-    // The PNG's bytes as they are: no colour management, no premultiplication.
-    const bitmap = await createImageBitmap(blob, {
-      colorSpaceConversion: 'none',
-      premultiplyAlpha: 'none',
-    });
-    if (frame.id < moire.shown.id) return;
-    if (canvas.width !== bitmap.width || canvas.height !== bitmap.height) {
-      canvas.width = bitmap.width;
-      canvas.height = bitmap.height;
+    const width = Number(response.headers.get('X-Frame-Width'));
+    const height = Number(response.headers.get('X-Frame-Height'));
+    const bytes = new Uint8ClampedArray(await response.arrayBuffer());
+    if (frame.id < moire.shown.id || bytes.length !== width * height * 4) return;
+    if (canvas.width !== width || canvas.height !== height) {
+      canvas.width = width;
+      canvas.height = height;
     }
-    context.clearRect(0, 0, canvas.width, canvas.height);
-    context.drawImage(bitmap, 0, 0);
-    bitmap.close();
+    context.putImageData(new ImageData(bytes, width, height), 0, 0);
     moire.shown = { id: frame.id, version: frame.version, width: frame.width, height: frame.height };
     canvas.dataset.frame = String(frame.id);
     $('waiting').hidden = true;

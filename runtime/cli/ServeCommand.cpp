@@ -42,6 +42,14 @@ int serve(const ServeArgs& args) {
         return kExitUsage;
     }
     if (!checkBackendArgs(args.backend, args.device)) return kExitUsage;
+    // SIGINT and SIGTERM are taken by sigwait below: blocked before any thread starts (the
+    // backend's among them), so that every thread inherits the mask and none is stopped
+    // halfway through a frame.
+    sigset_t stopSignals;
+    sigemptyset(&stopSignals);
+    sigaddset(&stopSignals, SIGINT);
+    sigaddset(&stopSignals, SIGTERM);
+    pthread_sigmask(SIG_BLOCK, &stopSignals, nullptr);
     std::unique_ptr<Backend> backend = openBackend(args.backend, args.device);
     if (!backend) return kExitMachine;
     if (args.hostGiven && !isLoopback(args.host))
@@ -59,14 +67,17 @@ int serve(const ServeArgs& args) {
     options.threads = args.threads;
     options.watch.debounce = std::chrono::milliseconds(args.debounceMs);
     options.backend = describe(*backend);
-
-    // SIGINT and SIGTERM are taken by sigwait below: blocked before any thread starts, so that
-    // every thread inherits the mask and none is interrupted halfway through a frame.
-    sigset_t stopSignals;
-    sigemptyset(&stopSignals);
-    sigaddset(&stopSignals, SIGINT);
-    sigaddset(&stopSignals, SIGTERM);
-    pthread_sigmask(SIG_BLOCK, &stopSignals, nullptr);
+    // Each save, one line (or its diagnostics), as `moire watch` prints them.
+    options.onReload = [&args](const BuildResult& b) {
+        if (!b.good())
+            fmt::print(stderr, "{}", b.diagnostics);
+        else if (!args.verbosity.quiet)
+            fmt::print(stderr, "moire: serve: reloaded {} ({})\n", args.scene,
+                       b.kind == BuildResult::Kind::Numbers
+                           ? "numbers changed, kernel reused"
+                           : fmt::format("kernel compiled in {:.0f} ms", b.kernelMs));
+        std::fflush(stderr);
+    };
 
     std::unique_ptr<serve::Session> session;
     try {

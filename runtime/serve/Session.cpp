@@ -53,7 +53,10 @@ BuildResult Session::start() {
         clock_.restart(Clock::now()); // the clock starts with the page, not the compile
     }
     reloaded(first);
-    reloader_->start([this](const BuildResult& r) { reloaded(r); });
+    reloader_->start([this](const BuildResult& r) {
+        reloaded(r);
+        if (options_.onReload) options_.onReload(r);
+    });
     clockThread_ = std::thread([this] { tick(); });
     return first;
 }
@@ -106,7 +109,10 @@ void Session::rebuild() {
     ro.watch = options_.watch;
     reloader_ = std::make_unique<SceneReloader>(options_.scene, backend_, ro);
     reloaded(reloader_->loadNow());
-    reloader_->start([this](const BuildResult& r) { reloaded(r); });
+    reloader_->start([this](const BuildResult& r) {
+        reloaded(r);
+        if (options_.onReload) options_.onReload(r);
+    });
 }
 
 // --- Requests -------------------------------------------------------------------------------

@@ -21,6 +21,7 @@
 #include <condition_variable>
 #include <cstdint>
 #include <deque>
+#include <functional>
 #include <memory>
 #include <mutex>
 #include <optional>
@@ -46,6 +47,9 @@ struct SessionOptions {
     int threads = 0; // render and encode threads; 0: one per core
     FileWatch::Options watch;
     std::string backend; // the backend's name, for the page
+    // Called with each new state of the file after the first (on the reload thread), for the
+    // terminal: a good build, or a bad one with its diagnostics.
+    std::function<void(const BuildResult&)> onReload;
 };
 
 // The largest zoom step one gesture may ask for, either way.

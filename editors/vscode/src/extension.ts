@@ -176,6 +176,24 @@ async function openPreview(): Promise<void> {
   });
 }
 
+// moire.preview.saveAfterPause: a scene with an open preview is saved once typing pauses, and
+// the server, which follows the file, draws it.
+const pauseTimers = new Map<string, NodeJS.Timeout>();
+
+function saveAfterPause(doc: vscode.TextDocument): void {
+  if (doc.uri.scheme !== 'file' || !previews.has(doc.uri.fsPath)) return;
+  const pause = settings().previewSaveAfterPause;
+  if (pause <= 0) return;
+  clearTimeout(pauseTimers.get(doc.uri.fsPath));
+  pauseTimers.set(
+    doc.uri.fsPath,
+    setTimeout(() => {
+      pauseTimers.delete(doc.uri.fsPath);
+      if (doc.isDirty && !doc.isClosed) void doc.save();
+    }, pause),
+  );
+}
+
 export async function activate(context: vscode.ExtensionContext): Promise<void> {
   output = vscode.window.createOutputChannel('moire');
   context.subscriptions.push(
@@ -187,6 +205,7 @@ export async function activate(context: vscode.ExtensionContext): Promise<void> 
       await stopServer();
       await startServer();
     }),
+    vscode.workspace.onDidChangeTextDocument((e) => saveAfterPause(e.document)),
     vscode.workspace.onDidChangeConfiguration(async (e) => {
       if (e.affectsConfiguration('moire.path') || e.affectsConfiguration('moire.server')) {
         await stopServer();

@@ -19,7 +19,7 @@ test::CommandResult serveBriefly(const std::string& args) {
 
 } // namespace
 
-TEST_CASE("serve: the page's address with a token on the first line; SIGTERM stops it") {
+TEST_CASE("serve: the page's address with a token on the first line, and SIGTERM stops it") {
     test::TempDir dir("serve-cli");
     dir.write("s.moire", "layer { family = circles; spacing = 6 }\n");
     test::CommandResult r = serveBriefly(dir.file("s.moire") + " --port 0 --paused");

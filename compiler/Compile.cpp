@@ -1,5 +1,6 @@
 #include "compiler/Compile.h"
 
+#include "compiler/ApplyDefines.h"
 #include "compiler/lower/LowerScene.h"
 #include "compiler/parse/Parser.h"
 #include "compiler/passes/AutoDiff.h"
@@ -62,6 +63,9 @@ CompileResult compileScene(const std::string& path, std::string text,
     program->modules.push_back(
         std::make_unique<ast::Module>(Parser(sm, userId, diags).parseModule()));
     program->literals = program->modules.back()->literals;
+    // `-D` values, read from the command line into the scene's module.
+    if (!options.defines.empty() && !diags.hasErrors())
+        applyDefines(options.defines, sm, *program->modules.back(), program->literals, diags);
     clock.lap("parse");
 
     // 2. Semantic checks: names, arity, types, units, constness. The symbol table (for an
@@ -113,6 +117,7 @@ CompileResult compileScene(const std::string& path, std::string text,
         result.partial = std::move(program);
         return result;
     }
+    program->parameters = collectParameters(program->checked);
     program->view = lowered.view;
     program->overlay = lowered.overlay;
     program->layout = std::move(lowered.layout);
@@ -128,6 +133,7 @@ CompileResult compileScene(const std::string& path, std::string text,
     passes::FrameSplit split = passes::splitFrame(
         program->derived, program->layout.numKernelOutputs, program->layout.firstCheckSetting());
     // A checked value that depends on the pixel cannot be checked per frame.
+    // (A param's value never depends on the pixel: the checks refuse that.)
     for (int s : split.perPixelSettings)
         program->layout.checks.at(s - program->layout.firstCheckSetting()).perPixel = true;
     clock.lap("split frame");

@@ -2,9 +2,11 @@
 // Compile.cpp reads as the ordered list of stages.
 #pragma once
 
+#include "compiler/Defines.h"
 #include "compiler/diag/Diagnostics.h"
 #include "compiler/ir/IR.h"
 #include "compiler/lower/LowerScene.h"
+#include "compiler/Parameters.h"
 #include "compiler/parse/Ast.h"
 #include "compiler/sema/Sema.h"
 #include "compiler/sema/Symbols.h"
@@ -29,6 +31,8 @@ struct CompileOptions {
     std::optional<sema::ViewMode> view = std::nullopt;
     std::optional<double> envelopeGain = std::nullopt, envelopeTaps = std::nullopt;
     std::optional<bool> overlay = std::nullopt; // the fringe overlay
+    // `-D` values: a param's default or a named layer's property replaced before checking.
+    Defines defines = {};
     // When set, each stage appends its name and wall-clock seconds (bench/compile_bench).
     std::vector<std::pair<std::string, double>>* stageSeconds = nullptr;
 };
@@ -38,7 +42,8 @@ struct SceneProgram {
     std::unique_ptr<SourceManager> sources;
     std::vector<std::unique_ptr<ast::Module>> modules; // standard library first, the scene last
     sema::CheckedScene checked;
-    std::vector<double> literals; // the scene's literal table (values of its numbers)
+    std::vector<double> literals;      // the scene's literal table (values of its numbers)
+    std::vector<Parameter> parameters; // the scene's `param`s, in declaration order
 
     ir::Function lowered; // the scene function, simplified, before differentiation
     ir::Function derived; // after forward-mode AD and simplification

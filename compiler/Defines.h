@@ -10,8 +10,8 @@
 namespace moire {
 
 struct Define {
-    std::string target;   // `name` (a parameter) or `layer.property`
-    std::string value;    // the expression's text
+    std::string target;      // `name` (a parameter) or `layer.property`
+    std::string value;       // the expression's text
     size_t targetOffset = 0; // where `target` begins in Defines::commandLine
     size_t valueOffset = 0;  // where `value` begins in Defines::commandLine
 };

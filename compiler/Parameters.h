@@ -11,6 +11,7 @@
 #include "compiler/diag/Source.h"
 #include "compiler/lex/Token.h" // Unit
 #include "compiler/parse/Ast.h"
+#include "compiler/sema/Sema.h"
 
 #include <optional>
 #include <span>
@@ -26,6 +27,7 @@ struct Parameter {
     // The declared range and step, in the language's units (radians for angles); for a
     // vector, they hold for each component. A colour or a boolean has none.
     std::optional<double> min, max, step;
+    std::string unitLabel; // `unit mm`: a word a slider shows beside the value; may be empty
     // How the default's angle was written (Deg or Rad), so that a slider shows degrees for
     // `30deg`; None for every other type.
     Unit unit = Unit::None;
@@ -34,6 +36,9 @@ struct Parameter {
     int valueSlot = -1;     // the first of `components` literal slots holding a set value
     int setSlot = -1;       // a literal slot: 1 when the set value replaces the default
 };
+
+// The checked scene's params, as tools see them.
+std::vector<Parameter> collectParameters(const sema::CheckedScene& scene);
 
 // Components of a colour are straight (not premultiplied) sRGB in 0..1, as in the literal
 // table; a boolean is 0 or 1; an angle is in radians.

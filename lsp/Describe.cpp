@@ -60,6 +60,8 @@ std::string typeWithUnits(ast::Type t) {
         return "a vector (x, y)";
     case ast::Type::Color:
         return "a colour (#rrggbb, #rrggbbaa, rgb(...) or rgba(...))";
+    case ast::Type::Bool:
+        return "a boolean (true or false)";
     case ast::Type::Error:
         return "a name";
     }
@@ -95,6 +97,9 @@ Description describeFunction(const sema::FnInfo& fn) {
     case Signature::Timed:
         sig = fn.numArgs == 1 ? fmt::format("{}(timing) -> number", fn.spelling)
                               : fmt::format("{}(timing, from: T, to: T) -> T", fn.spelling);
+        break;
+    case Signature::Select:
+        sig = fmt::format("{}(b: boolean, a: T, c: T) -> T, T any value", fn.spelling);
         break;
     }
     return {sig, fn.doc};

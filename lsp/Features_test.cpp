@@ -151,8 +151,8 @@ TEST_CASE("lsp completion: what fits the place, from the compiler's tables and l
     CHECK(!expr.count("spacing"));
     // At the top level: the declaration keywords.
     std::set<std::string> top = labels(request(s, 34, "textDocument/completion", at(7, 0)));
-    CHECK(top ==
-          std::set<std::string>{"scene", "camera", "layer", "field", "family", "timing", "easing"});
+    CHECK(top == std::set<std::string>{"scene", "camera", "layer", "field", "family", "timing",
+                                       "easing", "param"});
 }
 
 TEST_CASE("lsp navigation: definition and references follow the compiler's symbols") {

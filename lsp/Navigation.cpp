@@ -119,6 +119,8 @@ Json documentSymbols(const DocView& doc) {
             return 24;
         case ast::DeclKind::Easing:
             return 12;
+        case ast::DeclKind::Param:
+            return 14; // Constant: a value a slider turns, not a formula
         }
         return 13;
     };

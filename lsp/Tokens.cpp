@@ -69,6 +69,10 @@ void classifyExpr(const ast::Expr& e, std::map<uint32_t, Classified>& out) {
         return put(e.range, kVariable, kDefaultLibrary | kReadonly);
     case ast::RefKind::Field:
         return put(e.range, kVariable, kReadonly);
+    case ast::RefKind::Param:
+        return put(e.range, kVariable, 0);
+    case ast::RefKind::Boolean:
+        return put(e.range, kEnumMember, 0);
     case ast::RefKind::FamilyParam:
     case ast::RefKind::EasingVar:
         return put(e.range, kParameter, 0);

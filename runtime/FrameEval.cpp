@@ -34,6 +34,8 @@ const char* requirement(lower::ValueCheck::Rule rule, double v, bool angle) {
     case R::Sides:
         if (v >= 3 && v <= most && v == std::floor(v)) return nullptr;
         return "a whole number of sides, 3 or more";
+    case R::Range: // its bounds are the param's own: evaluateFrame words it
+        return nullptr;
     }
     return nullptr;
 }
@@ -117,9 +119,20 @@ bool evaluateFrame(const SceneProgram& program, const FrameRequest& request, Fra
         const lower::ValueCheck& c = layout.checks[i];
         if (c.perPixel) continue;
         const double v = outputs[u + layout.firstCheckSetting() + static_cast<int>(i)];
+        if (c.rule == lower::ValueCheck::Range) {
+            if (!(v >= c.lo && v <= c.hi))
+                outOfRange(c.where, c.what,
+                           fmt::format("from {:.6g} to {:.6g}", c.lo, c.hi).c_str(), v, c.angle);
+            continue;
+        }
         if (const char* need = requirement(c.rule, v, c.angle))
             outOfRange(c.where, c.what, need, v, c.angle);
     }
+    out.parameters.assign(static_cast<size_t>(layout.numParameters), {});
+    for (int p = 0; p < layout.numParameters; ++p)
+        for (int i = 0; i < lower::OutputLayout::kParameterWidth; ++i)
+            out.parameters[static_cast<size_t>(p)][static_cast<size_t>(i)] =
+                outputs[u + layout.parameterSetting(p) + i];
     diagnostics = diags.render();
     if (located) *located = diags.located();
     return !diags.hasErrors();

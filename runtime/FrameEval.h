@@ -6,6 +6,7 @@
 #include "compiler/Compile.h"
 #include "compiler/lower/ClipClock.h" // TimingValues
 
+#include <array>
 #include <string>
 #include <vector>
 
@@ -21,6 +22,9 @@ struct FrameValues {
     // world units.
     double sceneWidth = 0.0, sceneHeight = 0.0;
     std::vector<TimingValues> timings;
+    // Each param's value at this instant (SceneProgram::parameters' order; a colour's four
+    // components, a vector's two, else one, the rest 0): what a slider shows.
+    std::vector<std::array<double, 4>> parameters;
 };
 
 constexpr int kMaxImageSide = 32768;

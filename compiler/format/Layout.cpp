@@ -57,12 +57,14 @@ size_t Layout::decl(size_t k) {
     std::string_view keyword = t_[j].spelling;
     ++j;
     bool named = keyword == "field" || keyword == "family" || keyword == "timing" ||
-                 keyword == "easing" || (keyword == "layer" && t_[j].kind == Tok::Ident);
+                 keyword == "easing" || keyword == "param" ||
+                 (keyword == "layer" && t_[j].kind == Tok::Ident);
     if (named) ++j;
     if (keyword == "family" && t_[j].kind == Tok::LParen) j = t_[j].match + 1;
     startItem(k, 0);
-    if (t_[j].kind == Tok::Assign) { // field, easing, family name(...) = phase
+    if (t_[j].kind == Tok::Assign) { // field, easing, param, family name(...) = phase
         size_t e = exprEnd(j + 1);
+        if (keyword == "param") e = paramTail(e);
         run(k, e, 0, false);
         if (t_[e].kind == Tok::Semi) dropSeparator(e++, 0);
         return e;
@@ -86,6 +88,20 @@ size_t Layout::exprEnd(size_t k) const {
         if (!isBinaryOperator(t_[k].kind)) return k;
         ++k;
     }
+}
+
+size_t Layout::paramTail(size_t k) {
+    if (t_.isWord(k, "in")) {
+        tailWords_.insert(k);
+        k = exprEnd(k + 1);
+        if (t_[k].kind == Tok::DotDot) k = exprEnd(k + 1);
+    }
+    if (t_.isWord(k, "step")) {
+        tailWords_.insert(k);
+        k = exprEnd(k + 1);
+    }
+    if (t_.isWord(k, "unit")) k += 2;
+    return k;
 }
 
 size_t Layout::itemEnd(size_t k) const {
@@ -136,7 +152,7 @@ void Layout::block(size_t open, int indent) {
 
 bool Layout::isSign(size_t k) const {
     return (t_[k].kind == Tok::Plus || t_[k].kind == Tok::Minus) && k > 0 &&
-           !endsOperand(t_[k - 1].kind);
+           (!endsOperand(t_[k - 1].kind) || tailWords_.count(k - 1));
 }
 
 bool Layout::spaceBefore(size_t k) const {

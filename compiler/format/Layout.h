@@ -8,6 +8,7 @@
 #include "compiler/format/TokenList.h"
 #include "compiler/format/Writer.h"
 
+#include <set>
 #include <string>
 
 namespace moire::format {
@@ -30,6 +31,8 @@ class Layout {
     size_t itemEnd(size_t k) const;
     // Where the expression that begins at k ends.
     size_t exprEnd(size_t k) const;
+    // Past a param's `in lo .. hi`, `step s` and `unit word`, from the end of its default.
+    size_t paramTail(size_t k);
     // Tokens [b, e) of one declaration header or property, on one line but for the line
     // breaks written inside parentheses or after its '=' (kept, continuation lines aligned).
     void run(size_t b, size_t e, int indent, bool spaceFirst);
@@ -44,6 +47,7 @@ class Layout {
 
     const TokenList& t_;
     Writer w_;
+    std::set<size_t> tailWords_; // `in` and `step` of params: a sign after one is a sign
 };
 
 } // namespace moire::format

@@ -5,8 +5,8 @@
 namespace moire {
 
 const std::vector<std::string>& declarationKeywords() {
-    static const std::vector<std::string> words = {"scene",  "camera", "layer", "field",
-                                                   "family", "timing", "easing"};
+    static const std::vector<std::string> words = {"scene",  "camera", "layer",  "field",
+                                                   "family", "timing", "easing", "param"};
     return words;
 }
 

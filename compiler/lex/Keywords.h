@@ -10,7 +10,7 @@
 
 namespace moire {
 
-// What begins a declaration: scene, camera, layer, field, family, timing, easing.
+// What begins a declaration: scene, camera, layer, field, family, timing, easing, param.
 const std::vector<std::string>& declarationKeywords();
 
 // A declaration keyword, or `let` (which begins a binding in a family's body).

@@ -23,6 +23,8 @@ class Lexer {
     Lexer(uint32_t fileId, std::string_view text, DiagEngine& diags);
 
     Token next();
+    // Continues from byte `pos` (a `-D` value inside the command line's text).
+    void seek(size_t pos) { pos_ = pos; }
     std::string_view spelling(const Token& t) const { return text_.substr(t.offset, t.length); }
     uint32_t fileId() const { return file_; }
     // From now on every comment skipped is also appended to `sink` (null: none kept). The

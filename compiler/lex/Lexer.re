@@ -32,6 +32,7 @@ const char* tokDescription(Tok t) {
     case Tok::Star: return "'*'";
     case Tok::Slash: return "'/'";
     case Tok::Caret: return "'^'";
+    case Tok::DotDot: return "'..'";
     }
     return "?";
 }
@@ -205,6 +206,13 @@ Token Lexer::next() {
             }
             "/*" { skipBlockComment(start); continue; }
 
+            // `0..5`: a whole number just before `..` ends there (else `0.` would be read).
+            digits / ".." {
+                pos_ = static_cast<size_t>(cur - base);
+                t.length = static_cast<uint32_t>(pos_ - start);
+                lexNumber(t, start, pos_);
+                return t;
+            }
             mantissa exponent? word {
                 pos_ = static_cast<size_t>(cur - base);
                 t.length = static_cast<uint32_t>(pos_ - start);
@@ -237,6 +245,7 @@ Token Lexer::next() {
             "*" { return finish(Tok::Star); }
             "/" { return finish(Tok::Slash); }
             "^" { return finish(Tok::Caret); }
+            ".." { return finish(Tok::DotDot); }
 
             [\x21-\x7e] {
                 pos_ = static_cast<size_t>(cur - base);

@@ -27,6 +27,7 @@ enum class Tok : uint8_t {
     Star,
     Slash,
     Caret,
+    DotDot, // `..` between the ends of a parameter's range
 };
 
 // How a token kind is named in "expected X, found Y" diagnostics.

@@ -18,6 +18,21 @@ ValueId ExprLowering::literal(double value, int slot) {
     return slot >= 0 ? b_.param(slot) : b_.constF(value);
 }
 
+Vals ExprLowering::param(const Decl& p, Frame& frame) {
+    // The value a tool set (its literal slots, when the switch slot is 1), else the default:
+    // both uniforms, so a slider never changes the kernel (compiler/Parameters.h).
+    auto it = frame.fields.find(&p);
+    if (it != frame.fields.end()) return it->second;
+    Vals v = lower(*p.value, frame);
+    if (p.setSlot >= 0) {
+        ValueId set = b_.lt(b_.constF(0.5), b_.param(p.setSlot));
+        for (size_t i = 0; i < v.size(); ++i)
+            v[i] = b_.select(set, b_.param(p.valueSlot + static_cast<int>(i)), v[i]);
+    }
+    frame.fields[&p] = v;
+    return v;
+}
+
 ValueId ExprLowering::scalar(const Expr& e, Frame& frame) {
     Vals v = lower(e, frame);
     MOIRE_CHECK(v.size() == 1, "expected a scalar, got {} components", v.size());
@@ -94,6 +109,10 @@ Vals ExprLowering::name(const Expr& e, Frame& frame) {
         frame.fields[e.refDecl] = v;
         return v;
     }
+    case RefKind::Param:
+        return param(*e.refDecl, frame);
+    case RefKind::Boolean: // as the number 1 or 0 (select reads it so)
+        return {b_.constF(e.refIndex)};
     case RefKind::FamilyParam:
         MOIRE_CHECK(frame.family == e.refDecl, "parameter used outside its family");
         return frame.params.at(e.refIndex);
@@ -238,6 +257,12 @@ Vals ExprLowering::call(const Expr& e, Frame& frame) {
         return {s(0), s(1), s(2), s(3)};
     case sema::Fn::Step: // step(edge, v): 1 from the edge on
         return {b_.select(b_.emit(Op::Ge, {s(1), s(0)}), b_.constF(1.0), b_.constF(0.0))};
+    case sema::Fn::Select: { // a boolean is 0 or 1; a set value is exactly one of them
+        ValueId on = b_.lt(b_.constF(0.5), s(0));
+        Vals out;
+        for (size_t i = 0; i < a[1].size(); ++i) out.push_back(b_.select(on, a[1][i], a[2][i]));
+        return out;
+    }
     case sema::Fn::Progress:
     case sema::Fn::Ramp: {
         MOIRE_CHECK(progress_, "no timings to lower '{}' with", e.name);

@@ -43,6 +43,8 @@ class ExprLowering {
     }
 
     Vals lower(const ast::Expr& e, Frame& frame);
+    // A `param`'s value: the one a tool set in its literal slots, else its default.
+    Vals param(const ast::Decl& p, Frame& frame);
     ir::ValueId scalar(const ast::Expr& e, Frame& frame);
     // A block's property (`block` may be null: a scene without it) as written, or else its
     // default from `table` (sema/Properties.h).

@@ -131,6 +131,7 @@ LoweredScene lowerScene(const sema::CheckedScene& scene, const LowerOptions& opt
     // 4. The settings the frame reads: the timings used (clips' loop lengths, the frame's
     // checks), then the values the frame checks before drawing them (ValueCheck).
     timings.outputSettings(layout, layout.numKernelOutputs + OutputLayout::kNumSettings);
+    checks.params(scene);
     checks.output(layout);
     out.function.numOutputs = layout.numKernelOutputs + layout.numSettings();
     ir::verify(out.function);

@@ -73,12 +73,14 @@ struct ValueCheck {
         Spacing,  // from kMinSpacing to kMaxMagnitude
         Unit,     // from 0 to 1 (opacity)
         Sides,    // a whole number of sides, 3 or more (a polygon family's facets)
+        Range,    // from lo to hi: a param's declared range
     };
     Rule rule = Finite;
     std::string what;  // as the message names it: 'stroke'
     SourceRange where; // the value in the source
     bool angle = false;
     bool perPixel = false;
+    double lo = 0.0, hi = 0.0; // Range
 };
 
 // Where things are in the scene function's outputs.
@@ -101,7 +103,14 @@ struct OutputLayout {
     int firstCheckSetting() const {
         return kNumSettings + kTimingSettings * static_cast<int>(timings.size());
     }
-    int numSettings() const { return firstCheckSetting() + static_cast<int>(checks.size()); }
+    // Each param's value (compiler/Parameters.h), kParameterWidth settings each, after the
+    // checks': what the tools show beside a slider when the default is an expression.
+    static constexpr int kParameterWidth = 4;
+    int numParameters = 0;
+    int parameterSetting(int param) const {
+        return firstCheckSetting() + static_cast<int>(checks.size()) + kParameterWidth * param;
+    }
+    int numSettings() const { return parameterSetting(numParameters); }
     int timingSetting(int timing) const { return kNumSettings + kTimingSettings * timing; }
     static constexpr int kFieldsPerLayer = 6;
     int indexSlot(int layer) const { return 4 + kFieldsPerLayer * layer; }

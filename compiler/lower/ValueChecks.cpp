@@ -1,5 +1,7 @@
 #include "compiler/lower/ValueChecks.h"
 
+#include "compiler/sema/ConstantValue.h"
+
 namespace moire::lower {
 
 using namespace ast;
@@ -49,11 +51,39 @@ void ValueChecks::layer(const sema::CheckedLayer& layer) {
     }
 }
 
+void ValueChecks::params(const sema::CheckedScene& scene) {
+    for (const Decl* p : scene.params) {
+        Vals v = ctx_.exprs.param(*p, ctx_.world);
+        params_.push_back(v);
+        if (!p->rangeLo) continue;
+        std::optional<double> lo = sema::constantValue(*p->rangeLo);
+        std::optional<double> hi = sema::constantValue(*p->rangeHi);
+        if (!lo || !hi) continue; // reported by the checks
+        const Expr& e = *p->value;
+        for (size_t i = 0; i < v.size(); ++i) {
+            const bool written = e.kind == ExprKind::Vector && e.args.size() == v.size();
+            ValueCheck c{ValueCheck::Range, "param '" + p->name + "'",
+                         written ? e.args[i]->range : e.range, e.type == Type::Angle, false};
+            c.lo = *lo;
+            c.hi = *hi;
+            checks_.push_back({v[i], std::move(c)});
+        }
+    }
+}
+
 void ValueChecks::output(OutputLayout& layout) {
     for (auto& [value, check] : checks_) {
         ctx_.b.output(layout.numKernelOutputs + layout.numSettings(), value);
         layout.checks.push_back(std::move(check));
     }
+    layout.numParameters = static_cast<int>(params_.size());
+    for (size_t p = 0; p < params_.size(); ++p)
+        for (int i = 0; i < OutputLayout::kParameterWidth; ++i) {
+            const size_t c = static_cast<size_t>(i);
+            ir::ValueId v = c < params_[p].size() ? params_[p][c] : ctx_.b.constF(0.0);
+            ctx_.b.output(
+                layout.numKernelOutputs + layout.parameterSetting(static_cast<int>(p)) + i, v);
+        }
 }
 
 } // namespace moire::lower

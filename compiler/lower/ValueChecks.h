@@ -16,7 +16,10 @@ class ValueChecks {
 
     // Records the values of `layer` to check: its properties and its families' arguments.
     void layer(const sema::CheckedLayer& layer);
-    // Outputs every recorded value as a setting after the layout's others, in order.
+    // Records the scene's params: each one's value, and its range when it has one.
+    void params(const sema::CheckedScene& scene);
+    // Outputs every recorded value as a setting after the layout's others, in order, then the
+    // params' values.
     void output(OutputLayout& layout);
 
   private:
@@ -26,6 +29,7 @@ class ValueChecks {
     SceneContext& ctx_;
     std::vector<std::pair<ir::ValueId, ValueCheck>> checks_;
     std::set<std::pair<const ast::Expr*, ValueCheck::Rule>> checked_;
+    std::vector<Vals> params_;
 };
 
 } // namespace moire::lower

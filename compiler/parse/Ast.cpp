@@ -18,6 +18,8 @@ const char* typeName(Type t) {
         return "a 2-vector";
     case Type::Color:
         return "a colour";
+    case Type::Bool:
+        return "a boolean";
     }
     return "?";
 }
@@ -54,6 +56,8 @@ const char* declKindName(DeclKind k) {
         return "timing";
     case DeclKind::Easing:
         return "easing";
+    case DeclKind::Param:
+        return "param";
     }
     return "?";
 }
@@ -71,6 +75,8 @@ const char* shortType(Type t) {
         return "vec2";
     case Type::Color:
         return "color";
+    case Type::Bool:
+        return "bool";
     }
     return "?";
 }
@@ -187,6 +193,10 @@ std::string printModule(const Module& m) {
         }
         out += "\n";
         if (d->value) printTree(out, *d->value, 1);
+        if (d->rangeLo)
+            out += "  in " + printExpr(*d->rangeLo) + " .. " + printExpr(*d->rangeHi) + "\n";
+        if (d->step) out += "  step " + printExpr(*d->step) + "\n";
+        if (!d->unitLabel.empty()) out += "  unit " + d->unitLabel + "\n";
         for (const Let& l : d->lets) {
             out += "  let " + l.name + "\n";
             printTree(out, *l.value, 2);

@@ -16,7 +16,7 @@ namespace moire::ast {
 using moire::Unit; // as the lexer read it
 
 // The value types of the language. Vectors and colours are scalarised during lowering.
-enum class Type : uint8_t { Error, Num, Angle, Vec2, Color };
+enum class Type : uint8_t { Error, Num, Angle, Vec2, Color, Bool };
 const char* typeName(Type t); // "a number", "an angle", ...
 
 // Error marks an expression the parser could not read (already diagnosed).
@@ -39,6 +39,8 @@ enum class RefKind : uint8_t {
     EasingVar,   // `u` inside an easing
     Family,      // a family's name: a layer's `family`, a member of a morph
     Easing,      // an easing's name: a timing's `easing`
+    Param,       // a top-level `param` declaration
+    Boolean,     // `true` or `false` (refIndex 1 or 0)
 };
 
 struct Expr {
@@ -107,7 +109,7 @@ struct FamilyParam {
     Type type = Type::Num; // from the default value's type (Num when there is none)
 };
 
-enum class DeclKind : uint8_t { Scene, Camera, Field, Family, Layer, Timing, Easing };
+enum class DeclKind : uint8_t { Scene, Camera, Field, Family, Layer, Timing, Easing, Param };
 const char* declKindName(DeclKind k);
 
 struct Decl {
@@ -119,8 +121,17 @@ struct Decl {
     std::vector<FamilyParam> params; // family
     std::vector<Let> lets;           // family body, in order
     std::vector<Property> props;     // scene, camera, layer, family body
-    ExprPtr value;                   // field
-    bool builtin = false;            // family implemented by the compiler (stdlib only)
+    ExprPtr value;                   // field; param: its default
+    // param: `in lo .. hi`, `step s` and `unit word`, each optional (null / empty when absent).
+    ExprPtr rangeLo, rangeHi, step;
+    std::string unitLabel;
+    SourceRange unitRange;
+    // param: the literal slots a tool sets in place of the default (compiler/Parameters.h):
+    // the value's components from valueSlot, and setSlot, 1 when they are in force.
+    int valueSlot = -1, setSlot = -1;
+    // param: the default written in the scene, when `-D` replaced it (its type is the param's).
+    ExprPtr sceneDefault;
+    bool builtin = false; // family implemented by the compiler (stdlib only)
 
     const Property* prop(std::string_view n) const {
         for (const Property& p : props)

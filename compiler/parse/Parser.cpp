@@ -29,6 +29,14 @@ Parser::Parser(const SourceManager& sm, uint32_t fileId, DiagEngine& diags)
     advance();
 }
 
+Parser::Parser(const SourceManager& sm, uint32_t fileId, DiagEngine& diags, size_t start,
+               int firstSlot)
+    : file_(fileId), text_(sm.file(fileId).text()), isStdlib_(false), diags_(diags),
+      lexer_(fileId, sm.file(fileId).text(), diags), firstSlot_(firstSlot) {
+    lexer_.seek(start);
+    advance();
+}
+
 void Parser::advance() {
     prevTok_ = tok_;
     tok_ = lexer_.next();
@@ -145,7 +153,7 @@ void Parser::recoverTo(bool inBlock) {
 int Parser::assignLiteral(double v) {
     if (isStdlib_) return -1;
     literals_.push_back(v);
-    return static_cast<int>(literals_.size() - 1);
+    return firstSlot_ + static_cast<int>(literals_.size() - 1);
 }
 
 Module Parser::parseModule() {
@@ -197,6 +205,8 @@ DeclPtr Parser::parseDecl() {
         kind = DeclKind::Timing;
     else if (word == "easing")
         kind = DeclKind::Easing;
+    else if (word == "param")
+        kind = DeclKind::Param;
     else {
         Hint found = describeCurrent();
         if (at(Tok::Ident)) {
@@ -204,7 +214,7 @@ DeclPtr Parser::parseDecl() {
             found.text = describeCurrent() + found.text;
         }
         diags_.error(range(), Msg::Expected,
-                     "a declaration (scene, camera, layer, field, family, timing or easing)",
+                     "a declaration (scene, camera, layer, field, family, timing, easing or param)",
                      found);
         advance();
         recoverTo(false);
@@ -213,7 +223,7 @@ DeclPtr Parser::parseDecl() {
     advance();
     auto d = std::make_unique<Decl>(kind, kw);
     bool named = kind == DeclKind::Field || kind == DeclKind::Family || kind == DeclKind::Timing ||
-                 kind == DeclKind::Easing;
+                 kind == DeclKind::Easing || kind == DeclKind::Param;
     if (named || (kind == DeclKind::Layer && at(Tok::Ident))) {
         d->nameRange = range();
         if (!at(Tok::Ident)) {
@@ -239,6 +249,9 @@ DeclPtr Parser::parseDecl() {
         }
         accept(Tok::Semi);
         break;
+    case DeclKind::Param:
+        parseParam(*d);
+        break;
     case DeclKind::Family:
         d->builtin = builtin;
         parseFamily(*d);
@@ -248,6 +261,53 @@ DeclPtr Parser::parseDecl() {
         break;
     }
     return d;
+}
+
+// `param name = default [in lo .. hi] [step s] [unit word]`: the words after the default are
+// read only there, so `in`, `step` and `unit` stay free as names elsewhere (`step(e, v)`).
+void Parser::parseParam(Decl& d) {
+    if (!expect(Tok::Assign, "'=' after the param's name")) {
+        recoverTo(false);
+        return;
+    }
+    d.value = parseExpr();
+    if (atWord("in")) {
+        advance();
+        d.rangeLo = parseExpr();
+        if (!expect(Tok::DotDot, "'..' between the range's ends")) {
+            recoverTo(false);
+            return;
+        }
+        d.rangeHi = parseExpr();
+    }
+    if (atWord("step")) {
+        advance();
+        d.step = parseExpr();
+    }
+    if (atWord("unit")) {
+        advance();
+        d.unitRange = range();
+        if (!at(Tok::Ident)) {
+            diags_.error(range(), Msg::Expected, "a unit's name after 'unit' (px, mm, s, %...)",
+                         describeCurrent());
+            recoverTo(false);
+            return;
+        }
+        d.unitLabel = std::string(lexer_.spelling(tok_));
+        advance();
+    }
+    if (!valueEnds()) {
+        recoverTo(false);
+        return;
+    }
+    accept(Tok::Semi);
+    // The slots a tool writes in place of the default (compiler/Parameters.h): four value
+    // components (as many as a colour has) and the switch, all 0 until a tool sets them.
+    if (!isStdlib_) {
+        d.valueSlot = assignLiteral(0.0);
+        for (int i = 1; i < 4; ++i) assignLiteral(0.0);
+        d.setSlot = assignLiteral(0.0);
+    }
 }
 
 bool Parser::parseProperty(std::vector<Property>& props) {

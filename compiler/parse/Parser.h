@@ -25,6 +25,12 @@ class Parser {
     // Literals of a user file get slots in the module's literal table; stdlib literals are
     // structural constants.
     Parser(const SourceManager& sm, uint32_t fileId, DiagEngine& diags);
+    // Reads from byte `start` of the file, numbering its literals' slots from `firstSlot`:
+    // a `-D` value, read out of the command line and added to the scene's literal table.
+    Parser(const SourceManager& sm, uint32_t fileId, DiagEngine& diags, size_t start,
+           int firstSlot);
+    // The literals read so far (their slots numbered from the constructor's `firstSlot`).
+    const std::vector<double>& literals() const { return literals_; }
 
     ast::Module parseModule();
     // Parses one expression filling the whole text (used by tests and tools).
@@ -57,6 +63,7 @@ class Parser {
     ast::DeclPtr parseDecl();
     void parseBlock(ast::Decl& d);
     void parseFamily(ast::Decl& d);
+    void parseParam(ast::Decl& d);
     bool parseProperty(std::vector<ast::Property>& props);
 
     ast::ExprPtr parseExpr();
@@ -79,6 +86,7 @@ class Parser {
     int depth_ = 0;          // nesting of the expression being read (chains do not count)
     bool abandoned_ = false; // an expression was too deep; the rest of the input is skipped
     std::vector<double> literals_;
+    int firstSlot_ = 0;
 };
 
 } // namespace moire

@@ -213,9 +213,9 @@ TEST_CASE("parser: errors in several declarations are all reported, and parsing 
     REQUIRE(texts.size() == 5);
     CHECK(texts[0] == "expected an expression, found '}'");
     CHECK(texts[1] == "expected '=' after 'spacing', found a number '7'");
-    CHECK(texts[2] ==
-          "expected a declaration (scene, camera, layer, field, family, timing or easing), found "
-          "'fild'; did you mean 'field'?");
+    CHECK(texts[2] == "expected a declaration (scene, camera, layer, field, family, timing, easing "
+                      "or param), found "
+                      "'fild'; did you mean 'field'?");
     CHECK(texts[3] == "expected a name for the field, found '='");
     CHECK(texts[4] == "expected an operator such as '*' between two values, found '('");
     // The declaration after the errors is intact.

@@ -55,6 +55,8 @@ constexpr FnInfo kFns[] = {
     {"ramp", 3, Signature::Timed,
      "ramp(timing, from, to): from the first value to the second as the timing runs (eased)"},
     {"progress", 1, Signature::Timed, "progress(timing): the timing's eased progress, 0 to 1"},
+    {"select", 3, Signature::Select,
+     "select(b, a, c): a where the boolean b is true, else c (any value type)"},
 };
 } // namespace
 

@@ -57,6 +57,7 @@ enum class Fn {
     Step,
     Ramp,
     Progress,
+    Select,
 };
 // How a function's argument and result types relate.
 enum class Signature {
@@ -68,6 +69,7 @@ enum class Signature {
     Length,    // vector -> number
     Color,     // numbers -> colour
     Timed,     // (timing[, T, T]) -> number, or T between the two values: ramp, progress
+    Select,    // (boolean, T, T) -> T
 };
 struct FnInfo {
     const char* spelling;

@@ -125,7 +125,7 @@ Type Checker::typeOf(Expr& e, const Scope& scope) {
     case ExprKind::Unary: {
         Type t = e.args[0]->type;
         if (t == Type::Error) return t;
-        if (t == Type::Color) {
+        if (t == Type::Color || t == Type::Bool) {
             diags_.error(e.opRange, Msg::UnaryType, e.un == UnOp::Neg ? "-" : "+", typeName(t));
             return Type::Error;
         }
@@ -156,7 +156,7 @@ Type Checker::binaryType(Expr& e) {
     switch (e.bin) {
     case BinOp::Add:
     case BinOp::Sub:
-        if (a == b && a != Type::Color) return a;
+        if (a == b && a != Type::Color && a != Type::Bool) return a;
         // 0 is zero in every unit: `rotation + 0` is harmless.
         if (a == Type::Angle && b == Type::Num && isLiteralZero(*e.args[1])) return a;
         if (b == Type::Angle && a == Type::Num && isLiteralZero(*e.args[0])) return b;
@@ -246,6 +246,14 @@ Type Checker::callType(Expr& e) {
             return Type::Error;
         }
         return e.args[1]->type;
+    case Signature::Select:
+        if (e.args[0]->type != Type::Bool) return argFail(0, "a boolean (true, false or a param)");
+        if (e.args[1]->type != e.args[2]->type) {
+            diags_.error(e.args[2]->range, Msg::SameTypeArgs, e.name, typeName(e.args[1]->type),
+                         typeName(e.args[2]->type));
+            return Type::Error;
+        }
+        return e.args[1]->type;
     case Signature::Length:
         if (e.args[0]->type != Type::Vec2) return argFail(0, "a 2-vector");
         return Type::Num;
@@ -296,6 +304,11 @@ Type Checker::resolveName(Expr& e, const Scope& scope) {
         e.dependsOnPosition = e.dependsOnTime = true;
         return Type::Num;
     }
+    if (n == "true" || n == "false") {
+        e.ref = RefKind::Boolean;
+        e.refIndex = n == "true" ? 1 : 0;
+        return Type::Bool;
+    }
     if (auto b = lookupName(n)) {
         e.ref = RefKind::Builtin;
         e.refIndex = static_cast<int>(*b);
@@ -304,7 +317,8 @@ Type Checker::resolveName(Expr& e, const Scope& scope) {
         return Type::Num;
     }
     auto g = globals_.find(n);
-    if (g != globals_.end() && g->second->kind == DeclKind::Field) {
+    if (g != globals_.end() &&
+        (g->second->kind == DeclKind::Field || g->second->kind == DeclKind::Param)) {
         Decl* f = const_cast<Decl*>(g->second);
         if (fieldState_[f] == State::InProgress) {
             std::string path;
@@ -325,10 +339,12 @@ Type Checker::resolveName(Expr& e, const Scope& scope) {
         }
         checkField(*f);
         refHeight_ = fieldHeight_[f];
-        e.ref = RefKind::Field;
+        e.ref = f->kind == DeclKind::Param ? RefKind::Param : RefKind::Field;
         e.refDecl = f;
         e.dependsOnPosition = f->value->dependsOnPosition;
         e.dependsOnTime = f->value->dependsOnTime;
+        // A `-D` value of 0 for an angle param is still an angle.
+        if (f->sceneDefault) return f->sceneDefault->type;
         return f->value->type;
     }
     if (g != globals_.end() && g->second->kind == DeclKind::Family) {
@@ -358,7 +374,7 @@ Type Checker::resolveName(Expr& e, const Scope& scope) {
     }
     std::vector<std::string> candidates = builtinNames();
     for (auto& [name, d] : globals_)
-        if (d->kind == DeclKind::Field) candidates.push_back(name);
+        if (d->kind == DeclKind::Field || d->kind == DeclKind::Param) candidates.push_back(name);
     if (scope.family) {
         for (size_t i = 0; i < scope.visibleLets; ++i)
             candidates.push_back(scope.family->lets[i].name);

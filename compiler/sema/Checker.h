@@ -59,13 +59,15 @@ class Checker {
 
     enum class State { Unvisited, InProgress, Done };
     void checkField(Decl& f);
+    void checkParam(Decl& p);        // CheckParam.cpp
+    void checkDefinedValue(Decl& p); // CheckParam.cpp: a `-D` value against its default
     void checkFamily(Decl& f);
     void checkEasing(Decl& e);
     std::vector<Decl*>& declList(DeclKind k) {
-        return k == DeclKind::Field    ? fields_
-               : k == DeclKind::Family ? familyDecls_
-               : k == DeclKind::Timing ? timings_
-                                       : easings_;
+        return k == DeclKind::Field || k == DeclKind::Param ? fields_
+               : k == DeclKind::Family                      ? familyDecls_
+               : k == DeclKind::Timing                      ? timings_
+                                                            : easings_;
     }
     void checkTiming(Decl& t);
     // The morph of a layer: `family = morph(timing, f0, f1, ...)`; false when it is not one.

@@ -50,6 +50,8 @@ CheckedScene Checker::run(const std::vector<Module*>& modules) {
     for (Decl* e : easings_) checkEasing(*e);
     for (Decl* t : timings_) checkTiming(*t);
     for (Decl* f : fields_) checkField(*f);
+    for (Decl* f : fields_)
+        if (f->kind == DeclKind::Param) checkParam(*f);
     for (Decl* f : familyDecls_) checkFamily(*f);
     for (Module* m : modules)
         for (DeclPtr& d : m->decls) {
@@ -64,7 +66,8 @@ bool Checker::reserved(const std::string& name, SourceRange at) {
     auto is = [&](const std::vector<std::string>& v) {
         return std::find(v.begin(), v.end(), name) != v.end();
     };
-    if (is(builtinNames()) || is(builtinFunctions()) || isKeyword(name) || name == kSpacingName) {
+    if (is(builtinNames()) || is(builtinFunctions()) || isKeyword(name) || name == kSpacingName ||
+        name == "true" || name == "false") {
         diags_.error(at, Msg::ReservedName, name);
         return true;
     }
@@ -93,7 +96,8 @@ void Checker::collect(const std::vector<Module*>& modules) {
             case DeclKind::Field:
             case DeclKind::Family:
             case DeclKind::Timing:
-            case DeclKind::Easing: {
+            case DeclKind::Easing:
+            case DeclKind::Param: {
                 if (reserved(d.name, d.nameRange)) break;
                 auto known = globals_.find(d.name);
                 // A scene may reuse a library name (its own `field ripple`): its declaration
@@ -145,6 +149,7 @@ void Checker::checkField(Decl& f) {
     st = State::InProgress;
     fieldStack_.push_back(&f);
     checkExpr(*f.value, Scope{});
+    if (f.kind == DeclKind::Param && f.sceneDefault) checkDefinedValue(f);
     fieldHeight_[&f] = lastHeight_;
     fieldStack_.pop_back();
     fieldState_[&f] = State::Done;

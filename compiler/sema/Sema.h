@@ -79,6 +79,7 @@ struct CheckedScene {
     std::unordered_map<const ast::Decl*, CheckedTiming> timings;
     std::vector<const ast::Decl*> timingOrder; // declaration order
     std::unordered_map<std::string, const ast::Decl*> easingByName;
+    std::vector<const ast::Decl*> params; // the scene's `param`s, in declaration order
 };
 
 // Checks the standard library modules and the user's module together. Errors go to

@@ -24,6 +24,8 @@ const char* symbolKindName(SymbolKind k) {
         return "parameter";
     case SymbolKind::Let:
         return "let";
+    case SymbolKind::SceneParam:
+        return "param";
     }
     return "?";
 }
@@ -45,6 +47,8 @@ SymbolKind kindOf(DeclKind k) {
         return SymbolKind::Timing;
     case DeclKind::Easing:
         return SymbolKind::Easing;
+    case DeclKind::Param:
+        return SymbolKind::SceneParam;
     default:
         return SymbolKind::Layer;
     }
@@ -94,6 +98,7 @@ class Collector {
         size_t s;
         switch (e.ref) {
         case RefKind::Field:
+        case RefKind::Param:
         case RefKind::Family:
         case RefKind::Timing:
         case RefKind::Easing:

@@ -16,8 +16,9 @@
 
 namespace moire::sema {
 
-enum class SymbolKind : uint8_t { Field, Family, Timing, Easing, Layer, Param, Let };
-const char* symbolKindName(SymbolKind k); // "field", "family", ... "parameter", "let"
+// Param is a family's parameter; SceneParam a top-level `param` declaration.
+enum class SymbolKind : uint8_t { Field, Family, Timing, Easing, Layer, Param, Let, SceneParam };
+const char* symbolKindName(SymbolKind k); // "field", "family", ... "parameter", "let", "param"
 
 struct Symbol {
     SymbolKind kind;

@@ -122,7 +122,7 @@ int clip(const ClipArgs& args) {
     Stages stages(args.verbosity);
     Source src;
     if (!readScene(args.scene, src)) return kExitIo;
-    auto program = compileOrReport(src);
+    auto program = compileOrReport(src, CompileOptions{.defines = args.defines});
     if (!program) return kExitScene;
     stages.done(fmt::format("compiled {}", src.path));
     FrameValues first;

@@ -291,6 +291,7 @@ int render(const RenderArgs& args) {
     Stages stages(args.verbosity);
     Source src;
     if (!readScene(args.scene, src)) return kExitIo;
+    compileOptions.defines = args.defines;
     auto program = compileOrReport(src, compileOptions);
     if (!program) return kExitScene;
     if (opening.valid() && !(backend = opening.get())) return kExitMachine;

@@ -1,6 +1,8 @@
 // The `moire` subcommands. Each returns the process exit status (docs/cli.md):
 #pragma once
 
+#include "compiler/Defines.h"
+
 #include <optional>
 #include <string>
 #include <vector>
@@ -37,6 +39,7 @@ struct RenderArgs {
     std::optional<double> envelopeGain = std::nullopt, envelopeTaps = std::nullopt;
     bool overlay = false; // --overlay: the fringe curves over the view, whatever the scene says
     Verbosity verbosity;
+    Defines defines; // -D NAME=VALUE
 };
 int render(const RenderArgs& args);
 
@@ -57,6 +60,7 @@ struct ClipArgs {
     int threads = 0;
     bool plan = false; // print the schedule, render nothing
     Verbosity verbosity;
+    Defines defines; // -D NAME=VALUE
 };
 int clip(const ClipArgs& args);
 
@@ -74,6 +78,7 @@ struct WatchArgs {
     int debounceMs = 30;
     bool once = false; // render the current file and exit (no watching)
     Verbosity verbosity;
+    Defines defines; // -D NAME=VALUE
 };
 int watch(const WatchArgs& args);
 
@@ -89,6 +94,7 @@ struct ViewArgs {
     int debounceMs = 30;
     bool trace = false; // hidden: a line per frame shown, and after `p` a marker (tests)
     Verbosity verbosity;
+    Defines defines; // -D NAME=VALUE
 };
 int view(const ViewArgs& args);
 

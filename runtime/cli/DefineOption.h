@@ -4,7 +4,6 @@
 #include "compiler/Defines.h"
 
 #include <CLI/CLI.hpp>
-
 #include <string>
 #include <vector>
 

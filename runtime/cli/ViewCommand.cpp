@@ -83,6 +83,7 @@ int view(const ViewArgs& args) {
     options.width = w;
     options.height = h;
     options.time = args.time;
+    options.defines = args.defines;
     options.paused = args.paused;
     options.threads = args.threads;
     options.debounceMs = args.debounceMs;

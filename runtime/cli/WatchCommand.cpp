@@ -95,6 +95,7 @@ int watch(const WatchArgs& args) {
     options.write.threads = args.threads;
     options.exec.threads = args.threads;
     options.watch.debounce = std::chrono::milliseconds(args.debounceMs);
+    options.defines = args.defines;
 
     // SIGINT and SIGTERM are taken by sigwait below, on this thread only: block them before
     // the watch thread starts, so that it inherits the mask and a signal never lands on it in

@@ -5,6 +5,7 @@
 #include "compiler/sema/Views.h"
 #include "lsp/Server.h"
 #include "runtime/cli/Commands.h"
+#include "runtime/cli/DefineOption.h"
 #include "runtime/cli/ServeCommand.h"
 #include "runtime/output/ImageIO.h"
 #include "runtime/output/JitCache.h"
@@ -104,6 +105,8 @@ int main(int argc, char** argv) {
     CLI::App* renderCmd = app.add_subcommand(
         "render", "Render a scene to an image file (--backend: jit, interp or vulkan)");
     addScene(renderCmd, renderArgs.scene);
+    std::vector<std::string> rawDefines; // -D on whichever command runs (DefineOption.h)
+    cli::addDefineOption(renderCmd, rawDefines);
     renderCmd->add_option("-o,--output", renderArgs.output,
                           "Image to write: .png (8/16-bit), .tif (16/8-bit), .exr (float/half), "
                           ".jpg; - for a PNG on standard output (default: <scene>.png)");
@@ -138,6 +141,7 @@ int main(int argc, char** argv) {
     CLI::App* clipCmd = app.add_subcommand(
         "clip", "Render an animation: numbered images or a video (.mp4, .webm, .gif)");
     addScene(clipCmd, clipArgs.scene);
+    cli::addDefineOption(clipCmd, rawDefines);
     clipCmd->add_option("-o,--output", clipArgs.output,
                         "Frames as a numbered image name (frame_%04d.png; .png, .tif, .exr, .jpg) "
                         "or one video file (.mp4, .webm, .gif; needs ffmpeg)");
@@ -172,6 +176,7 @@ int main(int argc, char** argv) {
     CLI::App* watchCmd = app.add_subcommand(
         "watch", "Re-render an image each time the scene is saved (headless live coding)");
     addScene(watchCmd, watchArgs.scene, false, false)->required();
+    cli::addDefineOption(watchCmd, rawDefines);
     watchCmd->add_option("-o,--output", watchArgs.output,
                          "Image to keep up to date (default: <scene>.png); replaced atomically");
     addImageOptions(watchCmd, watchArgs);
@@ -190,6 +195,7 @@ int main(int argc, char** argv) {
     CLI::App* viewCmd =
         app.add_subcommand("view", "Open a window on a scene that reloads as the file is saved");
     addScene(viewCmd, viewArgs.scene, false);
+    cli::addDefineOption(viewCmd, rawDefines);
     addBackend(viewCmd, viewArgs.backend, viewArgs.device,
                "vulkan or jit (default: vulkan on a GPU, else jit), or interp");
     addSize(viewCmd, viewArgs.size, "Window (in screen units)");
@@ -290,6 +296,15 @@ int main(int argc, char** argv) {
     } catch (const CLI::ParseError& e) {
         int code = app.exit(e);
         return code == 0 ? 0 : cli::kExitUsage;
+    }
+    if (!rawDefines.empty()) {
+        Defines defines;
+        std::string diagnostics;
+        if (!cli::collectDefines(argc, argv, defines, diagnostics)) {
+            fmt::print(stderr, "{}", diagnostics);
+            return cli::kExitUsage;
+        }
+        renderArgs.defines = clipArgs.defines = watchArgs.defines = viewArgs.defines = defines;
     }
     try {
         if (*renderCmd) return cli::render(renderArgs);

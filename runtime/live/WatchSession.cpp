@@ -16,6 +16,7 @@ double msSince(std::chrono::steady_clock::time_point t0) {
 SceneReloader::Options reloaderOptions(const WatchOptions& o) {
     SceneReloader::Options r;
     r.watch = o.watch;
+    r.compile.defines = o.defines;
     return r;
 }
 } // namespace

@@ -22,6 +22,7 @@ struct WatchOptions {
     WriteOptions write;
     ExecOptions exec;
     FileWatch::Options watch;
+    Defines defines; // `-D` values, applied to every build
 };
 
 // What happened to one state of the file.

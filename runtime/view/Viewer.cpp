@@ -151,6 +151,7 @@ class Viewer {
         compile.mode = CompileOptions::Mode::Interactive;
         compile.view = state_.viewOverride();
         compile.overlay = state_.overlayOverride();
+        compile.defines = options_.defines;
         BuildResult first;
         if (options_.scenePath.empty()) {
             builder_ = std::make_unique<SceneBuilder>(backend_, compile);

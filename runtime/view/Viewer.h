@@ -6,6 +6,7 @@
 #pragma once
 
 #include "compiler/backend/Backend.h"
+#include "compiler/Defines.h"
 
 #include <string>
 
@@ -23,6 +24,7 @@ struct ViewerOptions {
     // the placement `p` prints.
     bool trace = false;
     std::string backendLabel; // for the status line
+    Defines defines;          // `-D` values, applied to every build
 };
 
 // Opens the window and runs until it is closed; returns the process exit status (0, or 1

@@ -1,5 +1,6 @@
 #include "tests/support/Support.h"
 
+#include "runtime/cli/DefineOption.h"
 #include "runtime/FrameEval.h"
 #include "runtime/output/Render.h"
 
@@ -42,7 +43,25 @@ std::unique_ptr<SceneProgram> compileOk(const std::string& text, const CompileOp
 }
 
 std::string compileErrors(const std::string& text, const std::string& path) {
-    CompileResult r = compileScene(path, text, {});
+    // A case whose first line is `// moire ARGS...` is compiled with that command line's -D
+    // values (split at spaces), and its command-line errors are its diagnostics.
+    CompileOptions options;
+    if (text.starts_with("// moire ")) {
+        std::string line = text.substr(3, text.find('\n') - 3);
+        std::vector<std::string> words;
+        for (size_t at = 0; at < line.size();) {
+            size_t end = std::min(line.find(' ', at), line.size());
+            words.push_back(line.substr(at, end - at));
+            at = end + 1;
+        }
+        std::vector<const char*> argv;
+        for (const std::string& w : words) argv.push_back(w.c_str());
+        std::string diagnostics;
+        if (!cli::collectDefines(static_cast<int>(argv.size()), argv.data(), options.defines,
+                                 diagnostics))
+            return diagnostics;
+    }
+    CompileResult r = compileScene(path, text, options);
     if (r.program) {
         // Frame-time errors (image size, zoom) are diagnostics too.
         FrameValues fv;

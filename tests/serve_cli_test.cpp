@@ -1,4 +1,5 @@
-// `moire serve` on the command line: what it refuses before serving (exit 2), a folder it
+// `moire serve` on the command line: what it refuses before serving (exit 2, a wrong -D
+// among them), a folder it
 // cannot watch or a port it cannot have (exit 3), the address on the first line of standard
 // output, a warning for an address other than this machine's, and exit 0 on SIGTERM. The page
 // itself is tested in a browser (tests/web/serve.test.js).
@@ -21,7 +22,7 @@ test::CommandResult serveBriefly(const std::string& args) {
 
 TEST_CASE("serve: the page's address with a token on the first line, and SIGTERM stops it") {
     test::TempDir dir("serve-cli");
-    dir.write("s.moire", "layer { family = circles; spacing = 6 }\n");
+    dir.write("s.moire", "param gap = 6 in 2 .. 20\nlayer { family = circles; spacing = gap }\n");
     test::CommandResult r = serveBriefly(dir.file("s.moire") + " --port 0 --paused");
     CHECK(r.status == 0);
     const std::vector<std::string> out = test::lines(r.out);
@@ -36,6 +37,11 @@ TEST_CASE("serve: the page's address with a token on the first line, and SIGTERM
     CHECK(r.out.rfind("http://0.0.0.0:", 0) == 0);
     CHECK(r.err.find("moire: warning: serving on 0.0.0.0") != std::string::npos);
 
+    // -D in range: served.
+    r = serveBriefly(dir.file("s.moire") + " -D gap=8 --paused -q");
+    CHECK(r.status == 0);
+    CHECK(r.err.empty());
+
     // A scene with errors is served all the same: the page shows them.
     dir.write("bad.moire", "layer { family = circls }\n");
     r = serveBriefly(dir.file("bad.moire") + " --paused");
@@ -45,7 +51,7 @@ TEST_CASE("serve: the page's address with a token on the first line, and SIGTERM
 
 TEST_CASE("serve: what it refuses, and why") {
     test::TempDir dir("serve-cli-errors");
-    dir.write("s.moire", "layer { family = circles; spacing = 6 }\n");
+    dir.write("s.moire", "param gap = 6 in 2 .. 20\nlayer { family = circles; spacing = gap }\n");
     const std::string bin = test::moireBinary();
     struct Case {
         std::string args;
@@ -61,6 +67,10 @@ TEST_CASE("serve: what it refuses, and why") {
         {dir.file("s.moire") + " --time nan", 2, "--time"},
         {dir.file("nowhere/s.moire"), 3, "nowhere"},
         {dir.file("s.moire") + " --host 203.0.113.7", 3, "cannot listen on 203.0.113.7"},
+        // -D is the command line's: no save can fix it.
+        {dir.file("s.moire") + " -D gap=50", 2, "<command line>:1:"},
+        {dir.file("s.moire") + " -D gape=5", 2, "<command line>:1:"},
+        {dir.file("s.moire") + " -D gap", 2, "NAME=VALUE"},
     };
     for (const Case& c : cases) {
         CAPTURE(c.args);

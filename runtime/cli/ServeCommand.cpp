@@ -60,6 +60,7 @@ int serve(const ServeArgs& args) {
 
     serve::SessionOptions options;
     options.scene = args.scene;
+    options.compile.defines = args.defines;
     options.width = w;
     options.height = h;
     options.time = args.time;
@@ -94,11 +95,19 @@ int serve(const ServeArgs& args) {
         fmt::print(stderr, "moire: error: {}\n", e.what());
         return kExitIo;
     }
+    BuildResult first = session->start();
+    if (!first.good()) {
+        fmt::print(stderr, "{}", first.diagnostics);
+        // A scene with errors is served (the page shows them until a save fixes them), but a
+        // wrong -D no save can fix: that is the command line's, as for render.
+        if (first.diagnostics.rfind("<command line>:", 0) == 0 ||
+            first.diagnostics.find("\n<command line>:") != std::string::npos) {
+            session->stop();
+            return kExitUsage;
+        }
+    }
     fmt::print("{}\n", server.url(args.host, port));
     std::fflush(stdout);
-
-    BuildResult first = session->start();
-    if (!first.good()) fmt::print(stderr, "{}", first.diagnostics);
     server.start();
     if (!args.verbosity.quiet) {
         fmt::print(stderr, "moire: serve: {} on {} with {} (Ctrl-C stops)\n", args.scene,
@@ -109,7 +118,8 @@ int serve(const ServeArgs& args) {
     sigwait(&stopSignals, &sig);
     server.stop();
     session->stop();
-    pthread_sigmask(SIG_UNBLOCK, &stopSignals, nullptr);
+    // The signals stay blocked: a second one on its way (timeout(1) signals the process and
+    // then its group) would otherwise end the process, status 143, after a clean stop.
     return kExitOk;
 }
 

@@ -1,6 +1,7 @@
 // `moire serve`: the scene on a page in the browser (runtime/serve/), reloaded on every save.
 #pragma once
 
+#include "compiler/Defines.h"
 #include "runtime/cli/Commands.h"
 
 #include <string>
@@ -19,6 +20,7 @@ struct ServeArgs {
     bool paused = false;
     int threads = 0;
     int debounceMs = 30;
+    Defines defines; // -D NAME=VALUE: the scene's values before any slider moves
     Verbosity verbosity;
 };
 

@@ -220,6 +220,7 @@ int main(int argc, char** argv) {
     CLI::App* serveCmd = app.add_subcommand(
         "serve", "Show a scene on a page in the browser that reloads as the file is saved");
     addScene(serveCmd, serveArgs.scene, false, false)->required();
+    cli::addDefineOption(serveCmd, rawDefines);
     CLI::Option* hostOpt = serveCmd->add_option(
         "--host", serveArgs.host, "Address to listen on (default 127.0.0.1: this machine only)");
     serveCmd->add_option("--port", serveArgs.port, "Port to listen on (default 0: any free port)");
@@ -305,6 +306,7 @@ int main(int argc, char** argv) {
             return cli::kExitUsage;
         }
         renderArgs.defines = clipArgs.defines = watchArgs.defines = viewArgs.defines = defines;
+        serveArgs.defines = defines;
     }
     try {
         if (*renderCmd) return cli::render(renderArgs);

@@ -106,6 +106,7 @@ EncodedFrame FrameWorker::render(const FrameJob& job) {
         if (!evaluateFrame(*job.build->program, request, values, out.error)) return out;
         out.width = values.width;
         out.height = values.height;
+        out.parameters = values.parameters;
         if (last_.build && last_.build->kernel == job.build->kernel &&
             last_.width == values.width && last_.height == values.height &&
             last_.uniforms == values.uniforms) {
@@ -124,10 +125,7 @@ EncodedFrame FrameWorker::render(const FrameJob& job) {
             out.error = fmt::format("moire: error: {}", problem);
             return out;
         }
-        KernelFrame kf;
-        kf.uniforms = values.uniforms.data();
-        kf.imageW = values.width;
-        kf.imageH = values.height;
+        const KernelFrame kf{values.uniforms.data(), values.width, values.height};
         ExecOptions exec;
         exec.threads = threads_;
         const CompiledKernel& kernel = *job.build->kernel;

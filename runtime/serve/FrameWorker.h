@@ -11,6 +11,7 @@
 
 #include "runtime/live/SceneBuilder.h"
 
+#include <array>
 #include <condition_variable>
 #include <cstdint>
 #include <functional>
@@ -40,6 +41,7 @@ struct EncodedFrame {
     // Straight sRGB RGBA, rows top to bottom; null when `error` is set.
     std::shared_ptr<const std::vector<uint8_t>> rgba;
     bool reused = false; // the uniforms were the last frame's: its picture, not rendered again
+    std::vector<std::array<double, 4>> parameters; // each parameter's value in this frame
     double renderMs = 0.0;
     std::string error; // the frame could not be evaluated or rendered: why
 };

@@ -1,6 +1,7 @@
 #include "runtime/serve/Requests.h"
 
 #include "runtime/FrameEval.h"
+#include "runtime/serve/ParameterValues.h"
 
 #include <cmath>
 #include <fmt/format.h>
@@ -91,6 +92,21 @@ uint64_t applyViewMessage(Session& session, const std::string& body) {
         if (j["reset"].get<bool>()) version = session.resetView();
     }
     return version;
+}
+
+uint64_t applyParameterMessage(Session& session, const std::string& body) {
+    json j = parseObject(body);
+    onlyKnown(j, {"name", "value"});
+    if (!j.contains("name") || !j["name"].is_string())
+        throw RequestError("'name' must be the parameter's name");
+    if (!j.contains("value"))
+        throw RequestError("'value' is missing (null gives the parameter its default)");
+    const std::string name = j["name"].get<std::string>();
+    if (j["value"].is_null()) return session.setParameter(name, std::nullopt);
+    std::optional<Parameter> p = session.parameter(name);
+    // An unknown name: setParameter says which names there are.
+    if (!p) return session.setParameter(name, std::nullopt);
+    return session.setParameter(name, parameterValueFromJson(*p, j["value"]));
 }
 
 uint64_t applyClockMessage(Session& session, const std::string& body) {

@@ -18,6 +18,10 @@ constexpr size_t kMaxMessageBytes = 64 * 1024;
 // {"reset": true}. One message may carry several; they apply in that order.
 uint64_t applyViewMessage(Session& session, const std::string& body);
 
+// POST /api/param: {"name": "drift", "value": 1.5}; the value as ParameterValues.h reads it,
+// or null for the parameter's default.
+uint64_t applyParameterMessage(Session& session, const std::string& body);
+
 // POST /api/clock: {"play": true}, {"play": false}, {"time": t}; with both, the clock
 // stops before it moves, or moves before it starts.
 uint64_t applyClockMessage(Session& session, const std::string& body);

@@ -145,6 +145,10 @@ void Server::routes() {
     });
     s.Post("/api/view", message(session_, applyViewMessage));
     s.Post("/api/clock", message(session_, applyClockMessage));
+    s.Post("/api/param", message(session_, applyParameterMessage));
+    s.Get("/api/params", [this](const httplib::Request&, httplib::Response& res) {
+        res.set_content(session_.parametersJson(), "application/json");
+    });
 
     // A frame by id: as the page takes it (.rgba: the bytes, width x height x 4, the size in
     // the X-Frame-Width and X-Frame-Height headers), or as a PNG file.

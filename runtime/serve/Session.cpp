@@ -2,6 +2,7 @@
 
 #include "compiler/sema/Views.h"
 #include "runtime/FrameEval.h"
+#include "runtime/serve/ParameterValues.h"
 
 #include <algorithm>
 #include <cmath>
@@ -83,6 +84,13 @@ void Session::reloaded(const BuildResult& result) {
     std::lock_guard<std::mutex> lock(mutex_);
     if (result.good()) {
         build_ = result.build;
+        // A slider's value outlives a save while it still fits the declaration.
+        for (auto it = parameterValues_.begin(); it != parameterValues_.end();) {
+            bool fits = false;
+            for (const Parameter& p : build_->program->parameters)
+                if (p.name == it->first) fits = checkParameterValue(p, it->second).empty();
+            it = fits ? std::next(it) : parameterValues_.erase(it);
+        }
         buildKind_ = buildKindName(result.kind);
         kernelMs_ = result.kernelMs;
         buildErrors_.clear();
@@ -184,6 +192,44 @@ uint64_t Session::resetView() {
     return changedLocked();
 }
 
+uint64_t Session::setParameter(const std::string& name, std::optional<std::vector<double>> value) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    const Parameter* found = nullptr;
+    if (build_)
+        for (const Parameter& p : build_->program->parameters)
+            if (p.name == name) found = &p;
+    if (!found) {
+        std::string names;
+        if (build_)
+            for (const Parameter& p : build_->program->parameters)
+                names += (names.empty() ? "" : ", ") + p.name;
+        throw RequestError(
+            names.empty() ? fmt::format("unknown parameter '{}': the scene has none", name)
+                          : fmt::format("unknown parameter '{}': the scene's are {}", name, names));
+    }
+    if (value) {
+        if (std::string why = checkParameterValue(*found, *value); !why.empty())
+            throw RequestError(why); // it names the parameter
+        parameterValues_[name] = std::move(*value);
+    } else {
+        parameterValues_.erase(name);
+    }
+    return changedLocked();
+}
+
+std::optional<Parameter> Session::parameter(const std::string& name) const {
+    std::lock_guard<std::mutex> lock(mutex_);
+    if (build_)
+        for (const Parameter& p : build_->program->parameters)
+            if (p.name == name) return p;
+    return std::nullopt;
+}
+
+std::string Session::parametersJson() const {
+    std::lock_guard<std::mutex> lock(mutex_);
+    return parametersJsonLocked();
+}
+
 uint64_t Session::play() {
     std::lock_guard<std::mutex> lock(mutex_);
     clock_.play(Clock::now());
@@ -224,6 +270,9 @@ FrameJob Session::jobLocked(double time) const {
     job.literals = build_->program->literals;
     view_.write(job.literals, build_->program->viewSlot,
                 static_cast<int>(build_->program->checked.layers.size()));
+    for (const Parameter& p : build_->program->parameters)
+        if (auto it = parameterValues_.find(p.name); it != parameterValues_.end())
+            setParameterValue(p, it->second, job.literals);
     job.time = time;
     job.width = width_;
     job.height = height_;
@@ -250,7 +299,9 @@ void Session::framed(EncodedFrame f) {
         width_ = f.width;
         height_ = f.height;
     }
-    shown_ = Shown{frames_.back().id, f.version, f.width, f.height, f.time, f.renderMs, f.reused};
+    shown_ =
+        Shown{frames_.back().id,      f.version, f.width, f.height, f.time, f.renderMs, f.reused,
+              std::move(f.parameters)};
     publishLocked();
 }
 
@@ -315,6 +366,25 @@ void Session::tick() {
 
 // --- The state ------------------------------------------------------------------------------
 
+std::string Session::parametersJsonLocked() const {
+    json list = json::array();
+    if (!build_) return list.dump();
+    const std::vector<Parameter>& params = build_->program->parameters;
+    for (size_t i = 0; i < params.size(); ++i) {
+        const Parameter& p = params[i];
+        std::vector<double> value;
+        auto set = parameterValues_.find(p.name);
+        if (set != parameterValues_.end()) {
+            value = set->second;
+        } else if (i < shown_.parameters.size()) {
+            value.assign(shown_.parameters[i].begin(),
+                         shown_.parameters[i].begin() + std::min(p.components, 4));
+        }
+        list.push_back(parameterJson(p, value, set != parameterValues_.end()));
+    }
+    return list.dump(-1, ' ', false, json::error_handler_t::replace);
+}
+
 void Session::publishLocked() {
     channel_.publish(stateJsonLocked());
 }
@@ -352,6 +422,7 @@ std::string Session::stateJsonLocked() const {
     state["zoom"] = view_.zoomFactor;
     state["size"] = {width_, height_};
     state["fixedSize"] = options_.width > 0;
+    state["params"] = json::parse(parametersJsonLocked());
     // Diagnostics quote the scene, whose bytes need not be UTF-8.
     return state.dump(-1, ' ', false, json::error_handler_t::replace);
 }

@@ -12,16 +12,19 @@
 
 #include "compiler/backend/Backend.h"
 #include "compiler/Compile.h"
+#include "compiler/Parameters.h"
 #include "runtime/live/SceneReloader.h"
 #include "runtime/serve/FrameWorker.h"
 #include "runtime/serve/StateChannel.h"
 #include "runtime/view/ViewCamera.h"
 #include "runtime/view/ViewClock.h"
 
+#include <array>
 #include <condition_variable>
 #include <cstdint>
 #include <deque>
 #include <functional>
+#include <map>
 #include <memory>
 #include <mutex>
 #include <optional>
@@ -84,6 +87,14 @@ class Session {
     uint64_t zoom(double x, double y, double factor);
     uint64_t pan(double fromX, double fromY, double toX, double toY);
     uint64_t resetView();
+    // A parameter's value (Parameters.h: radians for an angle, straight sRGB for a colour, 0
+    // or 1 for a boolean), or its default again (nullopt). Uniforms only: never a rebuild.
+    // Refused when the scene has no such parameter or checkParameterValue refuses the value.
+    uint64_t setParameter(const std::string& name, std::optional<std::vector<double>> value);
+    // The parameter called `name` in the build on the page, if there is one.
+    std::optional<Parameter> parameter(const std::string& name) const;
+    // The parameters as the page builds its sliders from them (ParameterValues.h).
+    std::string parametersJson() const;
     // The clock.
     uint64_t play();
     uint64_t pause();
@@ -111,6 +122,7 @@ class Session {
         int width = 0, height = 0;
         double time = 0.0, renderMs = 0.0;
         bool reused = false;
+        std::vector<std::array<double, 4>> parameters; // each parameter's value in the frame
     };
 
     // The reloader's thread (and start, and setView): a new state of the file.
@@ -124,6 +136,8 @@ class Session {
     FrameJob jobLocked(double time) const;
     void publishLocked();
     std::string stateJsonLocked() const;
+    // The parameters' JSON (the page's sliders): the slider's value, or the frame's.
+    std::string parametersJsonLocked() const;
     // The scene's camera at the clock's time, for the gestures; the last known when the
     // frame cannot be evaluated.
     view::SceneCamera sceneCameraLocked();
@@ -144,6 +158,9 @@ class Session {
     std::optional<bool> overlayOverride_;
     view::ViewAdjust view_;
     view::SceneCamera camera_;
+    // The sliders' values by parameter name: kept across saves while the parameter keeps its
+    // type and the value its range.
+    std::map<std::string, std::vector<double>> parameterValues_;
     int width_ = 0, height_ = 0;
     view::ViewClock clock_;
     uint64_t version_ = 0;

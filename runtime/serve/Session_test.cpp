@@ -76,23 +76,31 @@ std::vector<uint8_t> rendered(const std::string& text, int w, int h) {
     return out;
 }
 
-SessionOptions optionsFor(const std::string& path) {
-    SessionOptions o;
-    o.scene = path;
-    o.paused = true;
-    o.threads = 2;
-    o.watch.debounce = std::chrono::milliseconds(5);
-    return o;
-}
+// A session on `text`, saved as s.moire in a folder of its own, its clock stopped at 0.
+struct Served {
+    explicit Served(const std::string& text) {
+        dir.write("s.moire", text);
+        SessionOptions o;
+        o.scene = dir.file("s.moire");
+        o.paused = true;
+        o.threads = 2;
+        o.watch.debounce = std::chrono::milliseconds(5);
+        session = std::make_unique<Session>(jit, o);
+        REQUIRE(session->start().good());
+    }
+    ~Served() { session->stop(); }
+
+    test::TempDir dir{"serve-session"};
+    LlvmJitBackend jit;
+    std::unique_ptr<Session> session;
+};
 
 } // namespace
 
-TEST_CASE("serve session: frames are the render's pixels; a bad save keeps the picture") {
-    test::TempDir dir("serve-session");
-    dir.write("s.moire", scene(1.5, 5));
-    LlvmJitBackend jit;
-    Session session(jit, optionsFor(dir.file("s.moire")));
-    REQUIRE(session.start().good());
+TEST_CASE("serve session: frames are the render's pixels, and a bad save keeps the picture") {
+    Served served(scene(1.5, 5));
+    Session& session = *served.session;
+    const test::TempDir& dir = served.dir;
 
     json s = waitShown(session, 1);
     CHECK(s["frame"]["width"] == 96);
@@ -118,15 +126,12 @@ TEST_CASE("serve session: frames are the render's pixels; a bad save keeps the p
                s["shownVersion"] == s["version"];
     });
     CHECK(framePixels(session, s["frame"]["id"], dir) == rendered(scene(1.5, 7), 120, 50));
-    session.stop();
 }
 
 TEST_CASE("serve session: zooming about the centre is the scene's camera zoomed") {
-    test::TempDir dir("serve-zoom");
-    dir.write("s.moire", scene(1.5, 5));
-    LlvmJitBackend jit;
-    Session session(jit, optionsFor(dir.file("s.moire")));
-    REQUIRE(session.start().good());
+    Served served(scene(1.5, 5));
+    Session& session = *served.session;
+    const test::TempDir& dir = served.dir;
     waitShown(session, 1);
     // Pixel centres are at i + 0.5: the frame's centre is (48, 32).
     const uint64_t v = applyViewMessage(session, R"({"zoom": {"x": 48, "y": 32, "factor": 2}})");
@@ -144,15 +149,11 @@ TEST_CASE("serve session: zooming about the centre is the scene's camera zoomed"
     // Back to the scene's camera.
     s = waitShown(session, applyViewMessage(session, R"({"reset": true})"));
     CHECK(framePixels(session, s["frame"]["id"], dir) == rendered(scene(1.5, 5), 96, 64));
-    session.stop();
 }
 
 TEST_CASE("serve session: a burst of changes is drawn once more at most, at its newest") {
-    test::TempDir dir("serve-burst");
-    dir.write("s.moire", scene(1.5, 5));
-    LlvmJitBackend jit;
-    Session session(jit, optionsFor(dir.file("s.moire")));
-    REQUIRE(session.start().good());
+    Served served(scene(1.5, 5));
+    Session& session = *served.session;
     json s = waitShown(session, 1);
     const uint64_t before = s["frame"]["id"];
     uint64_t last = 0;
@@ -161,15 +162,64 @@ TEST_CASE("serve session: a burst of changes is drawn once more at most, at its 
     CHECK(s["shownVersion"] == last);
     // Each frame takes the newest job: far fewer frames than changes.
     CHECK(s["frame"]["id"].get<uint64_t>() - before < 500);
-    session.stop();
+}
+
+TEST_CASE("serve session: a slider's value draws the scene written with it, and compiles nothing") {
+    auto text = [](const char* gap) {
+        return std::string("param gap = ") + gap +
+               " in 3 .. 9 step 0.5\n"
+               "scene { size = (96, 64); background = #f0ece4 }\n"
+               "layer a { family = circles; spacing = gap; stroke = 1.2; origin = (-3, 0) }\n"
+               "layer b { family = lines; spacing = gap * 0.75; rotation = 12deg; stroke = 1 }\n";
+    };
+    Served served(text("5"));
+    Session& session = *served.session;
+    const test::TempDir& dir = served.dir;
+    LlvmJitBackend& jit = served.jit;
+    json s = waitShown(session, 1);
+    REQUIRE(s["params"].size() == 1);
+    CHECK(s["params"][0]["name"] == "gap");
+    CHECK(s["params"][0]["min"] == 3.0);
+    CHECK(s["params"][0]["max"] == 9.0);
+    CHECK(s["params"][0]["step"] == 0.5);
+    CHECK(s["params"][0]["value"] == json::array({5.0}));
+    CHECK(s["params"][0]["set"] == false);
+    const int compiles = jit.compileCount();
+
+    s = waitShown(session, applyParameterMessage(session, R"({"name": "gap", "value": 7.5})"));
+    CHECK(framePixels(session, s["frame"]["id"], dir) == rendered(text("7.5"), 96, 64));
+    CHECK(s["params"][0]["value"] == json::array({7.5}));
+    CHECK(s["params"][0]["set"] == true);
+    CHECK(jit.compileCount() == compiles);
+
+    // Refused: nothing changes.
+    const uint64_t v = session.version();
+    for (const char* body : {R"({"name": "gape", "value": 4})", R"({"name": "gap", "value": 9.5})",
+                             R"({"name": "gap", "value": true})", R"({"name": "gap"})"}) {
+        CAPTURE(std::string(body));
+        CHECK_THROWS_AS(applyParameterMessage(session, body), RequestError);
+    }
+    try {
+        applyParameterMessage(session, R"({"name": "gape", "value": 4})");
+    } catch (const RequestError& e) {
+        CHECK(std::string(e.what()) == "unknown parameter 'gape': the scene's are gap");
+    }
+    CHECK(session.version() == v);
+
+    // The value outlives a save that keeps the parameter; null gives back the default.
+    dir.write("s.moire", text("4"));
+    s = waitState(session, [&](const json& s) {
+        return s["version"].get<uint64_t>() > v && s["shownVersion"] == s["version"];
+    });
+    CHECK(framePixels(session, s["frame"]["id"], dir) == rendered(text("7.5"), 96, 64));
+    s = waitShown(session, applyParameterMessage(session, R"({"name": "gap", "value": null})"));
+    CHECK(framePixels(session, s["frame"]["id"], dir) == rendered(text("4"), 96, 64));
+    CHECK(jit.compileCount() == compiles);
 }
 
 TEST_CASE("serve messages: refused with the reason, and nothing changes") {
-    test::TempDir dir("serve-messages");
-    dir.write("s.moire", scene(1.5, 5));
-    LlvmJitBackend jit;
-    Session session(jit, optionsFor(dir.file("s.moire")));
-    REQUIRE(session.start().good());
+    Served served(scene(1.5, 5));
+    Session& session = *served.session;
     const uint64_t v = session.version();
     const std::pair<const char*, const char*> refused[] = {
         {"", "not JSON"},
@@ -191,7 +241,6 @@ TEST_CASE("serve messages: refused with the reason, and nothing changes") {
     }
     CHECK_THROWS_AS(applyClockMessage(session, R"({"time": "later"})"), RequestError);
     CHECK(session.version() == v);
-    session.stop();
 }
 
 } // namespace moire::serve

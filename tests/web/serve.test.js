@@ -1,6 +1,7 @@
-// `moire serve` in a real browser: the page shows what `moire render` draws, follows saves
-// (a bad one shows its located diagnostic over the last picture; the fix brings a picture
-// back), and the server refuses requests without the run's token.
+// `moire serve` in a real browser: the page shows what `moire render` draws, its sliders what
+// `moire render -D` draws, it follows saves (a bad one shows its located diagnostic over the
+// last picture; the fix brings a picture back), and the server refuses requests without the
+// run's token.
 //
 // MOIRE_SCREENSHOT=path.png also saves a screenshot of the page (docs/images/serve.png).
 'use strict';
@@ -11,29 +12,34 @@ const path = require('node:path');
 const { compareRgba } = require('./png.js');
 const { tempDir, startServe, request, json, waitFor, render, launchBrowser } = require('./serve_support.js');
 
-const scene = (spacing) => `scene {
+// `stroke` as ';' makes a scene with an error on line 14, column 14.
+const scene = (gap, stroke = '1.8') => `param gap = ${gap} in 4 .. 12 step 0.5
+param tilt = 8deg in 0deg .. 30deg step 0.5deg
+param ink = #141418
+param bold = false
+
+scene {
     size = (640, 400)
     background = #f6f3ec
 }
 
 layer left {
     family = circles
-    spacing = ${spacing}
-    stroke = 1.8
-    color = #141418
+    spacing = gap
+    stroke = ${stroke}
+    color = ink
     origin = (-30, 0)
 }
 
 layer right {
-    family = circles
-    spacing = ${spacing}
-    stroke = 1.8
-    color = #141418
-    origin = (30, 0)
+    family = lines
+    spacing = gap * 0.8
+    stroke = select(bold, 2.6, 1.6)
+    color = ink
+    rotation = tilt
 }
 `;
-// Line 8 is `spacing = ;`: the diagnostic points at line 8.
-const broken = scene('').replace('spacing = \n', 'spacing = ;\n');
+const broken = scene(7, ';');
 
 let dir, scenePath, server, browser, page;
 
@@ -105,7 +111,7 @@ test('a broken save shows its located diagnostic over the last picture; the fix 
     { timeout: 30000 }
   );
   const text = await page.$eval('#errors', (e) => e.textContent);
-  assert.match(text, /rings\.moire:8:15: error: /);
+  assert.match(text, /rings\.moire:14:14: error: /);
   assert.match(text, /\^/); // the caret under the place
   const still = await page.evaluate(() => ({
     id: window.moire.shown.id,
@@ -119,8 +125,97 @@ test('a broken save shows its located diagnostic over the last picture; the fix 
   const reference = render(scenePath, fixed.width, fixed.height);
   const d = compareRgba(Uint8Array.from(fixed.rgba), reference.rgba);
   assert.equal(d.max, 0, `${d.differing} pixels differ, by up to ${d.max}`);
+});
+
+test('dragging a slider draws what moire render -D draws for its value', async () => {
+  const before = await page.evaluate(() => window.moire.shown.id);
+  const slider = await page.waitForSelector('input[type=range][data-param=gap]');
+  assert.equal(await slider.evaluate((e) => [e.min, e.max, e.step, e.value].join(' ')), '4 12 0.5 9');
+  const r = await slider.boundingBox();
+  // From the thumb (9 of 4 .. 12) to three quarters of the way: a drag, many values on the way.
+  const y = r.y + r.height / 2;
+  await page.mouse.move(r.x + r.width * (5 / 8), y);
+  await page.mouse.down();
+  for (let i = 1; i <= 10; ++i) await page.mouse.move(r.x + r.width * (5 / 8 + (i / 10) * (-3 / 8)), y);
+  await page.mouse.up();
+  const value = await slider.evaluate((e) => e.value);
+  assert.notEqual(value, '9');
+  // The newest frame shows the slider's last value, and the state says so.
+  await page.waitForFunction(
+    (v) => {
+      const p = (window.moire.state.params || []).find((p) => p.name === 'gap');
+      return p && p.set && String(p.value[0]) === v;
+    },
+    { timeout: 30000 },
+    value
+  );
+  const dragged = await shownFrame(before);
+  const reference = render(scenePath, dragged.width, dragged.height, ['-D', `gap=${value}`]);
+  const d = compareRgba(Uint8Array.from(dragged.rgba), reference.rgba);
+  assert.equal(d.max, 0, `gap=${value}: ${d.differing} pixels differ, by up to ${d.max}`);
+
+  // A value out of range, as a message: refused with the reason.
+  const refused = await json(server, '/api/param', { method: 'POST', body: { name: 'gap', value: 40 } });
+  assert.equal(refused.status, 400);
+  assert.equal(refused.body.error, "param 'gap' must be from 4 to 12, not 40");
+  const unknown = await json(server, '/api/param', { method: 'POST', body: { name: 'gape', value: 5 } });
+  assert.equal(unknown.status, 400);
+  assert.match(unknown.body.error, /unknown parameter 'gape'/);
+});
+
+test('the angle slider shows degrees; the checkbox and the colour picker draw what -D draws', async () => {
+  const tilt = await page.waitForSelector('input[type=range][data-param=tilt]');
+  assert.equal(await tilt.evaluate((e) => [e.min, e.max, e.step, e.value].join(' ')), '0 30 0.5 8');
+  const gap = await page.evaluate(() => window.moire.state.params.find((p) => p.name === 'gap').value[0]);
+  let before = await page.evaluate(() => window.moire.shown.id);
+  await page.click('input[type=checkbox][data-param=bold]');
+  await page.$eval('input[type=color][data-param=ink]', (e) => {
+    e.value = '#a02030';
+    e.dispatchEvent(new Event('input', { bubbles: true }));
+  });
+  await page.waitForFunction(
+    () => {
+      const ps = window.moire.state.params;
+      return ps.find((p) => p.name === 'bold').set && ps.find((p) => p.name === 'ink').set;
+    },
+    { timeout: 30000 }
+  );
+  const frame = await shownFrame(before);
+  const args = ['-D', `gap=${gap}`, '-D', 'bold=true', '-D', 'ink=#a02030'];
+  const reference = render(scenePath, frame.width, frame.height, args);
+  const d = compareRgba(Uint8Array.from(frame.rgba), reference.rgba);
+  assert.equal(d.max, 0, `${args.join(' ')}: ${d.differing} pixels differ, by up to ${d.max}`);
 
   if (process.env.MOIRE_SCREENSHOT) await page.screenshot({ path: process.env.MOIRE_SCREENSHOT });
+
+  // Each back to the scene's own value.
+  before = frame.id;
+  for (const name of ['bold', 'ink']) await page.click(`.param[data-param=${name}] button.reset`);
+  await page.waitForFunction(
+    () => window.moire.state.params.every((p) => p.name === 'gap' || !p.set),
+    { timeout: 30000 }
+  );
+  assert.equal(await page.$eval('input[type=checkbox][data-param=bold]', (e) => e.checked), false);
+  assert.equal(await page.$eval('input[type=color][data-param=ink]', (e) => e.value), '#141418');
+});
+
+test('the view toggles draw what moire render --view and --overlay draw', async () => {
+  // The slider's value stays: the reference is rendered with it.
+  const gap = await page.evaluate(() => window.moire.state.params.find((p) => p.name === 'gap').value[0]);
+  for (const [click, args] of [
+    ['#view-modes input[value=envelope]', ['--view', 'envelope']],
+    ['#overlay', ['--view', 'envelope', '--overlay']],
+    ['#view-modes input[value=scene]', ['--overlay']],
+  ]) {
+    const before = await page.evaluate(() => window.moire.shown.id);
+    await page.click(click);
+    const frame = await shownFrame(before);
+    const reference = render(scenePath, frame.width, frame.height, [...args, '-D', `gap=${gap}`]);
+    const d = compareRgba(Uint8Array.from(frame.rgba), reference.rgba);
+    assert.equal(d.max, 0, `${args.join(' ')}: ${d.differing} pixels differ, by up to ${d.max}`);
+  }
+  await page.click('#overlay'); // off again
+  await page.waitForFunction(() => window.moire.state.overlay === false, { timeout: 30000 });
 });
 
 test('zooming with the wheel draws what the server renders for the new view', async () => {

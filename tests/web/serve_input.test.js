@@ -1,6 +1,7 @@
 // `moire serve` under bad input: malformed HTTP, bodies too long, messages that are not JSON
-// or ask for what cannot be, a flood of messages, more event streams than it keeps. Each is
-// answered with an error, and the server keeps serving.
+// or ask for what cannot be (unknown parameters, values out of range), a flood of slider
+// messages, more event streams than it keeps. Each is answered with an error, the server keeps
+// serving, and it writes nothing beside the scene.
 'use strict';
 const { test, before, after } = require('node:test');
 const assert = require('node:assert/strict');
@@ -9,21 +10,25 @@ const net = require('node:net');
 const path = require('node:path');
 const { tempDir, startServe, request, json, waitFor } = require('./serve_support.js');
 
-let dir, server;
+let dir, cache, server;
 
 before(async () => {
   dir = tempDir();
   const scene = path.join(dir, 'scene.moire');
   fs.writeFileSync(
     scene,
-    'scene { size = (320, 200) }\nlayer a { family = lines; spacing = 6; stroke = 1.5 }\n'
+    'param gap = 6 in 2 .. 20\nscene { size = (320, 200) }\nlayer a { family = lines; spacing = gap; stroke = 1.5 }\n'
   );
-  server = await startServe(scene, ['--paused', '--size', '320x200']);
+  // The kernel cache, the one thing moire writes, in a folder of the test's own.
+  cache = path.join(dir, 'cache');
+  server = await startServe(scene, ['--paused', '--size', '320x200'], { MOIRE_CACHE_DIR: cache });
   await waitFor(async () => (await json(server, '/api/state')).body.frame, 30000, 'the first frame');
 });
 
 after(async () => {
   if (server) assert.equal(await server.stop(), 0, server.stderr());
+  // Nothing written beside the scene: only the cache's folder is new.
+  assert.deepEqual(fs.readdirSync(dir).sort(), ['cache', 'scene.moire']);
   if (dir) fs.rmSync(dir, { recursive: true, force: true });
 });
 
@@ -86,6 +91,13 @@ test('messages that are not JSON, or ask for what cannot be, are answered with t
     ['/api/view', { pan: { from: [0], to: [1, 1] } }, /pan.from/],
     ['/api/view', { overlay: 'yes' }, /overlay/],
     ['/api/clock', { play: 'yes' }, /'play' must be true or false/],
+    ['/api/param', { name: 'nope', value: 1 }, /unknown parameter 'nope': the scene's are gap/],
+    ['/api/param', { name: 'gap', value: 100 }, /^param 'gap' must be from 2 to 20, not 100$/],
+    ['/api/param', { name: 'gap', value: -1e308 }, /^param 'gap' must be from 2 to 20/],
+    ['/api/param', { name: 'gap', value: '#ffffff' }, /no text/],
+    ['/api/param', { name: 'gap', value: [1, 2] }, /1 component, not 2/],
+    ['/api/param', { name: 5, value: 1 }, /'name'/],
+    ['/api/param', { name: 'gap' }, /'value' is missing/],
     ['/api/clock', { time: 'soon' }, /'time' must be a number/],
   ];
   for (const [pathname, body, message] of cases) {
@@ -101,12 +113,12 @@ test('messages that are not JSON, or ask for what cannot be, are answered with t
 
 test('a flood of messages does not queue frames behind it', async () => {
   const start = (await json(server, '/api/state')).body;
-  // Eight pages' worth of connections, each sending as fast as the answers come.
+  // Eight pages' worth of connections, each sending slider values as fast as the answers come.
   const t0 = Date.now();
   const worker = async () => {
     const replies = [];
     for (let i = 0; i < 125; ++i)
-      replies.push(await json(server, '/api/view', { method: 'POST', body: { pan: { from: [0, 0], to: [0.1, 0] } } }));
+      replies.push(await json(server, '/api/param', { method: 'POST', body: { name: 'gap', value: 4 + (i % 50) / 10 } }));
     return replies;
   };
   const sends = Array.from({ length: 8 }, worker);
@@ -123,7 +135,7 @@ test('a flood of messages does not queue frames behind it', async () => {
     return s.shownVersion >= last ? s : null;
   }, 30000, 'the newest version on screen');
   const frames = state.frame.id - start.frame.id;
-  console.log(`1000 pan messages in ${Date.now() - t0} ms made ${frames} frames`);
+  console.log(`1000 slider messages in ${Date.now() - t0} ms made ${frames} frames`);
   assert.ok(state.frame.id - atLast.frame.id <= 2, `${state.frame.id - atLast.frame.id} frames after`);
   await stillServing();
 });

@@ -14,10 +14,12 @@ function tempDir() {
   return fs.mkdtempSync(path.join(os.tmpdir(), 'moire-serve-test-'));
 }
 
-// Starts `moire serve SCENE --port 0 ARGS...` and resolves once it printed its address.
-function startServe(scene, args = []) {
+// Starts `moire serve SCENE --port 0 ARGS...` (with `env` added to the environment) and
+// resolves once it printed its address.
+function startServe(scene, args = [], env = {}) {
   const proc = spawn(moireBinary, ['serve', scene, '--port', '0', ...args], {
     stdio: ['ignore', 'pipe', 'pipe'],
+    env: { ...process.env, ...env },
   });
   let stderr = '';
   proc.stderr.on('data', (d) => (stderr += d));

@@ -37,11 +37,12 @@ async function post(path, body) {
 // A slider dragged fast sends its newest value, not every value it passed.
 function latestOnly(send) {
   let inFlight = false;
-  let next = null;
+  let waiting = false; // a next message is kept (its body may be null: a parameter's reset)
+  let next;
   const pump = async () => {
-    if (inFlight || next === null) return;
+    if (inFlight || !waiting) return;
     const body = next;
-    next = null;
+    waiting = false;
     inFlight = true;
     try {
       await send(body);
@@ -52,6 +53,7 @@ function latestOnly(send) {
   };
   return (body) => {
     next = body;
+    waiting = true;
     pump();
   };
 }
@@ -242,6 +244,7 @@ $('scrub').addEventListener('input', (e) => seek(Number(e.target.value)));
 // --- Parameters -----------------------------------------------------------------------------
 
 const sendParameter = new Map(); // name -> latestOnly sender
+const parameterControls = new Map(); // name -> update(values) from the state
 let parameterSignature = '';
 
 function parameterSender(name) {
@@ -264,7 +267,8 @@ function parameterSender(name) {
 }
 
 const toDegrees = (p) => p.type === 'angle' && p.unit === 'deg';
-const shownValue = (p, v) => (toDegrees(p) ? (v * 180) / Math.PI : v);
+// Degrees to twelve digits: 30deg reads 30 on the slider, not 29.999999999999996.
+const shownValue = (p, v) => (toDegrees(p) ? +((v * 180) / Math.PI).toPrecision(12) : v);
 const sentValue = (p, v) => (toDegrees(p) ? (v * Math.PI) / 180 : v);
 const hex2 = (v) => Math.round(Math.min(1, Math.max(0, v)) * 255).toString(16).padStart(2, '0');
 
@@ -286,6 +290,7 @@ function slider(p, component, value, onInput) {
 function buildParameters(params) {
   const list = $('param-list');
   list.textContent = '';
+  parameterControls.clear();
   if (!params.length) {
     const none = document.createElement('p');
     none.className = 'hint';
@@ -297,17 +302,24 @@ function buildParameters(params) {
     const row = document.createElement('div');
     row.className = 'param';
     row.dataset.param = p.name;
+    const send = parameterSender(p.name);
     const title = document.createElement('div');
     title.className = 'name';
     const name = document.createElement('span');
     name.textContent = p.name;
     const shown = document.createElement('output');
-    title.append(name, shown);
+    const reset = document.createElement('button');
+    reset.type = 'button';
+    reset.className = 'reset';
+    reset.textContent = '↺';
+    reset.title = "The scene's own value";
+    // Back to the scene's value, which the state that follows brings into the controls.
+    reset.addEventListener('click', () => send(null));
+    title.append(name, shown, reset);
     row.append(title);
-    const send = parameterSender(p.name);
     const value = p.value.slice();
     const show = () => {
-      const unit = toDegrees(p) ? '°' : '';
+      const unit = toDegrees(p) ? '°' : p.label ? ` ${p.label}` : '';
       shown.textContent =
         p.type === 'color'
           ? '#' + value.slice(0, 3).map(hex2).join('')
@@ -354,6 +366,19 @@ function buildParameters(params) {
       row.append(holder);
     }
     show();
+    // The server's value (another page's slider, a reset, a save) into the controls the hand
+    // is not on.
+    parameterControls.set(p.name, (values) => {
+      if (!values || values.length !== value.length || values.some((v) => v === null)) return;
+      if (row.contains(document.activeElement) && document.activeElement !== reset) return;
+      values.forEach((v, i) => (value[i] = v));
+      for (const input of row.querySelectorAll('input')) {
+        if (input.type === 'range') input.value = String(shownValue(p, value[Number(input.dataset.component)]));
+        else if (input.type === 'checkbox') input.checked = value[0] !== 0;
+        else if (input.type === 'color') input.value = '#' + value.slice(0, 3).map(hex2).join('');
+      }
+      show();
+    });
     list.append(row);
   }
 }
@@ -385,6 +410,8 @@ function showState(state) {
   if (signature !== parameterSignature) {
     parameterSignature = signature;
     buildParameters(params);
+  } else {
+    for (const p of params) parameterControls.get(p.name)?.(p.value);
   }
 
   const f = state.frame;

@@ -2,11 +2,10 @@
 
 #include "compiler/sema/ConstantValue.h"
 
-#include <fmt/format.h>
-
 #include <algorithm>
 #include <charconv>
 #include <cmath>
+#include <fmt/format.h>
 #include <numbers>
 
 namespace moire {
@@ -98,6 +97,21 @@ void clearParameterValue(const Parameter& p, std::vector<double>& literals) {
     literals.at(static_cast<size_t>(p.setSlot)) = 0.0;
 }
 
+const char* parameterKind(ast::Type type) {
+    switch (type) {
+    case ast::Type::Angle:
+        return "angle";
+    case ast::Type::Vec2:
+        return "vector";
+    case ast::Type::Color:
+        return "color";
+    case ast::Type::Bool:
+        return "bool";
+    default:
+        return "number";
+    }
+}
+
 std::string formatParameterValue(const Parameter& p, std::span<const double> value) {
     auto at = [&](size_t i) { return i < value.size() ? value[i] : 0.0; };
     switch (p.type) {
@@ -110,8 +124,7 @@ std::string formatParameterValue(const Parameter& p, std::span<const double> val
         auto byte = [](double v) {
             return static_cast<int>(std::lround(std::clamp(v, 0.0, 1.0) * 255.0));
         };
-        std::string hex =
-            fmt::format("#{:02x}{:02x}{:02x}", byte(at(0)), byte(at(1)), byte(at(2)));
+        std::string hex = fmt::format("#{:02x}{:02x}{:02x}", byte(at(0)), byte(at(1)), byte(at(2)));
         if (byte(at(3)) != 255) hex += fmt::format("{:02x}", byte(at(3)));
         return hex;
     }

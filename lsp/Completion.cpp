@@ -2,8 +2,9 @@
 // parses): declaration keywords at the top level; inside a block the properties that block
 // takes (a layer's also its family's parameters); after `family =` the families, after
 // `easing =` the easings, after `mode =` the modes; elsewhere in a value the functions, the
-// built-in names and the scene's and library's fields and timings (in a family's body also its
-// parameters and lets, in an easing `u`).
+// built-in names and the scene's and library's fields, params and timings (in a family's body
+// also its parameters and lets, in an easing `u`); after a param's value the words `in`, `step`
+// and `unit` that may still follow.
 #include "compiler/lex/Keywords.h"
 #include "compiler/sema/Views.h"
 #include "lsp/Describe.h"
@@ -22,18 +23,24 @@ constexpr int kFunction = 3, kField = 5, kVariable = 6, kClass = 7, kProperty = 
               kKeyword = 14, kEnumMember = 20, kConstant = 21, kEvent = 23, kTypeParameter = 25;
 
 struct Context {
-    enum class Kind { None, TopLevel, PropertyName, Value } kind = Kind::None;
+    // ParamClause: after a param's whole value (or range, or step), where `in`, `step` and
+    // `unit` may follow.
+    enum class Kind { None, TopLevel, PropertyName, Value, ParamClause } kind = Kind::None;
     std::optional<ast::DeclKind> block; // the block or declaration the cursor is in
     std::string property;               // Value: the property (or declaration) it is the value of
     std::string callee;                 // the function whose argument list the cursor is in
     size_t blockOpen = 0;               // index of the block's `{` token
+    std::string lastClause;             // a param's last `in`, `step` or `unit` before the cursor
 };
+
+// The words after a param's value, in the order the parser reads them.
+const char* const kClauseWords[] = {"in", "step", "unit"};
 
 std::optional<ast::DeclKind> declKind(std::string_view w) {
     using K = ast::DeclKind;
     static const std::pair<const char*, K> kinds[] = {
-        {"scene", K::Scene},   {"camera", K::Camera}, {"layer", K::Layer},  {"field", K::Field},
-        {"family", K::Family}, {"timing", K::Timing}, {"easing", K::Easing}};
+        {"scene", K::Scene},   {"camera", K::Camera}, {"layer", K::Layer},   {"field", K::Field},
+        {"family", K::Family}, {"timing", K::Timing}, {"easing", K::Easing}, {"param", K::Param}};
     for (auto [name, k] : kinds)
         if (w == name) return k;
     return std::nullopt;
@@ -47,7 +54,8 @@ Context contextAt(std::string_view text, const std::vector<Token>& toks, uint32_
     Context c;
     int depth = 0;
     std::vector<std::string> calls; // callee per open paren ("" for a grouping)
-    bool stmtStart = true, inValue = false, afterKeyword = false;
+    bool stmtStart = true, inValue = false, afterKeyword = false, afterClause = false,
+         rangeClosed = false; // a param's `in lo` has its `..`
     std::optional<ast::DeclKind> pending;
     auto spell = [&](const Token& t) { return text.substr(t.offset, t.length); };
     auto gapHasNewline = [&](uint32_t from, uint32_t to) {
@@ -65,12 +73,19 @@ Context contextAt(std::string_view text, const std::vector<Token>& toks, uint32_
         const bool wasStart = stmtStart;
         stmtStart = false;
         afterKeyword = false;
+        afterClause = false;
         switch (t.kind) {
         case Tok::Ident:
             if (depth == 0 && calls.empty() && wasStart && declKind(spell(t))) {
                 pending = declKind(spell(t));
                 c.block = pending;
+                c.lastClause.clear();
                 afterKeyword = true;
+            } else if (pending == ast::DeclKind::Param && depth == 0 && calls.empty() && inValue &&
+                       prev && endsValue(prev->kind) && isParamClauseWord(spell(t))) {
+                c.lastClause = spell(t); // `in`, `step` or `unit` after a whole value
+                afterClause = true;
+                rangeClosed = false;
             }
             break;
         case Tok::LBrace:
@@ -100,6 +115,9 @@ Context contextAt(std::string_view text, const std::vector<Token>& toks, uint32_
                 inValue = false;
             }
             break;
+        case Tok::DotDot:
+            rangeClosed = true;
+            break;
         case Tok::Assign:
             if (prev && prev->kind == Tok::Ident && calls.empty()) c.property = spell(*prev);
             inValue = true;
@@ -116,6 +134,14 @@ Context contextAt(std::string_view text, const std::vector<Token>& toks, uint32_
     }
     if (!calls.empty()) c.callee = calls.back();
     if (afterKeyword) return c; // naming a new declaration: nothing to offer
+    if (c.block == ast::DeclKind::Param && depth == 0 && calls.empty() && inValue && prev) {
+        // After `unit` comes its label, any word, and then nothing; after `in 4`, `..`.
+        if (c.lastClause == "unit") return c;
+        if (!afterClause && endsValue(prev->kind)) {
+            if (c.lastClause != "in" || rangeClosed) c.kind = Context::Kind::ParamClause;
+            return c;
+        }
+    }
     if (depth == 0) {
         if (inValue || !calls.empty())
             c.kind = Context::Kind::Value;
@@ -201,6 +227,7 @@ void addExpressionNames(Items& items, const SceneProgram& fe, const Context& c,
             items.add(name, kConstant, d.signature, d.meaning);
         }
     addDecls(items, fe, ast::DeclKind::Field, kField);
+    addDecls(items, fe, ast::DeclKind::Param, kConstant);
     addDecls(items, fe, ast::DeclKind::Timing, kEvent);
 }
 
@@ -242,6 +269,18 @@ Json completion(const DocView& doc, uint32_t offset) {
                     }
         if (c.block == ast::DeclKind::Family)
             items.add("let", kKeyword, "let name = value", "a value named in the family's body");
+        break;
+    }
+    case Context::Kind::ParamClause: {
+        // The words not yet written, in their order: after `step` only `unit` may come.
+        bool open = c.lastClause.empty();
+        for (const char* w : kClauseWords) {
+            if (open) {
+                Description d = describeParamClause(w);
+                items.add(w, kKeyword, d.signature, d.meaning);
+            }
+            if (w == c.lastClause) open = true;
+        }
         break;
     }
     case Context::Kind::Value:

@@ -151,6 +151,43 @@ Description describeParam(const SceneProgram& program, const ast::Decl& family, 
     return {sig, meaning};
 }
 
+Description describeSceneParam(const SceneProgram& program, const ast::Decl& p) {
+    auto written = [&](const ast::ExprPtr& e) {
+        std::string s(e ? sourceText(program, e->range) : std::string_view("?"));
+        return s.size() > 80 ? s.substr(0, 80) + " ..." : s;
+    };
+    std::string sig = fmt::format("param {} = {}", p.name, written(p.value));
+    std::string meaning =
+        fmt::format("a param: {}", p.value ? typeWithUnits(p.value->type) : "a value");
+    if (p.rangeLo && p.rangeHi) {
+        sig += fmt::format(" in {} .. {}", written(p.rangeLo), written(p.rangeHi));
+        meaning +=
+            fmt::format(", from {} to {}{}", written(p.rangeLo), written(p.rangeHi),
+                        p.value && p.value->type == ast::Type::Vec2 ? " (each component)" : "");
+    }
+    if (p.step) {
+        sig += " step " + written(p.step);
+        meaning += ", in steps of " + written(p.step);
+    }
+    if (!p.unitLabel.empty()) {
+        sig += " unit " + p.unitLabel;
+        meaning += ", shown in " + p.unitLabel;
+    }
+    meaning += fmt::format(". A slider turns it; `-D {}=VALUE` sets it", p.name);
+    const std::string& text = program.sources->file(p.range.begin.file).text();
+    std::string comment = commentAbove(text, p.range.begin.offset);
+    return {sig, comment.empty() ? meaning : comment + "\n\n" + meaning};
+}
+
+Description describeParamClause(std::string_view word) {
+    if (word == "in")
+        return {"in lo .. hi", "the range a param's slider covers; a value outside it is an error "
+                               "(ends are constants of the param's type)"};
+    if (word == "step") return {"step s", "the step of a param's slider (more than 0)"};
+    return {"unit word", "a label shown beside a param's slider (px, mm, s...); it does not "
+                         "change the value"};
+}
+
 const std::vector<sema::PropertySpec>* propertyTable(ast::DeclKind kind) {
     switch (kind) {
     case ast::DeclKind::Scene:

@@ -8,6 +8,7 @@
 #include "compiler/sema/Properties.h"
 
 #include <string>
+#include <string_view>
 
 namespace moire::lsp {
 
@@ -25,6 +26,11 @@ Description describeProperty(const sema::PropertySpec& spec, const char* block);
 Description describeDecl(const SceneProgram& program, const ast::Decl& decl);
 // A family's parameter, as a layer sets it.
 Description describeParam(const SceneProgram& program, const ast::Decl& family, int index);
+// A top-level `param`: its declaration as written (value, range, step and unit), its type and
+// what its range, step and unit do, and the comment above it.
+Description describeSceneParam(const SceneProgram& program, const ast::Decl& param);
+// `in`, `step` or `unit` after a param's value.
+Description describeParamClause(std::string_view word);
 
 // The table of properties of a block of that kind (null for field, family and easing, which
 // have none but the family body's).

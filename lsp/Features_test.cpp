@@ -33,17 +33,6 @@ layer a {
 layer b { family = mine; k = 3 }
 )";
 
-std::string hoverText(Server& s, int line, int character) {
-    Json r = request(s, 20, "textDocument/hover", at(line, character));
-    return r["result"].is_null() ? "" : r["result"]["contents"]["value"].get<std::string>();
-}
-
-std::set<std::string> labels(const Json& completion) {
-    std::set<std::string> out;
-    for (const Json& item : completion["result"]["items"]) out.insert(item["label"]);
-    return out;
-}
-
 // The names of the library's declarations of a kind, from the compiler's parse of it.
 std::set<std::string> libraryNames(ast::DeclKind kind) {
     CompileResult r = compileScene("x.moire", "scene {}\n");
@@ -257,20 +246,8 @@ TEST_CASE("lsp outline, semantic tokens and folding follow the parsed scene") {
     for (const Json& c : symbols[4]["children"]) children.insert(c["name"]);
     CHECK(children == std::set<std::string>{"k", "w", "phase"});
 
-    Json legend = request(
-        s, 71, "initialize",
-        Json::object())["result"]["capabilities"]["semanticTokensProvider"]["legend"]["tokenTypes"];
-    Json data = request(s, 72, "textDocument/semanticTokens/full",
-                        {{"textDocument", {{"uri", kUri}}}})["result"]["data"];
-    REQUIRE(data.size() % 5 == 0);
     // Decoded: the type of the token at each (line, character).
-    std::map<std::pair<int, int>, std::string> types;
-    int line = 0, ch = 0;
-    for (size_t i = 0; i < data.size(); i += 5) {
-        line += data[i].get<int>();
-        ch = data[i].get<int>() ? data[i + 1].get<int>() : ch + data[i + 1].get<int>();
-        types[{line, ch}] = legend[data[i + 3].get<int>()];
-    }
+    std::map<std::pair<int, int>, std::string> types = semanticTokensOf(s).types;
     CHECK(types[{0, 0}] == "comment");
     CHECK(types[{1, 0}] == "keyword");    // scene
     CHECK(types[{2, 20}] == "function");  // sin

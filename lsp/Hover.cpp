@@ -36,6 +36,16 @@ std::string lineOf(const SceneProgram& fe, SourceRange r) {
     return std::string(line);
 }
 
+// Whether an expression names anything (a param, t, a function...): a plain literal's value
+// at t = 0 is itself, not worth a line of its own.
+bool namesAnything(const ast::Expr* e) {
+    bool any = false;
+    forEachExpr(e, [&](const ast::Expr& x) {
+        if (x.kind == ast::ExprKind::Name || x.kind == ast::ExprKind::Call) any = true;
+    });
+    return any;
+}
+
 struct Found {
     std::optional<Description> what;
     const ast::Expr* value = nullptr; // a value whose figure at t = 0 is worth showing
@@ -92,15 +102,27 @@ Found find(const DocView& doc, uint32_t offset) {
     if (const sema::Symbol* s = a.result.symbols.at(SourceLoc{a.userFile(), wb})) {
         if (s->kind == sema::SymbolKind::Param)
             f.what = describeParam(fe, *s->decl, s->index);
+        else if (s->kind == sema::SymbolKind::SceneParam)
+            f.what = describeSceneParam(fe, *s->decl);
         else if (s->kind == sema::SymbolKind::Let)
             f.what = Description{lineOf(fe, s->declaration),
                                  "a value named in the family " + s->decl->name};
         else
             f.what = describeDecl(fe, *s->decl);
         if (s->kind == sema::SymbolKind::Field && s->decl->value) f.value = s->decl->value.get();
+        if (s->kind == sema::SymbolKind::SceneParam && namesAnything(s->decl->value.get()))
+            f.value = s->decl->value.get();
         return f;
     }
     if (!decl) return f;
+    // A param's `in`, `step` or `unit`.
+    if (decl->kind == ast::DeclKind::Param)
+        for (const Token& t :
+             paramClauseWords(doc.text(), lexTokens(doc.text()), fe.userModule(), *decl))
+            if (t.offset == wb) {
+                f.what = describeParamClause(doc.text().substr(t.offset, t.length));
+                return f;
+            }
     for (const ast::Property& p : decl->props)
         if (p.nameRange.begin.offset == wb) {
             f.what = describePropertyAt(fe, *decl, p);

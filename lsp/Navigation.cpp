@@ -1,6 +1,6 @@
 // Go to definition, find references, rename and the outline, all from the compiler's symbol
-// table (sema/Symbols.h): the scene's fields, families, timings, easings, layers, family
-// parameters and lets, and the library's declarations the scene names.
+// table (sema/Symbols.h): the scene's fields, families, timings, easings, params, layers,
+// family parameters and lets, and the library's declarations the scene names.
 #include "compiler/lex/Keywords.h"
 #include "compiler/sema/Builtins.h"
 #include "lsp/Features.h"
@@ -36,9 +36,22 @@ bool validName(const std::string& name) {
 bool reserved(const std::string& name) {
     const auto& fns = sema::builtinFunctions();
     const auto& names = sema::builtinNames();
-    return isKeyword(name) || name == "spacing" ||
+    return isKeyword(name) || name == "spacing" || name == "true" || name == "false" ||
            std::find(fns.begin(), fns.end(), name) != fns.end() ||
            std::find(names.begin(), names.end(), name) != names.end();
+}
+
+// Whether two symbols' names would clash: the top-level declarations but layers share one
+// space of names (a param cannot take a field's name), layers have their own, and a family's
+// parameters and lets are its own.
+bool sameNames(const sema::Symbol& a, const sema::Symbol& b) {
+    using K = sema::SymbolKind;
+    auto global = [](K k) {
+        return k == K::Field || k == K::Family || k == K::Timing || k == K::Easing ||
+               k == K::SceneParam;
+    };
+    if (global(a.kind)) return global(b.kind);
+    return a.kind == b.kind && (a.kind == K::Layer || a.decl == b.decl);
 }
 
 } // namespace
@@ -84,9 +97,7 @@ Json rename(const DocView& doc, uint32_t offset, const std::string& newName) {
     if (reserved(newName))
         throw RpcError(ErrorCode::RequestFailed, "'" + newName + "' is a reserved name");
     for (const sema::Symbol& other : doc.analysis.result.symbols.symbols)
-        if (other.name == newName && other.kind == s->kind &&
-            ((s->kind != sema::SymbolKind::Param && s->kind != sema::SymbolKind::Let) ||
-             other.decl == s->decl))
+        if (other.name == newName && sameNames(other, *s))
             throw RpcError(ErrorCode::RequestFailed, "'" + newName + "' is already declared");
     Json edits = Json::array();
     edits.push_back({{"range", range(doc, s->declaration)}, {"newText", newName}});

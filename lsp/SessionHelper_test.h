@@ -7,6 +7,8 @@
 #include <algorithm>
 #include <doctest/doctest.h>
 #include <filesystem>
+#include <map>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -61,6 +63,43 @@ inline Json openDocument(Server& s, const std::string& text, const std::string& 
 inline Json at(int line, int character, const std::string& uri = kUri) {
     return {{"textDocument", {{"uri", uri}}},
             {"position", {{"line", line}, {"character", character}}}};
+}
+
+// The hover's text at a place of kUri ("" when there is none).
+inline std::string hoverText(Server& s, int line, int character) {
+    Json r = request(s, 20, "textDocument/hover", at(line, character));
+    return r["result"].is_null() ? "" : r["result"]["contents"]["value"].get<std::string>();
+}
+
+// The labels of a completion response.
+inline std::set<std::string> labels(const Json& completion) {
+    std::set<std::string> out;
+    for (const Json& item : completion["result"]["items"]) out.insert(item["label"]);
+    return out;
+}
+
+// kUri's semantic tokens, decoded: the type and the modifiers of the token at each (line,
+// character).
+struct DecodedTokens {
+    std::map<std::pair<int, int>, std::string> types;
+    std::map<std::pair<int, int>, int> modifiers;
+};
+inline DecodedTokens semanticTokensOf(Server& s) {
+    Json legend = request(
+        s, 71, "initialize",
+        Json::object())["result"]["capabilities"]["semanticTokensProvider"]["legend"]["tokenTypes"];
+    Json data = request(s, 72, "textDocument/semanticTokens/full",
+                        {{"textDocument", {{"uri", kUri}}}})["result"]["data"];
+    REQUIRE(data.size() % 5 == 0);
+    DecodedTokens out;
+    int line = 0, ch = 0;
+    for (size_t i = 0; i < data.size(); i += 5) {
+        line += data[i].get<int>();
+        ch = data[i].get<int>() ? data[i + 1].get<int>() : ch + data[i + 1].get<int>();
+        out.types[{line, ch}] = legend[data[i + 3].get<int>()];
+        out.modifiers[{line, ch}] = data[i + 4].get<int>();
+    }
+    return out;
 }
 
 } // namespace moire::lsp::test

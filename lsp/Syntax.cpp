@@ -3,6 +3,8 @@
 #include "compiler/diag/Diagnostics.h"
 #include "compiler/lex/Lexer.h"
 
+#include <algorithm>
+
 namespace moire::lsp {
 
 std::vector<Token> lexTokens(std::string_view text) {
@@ -43,6 +45,36 @@ uint32_t declEnd(const ast::Module& module, const ast::Decl& decl, uint32_t text
         if (module.decls[i].get() == &decl)
             return i + 1 < module.decls.size() ? module.decls[i + 1]->range.begin.offset : textSize;
     return textSize;
+}
+
+bool isParamClauseWord(std::string_view word) {
+    return word == "in" || word == "step" || word == "unit";
+}
+
+std::vector<Token> paramClauseWords(std::string_view text, const std::vector<Token>& toks,
+                                    const ast::Module& module, const ast::Decl& decl) {
+    std::vector<Token> out;
+    if (decl.kind != ast::DeclKind::Param) return out;
+    uint32_t begin = decl.range.begin.offset;
+    uint32_t end = declEnd(module, decl, static_cast<uint32_t>(text.size()));
+    auto inside = [](SourceRange r, uint32_t offset) {
+        return r.begin.valid() && offset >= r.begin.offset && offset < r.begin.offset + r.length;
+    };
+    // The tokens are in order: start at the declaration's first (a scene of many params
+    // costs no pass over the whole text per param).
+    auto first = std::lower_bound(toks.begin(), toks.end(), begin,
+                                  [](const Token& t, uint32_t at) { return t.offset < at; });
+    for (auto it = first; it != toks.end() && it->offset < end; ++it) {
+        const Token& t = *it;
+        if (t.kind != Tok::Ident) continue;
+        if (!isParamClauseWord(text.substr(t.offset, t.length))) continue;
+        if (inside(decl.nameRange, t.offset) || inside(decl.unitRange, t.offset)) continue;
+        bool inExpr = false;
+        for (const ast::ExprPtr* e : {&decl.value, &decl.rangeLo, &decl.rangeHi, &decl.step})
+            if (*e && inside((*e)->range, t.offset)) inExpr = true;
+        if (!inExpr) out.push_back(t);
+    }
+    return out;
 }
 
 bool covers(SourceRange r, uint32_t offset) {

@@ -42,15 +42,25 @@ void forEachExpr(const ast::Expr* root, F&& f) {
 }
 
 // Calls f(expr) for every expression of a declaration: its value, parameters' defaults,
-// lets and properties.
+// lets and properties, and a param's range and step.
 template <class F>
 void forEachExprOf(const ast::Decl& d, F&& f) {
     forEachExpr(d.value.get(), f);
+    forEachExpr(d.rangeLo.get(), f);
+    forEachExpr(d.rangeHi.get(), f);
+    forEachExpr(d.step.get(), f);
     for (const ast::FamilyParam& p : d.params) forEachExpr(p.defaultValue.get(), f);
     for (const ast::Let& l : d.lets) forEachExpr(l.value.get(), f);
     for (const ast::Property& p : d.props) forEachExpr(p.value.get(), f);
 }
 
 bool covers(SourceRange r, uint32_t offset); // r.begin <= offset <= r's end (end included)
+
+// The words `in`, `step` and `unit` of a param's declaration (`param gap = 8 in 4 .. 20 step
+// 0.5 unit px`): the tokens of its text that are those words and lie outside its expressions
+// and its unit's label (so `step(e, v)` in its value is not one). None for another declaration.
+std::vector<Token> paramClauseWords(std::string_view text, const std::vector<Token>& toks,
+                                    const ast::Module& module, const ast::Decl& decl);
+bool isParamClauseWord(std::string_view word); // in, step or unit
 
 } // namespace moire::lsp

@@ -49,6 +49,8 @@ int declType(ast::DeclKind k) {
         return kEvent;
     case ast::DeclKind::Easing:
         return kFunction;
+    case ast::DeclKind::Param:
+        return kVariable;
     default:
         return kNamespace;
     }
@@ -135,6 +137,7 @@ Json semanticTokensLegend() {
 Json semanticTokens(const DocView& doc) {
     std::string_view text = doc.text();
     std::map<uint32_t, Classified> byOffset;
+    std::vector<Token> toks = lexTokens(text);
     if (const SceneProgram* fe = doc.analysis.frontEnd()) {
         for (const ast::DeclPtr& d : fe->userModule().decls) {
             byOffset.emplace(d->range.begin.offset, Classified{d->range.length, kKeyword, 0});
@@ -151,10 +154,17 @@ Json semanticTokens(const DocView& doc) {
                 byOffset.emplace(p.nameRange.begin.offset,
                                  Classified{p.nameRange.length, kProperty, 0});
             forEachExprOf(*d, [&](const ast::Expr& e) { classifyExpr(e, byOffset); });
+            // A param's `in`, `step` and `unit` (not the function step), and the unit's label.
+            for (const Token& t : paramClauseWords(text, toks, fe->userModule(), *d))
+                byOffset.emplace(t.offset, Classified{t.length, kKeyword, 0});
+            if (d->kind == ast::DeclKind::Param && d->unitRange.begin.valid() &&
+                !d->unitLabel.empty())
+                byOffset.emplace(d->unitRange.begin.offset,
+                                 Classified{d->unitRange.length, kString, 0});
         }
     }
     uint32_t last = 0;
-    for (const Token& t : lexTokens(text)) {
+    for (const Token& t : toks) {
         comments(text, last, t.offset, byOffset);
         last = t.offset + t.length;
         if (t.kind == Tok::Number)

@@ -40,9 +40,10 @@ export function groups(names) {
 // Longest first, so that no alternative hides a longer one it begins.
 const ordered = (list) => [...new Set(list)].sort((a, b) => b.length - a.length || (a < b ? -1 : 1));
 
-// A number, with its unit as the second capture.
+// A number, with its unit as the second capture. A range's `..` is no decimal point: `0..5`
+// is 0, `..`, 5 (a number may follow `..`, but not one lone `.`).
 const numberRegex = (units) =>
-  `(?<![A-Za-z0-9_.])((?:[0-9]+(?:\\.[0-9]*)?|\\.[0-9]+)(?:[eE][+-]?[0-9]+)?)(?:(${ordered(units).join('|')})\\b)?`;
+  `(?<![A-Za-z0-9_])(?<![^.]\\.)((?:[0-9]+(?:\\.(?!\\.)[0-9]*)?|\\.[0-9]+)(?:[eE][+-]?[0-9]+)?)(?:(${ordered(units).join('|')})\\b)?`;
 
 export function grammarText(current, names) {
   const g = JSON.parse(current);
@@ -86,7 +87,8 @@ function vimRegion(names) {
     lines.push(`syn match ${group} '\\<\\%(${alternatives}\\)\\>${tail}'`);
   }
   const units = ordered(names.units).join('\\|');
-  lines.push(`syn match moireNumber '\\%(\\<\\d\\+\\%(\\.\\d*\\)\\=\\|\\.\\d\\+\\)\\%([eE][-+]\\=\\d\\+\\)\\=' nextgroup=moireUnit`);
+  // `0..5` is 0, `..`, 5: a decimal point is never the first of two dots.
+  lines.push(`syn match moireNumber '\\%(\\<\\d\\+\\%(\\.\\.\\@!\\d*\\)\\=\\|\\.\\@<!\\.\\d\\+\\)\\%([eE][-+]\\=\\d\\+\\)\\=' nextgroup=moireUnit`);
   lines.push(`syn match moireUnit '\\%(${units}\\)\\>' contained`);
   return lines.join('\n');
 }

@@ -19,6 +19,7 @@
 #include <regex>
 #include <sstream>
 #include <sys/resource.h>
+#include <sys/stat.h>
 #include <sys/wait.h>
 #include <thread>
 #include <unistd.h>
@@ -483,4 +484,33 @@ TEST_CASE("every file the project writes goes through the one checked writer") {
     for (const std::string& o : offenders) list += o + "\n";
     CHECK_MESSAGE(offenders.empty(), "write files through runtime/output/OutputFile.h instead:\n",
                   list);
+}
+
+TEST_CASE("an output that is not a file (a FIFO, a device) is written into, never replaced") {
+    // Renaming a finished temporary over /dev/null would put a regular file where the device
+    // was; a FIFO shows the same without needing root: it must still be a FIFO afterwards, and
+    // what came through it must be the image.
+    test::TempDir dir("stream");
+    dir.write("s.moire", "scene { size = (40, 24) }\nlayer { family = circles; spacing = 5 }\n");
+    const std::string moire = "'" + test::moireBinary() + "'";
+    auto direct = test::runCommand("cd '" + dir.path() + "' && " + moire +
+                                   " render -q s.moire -o direct.png && " + moire +
+                                   " render -q s.moire -o direct.tif");
+    REQUIRE_MESSAGE(direct.status == 0, direct.err);
+    for (const char* ext : {"png", "tif"}) {
+        CAPTURE(ext);
+        const std::string fifo = dir.file(std::string("pipe.") + ext);
+        REQUIRE(::mkfifo(fifo.c_str(), 0600) == 0);
+        auto r = test::runCommand("cd '" + dir.path() + "' && (cat pipe." + ext + " > copy." + ext +
+                                  " &) && " + moire + " render -q s.moire -o pipe." + ext +
+                                  " && sleep 0.2");
+        REQUIRE_MESSAGE(r.status == 0, r.err);
+        struct stat st {};
+        REQUIRE(::stat(fifo.c_str(), &st) == 0);
+        CHECK(S_ISFIFO(st.st_mode));
+        Image copy = readImage(dir.file(std::string("copy.") + ext));
+        Image expected = readImage(dir.file(std::string("direct.") + ext));
+        CHECK(test::compareImages(copy, expected, 0.0).maxAbs == 0.0);
+        ::unlink(fifo.c_str());
+    }
 }

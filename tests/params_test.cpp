@@ -6,9 +6,8 @@
 #include "runtime/output/ImageIO.h"
 #include "tests/support/Support.h"
 
-#include <doctest/doctest.h>
-
 #include <cmath>
+#include <doctest/doctest.h>
 #include <numbers>
 
 using namespace moire;
@@ -60,14 +59,12 @@ Defines defineOf(const std::string& target, const std::string& value) {
 
 struct Case {
     const char* name;
-    const char* text;             // the value as source
-    std::vector<double> value;    // the same value as a slider sets it
+    const char* text;          // the value as source
+    std::vector<double> value; // the same value as a slider sets it
 };
 const Case kCases[] = {
-    {"gap", "9.5", {9.5}},
-    {"tilt", "30deg", {30.0 * std::numbers::pi / 180.0}},
-    {"shift", "(-7, 3)", {-7, 3}},
-    {"ink", "#c02010", {192 / 255.0, 32 / 255.0, 16 / 255.0, 1.0}},
+    {"gap", "9.5", {9.5}},         {"tilt", "30deg", {30.0 * std::numbers::pi / 180.0}},
+    {"shift", "(-7, 3)", {-7, 3}}, {"ink", "#c02010", {192 / 255.0, 32 / 255.0, 16 / 255.0, 1.0}},
     {"bold", "true", {1.0}},
 };
 
@@ -99,8 +96,8 @@ TEST_CASE("params: what tools see of each declaration") {
     CHECK(*tight->parameters[0].step == 0.25);
     // The default's text, as a write-back replaces it.
     const Parameter& shift = named(*program, "shift");
-    CHECK(std::string_view(kScene).substr(shift.valueRange.begin.offset,
-                                          shift.valueRange.length) == "(4, -2)");
+    CHECK(std::string_view(kScene).substr(shift.valueRange.begin.offset, shift.valueRange.length) ==
+          "(4, -2)");
 }
 
 TEST_CASE("params: a value set in the slots draws what the value written in the scene draws") {
@@ -148,9 +145,8 @@ TEST_CASE("params: -D is the value written in the scene, and never a new kernel 
     }
     // A layer's property: set, or added where the layer had none.
     auto stroke = test::compileOk(kScene, {.defines = defineOf("a.stroke", "2.5")});
-    auto strokeWritten = test::compileOk(
-        std::string(kScene).replace(std::string(kScene).find("color = ink }"), 13,
-                                    "color = ink; stroke = 2.5 }"));
+    auto strokeWritten = test::compileOk(std::string(kScene).replace(
+        std::string(kScene).find("color = ink }"), 13, "color = ink; stroke = 2.5 }"));
     FrameValues a, b;
     std::string diags;
     REQUIRE(evaluateFrame(*stroke, {}, a, diags));
@@ -204,11 +200,8 @@ TEST_CASE("params: values a slider may not set") {
 TEST_CASE("params: a value written back reads as the same value") {
     auto program = test::compileOk(kScene);
     const std::vector<std::pair<const char*, std::vector<double>>> values = {
-        {"gap", {0.1 + 0.2 + 7}},
-        {"tilt", {0.3}},
-        {"shift", {-1.25, 1e-3}},
-        {"ink", {1.0, 0.5, 0.0, 0.5}},
-        {"bold", {1.0}},
+        {"gap", {0.1 + 0.2 + 7}},      {"tilt", {0.3}}, {"shift", {-1.25, 1e-3}},
+        {"ink", {1.0, 0.5, 0.0, 0.5}}, {"bold", {1.0}},
     };
     for (const auto& [name, value] : values) {
         CAPTURE(name);
@@ -256,8 +249,13 @@ TEST_CASE("params: moire render -D equals the scene edited, for every type") {
     auto both = test::runCommand("cd '" + dir.path() + "' && '" + test::moireBinary() +
                                  "' render -q both.moire -o both.png");
     REQUIRE(both.status == 0);
-    CHECK(test::compareImages(readImage(dir.file("f_00.png")), readImage(dir.file("both.png")),
-                              0.0)
+    // watch --once builds with the same values.
+    auto watch = test::runCommand("cd '" + dir.path() + "' && '" + test::moireBinary() +
+                                  "' watch --once -q s.moire -o w.png -D gap=9.5 -D bold=true");
+    REQUIRE_MESSAGE(watch.status == 0, watch.err);
+    CHECK(test::compareImages(readImage(dir.file("w.png")), readImage(dir.file("both.png")), 0.0)
+              .maxAbs == 0.0);
+    CHECK(test::compareImages(readImage(dir.file("f_00.png")), readImage(dir.file("both.png")), 0.0)
               .maxAbs == 0.0);
 }
 

@@ -288,8 +288,8 @@ void Parser::parseParam(Decl& d) {
         advance();
         d.unitRange = range();
         if (!at(Tok::Ident)) {
-            diags_.error(range(), Msg::Expected, "a unit's name after 'unit' (px, mm, s, %...)",
-                         describeCurrent());
+            diags_.error(range(), Msg::Expected,
+                         "a unit's name after 'unit' (a word: px, mm, s...)", describeCurrent());
             recoverTo(false);
             return;
         }

@@ -55,12 +55,18 @@ class Cse : public Rewriter {
             auto found = it->find(key);
             if (found != it->end()) {
                 bind(inst.results[0], found->second);
+                ++merged;
                 return true;
             }
         }
         scopes_.back().emplace(key, copy(inst)[0]);
         return true;
     }
+
+  public:
+    size_t merged = 0;
+
+  private:
     void enterRegion() override { scopes_.emplace_back(); }
     void leaveRegion() override { scopes_.pop_back(); }
 
@@ -69,8 +75,11 @@ class Cse : public Rewriter {
 
 } // namespace
 
-Function eliminateCommonSubexpressions(const Function& f) {
-    return Cse(f).run();
+Function eliminateCommonSubexpressions(const Function& f, Check check, size_t* merged) {
+    Cse cse(f);
+    Function out = cse.run(check);
+    if (merged) *merged = cse.merged;
+    return out;
 }
 
 } // namespace moire::passes

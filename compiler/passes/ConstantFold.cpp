@@ -190,8 +190,8 @@ class Folder : public Rewriter {
 
 } // namespace
 
-Function constantFold(const Function& f) {
-    return Folder(f).run();
+Function constantFold(const Function& f, Check check) {
+    return Folder(f).run(check);
 }
 
 } // namespace moire::passes

@@ -84,17 +84,21 @@ class Dce : public Rewriter {
 
 } // namespace
 
-Function eliminateDeadCode(const Function& f) {
-    return Dce(f).run();
+Function eliminateDeadCode(const Function& f, Check check) {
+    return Dce(f).run(check);
 }
 
 Function simplify(const Function& f) {
-    Function cur = eliminateDeadCode(eliminateCommonSubexpressions(constantFold(f)));
-    for (int round = 0; round < 4; ++round) {
-        size_t before = cur.instCount();
-        cur = eliminateDeadCode(eliminateCommonSubexpressions(constantFold(cur)));
-        if (cur.instCount() >= before) break;
+    Function cur;
+    for (int round = 0; round < 5; ++round) {
+        size_t merged = 0;
+        cur = eliminateDeadCode(
+            eliminateCommonSubexpressions(constantFold(round ? cur : f, Check::Trust), Check::Trust,
+                                          &merged),
+            Check::Trust);
+        if (merged == 0) break;
     }
+    verify(cur);
     return cur;
 }
 

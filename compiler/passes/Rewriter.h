@@ -8,12 +8,17 @@
 
 namespace moire::passes {
 
+// Whether a pass verifies what it built. A chain of passes (simplify) verifies its last
+// result only: the verifier walks every instruction, and each pass of the chain would pay it.
+enum class Check { Verify, Trust };
+
 class Rewriter {
   public:
     explicit Rewriter(const ir::Function& src);
     virtual ~Rewriter() = default;
 
-    ir::Function run();
+    // Rebuilds the function; verifies the result unless `check` says the caller will.
+    ir::Function run(Check check = Check::Verify);
 
   protected:
     // Handles one instruction of the source. Return false to get the default copy.

@@ -5,7 +5,6 @@
 #include "compiler/sema/ConstantValue.h"
 
 #include <fmt/format.h>
-
 #include <numbers>
 
 namespace moire::sema::detail {
@@ -73,8 +72,7 @@ void Checker::checkParam(Decl& p) {
         lo = read(*p.rangeLo, "range");
         hi = read(*p.rangeHi, "range");
         if (lo && hi && !(*lo < *hi)) {
-            diags_.error(p.rangeLo->range, Msg::ParamEmptyRange, p.name, number(*lo),
-                         number(*hi));
+            diags_.error(p.rangeLo->range, Msg::ParamEmptyRange, p.name, number(*lo), number(*hi));
             return;
         }
     }

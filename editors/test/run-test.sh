@@ -62,7 +62,7 @@ case $name in
     need node npm
     cd "$vscode"
     node --test test/moirePath.test.mjs test/settings.test.mjs test/commands.test.mjs \
-      test/grammar-names.test.mjs
+      test/grammar-names.test.mjs test/snippets.test.mjs
     ;;
   server)
     # The extension starts `moire lsp` and it answers; until moire has the server, skipped.

@@ -1,6 +1,7 @@
 #include "runtime/cli/Commands.h"
 
 #include "compiler/backend/glsl/GlslKernel.h"
+#include "compiler/backend/js/JsFrame.h"
 #include "compiler/backend/llvm/LlvmJit.h"
 #include "compiler/Compile.h"
 #include "runtime/cli/Shared.h"
@@ -501,12 +502,12 @@ int devices(const Verbosity& verbosity) {
 }
 
 int compile(const CompileArgs& args) {
-    static const char* kDumps[] = {"ast",    "ir",   "ir-ad", "frame",
-                                   "kernel", "llvm", "glsl",  "spirv"};
+    static const char* kDumps[] = {"ast",  "ir",   "ir-ad",   "frame", "kernel",
+                                   "llvm", "glsl", "glsl-es", "js",    "spirv"};
     if (std::find(std::begin(kDumps), std::end(kDumps), args.dump) == std::end(kDumps)) {
         fmt::print(stderr,
                    "moire: error: --dump must be one of ast, ir, ir-ad, frame, kernel, llvm, glsl, "
-                   "spirv; not '{}'\n",
+                   "glsl-es, js, spirv; not '{}'\n",
                    args.dump);
         return kExitUsage;
     }
@@ -535,6 +536,10 @@ int compile(const CompileArgs& args) {
         text = ir::print(program->kernel);
     else if (args.dump == "glsl")
         text = glsl::emitGlsl(program->kernel);
+    else if (args.dump == "glsl-es")
+        text = glsl::emitGlsl(program->kernel, glsl::Dialect::WebGl);
+    else if (args.dump == "js")
+        text = js::emitFrameJs(program->frame) + "\n";
     else if (args.dump == "spirv")
         text = glsl::disassembleSpirv(glsl::compileSpirv(program->kernel));
     else if (args.dump == "llvm")

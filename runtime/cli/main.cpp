@@ -6,6 +6,7 @@
 #include "lsp/Server.h"
 #include "runtime/cli/Commands.h"
 #include "runtime/cli/DefineOption.h"
+#include "runtime/cli/ExportCommand.h"
 #include "runtime/cli/ServeCommand.h"
 #include "runtime/output/ImageIO.h"
 #include "runtime/output/JitCache.h"
@@ -212,8 +213,9 @@ int main(int argc, char** argv) {
         "stroke selects its layer. Keys: 1-9 select a layer, 0 or Esc none; space pauses and\n"
         "plays; . and , step a frame; the arrows move the clock 1 s (shift: 0.1 s); r resets\n"
         "the view; s saves a still beside the scene; p prints the placement; w writes it\n"
-        "into the scene file; e shows the envelope (again: the pattern); h hides the status\n"
-        "line; q quits. Saves reload; a save with\n"
+        "into the scene file; Tab shows the parameter panel (a slider per param, the clock)\n"
+        "and W writes its values into the scene file; e shows the envelope (again: the\n"
+        "pattern); h hides the status line; q quits. Saves reload; a save with\n"
         "errors keeps the last good picture under the diagnostics.");
 
     cli::ServeArgs serveArgs;
@@ -233,7 +235,7 @@ int main(int argc, char** argv) {
     addVerbosity(serveCmd, serveArgs.verbosity);
     serveCmd->footer("The first line on standard output is the page's address, with a token made "
                      "for this run:\nrequests without it are refused. Ctrl-C stops (exit 0). "
-                     "docs/live.md describes the page.");
+                     "docs/serve.md describes the page.");
 
     cli::CheckArgs checkArgs;
     CLI::App* checkCmd = app.add_subcommand("check", "Check scenes for errors without rendering");
@@ -259,8 +261,9 @@ int main(int argc, char** argv) {
     CLI::App* compileCmd = app.add_subcommand(
         "compile", "Show a compiler stage: the AST, the IR, LLVM IR, GLSL or SPIR-V (--dump)");
     addScene(compileCmd, compileArgs.scene);
-    compileCmd->add_option("--dump", compileArgs.dump,
-                           "ast, ir, ir-ad, frame, kernel, llvm, glsl or spirv (default ir)");
+    compileCmd->add_option(
+        "--dump", compileArgs.dump,
+        "ast, ir, ir-ad, frame, kernel, llvm, glsl, glsl-es, js or spirv (default ir)");
     compileCmd->add_flag("--fields", compileArgs.layerFields,
                          "Also output each layer's index and distance");
     compileCmd->add_option("-o,--output", compileArgs.output,
@@ -288,6 +291,8 @@ int main(int argc, char** argv) {
     addVerbosity(namesCmd, namesArgs.verbosity, "Print the names and nothing else",
                  "Also say how many names of each kind there are");
     namesCmd->footer("Exit status: 0 done; 2 a wrong command line.");
+    cli::ExportArgs exportArgs;
+    CLI::App* exportCmd = cli::addExportCommand(app, exportArgs, rawDefines);
     CLI::App* lspCmd = app.add_subcommand(
         "lsp", "Serve the Language Server Protocol on standard input and output (docs/editors.md)");
     lspCmd->footer("Started by an editor, not by hand. Exit status: 0 after shutdown, else 1.");
@@ -306,6 +311,7 @@ int main(int argc, char** argv) {
             return cli::kExitUsage;
         }
         renderArgs.defines = clipArgs.defines = watchArgs.defines = viewArgs.defines = defines;
+        exportArgs.defines = defines;
         serveArgs.defines = defines;
     }
     try {
@@ -325,6 +331,7 @@ int main(int argc, char** argv) {
         if (*devicesCmd) return cli::devices(devicesVerbosity);
         if (*fmtCmd) return cli::formatFiles(fmtArgs);
         if (*namesCmd) return cli::names(namesArgs);
+        if (*exportCmd) return cli::exportPiece(exportArgs);
         if (*lspCmd) return lsp::runServer(0, 1);
         fmt::print("{}", app.help());
         return 0;

@@ -7,6 +7,7 @@
 #include <fcntl.h>
 #include <filesystem>
 #include <fmt/format.h>
+#include <fstream>
 #include <regex>
 #include <sys/stat.h>
 #include <unistd.h>
@@ -114,7 +115,23 @@ void writeStandardOutput(const void* data, size_t size) {
         throw IoError(fmt::format("cannot write to standard output: {}", std::strerror(error)));
 }
 
-AtomicFile::AtomicFile(const std::string& path) : path_(path), temp_(temporaryBeside(path)) {
+namespace {
+// An existing destination that is not a file (a device such as /dev/null, a FIFO, a socket):
+// it is written into, not replaced. Renaming over it would put a regular file in the place
+// of a device node, and a half-written stream is what a reader of one expects anyway.
+bool isStream(const std::string& path) {
+    struct stat st {};
+    return ::stat(path.c_str(), &st) == 0 && !S_ISREG(st.st_mode) && !S_ISDIR(st.st_mode);
+}
+} // namespace
+
+AtomicFile::AtomicFile(const std::string& path) : path_(path) {
+    if (isStream(path_)) {
+        fd_ = ::open(path_.c_str(), O_WRONLY | O_CLOEXEC);
+        if (fd_ < 0) throw cannotWrite(path_, errno);
+        return;
+    }
+    temp_ = temporaryBeside(path);
     // O_EXCL: the name is ours alone; never follow a link someone left in its place.
     fd_ = ::open(temp_.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
     if (fd_ < 0) throw cannotWrite(path_, errno);
@@ -123,14 +140,14 @@ AtomicFile::AtomicFile(const std::string& path) : path_(path), temp_(temporaryBe
 AtomicFile::~AtomicFile() {
     if (fd_ >= 0) {
         ::close(fd_);
-        removeQuietly(temp_);
+        if (!temp_.empty()) removeQuietly(temp_);
     }
 }
 
 void AtomicFile::fail(int error) {
     if (fd_ >= 0) ::close(fd_);
     fd_ = -1;
-    removeQuietly(temp_);
+    if (!temp_.empty()) removeQuietly(temp_);
     throw cannotWrite(path_, error);
 }
 
@@ -141,6 +158,12 @@ void AtomicFile::write(const void* data, size_t size) {
 
 void AtomicFile::commit() {
     if (fd_ < 0) throw cannotWrite(path_, EBADF);
+    if (temp_.empty()) { // a stream: written in place (isStream)
+        int rc = ::close(fd_);
+        fd_ = -1;
+        if (rc != 0 && errno != EINTR) throw cannotWrite(path_, errno);
+        return;
+    }
     // A file that is replaced keeps its permissions (a scene the viewer writes the placement
     // into, an image someone made read-only for others); a new one gets 0666 less the umask.
     struct stat before {};
@@ -172,6 +195,16 @@ void writeFileAtomically(const std::string& path, const void* data, size_t size)
 }
 
 void commitTemporary(const std::string& temp, const std::string& path) {
+    if (isStream(path)) { // copied into it, never renamed over it (isStream)
+        std::string bytes;
+        std::ifstream in(temp, std::ios::binary);
+        bytes.assign(std::istreambuf_iterator<char>(in), {});
+        const bool read = in.good() || in.eof();
+        removeQuietly(temp);
+        if (!read) throw cannotWrite(path, EIO);
+        writeFileAtomically(path, bytes.data(), bytes.size());
+        return;
+    }
     int fd = ::open(temp.c_str(), O_RDONLY | O_CLOEXEC);
     if (fd < 0) {
         int e = errno;

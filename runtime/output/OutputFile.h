@@ -35,7 +35,9 @@ class AtomicFile {
     AtomicFile& operator=(const AtomicFile&) = delete;
 
     void write(const void* data, size_t size);
-    void commit(); // fsync, close, rename into place
+    // fsync, close, rename into place. A destination that exists and is not a regular file
+    // (/dev/null, a FIFO) is written straight into instead, never replaced.
+    void commit();
 
   private:
     [[noreturn]] void fail(int error);

@@ -38,25 +38,10 @@ std::vector<double> hexColour(const std::string& s) {
 
 } // namespace
 
-const char* parameterTypeName(const Parameter& p) {
-    switch (p.type) {
-    case ast::Type::Angle:
-        return "angle";
-    case ast::Type::Vec2:
-        return "vector";
-    case ast::Type::Color:
-        return "color";
-    case ast::Type::Bool:
-        return "bool";
-    default:
-        return "number";
-    }
-}
-
 json parameterJson(const Parameter& p, const std::vector<double>& value, bool set) {
     json j;
     j["name"] = p.name;
-    j["type"] = parameterTypeName(p);
+    j["type"] = parameterKind(p.type);
     j["components"] = p.components;
     j["min"] = optionalNumber(p.min);
     j["max"] = optionalNumber(p.max);
@@ -74,7 +59,7 @@ json parameterJson(const Parameter& p, const std::vector<double>& value, bool se
 
 std::vector<double> parameterValueFromJson(const Parameter& p, const json& value) {
     std::vector<double> out;
-    const std::string what = fmt::format("'{}' ({})", p.name, parameterTypeName(p));
+    const std::string what = fmt::format("'{}' ({})", p.name, parameterKind(p.type));
     if (value.is_boolean()) {
         if (p.type != ast::Type::Bool)
             throw RequestError(fmt::format("{} takes no true or false", what));

@@ -10,9 +10,6 @@
 
 namespace moire::serve {
 
-// The type as the page names it: "number", "angle", "vector", "color" or "bool".
-const char* parameterTypeName(const Parameter& p);
-
 // One parameter for the page: {"name", "type", "components", "min", "max", "step" (null when
 // not declared), "unit" ("deg" or "rad" for an angle, else null), "label" (the `unit` word
 // written in the declaration, or ""), "value" (its components:

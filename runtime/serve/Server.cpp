@@ -82,7 +82,9 @@ std::string Server::url(const std::string& host, int port) const {
 void Server::routes() {
     httplib::Server& s = *http_;
     s.set_payload_max_length(kMaxMessageBytes);
-    s.set_read_timeout(5, 0);
+    // A message is at most 64 KiB from this machine (or a trusted network): a client that
+    // takes longer than this to send one holds a thread for nothing.
+    s.set_read_timeout(2, 0);
     s.set_write_timeout(5, 0);
     s.set_keep_alive_timeout(5);
     // The library writes a response's head and body apart: with Nagle's algorithm the body

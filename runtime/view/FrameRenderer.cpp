@@ -40,8 +40,9 @@ std::string stillPath(const std::string& scenePath) {
 } // namespace
 
 bool evaluateViewFrame(const SceneProgram& program, const ViewAdjust& view, double time, int width,
-                       int height, FrameValues& out, std::string& diags) {
+                       int height, FrameValues& out, std::string& diags, const ParamSet* params) {
     std::vector<double> literals = program.literals;
+    if (params) applyParams(program.parameters, *params, literals);
     view.write(literals, program.viewSlot, static_cast<int>(program.checked.layers.size()));
     FrameRequest req;
     req.time = time;
@@ -206,14 +207,16 @@ bool FrameRenderer::render(const RenderJob& job, int divisor, bool cancellable, 
     const SceneProgram& program = *job.build->program;
     FrameValues frame;
     std::string diags;
-    if (!evaluateViewFrame(program, job.view, job.time, job.width, job.height, frame, diags)) {
+    if (!evaluateViewFrame(program, job.view, job.time, job.width, job.height, frame, diags,
+                           &job.params)) {
         out.error = diags;
         return true;
     }
     if (divisor > 1) {
         // The preview's own camera, whose pixels are blocks of the full frame's.
         Preview p = previewOf(SceneCamera::from(frame), job.view, job.width, job.height, divisor);
-        if (!evaluateViewFrame(program, p.view, job.time, p.width, p.height, frame, diags)) {
+        if (!evaluateViewFrame(program, p.view, job.time, p.width, p.height, frame, diags,
+                               &job.params)) {
             out.error = diags;
             return true;
         }

@@ -11,6 +11,7 @@
 
 #include "runtime/Image.h"
 #include "runtime/live/SceneBuilder.h"
+#include "runtime/view/ParamValues.h"
 #include "runtime/view/ViewCamera.h"
 
 #include <atomic>
@@ -33,6 +34,7 @@ struct RenderJob {
     int width = 0, height = 0; // the window's framebuffer
     bool interactive = false;  // part of a gesture: a quick preview first if frames are slow
     uint64_t version = 0;      // increases with every change of what is to be drawn
+    ParamSet params;           // the panel's values for the build's parameters
 };
 
 struct RenderedFrame {
@@ -48,10 +50,12 @@ struct RenderedFrame {
 };
 
 // The frame values of `program` at `time` for a width x height image, with the view's
-// adjustments in its literal slots (SceneProgram::viewSlot): what the picture on screen is
-// drawn from. False, with the diagnostics, when the frame cannot be evaluated.
+// adjustments in its literal slots (SceneProgram::viewSlot) and the panel's values in its
+// parameters' (when given): what the picture on screen is drawn from. False, with the
+// diagnostics, when the frame cannot be evaluated.
 bool evaluateViewFrame(const SceneProgram& program, const ViewAdjust& view, double time, int width,
-                       int height, FrameValues& out, std::string& diags);
+                       int height, FrameValues& out, std::string& diags,
+                       const ParamSet* params = nullptr);
 
 // Float RGBA (sRGB-encoded, straight alpha) to 8 bits the way the PNG writer rounds, so the
 // window shows the bytes `moire render` writes.

@@ -15,7 +15,7 @@ std::optional<int> pickLayer(const SceneProgram& probe, const Interpreter& kerne
     const RenderJob& p = request.picture;
     FrameValues fv;
     std::string diags;
-    if (!evaluateViewFrame(probe, p.view, p.time, p.width, p.height, fv, diags))
+    if (!evaluateViewFrame(probe, p.view, p.time, p.width, p.height, fv, diags, &p.params))
         return std::nullopt;
     const std::vector<double> out =
         kernel.atPixel(fv.uniforms, request.at.x, request.at.y, p.width, p.height);

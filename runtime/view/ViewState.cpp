@@ -5,10 +5,13 @@
 #include "runtime/output/ImageIO.h"
 #include "runtime/output/OutputFile.h"
 #include "runtime/TextFile.h"
+#include "runtime/view/ParamWriteBack.h"
 #include "runtime/view/Placement.h"
 
+#include <algorithm>
 #include <cmath>
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 namespace moire::view {
 
@@ -18,10 +21,14 @@ const std::string& sourceOf(const SceneProgram& program) {
     return program.sources->file(program.userModule().file).text();
 }
 
-bool frameAt(const LiveProgram* build, double time, FrameValues& fv) {
+// The frame with the panel's values: a parameter may move the camera or resize the scene.
+bool frameAt(const LiveProgram* build, const ParamSet& params, double time, FrameValues& fv) {
     if (!build) return false;
+    std::vector<double> literals = build->program->literals;
+    applyParams(build->program->parameters, params, literals);
     FrameRequest req;
     req.time = time;
+    req.literals = &literals;
     std::string diags;
     return evaluateFrame(*build->program, req, fv, diags);
 }
@@ -48,6 +55,9 @@ void ViewState::adopt(std::shared_ptr<const LiveProgram> build) {
     view_ = std::move(next);
     selected_ = selected;
     names_ = std::move(names);
+    params_ = build_ ? carryParams(build_->program->parameters, params_, sourceOf(*build_->program),
+                                   build->program->parameters, sourceOf(*build->program))
+                     : ParamSet(build->program->parameters.size());
     build_ = std::move(build);
     pickWanted_ = 0; // an answer about the old build would name its layers
     changed(false);
@@ -68,13 +78,13 @@ void ViewState::reloaded(const BuildResult& result) {
 
 std::optional<std::pair<int, int>> ViewState::sceneSize(Clock::time_point now) const {
     FrameValues fv;
-    if (!frameAt(build_.get(), timeNow(now), fv)) return std::nullopt;
+    if (!frameAt(build_.get(), params_, timeNow(now), fv)) return std::nullopt;
     return std::make_pair(fv.width, fv.height);
 }
 
 SceneCamera ViewState::sceneCamera(Clock::time_point now) {
     FrameValues fv;
-    if (frameAt(build_.get(), timeNow(now), fv)) camera_ = SceneCamera::from(fv);
+    if (frameAt(build_.get(), params_, timeNow(now), fv)) camera_ = SceneCamera::from(fv);
     return camera_;
 }
 
@@ -210,6 +220,7 @@ RenderJob ViewState::job(Clock::time_point now) const {
     j.height = height_;
     j.interactive = interactive_;
     j.version = version_;
+    j.params = params_;
     return j;
 }
 
@@ -239,17 +250,24 @@ std::string ViewState::placementReport(Clock::time_point now) const {
                        timeNow(now), placementText(*build_->program, view_));
 }
 
+std::string ViewState::unwritable(const std::string& path) const {
+    // The file must still be the text on screen: a save with errors, or one not yet
+    // reloaded, is the user's newer work, never to be replaced by an older text.
+    if (!buildError_.empty()) return "the file has errors; fix them first";
+    std::string now, why;
+    if (!readWholeFile(path, now, why)) return why;
+    if (now != sourceOf(*build_->program))
+        return "the file has changed since it was loaded; try again";
+    return {};
+}
+
 PlacementWrite ViewState::writePlacement(const std::string& path) {
     auto fail = [](std::string why) { return PlacementWrite{false, std::move(why)}; };
     if (!build_) return {}; // nothing on screen to place
     if (path.empty()) return fail("the default scene has no file (p prints the placement)");
-    // The file must still be the text on screen: a save with errors, or one not yet
-    // reloaded, is the user's newer work, never to be replaced by an older text.
-    if (!buildError_.empty()) return fail("the file has errors; fix them first");
+    if (std::string why = unwritable(path); !why.empty()) return fail(why);
     const std::string& loaded = sourceOf(*build_->program);
-    std::string now, why;
-    if (!readWholeFile(path, now, why)) return fail(why);
-    if (now != loaded) return fail("the file has changed since it was loaded; try again");
+    std::string why;
     std::string placed;
     if (!placedSource(*build_->program, view_, placed, why)) return fail(why);
     if (placed == loaded) return {true, "moire: the scene already has this placement"};
@@ -260,6 +278,45 @@ PlacementWrite ViewState::writePlacement(const std::string& path) {
     }
     placedText_ = placed;
     return {true, fmt::format("moire: wrote the placement into {}", path)};
+}
+
+// --- The parameters -------------------------------------------------------------------------
+
+void ViewState::setParam(int param, const ParamValue& value, bool interactive) {
+    if (param < 0 || param >= static_cast<int>(params_.size())) return;
+    if (params_[param] == value) return;
+    params_[param] = value;
+    changed(interactive);
+}
+
+void ViewState::resetParams() {
+    if (std::none_of(params_.begin(), params_.end(), [](const auto& v) { return v.has_value(); }))
+        return;
+    params_.assign(params_.size(), std::nullopt);
+    changed(false);
+}
+
+PlacementWrite ViewState::writeParams(const std::string& path) {
+    auto fail = [](std::string why) { return PlacementWrite{false, std::move(why)}; };
+    if (!build_) return {};
+    if (path.empty()) return fail("the default scene has no file");
+    if (std::string why = unwritable(path); !why.empty()) return fail(why);
+    const SceneProgram& program = *build_->program;
+    ParamWriteBack w = writeBackParameters(sourceOf(program), program.userModule().file,
+                                           program.parameters, params_);
+    std::string message;
+    if (!w.written.empty()) {
+        try {
+            writeFileAtomically(path, w.text.data(), w.text.size());
+        } catch (const IoError& e) {
+            return fail(e.what());
+        }
+        message = fmt::format("moire: wrote {} into {}", fmt::join(w.written, ", "), path);
+    } else {
+        message = "moire: the file already has these values";
+    }
+    for (const std::string& s : w.skipped) message += fmt::format("\nmoire: kept {}", s);
+    return {true, message};
 }
 
 } // namespace moire::view

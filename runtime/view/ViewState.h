@@ -5,15 +5,16 @@
 // the wall clock given, and asks for frames (RenderJob) as the version here changes; the unit
 // tests drive it the same way, without a display.
 //
-// The state grows by sections: a panel laid over the picture (sliders for a scene's
-// parameters) keeps its values here beside the view's adjustments, takes a press before the
-// picture's gestures do (press() is the one door), and bumps the version when it changes what
-// is to be drawn.
+// The panel laid over the picture (sliders for a scene's parameters, ParamPanel) keeps its
+// values here beside the view's adjustments, and bumps the version when it changes what is to
+// be drawn; the window hands a press to the panel first and to press() only when the panel
+// leaves it.
 #pragma once
 
 #include "runtime/live/SceneBuilder.h"
 #include "runtime/view/FrameRenderer.h"
 #include "runtime/view/LayerPicker.h"
+#include "runtime/view/ParamValues.h"
 #include "runtime/view/ViewCamera.h"
 #include "runtime/view/ViewClock.h"
 
@@ -157,7 +158,26 @@ class ViewState {
     // never jumps.
     PlacementWrite writePlacement(const std::string& path);
 
+    // --- The parameters (the panel) ---------------------------------------------------
+
+    // The values the panel set, one entry per parameter of the build on screen. A reload
+    // keeps each by name (ParamValues.h: carryParams), except where the file changed the
+    // parameter's default: the file's edit is newer.
+    const ParamSet& params() const { return params_; }
+    // Sets parameter `param` of the build on screen (`interactive` while a slider is held).
+    void setParam(int param, const ParamValue& value, bool interactive);
+    // Every parameter back to its default.
+    void resetParams();
+    // `W`: writes the set values into the scene file as the defaults' new literals
+    // (ParamWriteBack.h), atomically, refused as `w` is. The reload of the written text sees
+    // new numbers only (no kernel is compiled), and its defaults are the values on screen:
+    // the picture does not move. `message` names what was written, and what was kept, why.
+    PlacementWrite writeParams(const std::string& path);
+
   private:
+    // Why the scene file at `path` cannot be written over now (errors, a newer save, no
+    // file), or empty.
+    std::string unwritable(const std::string& path) const;
     // The scene's own camera at `now` (it may move with the clock); the last one known when
     // the frame cannot be evaluated.
     SceneCamera sceneCamera(Clock::time_point now);
@@ -166,6 +186,7 @@ class ViewState {
     std::vector<std::string> names_; // build_'s layer names
     std::string buildError_;
     std::optional<std::string> placedText_; // what `w` last wrote, until its reload
+    ParamSet params_;                       // the panel's values for build_'s parameters
     ViewAdjust view_;
     SceneCamera camera_;
     int selected_ = -1;

@@ -7,6 +7,7 @@
 #include "runtime/FrameEval.h"
 #include "runtime/view/ViewState.h"
 #include "tests/support/Support.h"
+#include "tests/support/ViewStateSupport.h"
 
 #include <cmath>
 #include <doctest/doctest.h>
@@ -18,19 +19,8 @@ using namespace moire::view;
 namespace {
 
 using Clock = ViewState::Clock;
-
-Clock::time_point at(double seconds) {
-    return Clock::time_point{} +
-           std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(seconds));
-}
-
-// A build of `text` as the viewer makes it (interactive slots); no kernel: the state never
-// runs one.
-std::shared_ptr<const LiveProgram> buildOf(const std::string& text) {
-    auto live = std::make_shared<LiveProgram>();
-    live->program = test::compileOk(text, {.mode = CompileOptions::Mode::Interactive});
-    return live;
-}
+using test::at;
+using test::buildOf;
 
 const char* kScene = R"(scene { size = (200, 100) }
 camera { center = (3, -2); zoom = 1.5; rotation = 20deg }

@@ -11,6 +11,8 @@
 #include "runtime/view/FrameRenderer.h"
 #include "runtime/view/LayerPicker.h"
 #include "runtime/view/Overlay.h"
+#include "runtime/view/ParamBinding.h"
+#include "runtime/view/ParamPanel.h"
 #include "runtime/view/ViewState.h"
 #include "runtime/view/WindowCanvas.h"
 
@@ -82,6 +84,7 @@ class Viewer {
         if (reloader_) reloader_->stop();
         picker_.reset();
         renderer_.reset();
+        panel_.reset(); // its GL objects go with the context
         if (window_) {
             if (texture_) glDeleteTextures(1, &texture_);
             glfwDestroyWindow(window_);
@@ -99,7 +102,9 @@ class Viewer {
         StopSignals signals;
         while (!glfwWindowShouldClose(window_) && !StopSignals::requested) {
             guard([&] { step(); });
-            glfwWaitEventsTimeout(state_.playing() ? playInterval() : 0.5);
+            // The panel settling a press or following a held slider wants frames too.
+            const bool panel = panel_ && panel_->busy();
+            glfwWaitEventsTimeout(panel ? kPlayInterval : state_.playing() ? playInterval() : 0.5);
         }
         return 0;
     }
@@ -226,6 +231,7 @@ class Viewer {
         glfwGetFramebufferSize(window_, &fbW, &fbH);
         state_.resize(fbW, fbH);
         glfwGetCursorPos(window_, &cursorX_, &cursorY_);
+        panel_ = std::make_unique<ParamPanel>(window_);
         installCallbacks();
 
         glGenTextures(1, &texture_);
@@ -247,22 +253,32 @@ class Viewer {
     static Viewer& of(GLFWwindow* w) { return *static_cast<Viewer*>(glfwGetWindowUserPointer(w)); }
 
     void installCallbacks() {
-        glfwSetKeyCallback(window_, [](GLFWwindow* w, int key, int, int action, int mods) {
+        // The panel sees each event first; what it takes (a press on it and that press's
+        // release, the wheel over it, keys while typing into a field) the picture never sees.
+        glfwSetKeyCallback(window_, [](GLFWwindow* w, int key, int scancode, int action, int mods) {
             Viewer& v = of(w);
-            v.guard([&] { v.onKey(key, action, mods); });
+            v.panel_->key(key, scancode, action, mods);
+            if (!v.panel_->typing()) v.guard([&] { v.onKey(key, action, mods); });
         });
-        glfwSetMouseButtonCallback(window_, [](GLFWwindow* w, int button, int action, int) {
+        glfwSetCharCallback(window_, [](GLFWwindow* w, unsigned c) { of(w).panel_->character(c); });
+        glfwSetMouseButtonCallback(window_, [](GLFWwindow* w, int button, int action, int mods) {
             Viewer& v = of(w);
+            if (v.panel_->mouseButton(button, action, mods, v.cursorX_, v.cursorY_)) return;
             v.guard([&] { v.onButton(button, action); });
         });
         glfwSetCursorPosCallback(window_, [](GLFWwindow* w, double x, double y) {
             Viewer& v = of(w);
+            v.panel_->cursorMoved(x, y);
             v.guard([&] { v.onCursor(x, y); });
         });
-        glfwSetScrollCallback(window_, [](GLFWwindow* w, double, double dy) {
+        glfwSetScrollCallback(window_, [](GLFWwindow* w, double dx, double dy) {
             Viewer& v = of(w);
+            if (v.panel_->scroll(dx, dy, v.cursorX_, v.cursorY_)) return;
             v.guard([&] { v.state_.scroll(dy, v.cursor(), Clock::now()); });
         });
+        glfwSetCursorEnterCallback(window_,
+                                   [](GLFWwindow* w, int in) { of(w).panel_->cursorEnter(in); });
+        glfwSetWindowFocusCallback(window_, [](GLFWwindow* w, int in) { of(w).panel_->focus(in); });
         glfwSetFramebufferSizeCallback(window_, [](GLFWwindow* w, int width, int height) {
             of(w).state_.resize(width, height);
         });
@@ -283,7 +299,9 @@ class Viewer {
         while (std::optional<PickResult> p = picker_->take()) state_.picked(*p);
         if (std::optional<RenderedFrame> f = renderer_->takeFrame()) accept(std::move(*f));
         if (state_.takeRedraw()) redraw_ = true;
+        if (panel_->busy()) redraw_ = true;
         if (redraw_) present();
+        applyPanel();
         schedule();
     }
 
@@ -373,6 +391,10 @@ class Viewer {
         glTexCoord2f(1, 1), glVertex2f(1, 1);
         glTexCoord2f(0, 1), glVertex2f(0, 1);
         glEnd();
+        glDisable(GL_TEXTURE_2D);
+        if (panel_->visible())
+            panelActions_ = panel_->draw(panelModel(state_, Clock::now(), panelStatus_),
+                                         static_cast<float>(textScale()));
         glfwSwapBuffers(window_);
         glFinish();
         if (options_.trace && shown_) {
@@ -448,8 +470,12 @@ class Viewer {
                 std::fflush(stdout);
             }
             return;
-        case GLFW_KEY_W:
-            if (!repeat) writePlacement();
+        case GLFW_KEY_W: // shift: the panel's values; else the placement
+            if (!repeat) shift ? writeParams() : writePlacement();
+            return;
+        case GLFW_KEY_TAB: // the parameter panel
+            if (!repeat) panel_->toggle();
+            redraw_ = true;
             return;
         case GLFW_KEY_H:
             overlay_ = !overlay_;
@@ -490,14 +516,40 @@ class Viewer {
         state_.cursorMoved(toPixels(x, y), turn, pixelsPerUnit(), Clock::now());
     }
 
-    void writePlacement() {
-        PlacementWrite r = state_.writePlacement(options_.scenePath);
-        if (r.message.empty()) return;
+    // What the hand did on the panel in the frame just drawn.
+    void applyPanel() {
+        PanelActions a = std::exchange(panelActions_, {});
+        for (const std::string& line : view::applyPanel(state_, a, Clock::now()))
+            if (options_.trace) fmt::print("{}\n", line);
+        if (a.writeBack) writeParams();
+        // For tests: where the panel's widgets are, whenever they move.
+        if (options_.trace && panel_->items() != tracedItems_) {
+            tracedItems_ = panel_->items();
+            for (const PanelItem& i : tracedItems_)
+                fmt::print("panel {} {:.0f} {:.0f} {:.0f} {:.0f}\n", i.name, i.x, i.y, i.w, i.h);
+        }
+        std::fflush(stdout);
+    }
+
+    // `W`: the panel's values into the scene file; the outcome also under the panel's buttons.
+    void writeParams() {
+        PlacementWrite r = state_.writeParams(options_.scenePath);
+        if (!report(r, "parameters")) return;
+        panelStatus_ = r.ok ? r.message : "cannot write: " + r.message;
+        redraw_ = true;
+    }
+
+    void writePlacement() { report(state_.writePlacement(options_.scenePath), "placement"); }
+
+    // A write's outcome on the terminal; false when there is nothing to say.
+    static bool report(const PlacementWrite& r, const char* what) {
+        if (r.message.empty()) return false;
         if (r.ok)
             fmt::print("{}\n", r.message);
         else
-            fmt::print(stderr, "moire: error: cannot write the placement: {}\n", r.message);
+            fmt::print(stderr, "moire: error: cannot write the {}: {}\n", what, r.message);
         std::fflush(stdout);
+        return true;
     }
 
     Backend& backend_;
@@ -512,6 +564,7 @@ class Viewer {
     std::unique_ptr<SceneBuilder> builder_;   // the default scene
     std::unique_ptr<FrameRenderer> renderer_;
     std::unique_ptr<LayerPicker> picker_;
+    std::unique_ptr<ParamPanel> panel_; // from the window's opening
 
     std::mutex reloadMutex_; // guards reloads_, filled on the reloader's thread
     std::vector<BuildResult> reloads_;
@@ -527,7 +580,10 @@ class Viewer {
     bool still_ = false; // the last frame was the one before it (nothing moved)
     bool redraw_ = false;
     int presented_ = 0;
-    double cursorX_ = 0, cursorY_ = 0; // screen units, as of the last cursor event
+    PanelActions panelActions_;          // from the last draw, applied after it
+    std::string panelStatus_;            // the last write-back's outcome
+    std::vector<PanelItem> tracedItems_; // the panel's widgets as --trace last printed them
+    double cursorX_ = 0, cursorY_ = 0;   // screen units, as of the last cursor event
 };
 
 } // namespace

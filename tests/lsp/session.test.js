@@ -157,6 +157,45 @@ test('a session: diagnostics as moire check prints them, then hover, completion,
   await shutDown(s);
 });
 
+test('a param: hover, the words after its value, and a rename moire check accepts', async (t) => {
+  const dir = fs.mkdtempSync(path.join(os.tmpdir(), 'moire-lsp-'));
+  const file = path.join(dir, 'scene.moire');
+  const text = 'param gap = 6 in 2 .. 12 step 0.5 unit px\n' +
+               'layer a { family = circles; spacing = gap * 2 }\n';
+  fs.writeFileSync(file, text);
+  const uri = pathToFileURL(file).href;
+  const s = start();
+  t.after(() => s.proc.kill());
+  await initialize(s.conn);
+  await s.conn.sendNotification(lsp.DidOpenTextDocumentNotification.type,
+    { textDocument: { uri, languageId: 'moire', version: 1, text } });
+  sameAsCheck(await s.diagnostics(uri, 1), check(file), file);
+
+  const hover = await s.conn.sendRequest(lsp.HoverRequest.type,
+    { textDocument: { uri }, position: { line: 1, character: 39 } });
+  assert.match(hover.contents.value, /param gap = 6 in 2 \.\. 12 step 0\.5 unit px/);
+  assert.match(hover.contents.value, /from 2 to 12, in steps of 0\.5, shown in px/);
+
+  const words = (await s.conn.sendRequest(lsp.CompletionRequest.type,
+    { textDocument: { uri }, position: { line: 0, character: 14 } })).items.map((i) => i.label);
+  assert.deepEqual(words, ['in', 'step', 'unit']);
+
+  const edit = await s.conn.sendRequest(lsp.RenameRequest.type,
+    { textDocument: { uri }, position: { line: 0, character: 7 }, newName: 'ring_gap' });
+  const edits = [...edit.changes[uri]].sort((a, b) => b.range.start.line - a.range.start.line ||
+                                                      b.range.start.character - a.range.start.character);
+  const lines = text.split('\n');
+  for (const e of edits) {
+    const l = lines[e.range.start.line];
+    lines[e.range.start.line] = l.slice(0, e.range.start.character) + e.newText + l.slice(e.range.end.character);
+  }
+  fs.writeFileSync(file, lines.join('\n'));
+  assert.equal(edits.length, 2);
+  assert.deepEqual(check(file), []);
+  assert.match(lines.join('\n'), /param ring_gap = 6 in 2/);
+  await shutDown(s);
+});
+
 // The frames of a raw byte stream from the server.
 function frames(buffer) {
   const out = [];

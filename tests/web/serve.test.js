@@ -9,8 +9,17 @@ const { test, before, after } = require('node:test');
 const assert = require('node:assert/strict');
 const fs = require('node:fs');
 const path = require('node:path');
-const { compareRgba } = require('./png.js');
-const { tempDir, startServe, request, json, waitFor, render, launchBrowser } = require('./serve_support.js');
+const {
+  compareRgba,
+  decodePng,
+  tempDir,
+  startServe,
+  request,
+  json,
+  waitFor,
+  render,
+  launchBrowser,
+} = require('./serve_support.js');
 
 // `stroke` as ';' makes a scene with an error on line 14, column 14.
 const scene = (gap, stroke = '1.8') => `param gap = ${gap} in 4 .. 12 step 0.5
@@ -128,7 +137,7 @@ test('a broken save shows its located diagnostic over the last picture; the fix 
 });
 
 test('dragging a slider draws what moire render -D draws for its value', async () => {
-  const before = await page.evaluate(() => window.moire.shown.id);
+  const before = (await shownFrame()).id;
   const slider = await page.waitForSelector('input[type=range][data-param=gap]');
   assert.equal(await slider.evaluate((e) => [e.min, e.max, e.step, e.value].join(' ')), '4 12 0.5 9');
   const r = await slider.boundingBox();
@@ -167,7 +176,7 @@ test('the angle slider shows degrees; the checkbox and the colour picker draw wh
   const tilt = await page.waitForSelector('input[type=range][data-param=tilt]');
   assert.equal(await tilt.evaluate((e) => [e.min, e.max, e.step, e.value].join(' ')), '0 30 0.5 8');
   const gap = await page.evaluate(() => window.moire.state.params.find((p) => p.name === 'gap').value[0]);
-  let before = await page.evaluate(() => window.moire.shown.id);
+  let before = (await shownFrame()).id;
   await page.click('input[type=checkbox][data-param=bold]');
   await page.$eval('input[type=color][data-param=ink]', (e) => {
     e.value = '#a02030';
@@ -200,15 +209,26 @@ test('the angle slider shows degrees; the checkbox and the colour picker draw wh
 });
 
 test('the view toggles draw what moire render --view and --overlay draw', async () => {
+  await page.waitForFunction(
+    () => window.moire.state.params.every((p) => p.name === 'gap' || !p.set),
+    { timeout: 30000 }
+  );
   // The slider's value stays: the reference is rendered with it.
   const gap = await page.evaluate(() => window.moire.state.params.find((p) => p.name === 'gap').value[0]);
-  for (const [click, args] of [
-    ['#view-modes input[value=envelope]', ['--view', 'envelope']],
-    ['#overlay', ['--view', 'envelope', '--overlay']],
-    ['#view-modes input[value=scene]', ['--overlay']],
+  for (const [click, args, view, overlay] of [
+    ['#view-modes input[value=envelope]', ['--view', 'envelope'], 'envelope', null],
+    ['#overlay', ['--view', 'envelope', '--overlay'], 'envelope', true],
+    ['#view-modes input[value=scene]', ['--overlay'], 'scene', true],
   ]) {
-    const before = await page.evaluate(() => window.moire.shown.id);
+    // The frame of everything before settled first: the next new frame is the click's.
+    const before = (await shownFrame()).id;
     await page.click(click);
+    await page.waitForFunction(
+      (view, overlay) => window.moire.state.view === view && window.moire.state.overlay === overlay,
+      { timeout: 30000 },
+      view,
+      overlay
+    );
     const frame = await shownFrame(before);
     const reference = render(scenePath, frame.width, frame.height, [...args, '-D', `gap=${gap}`]);
     const d = compareRgba(Uint8Array.from(frame.rgba), reference.rgba);
@@ -219,18 +239,18 @@ test('the view toggles draw what moire render --view and --overlay draw', async 
 });
 
 test('zooming with the wheel draws what the server renders for the new view', async () => {
-  const before = await page.evaluate(() => window.moire.shown.id);
+  const before = (await shownFrame()).id;
   const box = await page.$('#picture');
   const r = await box.boundingBox();
   await page.mouse.move(r.x + r.width / 2, r.y + r.height / 2);
   await page.mouse.wheel({ deltaY: -200 });
+  await page.waitForFunction(() => window.moire.state.zoom > 1.15, { timeout: 30000 });
   const zoomed = await shownFrame(before);
   const state = await page.evaluate(() => window.moire.state);
   assert.ok(state.zoom > 1.15, `zoom ${state.zoom}`);
   // The server's frame is the one on the canvas, byte for byte.
   const response = await request(server, `/frame/${zoomed.id}.png`);
   assert.equal(response.status, 200);
-  const { decodePng } = require('./png.js');
   const png = decodePng(Buffer.from(await response.arrayBuffer()));
   assert.equal(compareRgba(Uint8Array.from(zoomed.rgba), png.rgba).max, 0);
   await page.click('#reset-view');

@@ -6,7 +6,7 @@ const fs = require('node:fs');
 const os = require('node:os');
 const path = require('node:path');
 const readline = require('node:readline');
-const { decodePng } = require('./png.js');
+const { decodePng } = require('./png-decode.js');
 
 const moireBinary = process.env.MOIRE_BINARY;
 
@@ -92,4 +92,17 @@ async function launchBrowser() {
   });
 }
 
-module.exports = { tempDir, startServe, request, json, waitFor, render, launchBrowser };
+// The largest difference of any channel of any pixel, and how many pixels differ at all.
+function compareRgba(a, b) {
+  if (a.length !== b.length) throw new Error(`sizes differ: ${a.length} and ${b.length} bytes`);
+  let max = 0, differing = 0;
+  for (let i = 0; i < a.length; i += 4) {
+    let d = 0;
+    for (let c = 0; c < 4; ++c) d = Math.max(d, Math.abs(a[i + c] - b[i + c]));
+    if (d > 0) ++differing;
+    max = Math.max(max, d);
+  }
+  return { max, differing };
+}
+
+module.exports = { compareRgba, decodePng, tempDir, startServe, request, json, waitFor, render, launchBrowser };

@@ -1,12 +1,17 @@
-// IR -> GLSL 4.50 compute shader. Every value becomes a local variable named after its id;
+// IR -> GLSL: a 4.50 compute shader for Vulkan, or a GLSL ES 3.00 fragment shader for WebGL2
+// (`moire export`). Every value becomes a local variable named after its id;
 // regions become GLSL blocks; a loop becomes `while (true)` over its carried variables.
 // Pure ops are spelled from one table (kForms), whose entries follow Ops.def: the semantics
 // of Semantics.h, including the clamps at singular points, are written out in the prelude's
-// helper functions, since GLSL's built-ins leave some of those cases undefined.
+// helper functions, since GLSL's built-ins leave some of those cases undefined. The two
+// dialects share the table, the prelude and the body; only the shader's interface (how the
+// uniforms and the pixel come in and the outputs go out) differs.
 #include "compiler/backend/glsl/GlslKernel.h"
+#include "compiler/backend/StructuredText.h"
 #include "compiler/diag/Diagnostics.h"
 #include "compiler/ir/Semantics.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
@@ -21,9 +26,11 @@ namespace {
 
 // The GLSL form of every op: "$0", "$1", "$2" are its operands, "$i" its integer immediate.
 // An empty form means the emitter writes the op by hand (leaves, control flow, sinks).
+// `webgl`, where set, replaces `glsl` in the WebGL dialect.
 struct Form {
     Op op;
     const char* glsl;
+    const char* webgl = nullptr;
 };
 constexpr Form kForms[] = {
     {Op::ConstF, ""},
@@ -58,9 +65,9 @@ constexpr Form kForms[] = {
     {Op::Log, "log(m_max($0, 1e-30))"},
     {Op::Pow, "m_pow($0, $1)"},
     {Op::PowI, ""},
-    {Op::Sin, "sin(m_turns($0))"},
-    {Op::Cos, "cos(m_turns($0))"},
-    {Op::Tan, "tan(m_turns($0))"},
+    {Op::Sin, "sin(m_turns($0))", "m_sin(m_turns($0))"},
+    {Op::Cos, "cos(m_turns($0))", "m_cos(m_turns($0))"},
+    {Op::Tan, "tan(m_turns($0))", "m_tan(m_turns($0))"},
     {Op::Asin, "asin(m_min(m_max($0, -1.0), 1.0))"},
     {Op::Acos, "acos(m_min(m_max($0, -1.0), 1.0))"},
     {Op::Atan, "m_atan($0)"},
@@ -90,13 +97,7 @@ constexpr Form kForms[] = {
     {Op::Output, ""},
     {Op::Tally, ""},
 };
-static_assert(sizeof(kForms) / sizeof(kForms[0]) == ir::kNumOps, "every op needs a GLSL form");
-constexpr bool formsInOrder() {
-    for (int i = 0; i < ir::kNumOps; ++i)
-        if (static_cast<int>(kForms[i].op) != i) return false;
-    return true;
-}
-static_assert(formsInOrder(), "kForms follows the order of Ops.def");
+static_assert(backend::formsFollowOps(kForms), "kForms has a GLSL form per op, in Ops.def's order");
 
 // Without this execution mode Vulkan lets the driver assume that no value is NaN or infinite
 // and ignore the sign of zero (and drivers do: without it lavapipe's atan(NaN) is 0).
@@ -113,6 +114,7 @@ constexpr const char* kFloatControls =
 // (IEEE 754): min/max and comparisons with NaN, atan2 on the axes and at infinity, pow with
 // a negative or zero base or an infinite exponent, float-to-int of NaN and out of range. The
 // sign bit is read from the bits (m_neg), since -0.0 < 0.0 is false.
+// m_precise is `precise` where the dialect has it (GLSL ES 3.00 has not).
 constexpr const char* kPrelude = R"(#define m_nan uintBitsToFloat(0x7fc00000u)
 #define m_inf uintBitsToFloat(0x7f800000u)
 #define m_pi 3.14159274
@@ -125,7 +127,7 @@ float m_mulz(float a, float b) { return mix(a * b, 0.0, any(equal(vec2(a, b), ve
 // at NaN on lavapipe (Mesa 22.3), with SignedZeroInfNanPreserve or without.
 float m_sign(float a) { return float(int(a > 0.0) - int(a < 0.0)); }
 // No fused multiply-add: the product is rounded before the subtraction, as in C.
-float m_mod(float a, float b) { precise float p = b * floor(a / b); precise float r = a - p; return r; }
+float m_mod(float a, float b) { m_precise float p = b * floor(a / b); m_precise float r = a - p; return r; }
 bool m_ne(float a, float b) { return isnan(a) || isnan(b) || a != b; }
 // Vulkan bounds the error of sin and cos only on [-pi, pi] (absolute, 2^-11); outside it a
 // driver owes nothing. So arguments are first reduced by whole turns, Cody-Waite style: 2 pi
@@ -186,6 +188,41 @@ int m_ftoi(float a) {
 }
 )";
 
+// WebGL's sin and cos are the browser's GPU's, held to nothing better than Vulkan's 2^-11 on
+// [-pi, pi]; SwiftShader (Chromium without a GPU) was seen 1e-4 off, which moved the strokes
+// of a walking family's far members by a visible fraction of a pixel. So the WebGL dialect
+// computes them itself, to within a few ULP: the argument (already within [-pi, pi], from
+// m_turns) is reduced by quarter turns, pi/2 split in three parts so that q times each is
+// exact, and the minimax polynomials for [-pi/4, pi/4] of Cephes' sinf and cosf give the
+// rest.
+constexpr const char* kWebGlTrig = R"(float m_sinp(float x) {
+    float z = x * x;
+    return x + x * z * (-1.6666654611e-1 + z * (8.3321608736e-3 + z * -1.9515295891e-4));
+}
+float m_cosp(float x) {
+    float z = x * x;
+    return 1.0 - 0.5 * z +
+           z * z * (4.166664568298827e-2 + z * (-1.388731625493765e-3 + z * 2.443315711809948e-5));
+}
+// The quarter turn of x (0 to 3) in q, what is left of x in r.
+float m_quarter(float x, out int q) {
+    float k = floor(x * 0.636619772 + 0.5);
+    q = int(k) & 3;
+    return ((x - k * 1.5703125) - k * 4.83751296997070312e-4) - k * 7.54978995489188216e-8;
+}
+float m_sin(float x) {
+    int q;
+    float r = m_quarter(x, q), s = m_sinp(r), c = m_cosp(r);
+    return q == 0 ? s : q == 1 ? c : q == 2 ? -s : -c;
+}
+float m_cos(float x) {
+    int q;
+    float r = m_quarter(x, q), s = m_sinp(r), c = m_cosp(r);
+    return q == 0 ? c : q == 1 ? -s : q == 2 ? -c : s;
+}
+float m_tan(float x) { return m_sin(x) / m_cos(x); }
+)";
+
 std::string typeName(ir::Type t) {
     switch (t) {
     case ir::Type::F:
@@ -216,11 +253,14 @@ std::string intLiteral(int64_t v) {
     return i == INT32_MIN ? "(-2147483647 - 1)" : fmt::format("{}", i);
 }
 
-class Emitter {
+class Emitter : backend::StructuredText {
   public:
-    explicit Emitter(const ir::Function& f) : f_(f) {}
+    Emitter(const ir::Function& f, Dialect d) : StructuredText(f, Syntax{}), dialect_(d) {}
 
-    std::string run() {
+    std::string run() { return dialect_ == Dialect::Vulkan ? vulkanCompute() : webglFragment(); }
+
+  private:
+    std::string vulkanCompute() {
         const int n = f_.numOutputs;
         const bool quads = n % 4 == 0;
         out_ = fmt::format(
@@ -232,6 +272,7 @@ class Emitter {
             "layout(std430, set = 0, binding = 1) writeonly buffer Outputs {{ {} o[]; }} O;\n"
             "layout(push_constant) uniform Frame {{ int imageW; int imageH; int x0; int y0; int w; "
             "int h; }} F;\n"
+            "#define m_precise precise\n"
             "{}\n"
             "void main() {{\n"
             "    int gx = int(gl_GlobalInvocationID.x), gy = int(gl_GlobalInvocationID.y);\n"
@@ -265,152 +306,87 @@ class Emitter {
         return out_;
     }
 
-  private:
-    std::string v(ValueId id) const { return fmt::format("v{}", id); }
-    void line(int depth, const std::string& text) {
-        out_ += std::string(4 * depth, ' ') + text + "\n";
-    }
-    void define(int depth, ValueId id, const std::string& expr) {
-        line(depth, fmt::format("{} {} = {};", typeName(f_.type(id)), v(id), expr));
-    }
-
-    std::string expression(const ir::Inst& inst) {
-        const char* form = kForms[static_cast<int>(inst.op)].glsl;
-        // NaN tests: x != x is the IR's NaN check, and isnan says so to every driver.
-        if (inst.op == Op::Ne && inst.args[0] == inst.args[1])
-            return fmt::format("isnan({})", v(inst.args[0]));
-        std::string s;
-        for (const char* p = form; *p; ++p) {
-            if (*p == '$' && p[1] >= '0' && p[1] <= '2') {
-                s += v(inst.args.at(p[1] - '0'));
-                ++p;
-            } else if (*p == '$' && p[1] == 'i') {
-                s += std::to_string(inst.iimm);
-                ++p;
-            } else {
-                s += *p;
-            }
-        }
-        return s;
-    }
-
-    // x^n by the same binary exponentiation as Semantics.h's semPowI.
-    std::string powi(const ir::Inst& inst, int depth) {
-        int64_t n = inst.iimm;
-        std::string base = n < 0 ? fmt::format("(1.0 / {})", v(inst.args[0])) : v(inst.args[0]);
-        uint64_t e = static_cast<uint64_t>(n < 0 ? -n : n);
-        if (e == 0) return "1.0";
-        std::string acc;
-        std::string cur = fmt::format("p{}", inst.results[0]);
-        line(depth, fmt::format("float {} = {};", cur, base));
-        int step = 0;
-        while (e) {
-            if (e & 1) acc = acc.empty() ? cur : fmt::format("({} * {})", acc, cur);
-            e >>= 1;
-            if (e) {
-                std::string next = fmt::format("p{}_{}", inst.results[0], ++step);
-                line(depth, fmt::format("float {} = {} * {};", next, cur, cur));
-                cur = next;
-            }
-        }
-        return acc;
+    // WebGL2 has no storage buffers and no compute: one fragment per pixel of a canvas the
+    // size of the image, the uniforms in a plain uniform array (four to a vec4: a float
+    // array spends a whole vector register per element), the first four outputs as the
+    // fragment's colour. gl_FragCoord counts rows from the bottom; the IR's pixel.y from the
+    // top, so it is flipped (exactly: both are half-integers far below 2^24).
+    std::string webglFragment() {
+        const int n = f_.numOutputs;
+        out_ =
+            fmt::format("#version 300 es\n"
+                        "// Generated by moire from the kernel IR ({} outputs).\n"
+                        "precision highp float;\n"
+                        "precision highp int;\n"
+                        "uniform vec4 m_u[{}];\n"
+                        "uniform vec2 m_image;\n"
+                        "out vec4 m_color;\n"
+                        "#define m_precise\n"
+                        "{}{}\n"
+                        "void main() {{\n"
+                        "    float pixelX = gl_FragCoord.x, pixelY = m_image.y - gl_FragCoord.y;\n"
+                        "    float imageW = m_image.x, imageH = m_image.y;\n",
+                        n, uniformVectors(f_), kPrelude, kWebGlTrig);
+        for (int k = 0; k < std::max(n, 4); ++k)
+            line(1, fmt::format("float r{} = {};", k, k == 3 ? "1.0" : "0.0"));
+        block(0, 1);
+        line(1, "m_color = vec4(r0, r1, r2, r3);");
+        out_ += "}\n";
+        return out_;
     }
 
-    std::vector<ValueId> yields(ir::BlockId b) const { return f_.blocks[b].insts.back().args; }
-
-    void block(ir::BlockId id, int depth) {
-        for (const ir::Inst& inst : f_.blocks[id].insts) {
-            if (inst.op == Op::Yield) break;
-            instruction(inst, depth);
-        }
+    std::string floatLiteral(double v) const override { return glsl::floatLiteral(v); }
+    std::string intLiteral(int64_t v) const override { return glsl::intLiteral(v); }
+    std::string output(int64_t slot) const override { return fmt::format("r{}", slot); }
+    std::string constant(ir::Type t) const override { return typeName(t); }
+    std::string variable(ir::Type t) const override { return typeName(t); }
+    const char* form(const ir::Inst& inst) const override {
+        const Form& entry = kForms[static_cast<int>(inst.op)];
+        return dialect_ == Dialect::WebGl && entry.webgl ? entry.webgl : entry.glsl;
     }
 
-    void instruction(const ir::Inst& inst, int depth) {
+    bool special(const ir::Inst& inst, int depth) override {
         switch (inst.op) {
-        case Op::ConstF:
-            define(depth, inst.results[0], floatLiteral(inst.imm));
-            return;
-        case Op::ConstI:
-            define(depth, inst.results[0], intLiteral(inst.iimm));
-            return;
-        case Op::ConstB:
-            define(depth, inst.results[0], inst.iimm ? "true" : "false");
-            return;
         case Op::Time:
         case Op::Param:
             MOIRE_ICE("'{}' belongs to the frame program, not the kernel", ir::spelling(inst.op));
         case Op::DerivX:
         case Op::DerivY:
             MOIRE_ICE("derivative markers must be removed by the AD pass");
-        case Op::PowI:
-            define(depth, inst.results[0], powi(inst, depth));
-            return;
-        case Op::Output:
-            line(depth, fmt::format("r{} = {};", inst.iimm, v(inst.args[0])));
-            return;
-        case Op::Tally:
-            return; // counted by the interpreter only
-        case Op::If: {
-            for (ValueId r : inst.results)
-                line(depth, fmt::format("{} {};", typeName(f_.type(r)), v(r)));
-            line(depth, fmt::format("if ({}) {{", v(inst.args[0])));
-            branch(inst, inst.regions[0], depth + 1);
-            line(depth, "} else {");
-            branch(inst, inst.regions[1], depth + 1);
-            line(depth, "}");
-            return;
-        }
-        case Op::Loop:
-            loop(inst, depth);
-            return;
-        case Op::Yield:
-            MOIRE_ICE("stray yield");
+        case Op::Ne:
+            // NaN tests: x != x is the IR's NaN check, and isnan says so to every driver.
+            if (inst.args[0] != inst.args[1]) return false;
+            define(depth, inst.results[0], fmt::format("isnan({})", v(inst.args[0])));
+            return true;
+        case Op::Uniform:
+            if (dialect_ != Dialect::WebGl) return false;
+            define(depth, inst.results[0],
+                   fmt::format("m_u[{}].{}", inst.iimm / 4, "xyzw"[inst.iimm % 4]));
+            return true;
         default:
-            define(depth, inst.results[0], expression(inst));
-            return;
+            return false;
         }
     }
 
-    void branch(const ir::Inst& inst, ir::BlockId region, int depth) {
-        block(region, depth);
-        std::vector<ValueId> y = yields(region);
-        for (size_t i = 0; i < y.size(); ++i)
-            line(depth, fmt::format("{} = {};", v(inst.results[i]), v(y[i])));
-    }
-
-    void loop(const ir::Inst& inst, int depth) {
-        const int id = loops_++;
-        auto carried = [&](size_t i) { return fmt::format("l{}_{}", id, i); };
-        for (size_t i = 0; i < inst.args.size(); ++i)
-            line(depth, fmt::format("{} {} = {};", typeName(f_.type(inst.args[i])), carried(i),
-                                    v(inst.args[i])));
-        line(depth, "while (true) {");
-        const ir::Block& cond = f_.blocks[inst.regions[0]];
-        const ir::Block& body = f_.blocks[inst.regions[1]];
-        for (size_t i = 0; i < cond.params.size(); ++i)
-            define(depth + 1, cond.params[i], carried(i));
-        block(inst.regions[0], depth + 1);
-        line(depth + 1, fmt::format("if (!{}) break;", v(yields(inst.regions[0])[0])));
-        for (size_t i = 0; i < body.params.size(); ++i)
-            define(depth + 1, body.params[i], carried(i));
-        block(inst.regions[1], depth + 1);
-        // The next values are all read before any carried variable is written.
-        std::vector<ValueId> next = yields(inst.regions[1]);
-        for (size_t i = 0; i < next.size(); ++i)
-            line(depth + 1, fmt::format("{} = {};", carried(i), v(next[i])));
-        line(depth, "}");
-        for (size_t i = 0; i < inst.results.size(); ++i) define(depth, inst.results[i], carried(i));
-    }
-
-    const ir::Function& f_;
-    std::string out_;
-    int loops_ = 0;
+    Dialect dialect_;
 };
 
 } // namespace
 
-std::string emitGlsl(const ir::Function& kernel) {
-    return Emitter(kernel).run();
+std::string emitGlsl(const ir::Function& kernel, Dialect dialect) {
+    return Emitter(kernel, dialect).run();
+}
+
+int uniformCount(const ir::Function& kernel) {
+    int n = 0;
+    for (const ir::Block& b : kernel.blocks)
+        for (const ir::Inst& inst : b.insts)
+            if (inst.op == Op::Uniform) n = std::max(n, static_cast<int>(inst.iimm) + 1);
+    return n;
+}
+
+int uniformVectors(const ir::Function& kernel) {
+    return std::max(1, (uniformCount(kernel) + 3) / 4);
 }
 
 } // namespace moire::glsl

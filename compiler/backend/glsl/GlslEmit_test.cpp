@@ -336,3 +336,63 @@ TEST_CASE("glsl: powi is the binary exponentiation of semPowI") {
         }
     }
 }
+
+// The WebGL dialect (`moire export`): a GLSL ES 3.00 fragment shader.
+namespace {
+void validEs(const std::string& source) {
+    std::string log;
+    INFO("glslang: ", log);
+    CHECK(glsl::validateGlslEs(source, &log));
+}
+} // namespace
+
+TEST_CASE("glsl: every op becomes a GLSL ES 3.00 fragment shader that glslang accepts") {
+    for (int i = 0; i < kNumOps; ++i) {
+        const Op op = static_cast<Op>(i);
+        std::string opName = spelling(op);
+        CAPTURE(opName);
+        Function f = kernelUsing(op);
+        const Kind kind = optest::kindOf(op);
+        if (kind == Kind::FrameLeaf || op == Op::DerivX || op == Op::DerivY) {
+            CHECK_THROWS_AS(glsl::emitGlsl(f, glsl::Dialect::WebGl), InternalError);
+            continue;
+        }
+        std::string source;
+        REQUIRE_NOTHROW(source = glsl::emitGlsl(f, glsl::Dialect::WebGl));
+        CAPTURE(source);
+        validEs(source);
+    }
+}
+
+TEST_CASE(
+    "glsl: the WebGL shader reads uniforms four to a vec4 and writes RGBA, nothing of Vulkan") {
+    Function f = build(4, [](Builder& b) {
+        for (int k = 0; k < 4; ++k)
+            b.output(k, b.add(b.uniform(k + 2), b.mul(b.leaf(Op::PixelX), b.leaf(Op::PixelY))));
+    });
+    const std::string source = glsl::emitGlsl(f, glsl::Dialect::WebGl);
+    CAPTURE(source);
+    CHECK(glsl::uniformCount(f) == 6);
+    CHECK(glsl::uniformVectors(f) == 2);
+    CHECK(source.rfind("#version 300 es\n", 0) == 0);
+    CHECK(source.find("uniform vec4 m_u[2];") != std::string::npos);
+    for (const char* slot : {"m_u[0].z", "m_u[0].w", "m_u[1].x", "m_u[1].y"})
+        CHECK(source.find(slot) != std::string::npos);
+    CHECK(source.find("m_color = vec4(r0, r1, r2, r3);") != std::string::npos);
+    // Rows from the top, as the IR counts them; gl_FragCoord counts from the bottom.
+    CHECK(source.find("pixelY = m_image.y - gl_FragCoord.y") != std::string::npos);
+    for (const char* vulkan : {"#extension", "layout(", "buffer", "gl_GlobalInvocationID", "U.u["})
+        CHECK(source.find(vulkan) == std::string::npos);
+    validEs(source);
+    // The Vulkan shader of the same kernel is unchanged by the dialect's existence.
+    CHECK(glsl::emitGlsl(f).find("U.u[5]") != std::string::npos);
+    compilesAndValidates(f);
+}
+
+TEST_CASE("glsl: a shader glslang rejects as GLSL ES is reported with its log") {
+    std::string log;
+    CHECK_FALSE(glsl::validateGlslEs("#version 300 es\nprecision highp float;\nout vec4 c;\n"
+                                     "void main() { c = vec4(undeclared); }\n",
+                                     &log));
+    CHECK(log.find("undeclared") != std::string::npos);
+}

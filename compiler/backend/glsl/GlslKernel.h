@@ -1,6 +1,7 @@
 // The GPU backend's compiler half: the IR translated op by op to a GLSL 4.50 compute shader,
-// then to SPIR-V by glslang, for the Vulkan executor (runtime/vulkan). The same IR the
-// interpreter and the LLVM JIT run, so no per-pixel maths is written again for the GPU.
+// then to SPIR-V by glslang, for the Vulkan executor (runtime/vulkan); and the same
+// translation as a GLSL ES 3.00 fragment shader, for the WebGL2 page of `moire export`. The same IR
+// the interpreter and the LLVM JIT run, so no per-pixel maths is written again for the GPU.
 //
 // The shader's interface, shared with the executor:
 //   set 0, binding 0: readonly storage buffer, float uniforms[] (the frame program's outputs)
@@ -35,8 +36,23 @@ struct PushConstants {
     int32_t w, h;           // the rectangle's size
 };
 
-// The compute shader's source.
-std::string emitGlsl(const ir::Function& kernel);
+// Which shader the kernel becomes: the Vulkan compute shader described above, or a GLSL ES
+// 3.00 fragment shader for WebGL2 (`moire export`), whose interface is
+//   uniform vec4 m_u[uniformVectors(kernel)]: uniform slot i in m_u[i / 4][i % 4]
+//   uniform vec2 m_image:  the image's width and height in pixels
+//   out vec4 m_color:      outputs 0-3 (straight sRGB-encoded RGBA), drawn over the whole
+//                          canvas (a viewport of the image's size); the other outputs unused
+enum class Dialect { Vulkan, WebGl };
+
+// The shader's source.
+std::string emitGlsl(const ir::Function& kernel, Dialect dialect = Dialect::Vulkan);
+// The uniform slots the kernel reads (one past the highest), and the vec4s that hold them.
+int uniformCount(const ir::Function& kernel);
+int uniformVectors(const ir::Function& kernel);
+
+// Whether glslang accepts `source` as a GLSL ES 3.00 fragment shader (as WebGL2 compiles it);
+// otherwise `message` holds its log.
+bool validateGlslEs(const std::string& source, std::string* message);
 
 // SPIR-V for Vulkan 1.2 (glslang). A shader glslang rejects is a bug in the emitter: it
 // raises an internal error carrying the source and glslang's log.

@@ -48,6 +48,26 @@ std::vector<uint32_t> compileGlsl(const std::string& source) {
     return spirv;
 }
 
+bool validateGlslEs(const std::string& source, std::string* message) {
+    initialiseGlslangOnce();
+    const char* text = source.c_str();
+    glslang::TShader shader(EShLangFragment);
+    shader.setStrings(&text, 1);
+    // No client API: glslang then holds the shader to the GLSL ES specification alone, as a
+    // WebGL2 implementation's front end does.
+    shader.setEnvInput(glslang::EShSourceGlsl, EShLangFragment, glslang::EShClientNone, 0);
+    bool ok = shader.parse(GetDefaultResources(), 300, EEsProfile, false, false, EShMsgDefault);
+    std::string log = shader.getInfoLog();
+    if (ok) {
+        glslang::TProgram program;
+        program.addShader(&shader);
+        ok = program.link(EShMsgDefault);
+        log += program.getInfoLog();
+    }
+    if (message) *message = log;
+    return ok;
+}
+
 bool validateSpirv(const std::vector<uint32_t>& spirv, std::string* message) {
     spvtools::SpirvTools tools(SPV_ENV_VULKAN_1_2);
     std::string log;

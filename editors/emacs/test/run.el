@@ -54,6 +54,18 @@
     (moire-test-check (nth 1 lines) "bump" 'font-lock-function-name-face)
     (moire-test-check (nth 6 lines) "easing" 'font-lock-builtin-face)
     (moire-test-check (nth 8 lines) "spacing" 'font-lock-comment-face)
+    ;; A param: the function step in its value, then its range, step and unit; after a `;'
+    ;; the words are names again.
+    (moire-test-check (nth 9 lines) "gap" 'font-lock-function-name-face)
+    (moire-test-check (nth 9 lines) "step" 'font-lock-function-name-face)
+    (moire-test-check (nth 9 lines) "in" 'font-lock-keyword-face)
+    (moire-test-check (nth 9 lines) ".." 'font-lock-keyword-face)
+    (moire-test-check (nth 9 lines) "step" 'font-lock-keyword-face 20)
+    (moire-test-check (nth 9 lines) "unit" 'font-lock-keyword-face)
+    (moire-test-check (nth 9 lines) "px" 'font-lock-builtin-face)
+    (moire-test-check (nth 10 lines) "true" 'font-lock-constant-face)
+    (moire-test-check (nth 10 lines) "in" 'font-lock-function-name-face)
+    (moire-test-check (nth 10 lines) "select" 'font-lock-function-name-face)
     (with-temp-buffer
       (insert (replace-regexp-in-string "^[ \t]+" "" sample))
       (moire-mode)

@@ -31,6 +31,8 @@ local function group(lnum, word)
 end
 expect(group(8, 'pencil') == 'moireFamily', 'pencil is ' .. group(8, 'pencil'))
 expect(group(8, 'field') == 'moireProperty', 'field = is ' .. group(8, 'field'))
+expect(group(10, 'px') == 'moireParamUnit', 'a param\'s unit is ' .. group(10, 'px'))
+expect(group(10, '..') == 'moireRange', 'a param\'s .. is ' .. group(10, '..'))
 expect(vim.bo.commentstring == '// %s', 'commentstring is ' .. vim.bo.commentstring)
 expect(vim.bo.indentexpr:match('MoireIndent') ~= nil, 'indentexpr is ' .. vim.bo.indentexpr)
 local entry = package.loaded['lspconfig.configs'].moire

@@ -51,6 +51,23 @@ call s:Check(8, 'saddle', 'moireField')
 call s:Check(8, 'deg', 'moireUnit')
 call s:Check(8, '#18181c', 'moireColor')
 call s:Check(9, 'spacing', 'moireComment')
+" A param: its name, the function step in its value, then its range, step and unit; after a
+" ';' the words are names again.
+call s:Check(10, 'param', 'moireKeyword')
+call s:Check(10, 'gap', 'moireDeclared')
+call s:Check(10, 'step', 'moireFunction')
+call s:Check(10, 'in', 'moireParamWord')
+call s:Check(10, '0', 'moireNumber', 29)
+call s:Check(10, '..', 'moireRange')
+call s:Check(10, '20', 'moireNumber')
+call s:Check(10, 'step', 'moireParamWord', 20)
+call s:Check(10, '0.5', 'moireNumber')
+call s:Check(10, 'unit', 'moireParamWord')
+call s:Check(10, 'px', 'moireParamUnit')
+call s:Check(11, 'bold', 'moireDeclared')
+call s:Check(11, 'true', 'moireWord')
+call s:Check(11, 'in', 'moireDeclared')
+call s:Check(11, 'select', 'moireFunction')
 if &commentstring !=# '// %s'
   call add(s:errors, 'commentstring is ' . &commentstring)
 endif

@@ -65,4 +65,26 @@ test('one spelling, two meanings: each is told apart by where it stands', () => 
   assert.equal(scopeOf(sample[7], '#18181c'), 'constant.other.color.moire');
   assert.equal(scopeOf(sample[8], 'spacing'), 'comment.block.moire');
   assert.equal(scopeOf('a = 2e-3', '2e-3'), 'constant.numeric.moire');
+  // A param: the function step in its value, then its range, step and unit; after a `;` the
+  // words are names again.
+  const param = [
+    [9, 'param', 'keyword.declaration.moire'],
+    [9, 'gap', 'entity.name.moire'],
+    [9, 'step', 'support.function.moire'],
+    [9, 'in', 'keyword.other.param.moire'],
+    [9, '0', 'constant.numeric.moire', 29],
+    [9, '..', 'keyword.operator.range.moire'],
+    [9, '20', 'constant.numeric.moire'],
+    [9, 'step', 'keyword.other.param.moire', 20],
+    [9, '0.5', 'constant.numeric.moire'],
+    [9, 'unit', 'keyword.other.param.moire'],
+    [9, 'px', 'keyword.other.unit.moire'],
+    [10, 'bold', 'entity.name.moire'],
+    [10, 'true', 'constant.language.word.moire'],
+    [10, 'in', 'entity.name.moire'],
+    [10, 'select', 'support.function.moire'],
+  ];
+  for (const [line, word, scope, from] of param) assert.equal(scopeOf(sample[line], word, from), scope, word);
+  assert.equal(scopeOf('a = 1.5..2', '1.5'), 'constant.numeric.moire');
+  assert.equal(scopeOf('a = .5', '.5'), 'constant.numeric.moire');
 });

@@ -35,7 +35,8 @@ async function post(path, body) {
 
 // One message of a kind in flight at a time; while it is, only the newest next one is kept.
 // A slider dragged fast sends its newest value, not every value it passed.
-function latestOnly(send) {
+// `onIdle` runs once the last message is answered.
+function latestOnly(send, onIdle = () => {}) {
   let inFlight = false;
   let waiting = false; // a next message is kept (its body may be null: a parameter's reset)
   let next;
@@ -48,14 +49,18 @@ function latestOnly(send) {
       await send(body);
     } finally {
       inFlight = false;
-      pump();
+      if (waiting) pump();
+      else onIdle();
     }
   };
-  return (body) => {
+  const sender = (body) => {
     next = body;
     waiting = true;
     pump();
   };
+  // A message in flight or waiting: the server's state does not yet show the newest.
+  sender.busy = () => inFlight || waiting;
+  return sender;
 }
 
 function report(error) {
@@ -249,17 +254,27 @@ let parameterSignature = '';
 
 function parameterSender(name) {
   if (!sendParameter.has(name)) {
+    let answered = 0; // the version the last answer named
     sendParameter.set(
       name,
-      latestOnly((value) =>
-        post('/api/param', { name, value })
-          .then(() => {
-            $('param-error').hidden = true;
-          })
-          .catch((e) => {
-            $('param-error').textContent = e.message;
-            $('param-error').hidden = false;
-          })
+      latestOnly(
+        (value) =>
+          post('/api/param', { name, value })
+            .then((reply) => {
+              answered = reply.version;
+              $('param-error').hidden = true;
+            })
+            .catch((e) => {
+              $('param-error').textContent = e.message;
+              $('param-error').hidden = false;
+            }),
+        // The state may have come before the answer: its value goes into the controls now
+        // (a state older than the answer would move a control back; the next one will do).
+        () => {
+          if (!moire.state || moire.state.version < answered) return;
+          const p = (moire.state.params || []).find((q) => q.name === name);
+          if (p) parameterControls.get(name)?.(p.value);
+        }
       )
     );
   }
@@ -366,11 +381,12 @@ function buildParameters(params) {
       row.append(holder);
     }
     show();
-    // The server's value (another page's slider, a reset, a save) into the controls the hand
-    // is not on.
+    // The server's value (another page's slider, a reset, a save) into the controls, once
+    // every message this page sent about the parameter is answered: until then the state may
+    // be older than the hand.
     parameterControls.set(p.name, (values) => {
       if (!values || values.length !== value.length || values.some((v) => v === null)) return;
-      if (row.contains(document.activeElement) && document.activeElement !== reset) return;
+      if (send.busy()) return;
       values.forEach((v, i) => (value[i] = v));
       for (const input of row.querySelectorAll('input')) {
         if (input.type === 'range') input.value = String(shownValue(p, value[Number(input.dataset.component)]));

@@ -1,0 +1,184 @@
+#include "runtime/view/ParamValues.h"
+
+#include "compiler/diag/Diagnostics.h"
+#include "compiler/lex/Lexer.h"
+
+#include <algorithm>
+#include <cmath>
+#include <fmt/format.h>
+#include <numbers>
+
+namespace moire::view {
+
+namespace {
+
+using ast::Type;
+
+constexpr double kDegree = 180.0 / std::numbers::pi;
+
+// The tokens of `text`, none of them malformed; empty when the lexer reports anything.
+std::optional<std::vector<Token>> tokens(std::string_view text) {
+    SourceManager sm;
+    const uint32_t file = sm.add("<value>", std::string(text));
+    DiagEngine diags(sm);
+    Lexer lexer(file, sm.file(file).text(), diags);
+    std::vector<Token> out;
+    for (Token t = lexer.next();; t = lexer.next()) {
+        out.push_back(t);
+        if (t.kind == Tok::End) break;
+        if (t.kind == Tok::Ident) // only `true` and `false` are read, and only alone
+            out.back().number = lexer.spelling(t) == "true"    ? 1
+                                : lexer.spelling(t) == "false" ? 0
+                                                               : -1;
+    }
+    if (diags.hasErrors()) return std::nullopt;
+    return out;
+}
+
+// Reads `[-] number` at `at` with the unit `unit` (None: none written; an angle takes Deg or
+// Rad), advancing `at`.
+bool signedNumber(const std::vector<Token>& ts, size_t& at, bool angle, double& v) {
+    const bool minus = ts[at].kind == Tok::Minus;
+    if (minus) ++at;
+    const Token& t = ts[at];
+    if (t.kind != Tok::Number || (t.unit == Unit::None) == angle) return false;
+    v = minus ? -t.number : t.number;
+    ++at;
+    return true;
+}
+
+// A number trimmed to twelve significant digits: what snapping on a step computed in binary
+// leaves as 0.30000000000000004 is meant as 0.3.
+double trimmed(double v) {
+    return std::stod(fmt::format("{:.12g}", v));
+}
+
+// On the step from `origin`, then in [lo, hi] (the ends as given, when present).
+double onStep(double v, std::optional<double> step, std::optional<double> lo,
+              std::optional<double> hi) {
+    if (step && *step > 0) {
+        const double origin = lo.value_or(0.0);
+        v = trimmed(origin + std::round((v - origin) / *step) * *step);
+    }
+    if (lo) v = std::max(v, *lo);
+    if (hi) v = std::min(v, *hi);
+    return v;
+}
+
+} // namespace
+
+std::optional<ParamValue> readLiteral(const Parameter& p, std::string_view text) {
+    std::optional<std::vector<Token>> ts = tokens(text);
+    if (!ts) return std::nullopt;
+    ParamValue v{};
+    size_t at = 0;
+    switch (p.type) {
+    case Type::Num:
+    case Type::Angle:
+        if (!signedNumber(*ts, at, p.type == Type::Angle, v[0])) return std::nullopt;
+        break;
+    case Type::Vec2:
+        if ((*ts)[at++].kind != Tok::LParen || !signedNumber(*ts, at, false, v[0]) ||
+            (*ts)[at++].kind != Tok::Comma || !signedNumber(*ts, at, false, v[1]) ||
+            (*ts)[at++].kind != Tok::RParen)
+            return std::nullopt;
+        break;
+    case Type::Color:
+        if ((*ts)[at].kind != Tok::Color) return std::nullopt;
+        v = (*ts)[at++].rgba;
+        break;
+    case Type::Bool:
+        if ((*ts)[at].kind != Tok::Ident || (*ts)[at].number < 0) return std::nullopt;
+        v[0] = (*ts)[at++].number;
+        break;
+    default:
+        return std::nullopt;
+    }
+    if ((*ts)[at].kind != Tok::End) return std::nullopt;
+    return v;
+}
+
+ParamValue snapParamValue(const Parameter& p, ParamValue value) {
+    ParamValue v = value;
+    switch (p.type) {
+    case Type::Bool:
+        v = {value[0] >= 0.5 ? 1.0 : 0.0, 0, 0, 0};
+        break;
+    case Type::Color:
+        for (double& c : v) c = std::clamp(std::isfinite(c) ? c : 0.0, 0.0, 1.0);
+        break;
+    case Type::Angle:
+        if (p.unit == Unit::Deg) {
+            // On the step in degrees, as the slider shows it and the file writes it.
+            auto deg = [](std::optional<double> r) {
+                return r ? std::optional<double>(trimmed(*r * kDegree)) : std::nullopt;
+            };
+            const double d =
+                onStep(trimmed(value[0] * kDegree), deg(p.step), deg(p.min), deg(p.max));
+            v[0] = d * (std::numbers::pi / 180.0); // as the lexer reads `{d}deg`
+        } else {
+            v[0] = onStep(value[0], p.step, p.min, p.max);
+        }
+        v[1] = v[2] = v[3] = 0;
+        break;
+    default:
+        for (int i = 0; i < 4; ++i)
+            v[i] = i < p.components ? onStep(value[i], p.step, p.min, p.max) : 0.0;
+        break;
+    }
+    for (int i = 0; i < p.components; ++i)
+        if (!std::isfinite(v[i])) v[i] = p.min.value_or(0.0);
+    // What the file would say reads back as itself; a value next to a limit that the literal
+    // rounds past the limit stays as it is (still in range).
+    if (std::optional<ParamValue> back = readLiteral(p, literalText(p, v)))
+        if (checkParameterValue(p, std::span<const double>(back->data(), p.components)).empty())
+            return *back;
+    return v;
+}
+
+std::string literalText(const Parameter& p, const ParamValue& value) {
+    std::string text = formatParameterValue(p, std::span<const double>(value.data(), p.components));
+    if (p.type != Type::Angle || p.unit != Unit::Deg) return text;
+    // The shortest degrees that read back as the radians (formatParameterValue's are those
+    // of the radians times 180 / pi, which can be 30.000000000000004 for what `30deg` read).
+    for (int decimals = 0; decimals <= 17; ++decimals) {
+        std::string shorter = fmt::format("{:.{}f}deg", value[0] * kDegree, decimals);
+        std::optional<ParamValue> back = readLiteral(p, shorter);
+        if (back && (*back)[0] == value[0]) return shorter.size() < text.size() ? shorter : text;
+    }
+    return text;
+}
+
+std::string_view defaultText(const Parameter& p, std::string_view source) {
+    const size_t at = p.valueRange.begin.offset, n = p.valueRange.length;
+    if (!p.valueRange.begin.valid() || at > source.size() || n > source.size() - at) return {};
+    return source.substr(at, n);
+}
+
+void applyParams(std::span<const Parameter> params, const ParamSet& set,
+                 std::vector<double>& literals) {
+    for (size_t i = 0; i < params.size() && i < set.size(); ++i)
+        if (set[i])
+            setParameterValue(
+                params[i], std::span<const double>(set[i]->data(), params[i].components), literals);
+}
+
+ParamSet carryParams(std::span<const Parameter> from, const ParamSet& set,
+                     std::string_view fromSource, std::span<const Parameter> to,
+                     std::string_view toSource) {
+    ParamSet out(to.size());
+    for (size_t j = 0; j < to.size(); ++j)
+        for (size_t i = 0; i < from.size() && i < set.size(); ++i) {
+            const Parameter &a = from[i], &b = to[j];
+            if (!set[i] || a.name != b.name) continue;
+            if (a.type == b.type && a.components == b.components &&
+                defaultText(a, fromSource) == defaultText(b, toSource) &&
+                checkParameterValue(b, std::span<const double>(set[i]->data(), b.components))
+                    .empty())
+                out[j] = set[i];
+            break;
+        }
+    return out;
+}
+
+} // namespace moire::view

@@ -97,6 +97,21 @@ void clearParameterValue(const Parameter& p, std::vector<double>& literals) {
     literals.at(static_cast<size_t>(p.setSlot)) = 0.0;
 }
 
+const char* parameterKind(ast::Type type) {
+    switch (type) {
+    case ast::Type::Angle:
+        return "angle";
+    case ast::Type::Vec2:
+        return "vector";
+    case ast::Type::Color:
+        return "color";
+    case ast::Type::Bool:
+        return "bool";
+    default:
+        return "number";
+    }
+}
+
 std::string formatParameterValue(const Parameter& p, std::span<const double> value) {
     auto at = [&](size_t i) { return i < value.size() ? value[i] : 0.0; };
     switch (p.type) {

@@ -61,4 +61,8 @@ void clearParameterValue(const Parameter& p, std::vector<double>& literals);
 // as the same float.
 std::string formatParameterValue(const Parameter& p, std::span<const double> value);
 
+// The type as the pages' controls name it (moire serve's, moire export's): "number", "angle",
+// "vector", "color" or "bool".
+const char* parameterKind(ast::Type type);
+
 } // namespace moire

@@ -15,6 +15,7 @@ with zipfile.ZipFile(vsix) as z:
         "extension/out/extension.js",
         "extension/out/commands.js",
         "extension/out/moirePath.js",
+        "extension/out/preview.js",
         "extension/out/server.js",
         "extension/out/settings.js",
         "extension/syntaxes/moire.tmLanguage.json",

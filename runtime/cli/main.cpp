@@ -7,6 +7,7 @@
 #include "runtime/cli/Commands.h"
 #include "runtime/cli/DefineOption.h"
 #include "runtime/cli/ExportCommand.h"
+#include "runtime/cli/ServeCommand.h"
 #include "runtime/output/ImageIO.h"
 #include "runtime/output/JitCache.h"
 
@@ -217,6 +218,25 @@ int main(int argc, char** argv) {
         "pattern); h hides the status line; q quits. Saves reload; a save with\n"
         "errors keeps the last good picture under the diagnostics.");
 
+    cli::ServeArgs serveArgs;
+    CLI::App* serveCmd = app.add_subcommand(
+        "serve", "Show a scene on a page in the browser that reloads as the file is saved");
+    addScene(serveCmd, serveArgs.scene, false, false)->required();
+    cli::addDefineOption(serveCmd, rawDefines);
+    CLI::Option* hostOpt = serveCmd->add_option(
+        "--host", serveArgs.host, "Address to listen on (default 127.0.0.1: this machine only)");
+    serveCmd->add_option("--port", serveArgs.port, "Port to listen on (default 0: any free port)");
+    addBackend(serveCmd, serveArgs.backend, serveArgs.device);
+    addSize(serveCmd, serveArgs.size, "Frame");
+    addTime(serveCmd, serveArgs.time, "Clock time t to start at");
+    serveCmd->add_flag("--paused", serveArgs.paused, "Start with the clock stopped");
+    addThreads(serveCmd, serveArgs.threads);
+    addDebounce(serveCmd, serveArgs.debounceMs);
+    addVerbosity(serveCmd, serveArgs.verbosity);
+    serveCmd->footer("The first line on standard output is the page's address, with a token made "
+                     "for this run:\nrequests without it are refused. Ctrl-C stops (exit 0). "
+                     "docs/serve.md describes the page.");
+
     cli::CheckArgs checkArgs;
     CLI::App* checkCmd = app.add_subcommand("check", "Check scenes for errors without rendering");
     checkCmd->add_option("scenes", checkArgs.scenes, "The .moire scenes, - for standard input")
@@ -292,6 +312,7 @@ int main(int argc, char** argv) {
         }
         renderArgs.defines = clipArgs.defines = watchArgs.defines = viewArgs.defines = defines;
         exportArgs.defines = defines;
+        serveArgs.defines = defines;
     }
     try {
         if (*renderCmd) return cli::render(renderArgs);
@@ -301,6 +322,10 @@ int main(int argc, char** argv) {
         }
         if (*watchCmd) return cli::watch(watchArgs);
         if (*viewCmd) return cli::view(viewArgs);
+        if (*serveCmd) {
+            serveArgs.hostGiven = hostOpt->count() > 0;
+            return cli::serve(serveArgs);
+        }
         if (*checkCmd) return cli::check(checkArgs);
         if (*compileCmd) return cli::compile(compileArgs);
         if (*devicesCmd) return cli::devices(devicesVerbosity);

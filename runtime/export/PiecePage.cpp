@@ -98,21 +98,6 @@ nlohmann::json frameChecks(const SceneProgram& program) {
     return checks;
 }
 
-const char* sliderKind(ast::Type t) {
-    switch (t) {
-    case ast::Type::Angle:
-        return "angle";
-    case ast::Type::Vec2:
-        return "vector";
-    case ast::Type::Color:
-        return "color";
-    case ast::Type::Bool:
-        return "bool";
-    default:
-        return "number";
-    }
-}
-
 // The sliders' parameters: what each is, its range, the literal slots a slider writes
 // (compiler/Parameters.h), and the frame output that holds its value, set or default (a
 // default may be an expression of t: the slider follows it until it is moved).
@@ -122,7 +107,7 @@ nlohmann::json parameters(const SceneProgram& program) {
         const Parameter& p = program.parameters[i];
         nlohmann::json j = {
             {"name", p.name},
-            {"type", sliderKind(p.type)},
+            {"type", parameterKind(p.type)},
             {"components", p.components},
             {"unit", p.unit == Unit::Deg ? "deg" : ""},
             {"label", p.unitLabel},

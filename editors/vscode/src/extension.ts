@@ -1,14 +1,16 @@
-// The VS Code side: the language server through vscode-languageclient, and the render and
-// viewer commands. What can be decided without VS Code (which moire, its command lines,
+// The VS Code side: the language server through vscode-languageclient, and the render,
+// viewer and preview commands. What can be decided without VS Code (which moire, its command lines,
 // the settings) lives in the modules beside this one, which node's test runner tests.
 import * as vscode from 'vscode';
 import { LanguageClient, LanguageClientOptions, ServerOptions, TransportKind } from 'vscode-languageclient/node';
 import { CommandLine, renderCommandLine, run, viewCommandLine } from './commands';
+import { previewHtml, serveCommandLine, ServeProcess, startServe } from './preview';
 import { resolveMoire } from './moirePath';
 import { hasSubcommand, serverCommand } from './server';
 import { MoireSettings, readSettings } from './settings';
 import { spawn } from 'node:child_process';
 import { homedir } from 'node:os';
+import { basename } from 'node:path';
 
 let client: LanguageClient | undefined;
 let output: vscode.OutputChannel;
@@ -127,16 +129,83 @@ async function openViewer(): Promise<void> {
   });
 }
 
+// One preview per scene: its panel and the `moire serve` behind it. The server follows the
+// file, so a save updates the page without a word from here.
+const previews = new Map<string, { panel: vscode.WebviewPanel; server: ServeProcess }>();
+
+async function openPreview(): Promise<void> {
+  const target = await sceneToRun();
+  if (!target) return;
+  const open = previews.get(target.scene);
+  if (open) {
+    open.panel.reveal(vscode.ViewColumn.Beside, true);
+    return;
+  }
+  const line = serveCommandLine(target.moire, target.scene, target.s);
+  echo(line);
+  let server: ServeProcess;
+  try {
+    server = await vscode.window.withProgress(
+      { location: vscode.ProgressLocation.Window, title: 'moire: starting the preview' },
+      () => startServe(line, (text) => output.append(text)),
+    );
+  } catch (e) {
+    output.show(true);
+    void vscode.window.showErrorMessage(`moire serve: ${(e as Error).message.split('\n')[0]}; see the moire output`);
+    return;
+  }
+  // In a remote window the address is forwarded; locally it is the same.
+  const external = await vscode.env.asExternalUri(vscode.Uri.parse(server.url));
+  const title = `Preview ${basename(target.scene)}`;
+  const panel = vscode.window.createWebviewPanel(
+    'moire.preview',
+    title,
+    { viewColumn: vscode.ViewColumn.Beside, preserveFocus: true },
+    { enableScripts: true, retainContextWhenHidden: true },
+  );
+  panel.webview.html = previewHtml(external.toString(true), title);
+  previews.set(target.scene, { panel, server });
+  panel.onDidDispose(() => {
+    previews.delete(target.scene);
+    void server.stop();
+  });
+  server.child.on('exit', (code) => {
+    if (previews.get(target.scene)?.server !== server) return;
+    output.appendLine(`moire serve for ${target.scene} exited with status ${code}`);
+    panel.dispose();
+  });
+}
+
+// moire.preview.saveAfterPause: a scene with an open preview is saved once typing pauses, and
+// the server, which follows the file, draws it.
+const pauseTimers = new Map<string, NodeJS.Timeout>();
+
+function saveAfterPause(doc: vscode.TextDocument): void {
+  if (doc.uri.scheme !== 'file' || !previews.has(doc.uri.fsPath)) return;
+  const pause = settings().previewSaveAfterPause;
+  if (pause <= 0) return;
+  clearTimeout(pauseTimers.get(doc.uri.fsPath));
+  pauseTimers.set(
+    doc.uri.fsPath,
+    setTimeout(() => {
+      pauseTimers.delete(doc.uri.fsPath);
+      if (doc.isDirty && !doc.isClosed) void doc.save();
+    }, pause),
+  );
+}
+
 export async function activate(context: vscode.ExtensionContext): Promise<void> {
   output = vscode.window.createOutputChannel('moire');
   context.subscriptions.push(
     output,
     vscode.commands.registerCommand('moire.render', renderCurrentFile),
     vscode.commands.registerCommand('moire.view', openViewer),
+    vscode.commands.registerCommand('moire.preview', openPreview),
     vscode.commands.registerCommand('moire.restartServer', async () => {
       await stopServer();
       await startServer();
     }),
+    vscode.workspace.onDidChangeTextDocument((e) => saveAfterPause(e.document)),
     vscode.workspace.onDidChangeConfiguration(async (e) => {
       if (e.affectsConfiguration('moire.path') || e.affectsConfiguration('moire.server')) {
         await stopServer();
@@ -144,12 +213,10 @@ export async function activate(context: vscode.ExtensionContext): Promise<void> 
       }
     }),
   );
-  // The live preview (a webview of the scene with sliders for its parameters) comes with
-  // moire's scene parameters and registers here, beside the viewer command; see the
-  // "Live preview" section of this package's README.md.
   await startServer();
 }
 
 export async function deactivate(): Promise<void> {
+  await Promise.all([...previews.values()].map((p) => p.server.stop()));
   await stopServer();
 }

@@ -7,6 +7,7 @@ export interface MoireSettings {
   renderOutput: string; // moire.render.output: '' or a name with ${stem}
   renderSize: string; // moire.render.size: '' or WIDTHxHEIGHT
   backend: string; // moire.backend: '' or jit, interp, vulkan
+  previewSaveAfterPause: number; // moire.preview.saveAfterPause: milliseconds, 0 off
 }
 
 export type Getter = (key: string) => unknown;
@@ -28,7 +29,14 @@ export function readSettings(get: Getter): { settings: MoireSettings; problems: 
     renderOutput: text(get, 'render.output'),
     renderSize: text(get, 'render.size'),
     backend: text(get, 'backend'),
+    previewSaveAfterPause: 0,
   };
+  const pause = get('preview.saveAfterPause');
+  if (typeof pause === 'number' && Number.isInteger(pause) && pause >= 0 && pause <= 60000) {
+    settings.previewSaveAfterPause = pause;
+  } else if (pause !== undefined && pause !== null) {
+    problems.push(`moire.preview.saveAfterPause is '${pause}': a whole number of milliseconds, 0 to 60000`);
+  }
   if (settings.renderSize !== '' && !/^[0-9]+[xX][0-9]+$/.test(settings.renderSize)) {
     problems.push(`moire.render.size is '${settings.renderSize}': write WIDTHxHEIGHT, as in 1920x1080`);
     settings.renderSize = '';

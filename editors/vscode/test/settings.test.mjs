@@ -10,13 +10,27 @@ const getter = (values) => (key) => values[key];
 
 test('defaults: nothing set', () => {
   const { settings, problems } = readSettings(getter({}));
-  assert.deepEqual(settings, { path: '', serverEnabled: true, renderOutput: '', renderSize: '', backend: '' });
+  assert.deepEqual(settings, {
+    path: '',
+    serverEnabled: true,
+    renderOutput: '',
+    renderSize: '',
+    backend: '',
+    previewSaveAfterPause: 0,
+  });
   assert.deepEqual(problems, []);
 });
 
 test('values are read and trimmed', () => {
   const { settings, problems } = readSettings(
-    getter({ path: ' /opt/moire ', 'server.enabled': false, 'render.output': 'out/${stem}.tif', 'render.size': '1920x1080', backend: 'interp' }),
+    getter({
+      path: ' /opt/moire ',
+      'server.enabled': false,
+      'render.output': 'out/${stem}.tif',
+      'render.size': '1920x1080',
+      backend: 'interp',
+      'preview.saveAfterPause': 400,
+    }),
   );
   assert.deepEqual(settings, {
     path: '/opt/moire',
@@ -24,6 +38,7 @@ test('values are read and trimmed', () => {
     renderOutput: 'out/${stem}.tif',
     renderSize: '1920x1080',
     backend: 'interp',
+    previewSaveAfterPause: 400,
   });
   assert.deepEqual(problems, []);
 });
@@ -35,6 +50,15 @@ test('an unusable size or backend is left out, with a reason', () => {
   assert.equal(problems.length, 2);
   assert.match(problems[0], /WIDTHxHEIGHT/);
   assert.match(problems[1], /jit, interp or vulkan/);
+});
+
+test('a pause that is not a whole number of milliseconds up to a minute is left out, with a reason', () => {
+  for (const pause of [-1, 1.5, 60001, '300']) {
+    const { settings, problems } = readSettings(getter({ 'preview.saveAfterPause': pause }));
+    assert.equal(settings.previewSaveAfterPause, 0);
+    assert.equal(problems.length, 1);
+    assert.match(problems[0], /moire\.preview\.saveAfterPause.*0 to 60000/);
+  }
 });
 
 test('every setting the manifest declares is one the extension reads, and no other', () => {

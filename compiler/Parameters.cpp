@@ -34,6 +34,17 @@ std::string shortest(double v) {
     auto r = std::to_chars(buf, buf + sizeof buf, v);
     return std::string(buf, r.ptr);
 }
+// The shortest degrees that the lexer reads back (d * pi / 180) as exactly `radians`: the
+// radians times 180 / pi alone can be 30.000000000000004 for what `30deg` read.
+std::string shortestDegrees(double radians) {
+    const double degrees = radians * 180.0 / std::numbers::pi;
+    for (int decimals = 0; decimals <= 17; ++decimals) {
+        std::string text = fmt::format("{:.{}f}", degrees, decimals);
+        if (std::stod(text) * (std::numbers::pi / 180.0) == radians)
+            return shortest(std::stod(text));
+    }
+    return shortest(degrees);
+}
 } // namespace
 
 std::vector<Parameter> collectParameters(const sema::CheckedScene& scene) {
@@ -116,7 +127,7 @@ std::string formatParameterValue(const Parameter& p, std::span<const double> val
     auto at = [&](size_t i) { return i < value.size() ? value[i] : 0.0; };
     switch (p.type) {
     case Type::Angle:
-        if (p.unit == Unit::Deg) return shortest(at(0) * 180.0 / std::numbers::pi) + "deg";
+        if (p.unit == Unit::Deg) return shortestDegrees(at(0)) + "deg";
         return shortest(at(0)) + "rad";
     case Type::Vec2:
         return "(" + shortest(at(0)) + ", " + shortest(at(1)) + ")";

@@ -137,16 +137,7 @@ ParamValue snapParamValue(const Parameter& p, ParamValue value) {
 }
 
 std::string literalText(const Parameter& p, const ParamValue& value) {
-    std::string text = formatParameterValue(p, std::span<const double>(value.data(), p.components));
-    if (p.type != Type::Angle || p.unit != Unit::Deg) return text;
-    // The shortest degrees that read back as the radians (formatParameterValue's are those
-    // of the radians times 180 / pi, which can be 30.000000000000004 for what `30deg` read).
-    for (int decimals = 0; decimals <= 17; ++decimals) {
-        std::string shorter = fmt::format("{:.{}f}deg", value[0] * kDegree, decimals);
-        std::optional<ParamValue> back = readLiteral(p, shorter);
-        if (back && (*back)[0] == value[0]) return shorter.size() < text.size() ? shorter : text;
-    }
-    return text;
+    return formatParameterValue(p, std::span<const double>(value.data(), p.components));
 }
 
 std::string_view defaultText(const Parameter& p, std::string_view source) {

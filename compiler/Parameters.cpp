@@ -1,5 +1,7 @@
 #include "compiler/Parameters.h"
 
+#include "compiler/diag/Diagnostics.h"
+#include "compiler/lex/Lexer.h"
 #include "compiler/sema/ConstantValue.h"
 
 #include <algorithm>
@@ -45,6 +47,37 @@ std::string shortestDegrees(double radians) {
     }
     return shortest(degrees);
 }
+// The tokens of `text`, none of them malformed; empty when the lexer reports anything.
+std::optional<std::vector<Token>> tokens(std::string_view text) {
+    SourceManager sm;
+    const uint32_t file = sm.add("<value>", std::string(text));
+    DiagEngine diags(sm);
+    Lexer lexer(file, sm.file(file).text(), diags);
+    std::vector<Token> out;
+    for (Token t = lexer.next();; t = lexer.next()) {
+        out.push_back(t);
+        if (t.kind == Tok::End) break;
+        if (t.kind == Tok::Ident) // only `true` and `false` are read, and only alone
+            out.back().number = lexer.spelling(t) == "true"    ? 1
+                                : lexer.spelling(t) == "false" ? 0
+                                                               : -1;
+    }
+    if (diags.hasErrors()) return std::nullopt;
+    return out;
+}
+
+// Reads `[-] number` at `at` with the unit `unit` (None: none written; an angle takes Deg or
+// Rad), advancing `at`.
+bool signedNumber(const std::vector<Token>& ts, size_t& at, bool angle, double& v) {
+    const bool minus = ts[at].kind == Tok::Minus;
+    if (minus) ++at;
+    const Token& t = ts[at];
+    if (t.kind != Tok::Number || (t.unit == Unit::None) == angle) return false;
+    v = minus ? -t.number : t.number;
+    ++at;
+    return true;
+}
+
 } // namespace
 
 std::vector<Parameter> collectParameters(const sema::CheckedScene& scene) {
@@ -144,6 +177,37 @@ std::string formatParameterValue(const Parameter& p, std::span<const double> val
     default:
         return shortest(at(0));
     }
+}
+
+std::optional<std::array<double, 4>> readParameterValue(const Parameter& p, std::string_view text) {
+    std::optional<std::vector<Token>> ts = tokens(text);
+    if (!ts) return std::nullopt;
+    std::array<double, 4> v{};
+    size_t at = 0;
+    switch (p.type) {
+    case ast::Type::Num:
+    case ast::Type::Angle:
+        if (!signedNumber(*ts, at, p.type == ast::Type::Angle, v[0])) return std::nullopt;
+        break;
+    case ast::Type::Vec2:
+        if ((*ts)[at++].kind != Tok::LParen || !signedNumber(*ts, at, false, v[0]) ||
+            (*ts)[at++].kind != Tok::Comma || !signedNumber(*ts, at, false, v[1]) ||
+            (*ts)[at++].kind != Tok::RParen)
+            return std::nullopt;
+        break;
+    case ast::Type::Color:
+        if ((*ts)[at].kind != Tok::Color) return std::nullopt;
+        v = (*ts)[at++].rgba;
+        break;
+    case ast::Type::Bool:
+        if ((*ts)[at].kind != Tok::Ident || (*ts)[at].number < 0) return std::nullopt;
+        v[0] = (*ts)[at++].number;
+        break;
+    default:
+        return std::nullopt;
+    }
+    if ((*ts)[at].kind != Tok::End) return std::nullopt;
+    return v;
 }
 
 } // namespace moire

@@ -13,6 +13,7 @@
 #include "compiler/parse/Ast.h"
 #include "compiler/sema/Sema.h"
 
+#include <array>
 #include <optional>
 #include <span>
 #include <string>
@@ -60,6 +61,13 @@ void clearParameterValue(const Parameter& p, std::vector<double>& literals);
 // alpha when not opaque), `true`. Numbers are written with the fewest digits that read back
 // as the same float.
 std::string formatParameterValue(const Parameter& p, std::span<const double> value);
+
+// The value of `text` when it is a plain literal of `p`'s type, as the language reads it: a
+// number (with an optional minus sign), an angle with its unit, `(x, y)` of such numbers, a
+// colour `#rrggbb[aa]`, `true` or `false`, with spaces and comments around it (the rest of
+// the array 0). Empty for anything else (an expression, another type). The inverse of
+// formatParameterValue.
+std::optional<std::array<double, 4>> readParameterValue(const Parameter& p, std::string_view text);
 
 // The type as the pages' controls name it (moire serve's, moire export's): "number", "angle",
 // "vector", "color" or "bool".

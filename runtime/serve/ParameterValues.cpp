@@ -15,27 +15,6 @@ json optionalNumber(const std::optional<double>& v) {
     return v ? json(*v) : json(nullptr);
 }
 
-// "#rrggbb" or "#rrggbbaa" as straight sRGB components in 0..1; empty when it is not one.
-std::vector<double> hexColour(const std::string& s) {
-    if ((s.size() != 7 && s.size() != 9) || s[0] != '#') return {};
-    std::vector<double> out;
-    for (size_t i = 1; i < s.size(); i += 2) {
-        int v = 0;
-        for (size_t k = i; k < i + 2; ++k) {
-            const char c = s[k];
-            const int d = c >= '0' && c <= '9'   ? c - '0'
-                          : c >= 'a' && c <= 'f' ? c - 'a' + 10
-                          : c >= 'A' && c <= 'F' ? c - 'A' + 10
-                                                 : -1;
-            if (d < 0) return {};
-            v = v * 16 + d;
-        }
-        out.push_back(v / 255.0);
-    }
-    if (out.size() == 3) out.push_back(1.0);
-    return out;
-}
-
 } // namespace
 
 json parameterJson(const Parameter& p, const std::vector<double>& value, bool set) {
@@ -68,7 +47,10 @@ std::vector<double> parameterValueFromJson(const Parameter& p, const json& value
         out = {value.get<double>()};
     } else if (value.is_string()) {
         if (p.type != ast::Type::Color) throw RequestError(fmt::format("{} takes no text", what));
-        out = hexColour(value.get<std::string>());
+        // A colour as the language writes it (#rrggbb or #rrggbbaa), read by the same rules.
+        if (std::optional<std::array<double, 4>> c =
+                readParameterValue(p, value.get<std::string>()))
+            out.assign(c->begin(), c->end());
         if (out.empty())
             throw RequestError(fmt::format("{} takes a colour as #rrggbb or #rrggbbaa, not '{}'",
                                            what, value.get<std::string>()));

@@ -16,37 +16,6 @@ using ast::Type;
 
 constexpr double kDegree = 180.0 / std::numbers::pi;
 
-// The tokens of `text`, none of them malformed; empty when the lexer reports anything.
-std::optional<std::vector<Token>> tokens(std::string_view text) {
-    SourceManager sm;
-    const uint32_t file = sm.add("<value>", std::string(text));
-    DiagEngine diags(sm);
-    Lexer lexer(file, sm.file(file).text(), diags);
-    std::vector<Token> out;
-    for (Token t = lexer.next();; t = lexer.next()) {
-        out.push_back(t);
-        if (t.kind == Tok::End) break;
-        if (t.kind == Tok::Ident) // only `true` and `false` are read, and only alone
-            out.back().number = lexer.spelling(t) == "true"    ? 1
-                                : lexer.spelling(t) == "false" ? 0
-                                                               : -1;
-    }
-    if (diags.hasErrors()) return std::nullopt;
-    return out;
-}
-
-// Reads `[-] number` at `at` with the unit `unit` (None: none written; an angle takes Deg or
-// Rad), advancing `at`.
-bool signedNumber(const std::vector<Token>& ts, size_t& at, bool angle, double& v) {
-    const bool minus = ts[at].kind == Tok::Minus;
-    if (minus) ++at;
-    const Token& t = ts[at];
-    if (t.kind != Tok::Number || (t.unit == Unit::None) == angle) return false;
-    v = minus ? -t.number : t.number;
-    ++at;
-    return true;
-}
-
 // A number trimmed to twelve significant digits: what snapping on a step computed in binary
 // leaves as 0.30000000000000004 is meant as 0.3.
 double trimmed(double v) {
@@ -66,37 +35,6 @@ double onStep(double v, std::optional<double> step, std::optional<double> lo,
 }
 
 } // namespace
-
-std::optional<ParamValue> readLiteral(const Parameter& p, std::string_view text) {
-    std::optional<std::vector<Token>> ts = tokens(text);
-    if (!ts) return std::nullopt;
-    ParamValue v{};
-    size_t at = 0;
-    switch (p.type) {
-    case Type::Num:
-    case Type::Angle:
-        if (!signedNumber(*ts, at, p.type == Type::Angle, v[0])) return std::nullopt;
-        break;
-    case Type::Vec2:
-        if ((*ts)[at++].kind != Tok::LParen || !signedNumber(*ts, at, false, v[0]) ||
-            (*ts)[at++].kind != Tok::Comma || !signedNumber(*ts, at, false, v[1]) ||
-            (*ts)[at++].kind != Tok::RParen)
-            return std::nullopt;
-        break;
-    case Type::Color:
-        if ((*ts)[at].kind != Tok::Color) return std::nullopt;
-        v = (*ts)[at++].rgba;
-        break;
-    case Type::Bool:
-        if ((*ts)[at].kind != Tok::Ident || (*ts)[at].number < 0) return std::nullopt;
-        v[0] = (*ts)[at++].number;
-        break;
-    default:
-        return std::nullopt;
-    }
-    if ((*ts)[at].kind != Tok::End) return std::nullopt;
-    return v;
-}
 
 ParamValue snapParamValue(const Parameter& p, ParamValue value) {
     ParamValue v = value;

@@ -19,14 +19,12 @@ using ParamValue = std::array<double, 4>; // a parameter's components; the rest 
 // One entry per parameter of a build (SceneProgram::parameters' order): the value set, if any.
 using ParamSet = std::vector<std::optional<ParamValue>>;
 
-// The value of `text` when it is a plain literal of `p`'s type, as the language reads it: a
-// number (with an optional minus sign), an angle with its unit, `(x, y)` of such numbers, a
-// colour `#rrggbb[aa]`, `true` or `false`, with spaces and comments around it. Empty for
-// anything else (an expression, another type).
-std::optional<ParamValue> readLiteral(const Parameter& p, std::string_view text);
+// The value of `text` when it is a plain literal of `p`'s type (readParameterValue).
+inline std::optional<ParamValue> readLiteral(const Parameter& p, std::string_view text) {
+    return readParameterValue(p, text);
+}
 
-// `value` as the literal a write-back puts in the file: formatParameterValue's text, or for
-// an angle in degrees the shortest degrees that read back as the same radians.
+// `value` as the literal a write-back puts in the file (formatParameterValue).
 std::string literalText(const Parameter& p, const ParamValue& value);
 
 // `value` moved to the nearest value the parameter can hold and the file can say exactly: on

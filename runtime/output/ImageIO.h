@@ -40,6 +40,12 @@ struct WriteOptions {
     double dpi = 0.0;     // resolution metadata for print; 0 leaves it unset
     int compression = -1; // PNG's zlib level, 0 (none) to 9; -1: kPrintCompression
     int threads = 0;      // threads that encode; 0: one per hardware thread
+    // Where the image sits in a larger frame (render --region): its top-left pixel in the
+    // frame, and the frame's size (0: the image is the whole frame). Recorded in the file
+    // (TIFF's XPosition/YPosition and page size, EXR's data and display windows, PNG's oFFs)
+    // so that `moire assemble` can put a tile back in its place.
+    int originX = 0, originY = 0;
+    int fullWidth = 0, fullHeight = 0;
 };
 
 class IoError : public std::runtime_error {

@@ -4,6 +4,7 @@
 #include "runtime/output/OutputFile.h"
 
 #include <algorithm>
+#include <atomic>
 #include <condition_variable>
 #include <filesystem>
 #include <fmt/format.h>
@@ -22,9 +23,23 @@ namespace {
 // The rows OpenImageIO's writers are handed at a time: a band of render's pipeline.
 constexpr int kOiioBandRows = 64;
 
-// A PNG through BandedPng: each band's rows are encoded on the thread that hands them over,
-// in order within the band (zlib's stream); rows that come before those above them in their
-// band wait as floats. Written to a file as the bands come, or, to standard output, kept
+// The band a thread is part way through encoding: PngBands keeps a band's filtered rows so
+// far in the thread's own scratch, so a thread finishes one band before it starts another,
+// and only it can go on with the band. Streams are told apart by a number never reused (a
+// thread whose band's stream has gone may start another).
+struct OpenBand {
+    uint64_t stream = 0;
+    int band = -1;
+};
+thread_local OpenBand openBand;
+std::atomic<uint64_t> streamNumbers{0};
+
+// A PNG through BandedPng: a band's rows are encoded on the thread that started it, in order,
+// as they come (runKernelInBands hands a band to one worker, eight rows at a time, so the
+// rows are encoded while still in the cache). Rows that cannot be encoded yet (they come
+// before those above them in the band, from another thread, or from a thread part way
+// through another band) wait as floats until their band's thread, or a thread with no band
+// open, comes back to it. Written to a file as the bands come, or, to standard output, kept
 // compressed and written whole at the end.
 class PngStream final : public ImageStream {
   public:
@@ -39,18 +54,28 @@ class PngStream final : public ImageStream {
     int bandRows() const override { return png_->bandRows(); }
 
     void addRows(int y, int count, const float* rows, size_t stride, int channels) override {
+        if (y < 0 || count < 0 || y + count > height())
+            throw IoError(
+                fmt::format("internal: rows {} to {} of '{}' out of range", y, y + count, path_));
         const int r = png_->bandRows();
         for (int top = y; top < y + count;) {
             const int band = top / r;
-            const int first = top - band * r;
             const int n = std::min(y + count, (band + 1) * r) - top;
-            addToBand(band, first, n, rows + static_cast<size_t>(top - y) * stride, stride,
+            addToBand(band, top - band * r, n, rows + static_cast<size_t>(top - y) * stride, stride,
                       channels);
             top += n;
         }
     }
 
     void finish() override {
+        // Bands whose rows all wait, with no thread part way through them, are encoded here.
+        for (size_t band = 0; band < bands_.size(); ++band) {
+            Band& b = bands_[band];
+            std::lock_guard<std::mutex> lock(b.mutex);
+            if (b.next < rowsIn(static_cast<int>(band)) && b.owner == std::thread::id() &&
+                openBand.stream != number_)
+                drain(static_cast<int>(band), b);
+        }
         if (file_) {
             png_->finish(); // the bands are in the file already
             return;
@@ -60,36 +85,63 @@ class PngStream final : public ImageStream {
     }
 
   private:
+    struct Early {
+        int count, channels;
+        std::vector<float> rows; // packed
+    };
     struct Band {
         std::mutex mutex;
-        int next = 0;                                 // the first row not yet encoded
-        std::map<int, std::vector<float>> early;      // rows come before their turn, packed
-        std::map<int, std::pair<int, int>> earlyRows; // their count and channels
+        int next = 0;               // the first row not yet encoded
+        std::thread::id owner;      // the thread part way through it
+        std::map<int, Early> early; // rows waiting, by their first row in the band
     };
+
+    int rowsIn(int band) const {
+        return std::min(png_->bandRows(), height() - band * png_->bandRows());
+    }
+
+    // Encodes rows [first, first + count) of `band` on this thread (b.next == first).
+    void encode(int band, Band& b, int first, int count, const float* rows, size_t stride,
+                int channels) {
+        openBand = {number_, band};
+        b.owner = std::this_thread::get_id();
+        png_->addRows(band, first, count, rows, stride, channels);
+        b.next += count;
+        if (b.next == rowsIn(band)) {
+            openBand = {};
+            b.owner = std::thread::id();
+        }
+    }
+
+    // The waiting rows that continue the band, on this thread.
+    void drain(int band, Band& b) {
+        for (auto it = b.early.find(b.next); it != b.early.end(); it = b.early.find(b.next)) {
+            Early e = std::move(it->second);
+            b.early.erase(it);
+            encode(band, b, b.next, e.count, e.rows.data(),
+                   static_cast<size_t>(width()) * e.channels, e.channels);
+        }
+    }
 
     void addToBand(int band, int first, int count, const float* rows, size_t stride, int channels) {
         Band& b = bands_[static_cast<size_t>(band)];
         std::lock_guard<std::mutex> lock(b.mutex);
-        if (first != b.next) {
-            const size_t row = static_cast<size_t>(width()) * channels;
-            std::vector<float> copy(row * count);
-            for (int i = 0; i < count; ++i)
-                std::copy_n(rows + i * stride, row, copy.data() + i * row);
-            b.early.emplace(first, std::move(copy));
-            b.earlyRows.emplace(first, std::make_pair(count, channels));
+        const bool mine = b.owner == std::this_thread::get_id();
+        const bool free = b.owner == std::thread::id() && openBand.stream != number_;
+        if (first == b.next && (mine || free)) {
+            encode(band, b, first, count, rows, stride, channels);
+            drain(band, b);
             return;
         }
-        png_->addRows(band, first, count, rows, stride, channels);
-        b.next += count;
-        for (auto it = b.early.find(b.next); it != b.early.end(); it = b.early.find(b.next)) {
-            const auto [n, c] = b.earlyRows.at(b.next);
-            png_->addRows(band, b.next, n, it->second.data(), static_cast<size_t>(width()) * c, c);
-            b.early.erase(it);
-            b.earlyRows.erase(b.next);
-            b.next += n;
-        }
+        const size_t row = static_cast<size_t>(width()) * channels;
+        Early e{count, channels, std::vector<float>(row * count)};
+        for (int i = 0; i < count; ++i)
+            std::copy_n(rows + i * stride, row, e.rows.data() + i * row);
+        b.early.emplace(first, std::move(e));
+        if (mine || free) drain(band, b);
     }
 
+    const uint64_t number_ = ++streamNumbers;
     std::string path_;
     std::optional<AtomicFile> file_;
     std::optional<BandedPng> png_; // after file_: dropped first

@@ -5,13 +5,17 @@
 
 #include <algorithm>
 #include <atomic>
+#include <cerrno>
 #include <condition_variable>
+#include <cstring>
 #include <filesystem>
 #include <fmt/format.h>
 #include <map>
 #include <mutex>
 #include <optional>
+#include <sys/mman.h>
 #include <thread>
+#include <unistd.h>
 #include <vector>
 
 namespace moire {
@@ -159,28 +163,29 @@ class OiioStream final : public ImageStream {
         : ImageStream(width, height), path_(path), channels_(format == "jpeg" ? 3 : 4),
           linear_(format == "exr") {
         const OiioCodec& codec = oiioCodec();
-        if (format == "jpeg") {
-            // JPEG only appends: its bytes go through the checked writer as they come.
-            file_.emplace(path);
-            writer_ = codec.openWriter(
-                path, "", format, width, height, options,
-                [this](const void* data, size_t size) { file_->write(data, size); });
-        } else {
-            // TIFF and EXR seek back to write their directories: the codec writes them by
-            // name into a temporary beside the target, committed by finish().
-            temp_ = temporaryBeside(path);
-            try {
-                writer_ = codec.openWriter(path, temp_, format, width, height, options, {});
-            } catch (...) {
-                removeTemporary();
-                throw;
+        // Through the checked writer's temporary (OutputFile.h): JPEG only appends, so its
+        // bytes go to it as they come; TIFF and EXR seek back to write their directories,
+        // so they write at offsets into its descriptor, or, when the destination cannot seek
+        // (a FIFO, a device), into a memory file copied to it at the end.
+        file_.emplace(path);
+        int fd = -1;
+        if (format != "jpeg") {
+            if (file_->writtenInPlace()) {
+                memory_ = ::memfd_create("moire-image", MFD_CLOEXEC);
+                if (memory_ < 0) throw encodeFailure(path, std::strerror(errno));
+                fd = memory_;
+            } else {
+                fd = file_->descriptor();
             }
         }
+        writer_ =
+            codec.openWriter(path, format, width, height, options, fd,
+                             [this](const void* data, size_t size) { file_->write(data, size); });
     }
 
     ~OiioStream() override {
         writer_.reset();
-        removeTemporary();
+        if (memory_ >= 0) ::close(memory_);
     }
 
     int bandRows() const override { return kOiioBandRows; }
@@ -248,12 +253,8 @@ class OiioStream final : public ImageStream {
                     fmt::format("internal: '{}' finished before every row was written", path_));
         }
         writer_->close();
-        if (file_) {
-            file_->commit();
-        } else {
-            commitTemporary(temp_, path_);
-            temp_.clear();
-        }
+        if (memory_ >= 0) copyMemoryFile();
+        file_->commit();
     }
 
   private:
@@ -262,17 +263,24 @@ class OiioStream final : public ImageStream {
         std::vector<unsigned char> samples;
     };
 
-    void removeTemporary() {
-        if (temp_.empty()) return;
-        std::error_code ec;
-        fs::remove(temp_, ec);
-        temp_.clear();
+    // The memory file, to a destination that cannot seek, a megabyte at a time.
+    void copyMemoryFile() {
+        std::vector<char> buf(1 << 20);
+        for (off_t at = 0;;) {
+            const ssize_t n = ::pread(memory_, buf.data(), buf.size(), at);
+            if (n < 0 && errno == EINTR) continue;
+            if (n < 0) throw encodeFailure(path_, std::strerror(errno));
+            if (n == 0) return;
+            file_->write(buf.data(), static_cast<size_t>(n));
+            at += n;
+        }
     }
 
-    std::string path_, temp_;
+    std::string path_;
+    int memory_ = -1; // the memory file, when the destination cannot seek
     int channels_;
     bool linear_;
-    std::optional<AtomicFile> file_;        // JPEG's bytes
+    std::optional<AtomicFile> file_;
     std::unique_ptr<OiioRowWriter> writer_; // after file_: dropped first
     std::mutex mutex_;
     std::map<int, Rows> waiting_; // by their first row

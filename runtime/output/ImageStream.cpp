@@ -219,17 +219,32 @@ class OiioStream final : public ImageStream {
         if (writing_) return; // the writer will find them
         writing_ = true;
         for (;;) {
-            std::vector<std::pair<int, Rows>> ready;
-            for (auto it = waiting_.begin(); it != waiting_.end() && it->first == next_;
-                 it = waiting_.erase(it)) {
-                next_ += it->second.count;
-                ready.emplace_back(it->first, std::move(it->second));
+            // The run of rows from the top that is here, written once it is a band long (or
+            // ends the image), in one call: the codec gets whole strips and blocks to compress
+            // (OpenImageIO compresses a TIFF's strips in parallel when handed several).
+            int run = 0;
+            for (auto it = waiting_.begin(); it != waiting_.end() && it->first == next_ + run; ++it)
+                run += it->second.count;
+            if (run == 0 || (run < kOiioBandRows && next_ + run < height())) break;
+            const int top = next_;
+            Rows rows;
+            if (waiting_.begin()->second.count == run) {
+                rows = std::move(waiting_.begin()->second);
+                waiting_.erase(waiting_.begin());
+            } else {
+                rows.count = run;
+                rows.samples.reserve(static_cast<size_t>(run) * width() * channels_ *
+                                     writer_->sampleBytes());
+                while (!waiting_.empty() && waiting_.begin()->first < top + run) {
+                    const std::vector<unsigned char>& s = waiting_.begin()->second.samples;
+                    rows.samples.insert(rows.samples.end(), s.begin(), s.end());
+                    waiting_.erase(waiting_.begin());
+                }
             }
-            if (ready.empty()) break;
+            next_ += run;
             lock.unlock();
             try {
-                for (const auto& [top, r] : ready)
-                    writer_->writeRows(top, r.count, r.samples.data());
+                writer_->writeRows(top, rows.count, rows.samples.data());
             } catch (const IoError& e) {
                 lock.lock();
                 failed_ = true;
@@ -238,7 +253,7 @@ class OiioStream final : public ImageStream {
                 waiting_.clear();
                 throw;
             }
-            ready.clear(); // freed before the lock is taken again
+            rows = Rows(); // freed before the lock is taken again
             lock.lock();
         }
         writing_ = false;

@@ -1,0 +1,126 @@
+// moire farm without a cluster: the video join (farm encode) gives the bytes `moire clip`
+// writes, --plan prints the scripts and touches nothing, and a request that cannot work is
+// refused before anything is submitted. tests/farm runs it on a real Slurm.
+#include "tests/support/Support.h"
+
+#include <doctest/doctest.h>
+#include <filesystem>
+#include <fmt/format.h>
+
+namespace fs = std::filesystem;
+using namespace moire;
+
+namespace {
+
+struct Farmdir : test::TempDir {
+    Farmdir() : test::TempDir("farm") {
+        write("anim.moire", "scene { size = (48, 32) }\n"
+                            "timing drift { period = 0.5; mode = loop }\n"
+                            "layer { family = circles; spacing = ramp(drift, 3, 5) }\n"
+                            "param gap = 4 in 2 .. 8\n"
+                            "layer { family = circles; spacing = gap; offset = (0.4, 0) }\n");
+    }
+    test::CommandResult moire(const std::string& args, const std::string& env = "") const {
+        return test::runCommand("cd '" + path() + "' && " + env + " '" + test::moireBinary() +
+                                "' " + args);
+    }
+};
+
+} // namespace
+
+TEST_CASE("farm encode of a clip's frames rendered in pieces is byte for byte the clip") {
+    if (test::runCommand("command -v ffmpeg >/dev/null").status != 0) {
+        test::skip("ffmpeg is not installed");
+        return;
+    }
+    Farmdir dir;
+    // The pieces as a farm's shards render them: uneven ranges, 8-bit PNG frames.
+    for (const char* range : {"0..4", "5..5", "6..11"}) {
+        auto r = dir.moire(fmt::format("clip anim.moire --fps 12 --frames {} --depth 8 "
+                                       "-o frames/f_%03d.png -q",
+                                       range));
+        INFO(r.err);
+        REQUIRE(r.status == 0);
+    }
+    for (const char* ext : {"mp4", "webm", "gif"}) {
+        CAPTURE(ext);
+        auto joined = dir.moire(
+            fmt::format("farm encode frames/f_%03d.png --frames 0..11 --fps 12 -o joined.{}", ext));
+        INFO(joined.err);
+        REQUIRE(joined.status == 0);
+        auto whole =
+            dir.moire(fmt::format("clip anim.moire --fps 12 --frames 12 -o whole.{} -q", ext));
+        INFO(whole.err);
+        REQUIRE(whole.status == 0);
+        const std::string a = test::readFile(dir.file(fmt::format("joined.{}", ext)));
+        CHECK(!a.empty());
+        CHECK(a == test::readFile(dir.file(fmt::format("whole.{}", ext))));
+    }
+    // A missing frame is an error naming it, and no video is left.
+    fs::remove(dir.file("frames/f_007.png"));
+    auto r = dir.moire("farm encode frames/f_%03d.png --frames 0..11 --fps 12 -o gap.mp4");
+    CHECK(r.status == 3);
+    CHECK(r.err.find("f_007.png") != std::string::npos);
+    CHECK_FALSE(fs::exists(dir.file("gap.mp4")));
+}
+
+TEST_CASE("farm clip --plan prints the scripts and writes nothing") {
+    Farmdir dir;
+    auto r = dir.moire("farm clip anim.moire --fps 12 --frames 0..9 --shards 3 --workdir w "
+                       "--partition p1 '--sbatch-arg=--time=5' -D 'gap=5' "
+                       "-o out.mp4 --moire /opt/moire --plan");
+    INFO(r.err);
+    REQUIRE(r.status == 0);
+    CHECK_FALSE(fs::exists(dir.file("w")));
+    const std::string w = fs::canonical(dir.path()).string() + "/w";
+    for (const char* name : {"shard.sh", "join.sh", "submit.sh"})
+        CHECK(r.out.find(fmt::format("==> {}/{} <==", w, name)) != std::string::npos);
+    // Ranges of 4, 3 and 3 frames, each a clip of the scene's copy in the work directory.
+    for (const char* range : {"0..3", "4..6", "7..9"})
+        CHECK(r.out.find(fmt::format(
+                  "exec /opt/moire clip {}/scene.moire --fps 12 --from 0 --frames {} -D "
+                  "gap=5 --depth 8 -o {}/frames/f_%09d.png -q",
+                  w, range, w)) != std::string::npos);
+    CHECK(r.out.find(fmt::format("/opt/moire farm encode {0}/frames/f_%09d.png --frames 0..9 "
+                                 "--fps 12 -o {1}/out.mp4 -q",
+                                 w, fs::canonical(dir.path()).string())) != std::string::npos);
+    CHECK(r.out.find("--array=0-2") != std::string::npos);
+    CHECK(r.out.find("--partition=p1 --time=5") != std::string::npos);
+}
+
+TEST_CASE("farm refuses what cannot work before submitting anything") {
+    Farmdir dir;
+    const std::string base = "farm clip anim.moire --fps 12 --frames 4 --workdir w ";
+    struct Case {
+        std::string args, message;
+        int status;
+    };
+    fs::create_directories(dir.file("full"));
+    dir.write("full/x", "");
+    for (const Case& c : std::vector<Case>{
+             {base + "--shards 0 -o a.mp4", "--shards must be 1 or more", 2},
+             {base + "--shards 2 --size 47x32 -o a.mp4", "even width and height", 2},
+             {base + "--shards 2 -o a.png", "a video (.mp4, .webm, .gif) or numbered images", 2},
+             {base + "--shards 2 -o a.mp4 --depth 16", "video frames are 8-bit", 2},
+             {"farm clip anim.moire --fps 12 --frames 4 --workdir full --shards 2 -o a.mp4",
+              "the work directory", 2},
+             {"farm render anim.moire --workdir w --shards 2 -o a.xyz", "unknown format", 2},
+         }) {
+        CAPTURE(c.args);
+        auto r = dir.moire(c.args);
+        CHECK(r.status == c.status);
+        CHECK(r.err.find(c.message) != std::string::npos);
+        CHECK(r.err.find("moire: error: ") == 0);
+    }
+    // A scene with errors is reported as a clip of it would be.
+    dir.write("bad.moire", "layer { family = nope }\n");
+    auto bad = dir.moire("farm clip bad.moire --fps 12 --frames 4 --workdir w --shards 2 "
+                         "-o a.mp4");
+    CHECK(bad.status == 1);
+    CHECK(bad.err.find("bad.moire:1:") == 0);
+    // Without sbatch the scripts are not submitted; --plan needs none.
+    auto none = dir.moire(base + "--shards 2 -o a.mp4", "PATH=/nonexistent");
+    CHECK(none.status == 4);
+    CHECK(none.err.find("sbatch is not on PATH") != std::string::npos);
+    CHECK_FALSE(fs::exists(dir.file("w")));
+}

@@ -86,6 +86,9 @@ FarmScripts makeScripts(const FarmJob& job) {
                          "set -euo pipefail\n",
                          job.name);
     for (const std::vector<std::string>& command : job.join) s.join += shellCommand(command) + "\n";
+    // The mark that the join got to its end: sbatch --wait exits 0 for a join that Slurm
+    // cancelled because a shard failed, so the submission looks for this instead.
+    s.join += fmt::format("touch {}/joined\n", dir);
 
     // Options both sbatch calls take: where to run, and whatever the user added.
     std::string common;
@@ -99,18 +102,20 @@ FarmScripts makeScripts(const FarmJob& job) {
         "# only when every shard has succeeded (and is cancelled if one fails).\n"
         "set -euo pipefail\n"
         "cd {2}\n"
+        "rm -f {2}/joined\n"
         "array=$(sbatch --parsable --job-name={3} --array=0-{4} --output={2}/logs/shard-%a.log"
         "{5} {2}/shard.sh)\n"
         "array=${{array%%;*}}\n"
-        "echo \"{0}: shards: job array $array ({1} tasks)\"\n"
+        "echo \"moire farm: shards: job array $array ({1} tasks)\"\n"
         "if ! join=$(sbatch --parsable --job-name={6} --dependency=afterok:$array "
-        "--kill-on-invalid-dep=yes --output={2}/logs/join.log{5}{7} {2}/join.sh); then\n"
-        "  echo \"{0}: the join did not succeed: see {2}/logs\" >&2\n"
+        "--kill-on-invalid-dep=yes --output={2}/logs/join.log{5}{7} {2}/join.sh){9}; then\n"
+        "  echo \"moire farm: the join did not succeed: see {2}/logs\" >&2\n"
         "  exit 1\n"
         "fi\n"
-        "echo \"{0}: join: job ${{join%%;*}}{8}\"\n",
+        "echo \"moire farm: join: job ${{join%%;*}}{8}\"\n",
         job.name, job.shards.size(), dir, shardName, job.shards.size() - 1, common, joinName,
-        job.wait ? " --wait" : "", job.wait ? " finished" : " (after the shards)");
+        job.wait ? " --wait" : "", job.wait ? " finished" : " (after the shards)",
+        job.wait ? fmt::format(" || [[ ! -e {}/joined ]]", dir) : "");
     return s;
 }
 

@@ -149,6 +149,7 @@ TEST_CASE("makeScripts: a shard per array task, the join, and the submission's s
     run(shard + " 2>/dev/null", &status); // not run by Slurm
     CHECK(status != 0);
     CHECK(run("bash '" + (work / "join.sh").string() + "'") == "join|done|");
+    CHECK(fs::exists(work / "joined")); // what submit.sh --wait looks for
 
     // A stand-in sbatch: records each call's arguments, one a line, and answers a job id.
     const fs::path bin = dir.path / "bin";

@@ -61,10 +61,42 @@ wait_for() {
 # video by one encode, as `moire clip` makes it.
 clip=(--fps 24 --frames 48 --size 64x48)
 "$moire" farm clip "${clip[@]}" --shards 6 --workdir "$tmp/work-clip" \
-  -o "$tmp/farm/clip.mp4" | tee "$tmp/clip.out"
+  -o "$tmp/farm/clip.mp4" -q | tee "$tmp/clip.out"
 clip_join=$(join_id "$tmp/clip.out")
 
+# Numbered images: the shards write them in place; the join only reports them.
+frames=(--fps 24 --size 64x48 --frames 12..23)
+"$moire" farm clip "${frames[@]}" --shards 3 --workdir "$tmp/work-frames" \
+  -o "$tmp/farm/frames/f_%03d.png" -q | tee "$tmp/frames.out"
+frames_join=$(join_id "$tmp/frames.out")
+
+# A shard that fails: Slurm cancels the join, nothing is written, and --wait says so.
+cat >"$tmp/flaky" <<FLAKY
+#!/bin/bash
+[[ \${SLURM_ARRAY_TASK_ID:-} == 1 ]] && exit 1
+exec "$moire" "\$@"
+FLAKY
+chmod +x "$tmp/flaky"
+status=0
+"$moire" farm clip "${clip[@]}" --shards 3 --workdir "$tmp/work-flaky" --moire "$tmp/flaky" \
+  -o "$tmp/farm/flaky.mp4" --wait >"$tmp/flaky.out" 2>&1 || status=$?
+if [[ $status != 3 ]] || ! grep -q "the join did not succeed" "$tmp/flaky.out"; then
+  echo "FAIL: farm --wait with a failed shard exited $status:" >&2
+  cat "$tmp/flaky.out" >&2
+  exit 1
+fi
+[[ ! -e "$tmp/farm/flaky.mp4" ]]
+echo "ok: a failed shard cancels the join, and --wait reports it"
+
+# The same requests rendered here, while the cluster works.
 "$moire" clip "${clip[@]}" -o "$tmp/local/clip.mp4" -q
+"$moire" clip "${frames[@]}" -o "$tmp/local/frames/f_%03d.png" -q
+
+wait_for "$frames_join"
+diff -r "$tmp/farm/frames" "$tmp/local/frames"
+[[ $(ls "$tmp/farm/frames" | wc -l) == 12 ]]
+echo "ok: 12 numbered frames in 3 shards are the local frames"
+
 wait_for "$clip_join"
 cmp "$tmp/farm/clip.mp4" "$tmp/local/clip.mp4"
 [[ $(ls "$tmp/work-clip/logs" | grep -c '^shard-') == 6 ]]

@@ -97,6 +97,7 @@ std::vector<std::string> sharedOptions(const FarmArgs& args,
     if (!args.backend.empty()) out.insert(out.end(), {"--backend", args.backend});
     if (args.device >= 0) out.insert(out.end(), {"--device", fmt::format("{}", args.device)});
     if (args.threads > 0) out.insert(out.end(), {"--threads", fmt::format("{}", args.threads)});
+    out.insert(out.end(), args.shardArgs.begin(), args.shardArgs.end());
     return out;
 }
 
@@ -272,7 +273,11 @@ int farmRender(const FarmArgs& args, const std::vector<std::string>& rawDefines)
     farm::FarmJob job = baseJob(args);
     const std::string moire = moireOnNodes(args);
     const std::string output = fs::absolute(args.output).lexically_normal().string();
-    const std::string ext = fs::path(args.output).extension().string();
+    if (args.dpi != 0.0 && !checkDpi(args.dpi)) return kExitUsage;
+    // A JPEG cannot record a tile's place: its tiles are 8-bit PNGs, whose pixels are the
+    // bytes the JPEG encoder is given either way.
+    const bool jpeg = format == "jpeg";
+    const std::string ext = jpeg ? ".png" : fs::path(args.output).extension().string();
     std::vector<std::string> assemble = {moire, "assemble"};
     const std::vector<farm::Region> regions =
         farm::splitRegions(request.width, request.height, args.shards);
@@ -283,12 +288,19 @@ int farmRender(const FarmArgs& args, const std::vector<std::string>& rawDefines)
         for (const std::string& a : sceneArgument(args, job)) cmd.push_back(a);
         cmd.insert(cmd.end(), {"--time", number(args.time)});
         for (const std::string& a : sharedOptions(args, rawDefines)) cmd.push_back(a);
-        if (!args.depth.empty()) cmd.insert(cmd.end(), {"--depth", args.depth});
+        if (jpeg)
+            cmd.insert(cmd.end(), {"--depth", "8"});
+        else if (!args.depth.empty())
+            cmd.insert(cmd.end(), {"--depth", args.depth});
+        if (args.dpi != 0.0) cmd.insert(cmd.end(), {"--dpi", number(args.dpi)});
         cmd.insert(cmd.end(), {"--region", fmt::format("{},{},{},{}", r.x0, r.y0, r.x1, r.y1), "-o",
                                tile, "-q"});
         job.shards.push_back(cmd);
         assemble.push_back(tile);
     }
+    if (args.compression >= 0)
+        assemble.insert(assemble.end(), {"--compression", fmt::format("{}", args.compression)});
+    if (jpeg && !args.depth.empty()) assemble.insert(assemble.end(), {"--depth", args.depth});
     assemble.insert(assemble.end(), {"-o", output, "-q"});
     job.join.push_back(assemble);
     job.join.push_back({"rm", "-rf", "--", job.workdir + "/tiles"});
@@ -371,6 +383,9 @@ CLI::App* addFarmCommand(CLI::App& app, FarmArgs& args, std::vector<std::string>
             ->check(CLI::NonNegativeNumber);
         cmd->add_option("--threads", args.threads, "Worker threads per shard (default: all cores)");
         cmd->add_option("--size", args.size, "Frame size WIDTHxHEIGHT, replacing the scene's");
+        cmd->add_option("--shard-arg", args.shardArgs,
+                        "An extra option for every shard's moire, as --shard-arg=--view=envelope "
+                        "(repeatable)");
         addDefineOption(cmd, rawDefines);
         cmd->add_flag("-q,--quiet", args.verbosity.quiet, "Print nothing but errors");
     };
@@ -399,6 +414,9 @@ CLI::App* addFarmCommand(CLI::App& app, FarmArgs& args, std::vector<std::string>
     renderCmd->add_option("-o,--output", args.output, "The image: .png, .tif, .exr or .jpg");
     renderCmd->add_option("--time", args.time, "Clock time t in seconds (default 0)");
     renderCmd->add_option("--depth", args.depth, "Bits per channel: 8, 16, half or float");
+    renderCmd->add_option("--dpi", args.dpi, "Print resolution to record in the file");
+    renderCmd->add_option("--compression", args.compression, "PNG's zlib level, 0 to 9")
+        ->check(CLI::Range(0, 9));
     addFarmOptions(renderCmd);
     renderCmd->callback([&args] { args.mode = FarmArgs::Mode::Render; });
 

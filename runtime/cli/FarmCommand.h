@@ -25,6 +25,9 @@ struct FarmArgs {
     int device = -1;
     std::string depth;
     int threads = 0;
+    double dpi = 0.0;                   // render: recorded in the tiles, and so in the poster
+    int compression = -1;               // render: the poster's PNG level (-1: render's default)
+    std::vector<std::string> shardArgs; // more options for every shard's moire, as given
     Defines defines;
     // The farm.
     int shards = 0;

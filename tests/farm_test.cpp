@@ -12,19 +12,18 @@ using namespace moire;
 
 namespace {
 
-struct Farmdir : test::TempDir {
-    Farmdir() : test::TempDir("farm") {
-        write("anim.moire", "scene { size = (48, 32) }\n"
-                            "timing drift { period = 0.5; mode = loop }\n"
-                            "layer { family = circles; spacing = ramp(drift, 3, 5) }\n"
-                            "param gap = 4 in 2 .. 8\n"
-                            "layer { family = circles; spacing = gap; offset = (0.4, 0) }\n");
-    }
-    test::CommandResult moire(const std::string& args, const std::string& env = "") const {
-        return test::runCommand("cd '" + path() + "' && " + env + " '" + test::moireBinary() +
-                                "' " + args);
-    }
-};
+// An animated scene with a param, in a fresh directory that the commands run in.
+const char* kScene = "scene { size = (48, 32) }\n"
+                     "timing drift { period = 0.5; mode = loop }\n"
+                     "layer { family = circles; spacing = ramp(drift, 3, 5) }\n"
+                     "param gap = 4 in 2 .. 8\n"
+                     "layer { family = circles; spacing = gap; offset = (0.4, 0) }\n";
+
+test::CommandResult moireIn(const test::TempDir& dir, const std::string& args,
+                            const std::string& env = "") {
+    return test::runCommand("cd '" + dir.path() + "' && " + env + " '" + test::moireBinary() +
+                            "' " + args);
+}
 
 } // namespace
 
@@ -33,23 +32,25 @@ TEST_CASE("farm encode of a clip's frames rendered in pieces is byte for byte th
         test::skip("ffmpeg is not installed");
         return;
     }
-    Farmdir dir;
+    test::TempDir dir("farm");
+    dir.write("anim.moire", kScene);
     // The pieces as a farm's shards render them: uneven ranges, 8-bit PNG frames.
     for (const char* range : {"0..4", "5..5", "6..11"}) {
-        auto r = dir.moire(fmt::format("clip anim.moire --fps 12 --frames {} --depth 8 "
-                                       "-o frames/f_%03d.png -q",
-                                       range));
+        auto r = moireIn(dir, fmt::format("clip anim.moire --fps 12 --frames {} --depth 8 "
+                                          "-o frames/f_%03d.png -q",
+                                          range));
         INFO(r.err);
         REQUIRE(r.status == 0);
     }
     for (const char* ext : {"mp4", "webm", "gif"}) {
         CAPTURE(ext);
-        auto joined = dir.moire(
+        auto joined = moireIn(
+            dir,
             fmt::format("farm encode frames/f_%03d.png --frames 0..11 --fps 12 -o joined.{}", ext));
         INFO(joined.err);
         REQUIRE(joined.status == 0);
         auto whole =
-            dir.moire(fmt::format("clip anim.moire --fps 12 --frames 12 -o whole.{} -q", ext));
+            moireIn(dir, fmt::format("clip anim.moire --fps 12 --frames 12 -o whole.{} -q", ext));
         INFO(whole.err);
         REQUIRE(whole.status == 0);
         const std::string a = test::readFile(dir.file(fmt::format("joined.{}", ext)));
@@ -58,17 +59,18 @@ TEST_CASE("farm encode of a clip's frames rendered in pieces is byte for byte th
     }
     // A missing frame is an error naming it, and no video is left.
     fs::remove(dir.file("frames/f_007.png"));
-    auto r = dir.moire("farm encode frames/f_%03d.png --frames 0..11 --fps 12 -o gap.mp4");
+    auto r = moireIn(dir, "farm encode frames/f_%03d.png --frames 0..11 --fps 12 -o gap.mp4");
     CHECK(r.status == 3);
     CHECK(r.err.find("f_007.png") != std::string::npos);
     CHECK_FALSE(fs::exists(dir.file("gap.mp4")));
 }
 
 TEST_CASE("farm clip --plan prints the scripts and writes nothing") {
-    Farmdir dir;
-    auto r = dir.moire("farm clip anim.moire --fps 12 --frames 0..9 --shards 3 --workdir w "
-                       "--partition p1 '--sbatch-arg=--time=5' -D 'gap=5' "
-                       "-o out.mp4 --moire /opt/moire --plan");
+    test::TempDir dir("farm");
+    dir.write("anim.moire", kScene);
+    auto r = moireIn(dir, "farm clip anim.moire --fps 12 --frames 0..9 --shards 3 --workdir w "
+                          "--partition p1 '--sbatch-arg=--time=5' -D 'gap=5' "
+                          "-o out.mp4 --moire /opt/moire --plan");
     INFO(r.err);
     REQUIRE(r.status == 0);
     CHECK_FALSE(fs::exists(dir.file("w")));
@@ -89,7 +91,8 @@ TEST_CASE("farm clip --plan prints the scripts and writes nothing") {
 }
 
 TEST_CASE("farm refuses what cannot work before submitting anything") {
-    Farmdir dir;
+    test::TempDir dir("farm");
+    dir.write("anim.moire", kScene);
     const std::string base = "farm clip anim.moire --fps 12 --frames 4 --workdir w ";
     struct Case {
         std::string args, message;
@@ -107,19 +110,19 @@ TEST_CASE("farm refuses what cannot work before submitting anything") {
              {"farm render anim.moire --workdir w --shards 2 -o a.xyz", "unknown format", 2},
          }) {
         CAPTURE(c.args);
-        auto r = dir.moire(c.args);
+        auto r = moireIn(dir, c.args);
         CHECK(r.status == c.status);
         CHECK(r.err.find(c.message) != std::string::npos);
         CHECK(r.err.find("moire: error: ") == 0);
     }
     // A scene with errors is reported as a clip of it would be.
     dir.write("bad.moire", "layer { family = nope }\n");
-    auto bad = dir.moire("farm clip bad.moire --fps 12 --frames 4 --workdir w --shards 2 "
-                         "-o a.mp4");
+    auto bad = moireIn(dir, "farm clip bad.moire --fps 12 --frames 4 --workdir w --shards 2 "
+                            "-o a.mp4");
     CHECK(bad.status == 1);
     CHECK(bad.err.find("bad.moire:1:") == 0);
     // Without sbatch the scripts are not submitted; --plan needs none.
-    auto none = dir.moire(base + "--shards 2 -o a.mp4", "PATH=/nonexistent");
+    auto none = moireIn(dir, base + "--shards 2 -o a.mp4", "PATH=/nonexistent");
     CHECK(none.status == 4);
     CHECK(none.err.find("sbatch is not on PATH") != std::string::npos);
     CHECK_FALSE(fs::exists(dir.file("w")));

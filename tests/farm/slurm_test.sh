@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # moire farm on a real Slurm: a single-node cluster started here (cluster.sh), a 48-frame
-# clip submitted in 6 shards and a 4-tile poster, each compared byte for byte with the same
-# request rendered locally.
+# clip submitted in 6 shards, numbered frames in 3 and a 4-tile poster, each compared byte for
+# byte with the same request rendered locally; and a failing shard, whose join is cancelled.
 #   slurm_test.sh MOIRE_BINARY
 # Exits 77 (ctest: skipped), saying why, when it cannot be root or Slurm or munge is missing.
 set -euo pipefail
@@ -70,6 +70,12 @@ frames=(--fps 24 --size 64x48 --frames 12..23)
   -o "$tmp/farm/frames/f_%03d.png" -q | tee "$tmp/frames.out"
 frames_join=$(join_id "$tmp/frames.out")
 
+# The poster: 4 tiles (2 x 2) of a 16-bit TIFF, each rendered with --region, assembled.
+poster=(--size 96x64 --depth 16 --time 0.5)
+"$moire" farm render "${poster[@]}" --shards 4 --workdir "$tmp/work-poster" \
+  -o "$tmp/farm/poster.tif" -q | tee "$tmp/poster.out"
+poster_join=$(join_id "$tmp/poster.out")
+
 # A shard that fails: Slurm cancels the join, nothing is written, and --wait says so.
 cat >"$tmp/flaky" <<FLAKY
 #!/bin/bash
@@ -91,6 +97,12 @@ echo "ok: a failed shard cancels the join, and --wait reports it"
 # The same requests rendered here, while the cluster works.
 "$moire" clip "${clip[@]}" -o "$tmp/local/clip.mp4" -q
 "$moire" clip "${frames[@]}" -o "$tmp/local/frames/f_%03d.png" -q
+"$moire" render "${poster[@]}" -o "$tmp/local/poster.tif" -q
+
+wait_for "$poster_join"
+cmp "$tmp/farm/poster.tif" "$tmp/local/poster.tif"
+[[ $(ls "$tmp/work-poster/logs" | grep -c '^shard-') == 4 ]]
+echo "ok: a poster in 4 tiles is byte for byte the local render"
 
 wait_for "$frames_join"
 diff -r "$tmp/farm/frames" "$tmp/local/frames"

@@ -37,7 +37,7 @@ TEST_CASE("farm encode of a clip's frames rendered in pieces is byte for byte th
     // The pieces as a farm's shards render them: uneven ranges, 8-bit PNG frames.
     for (const char* range : {"0..4", "5..5", "6..11"}) {
         auto r = moireIn(dir, fmt::format("clip anim.moire --fps 12 --frames {} --depth 8 "
-                                          "-o frames/f_%03d.png -q",
+                                          "-o frames/f_%03d.png -q --backend interp",
                                           range));
         INFO(r.err);
         REQUIRE(r.status == 0);
@@ -49,8 +49,9 @@ TEST_CASE("farm encode of a clip's frames rendered in pieces is byte for byte th
             fmt::format("farm encode frames/f_%03d.png --frames 0..11 --fps 12 -o joined.{}", ext));
         INFO(joined.err);
         REQUIRE(joined.status == 0);
-        auto whole =
-            moireIn(dir, fmt::format("clip anim.moire --fps 12 --frames 12 -o whole.{} -q", ext));
+        auto whole = moireIn(
+            dir, fmt::format("clip anim.moire --fps 12 --frames 12 -o whole.{} -q --backend interp",
+                             ext));
         INFO(whole.err);
         REQUIRE(whole.status == 0);
         const std::string a = test::readFile(dir.file(fmt::format("joined.{}", ext)));
@@ -126,4 +127,56 @@ TEST_CASE("farm refuses what cannot work before submitting anything") {
     CHECK(none.status == 4);
     CHECK(none.err.find("sbatch is not on PATH") != std::string::npos);
     CHECK_FALSE(fs::exists(dir.file("w")));
+}
+
+TEST_CASE("farm through a stand-in sbatch: the joined video and posters are the local files") {
+    // The interpreter, on both sides: no kernel to compile in each of the many runs.
+    // The stand-in runs each array task, then the join, at once and in order, as Slurm would
+    // when every shard succeeds; tests/farm runs the same on a real cluster.
+    test::TempDir dir("farm");
+    dir.write("anim.moire", kScene);
+    fs::create_directories(dir.file("bin"));
+    dir.write("bin/sbatch",
+              "#!/bin/bash\n"
+              "array='' out='' script=''\n"
+              "for a; do case $a in --array=*) array=${a#--array=} ;;\n"
+              "  --output=*) out=${a#--output=} ;; -*) ;; *) script=$a ;; esac; done\n"
+              "if [[ -n $array ]]; then\n"
+              "  for i in $(seq ${array%-*} ${array#*-}); do\n"
+              "    SLURM_ARRAY_TASK_ID=$i bash \"$script\" >\"${out//%a/$i}\" 2>&1 || exit 1\n"
+              "  done\n"
+              "  echo 7\n"
+              "else bash \"$script\" >\"$out\" 2>&1 || exit 1; echo 8; fi\n");
+    fs::permissions(dir.file("bin/sbatch"), fs::perms::owner_all);
+    const std::string path = "PATH='" + dir.file("bin") + "':$PATH";
+    std::vector<std::pair<std::string, std::string>> requests = {
+        {"farm render anim.moire --size 60x40 --time 0.25 --shards 4 --workdir w1 -o farm.png",
+         "render anim.moire --size 60x40 --time 0.25 -o local.png"},
+        {"farm render anim.moire --size 60x40 --shards 2 --workdir w2 -o farm.jpg",
+         "render anim.moire --size 60x40 -o local.jpg"},
+        {"farm render anim.moire --size 60x40 --depth 16 --dpi 300 --shards 2 --workdir w3 -o "
+         "farm.tif",
+         "render anim.moire --size 60x40 --depth 16 --dpi 300 -o local.tif"},
+    };
+    if (test::runCommand("command -v ffmpeg >/dev/null").status == 0)
+        requests.push_back({"farm clip anim.moire --fps 12 --frames 10 --shards 3 --workdir w4 "
+                            "-D gap=6 -o farm.mp4",
+                            "clip anim.moire --fps 12 --frames 10 -D gap=6 -o local.mp4"});
+    else
+        test::skip("ffmpeg is not installed: no farmed video");
+    for (const auto& [farmed, local] : requests) {
+        CAPTURE(farmed);
+        auto f = moireIn(dir, farmed + " --backend interp --wait", path);
+        INFO(f.out, f.err);
+        REQUIRE(f.status == 0);
+        auto l = moireIn(dir, local + " --backend interp -q");
+        REQUIRE(l.status == 0);
+        const std::string ext = fs::path(local).extension().string();
+        const std::string a = test::readFile(dir.file("farm" + ext));
+        CHECK(!a.empty());
+        CHECK(a == test::readFile(dir.file("local" + ext)));
+    }
+    // The pieces are gone once joined; the logs stay.
+    CHECK_FALSE(fs::exists(dir.file("w1/tiles")));
+    CHECK(fs::exists(dir.file("w1/logs/shard-3.log")));
 }

@@ -8,6 +8,7 @@
 #include <doctest/doctest.h>
 #include <mutex>
 #include <stdexcept>
+#include <utility>
 #include <vector>
 
 namespace moire {
@@ -180,12 +181,14 @@ TEST_CASE("tile executor: a region is the frame's window, pixel for pixel") {
         }
 }
 
+// CPU kernels in steps and whole bands, and a GPU kernel (bands from the calling thread).
 TEST_CASE("runKernelInBands: a region's bands count from its top, its rows its own width") {
     const int w = 131, h = 77;
     const TileRect r{17, 11, 100, 60};
     const int rw = r.x1 - r.x0, rh = r.y1 - r.y0;
-    for (int step : {0, 3}) {
-        CoordinateKernel k(false);
+    for (auto [whole, step] : {std::pair{false, 0}, {false, 3}, {true, 0}}) {
+        CAPTURE(whole);
+        CoordinateKernel k(whole);
         ExecOptions o;
         o.threads = 2;
         o.tileSize = 8;

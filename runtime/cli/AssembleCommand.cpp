@@ -1,9 +1,9 @@
 // `moire assemble`: region tiles (render --region) joined into the whole frame, band by band,
 // so that no more than a band of the frame and a band of each tile it crosses is ever in
 // memory. The tiles' placements say where each goes; they must cover the frame exactly once.
-// The whole is written by the same writer, with the same depth and resolution, as `render`
-// writes a whole frame, so that the tiles of a frame assemble into the very file a render of
-// the whole would have made.
+// The whole goes through the same writer (ImageStream.h), with the same depth and resolution,
+// as `render` writes a whole frame, so that the tiles of a frame assemble into the very file a
+// render of the whole would have made.
 #include "runtime/cli/Commands.h"
 #include "runtime/cli/Shared.h"
 #include "runtime/cli/StopSignals.h"
@@ -87,32 +87,6 @@ std::string mismatch(const std::vector<Tile>& tiles) {
     return "";
 }
 
-// The whole frame gathered in memory and written by writeImage at finish(): the stand-in for
-// openImageStream until every format is written band by band.
-class WholeImage : public ImageStream {
-  public:
-    WholeImage(const std::string& path, int width, int height, const WriteOptions& options)
-        : ImageStream(width, height), path_(path), options_(options), image_(width, height, 4) {}
-    void addRows(int y, int count, const float* rows, size_t stride, int channels) override {
-        for (int r = 0; r < count; ++r)
-            for (int x = 0; x < width(); ++x)
-                for (int c = 0; c < 4; ++c)
-                    image_.row(y + r)[x * 4 + c] = rows[static_cast<size_t>(r) * stride +
-                                                        static_cast<size_t>(x) * channels + c];
-    }
-    void finish() override { writeImage(path_, image_, options_); }
-
-  private:
-    std::string path_;
-    WriteOptions options_;
-    Image image_;
-};
-
-std::unique_ptr<ImageStream> openWhole(const std::string& path, int width, int height,
-                                       const WriteOptions& options) {
-    return std::make_unique<WholeImage>(path, width, height, options);
-}
-
 } // namespace
 
 int assemble(const AssembleArgs& args) {
@@ -176,6 +150,10 @@ int assemble(const AssembleArgs& args) {
                    width, height, sizeW, sizeH);
         return kExitUsage;
     }
+    if (std::string problem = sizeProblem(format, width, height); !problem.empty()) {
+        fmt::print(stderr, "moire: error: cannot write '{}': {}\n", args.output, problem);
+        return kExitUsage;
+    }
     std::vector<PlacedTile> placed;
     for (const Tile& t : tiles)
         placed.push_back({t.path, t.info.x, t.info.y, t.info.width, t.info.height});
@@ -195,7 +173,8 @@ int assemble(const AssembleArgs& args) {
     wo.dpi = first.dpi;
     wo.compression = args.compression;
     wo.threads = args.threads;
-    // Linear tiles go into a file of sRGB-encoded samples encoded; an EXR takes them as they are.
+    // Linear tiles (EXR) are sRGB-encoded for a file of sRGB samples; an EXR takes them as
+    // they are.
     const bool toSrgb = first.linear && format != "exr";
     wo.linearRows = first.linear && format == "exr";
 
@@ -203,16 +182,18 @@ int assemble(const AssembleArgs& args) {
     try {
         prepareOutputDirectory(args.output);
         removeStaleTemporaries(args.output);
-        std::unique_ptr<ImageStream> out = openWhole(args.output, width, height, wo);
-        const int bandRows = bandRowsFor(width);
+        std::unique_ptr<ImageStream> out = openImageStream(args.output, format, width, height, wo);
+        // Steps of rows that never cross one of the writer's bands (a PNG's are encoded apart).
+        const int streamBand = std::max(1, out->bandRows());
+        const int step = std::min(streamBand, bandRowsFor(width));
         const size_t stride = static_cast<size_t>(width) * 4;
-        std::vector<float> band(stride * static_cast<size_t>(bandRows));
-        for (int y0 = 0; y0 < height; y0 += bandRows) {
+        std::vector<float> band(stride * static_cast<size_t>(step));
+        for (int y0 = 0, y1; y0 < height; y0 = y1) {
             if (StopSignals::received()) {
                 fmt::print(stderr, "moire: interrupted: {} was not written\n", args.output);
                 return 128 + StopSignals::received();
             }
-            const int y1 = std::min(height, y0 + bandRows);
+            y1 = std::min({height, y0 + step, (y0 / streamBand + 1) * streamBand});
             for (int i : tilesCrossing(placed, y0, y1)) {
                 Tile& t = tiles[static_cast<size_t>(i)];
                 if (!t.reader) t.reader = openTile(t.path);

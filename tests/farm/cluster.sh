@@ -4,8 +4,17 @@
 # Sourced; needs root. start_cluster DIR starts it and exports SLURM_CONF; stop_cluster
 # stops what it started (call it from a trap).
 
+# A port on localhost that nothing listens on: a connection to it is refused. (Bash alone:
+# the chroot CI runs in has no python.)
 free_port() {
-  python3 -c 'import socket; s = socket.socket(); s.bind(("127.0.0.1", 0)); print(s.getsockname()[1])'
+  local port
+  while :; do
+    port=$((20000 + RANDOM % 40000))
+    if ! (exec 3<>"/dev/tcp/127.0.0.1/$port") 2>/dev/null; then
+      echo "$port"
+      return
+    fi
+  done
 }
 
 start_cluster() {
@@ -76,6 +85,8 @@ CONF
 
 stop_cluster() {
   local dir=$1 f
+  # Jobs still running (a test that failed half way) are this cluster's: SLURM_CONF names it.
+  [[ -n "${SLURM_CONF:-}" ]] && timeout 10 scancel --quiet --user="$(id -un)" 2>/dev/null || true
   for f in slurmd slurmctld; do
     [[ -f "$dir/$f.job" ]] && kill "$(cat "$dir/$f.job")" 2>/dev/null || true
   done

@@ -14,7 +14,7 @@ if [[ $(id -u) -ne 0 ]]; then
   echo "skipped: starting Slurm's daemons needs root (or sudo without a password)"
   exit 77
 fi
-for tool in munged slurmctld slurmd sbatch scontrol sinfo ffmpeg python3; do
+for tool in munged slurmctld slurmd sbatch scontrol sinfo ffmpeg; do
   if ! command -v "$tool" >/dev/null; then
     echo "skipped: $tool is not installed (scripts/deps.sh installs slurm-wlm, munge and ffmpeg)"
     exit 77

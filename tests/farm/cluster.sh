@@ -93,5 +93,11 @@ stop_cluster() {
   for f in slurmd slurmctld; do
     [[ -f "$dir/$f.job" ]] && wait "$(cat "$dir/$f.job")" 2>/dev/null || true
   done
-  [[ -f "$dir/munge/munged.pid" ]] && kill "$(cat "$dir/munge/munged.pid")" 2>/dev/null || true
+  if [[ -f "$dir/munge/munged.pid" ]]; then
+    local pid i
+    pid=$(cat "$dir/munge/munged.pid")
+    kill "$pid" 2>/dev/null || true
+    # Not our child, so not waited for: watched until gone (it writes its seed on the way).
+    for i in $(seq 1 50); do kill -0 "$pid" 2>/dev/null || break; sleep 0.1; done
+  fi
 }

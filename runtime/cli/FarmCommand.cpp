@@ -192,7 +192,12 @@ std::vector<std::string> sceneArgument(const FarmArgs& args, const farm::FarmJob
 }
 
 std::string moireOnNodes(const FarmArgs& args) {
-    if (!args.moire.empty()) return args.moire;
+    // A bare name is looked up on the nodes' PATH; a relative path is made absolute, as the
+    // jobs run in the work directory.
+    if (!args.moire.empty())
+        return args.moire.find('/') == std::string::npos
+                   ? args.moire
+                   : fs::absolute(args.moire).lexically_normal().string();
     std::error_code ec;
     fs::path self = fs::read_symlink("/proc/self/exe", ec);
     return ec ? std::string("moire") : self.string();

@@ -91,6 +91,20 @@ TEST_CASE("farm clip --plan prints the scripts and writes nothing") {
     CHECK(r.out.find("--partition=p1 --time=5") != std::string::npos);
 }
 
+TEST_CASE("farm's commands take -q and -v, and their help ends with the exit statuses") {
+    test::TempDir dir("farm");
+    for (const char* verb : {"clip", "render"}) {
+        CAPTURE(verb);
+        auto r = moireIn(dir, fmt::format("farm {} --help", verb));
+        CHECK(r.status == 0);
+        CHECK(r.out.find("-q,--quiet") != std::string::npos);
+        CHECK(r.out.find("-v,--verbose") != std::string::npos);
+        CHECK(r.out.find("Exit status:") != std::string::npos);
+        CHECK(r.out.find("docs/farm.md") != std::string::npos);
+    }
+    CHECK(moireIn(dir, "farm encode --help").out.find("Exit status:") != std::string::npos);
+}
+
 TEST_CASE("farm refuses what cannot work before submitting anything") {
     test::TempDir dir("farm");
     dir.write("anim.moire", kScene);

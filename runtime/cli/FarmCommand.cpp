@@ -169,6 +169,9 @@ int submit(const FarmArgs& args, const farm::FarmJob& job, const Request& reques
     if (!args.verbosity.quiet)
         fmt::print(stderr, "moire farm: {} shards; scripts and logs in {}\n", job.shards.size(),
                    dir.string());
+    if (args.verbosity.verbose)
+        for (size_t i = 0; i < job.shards.size(); ++i)
+            fmt::print(stderr, "moire farm: shard {}: {}\n", i, farm::shellCommand(job.shards[i]));
     int status = runScript((dir / "submit.sh").string());
     return status == 0 ? kExitOk : kExitIo;
 }
@@ -367,6 +370,10 @@ CLI::App* addFarmCommand(CLI::App& app, FarmArgs& args, std::vector<std::string>
     CLI::App* farmCmd = app.add_subcommand(
         "farm", "Render a clip or a poster as shards on a Slurm cluster (docs/farm.md)");
     farmCmd->require_subcommand(1);
+    const std::string footer =
+        "The scripts Slurm runs are written to --workdir and run from there; docs/farm.md\n"
+        "describes them. Exit status: 0 submitted (with --wait: done); 1 the scene has errors;\n"
+        "2 a wrong command line; 3 a file cannot be written, or a job failed; 4 no sbatch.";
     auto addFarmOptions = [&](CLI::App* cmd) {
         cmd->add_option("--shards", args.shards, "How many pieces: frame ranges or tiles")
             ->required();
@@ -392,7 +399,11 @@ CLI::App* addFarmCommand(CLI::App& app, FarmArgs& args, std::vector<std::string>
                         "An extra option for every shard's moire, as --shard-arg=--view=envelope "
                         "(repeatable)");
         addDefineOption(cmd, rawDefines);
-        cmd->add_flag("-q,--quiet", args.verbosity.quiet, "Print nothing but errors");
+        CLI::Option* q =
+            cmd->add_flag("-q,--quiet", args.verbosity.quiet, "Print nothing but errors");
+        cmd->add_flag("-v,--verbose", args.verbosity.verbose, "Also print each shard's command")
+            ->excludes(q);
+        cmd->footer(footer);
     };
 
     CLI::App* clipCmd = farmCmd->add_subcommand(
@@ -433,11 +444,10 @@ CLI::App* addFarmCommand(CLI::App& app, FarmArgs& args, std::vector<std::string>
     encodeCmd->add_option("--fps", args.fps, "Frames per second")->required();
     encodeCmd->add_option("-o,--output", args.output, "The video")->required();
     encodeCmd->add_flag("-q,--quiet", args.verbosity.quiet, "Print nothing but errors");
+    encodeCmd->footer("Exit status: 0 done; 2 a wrong command line; 3 a frame cannot be read or "
+                      "the video\ncannot be written.");
     encodeCmd->callback([&args] { args.mode = FarmArgs::Mode::Encode; });
-    farmCmd->footer("The scripts Slurm runs are written to --workdir and run from there; "
-                    "docs/farm.md\ndescribes them. Exit status: 0 submitted (with --wait: "
-                    "done); 1 the scene has errors;\n2 a wrong command line; 3 a file cannot be "
-                    "written, or a job failed; 4 no sbatch.");
+    farmCmd->footer(footer);
     return farmCmd;
 }
 

@@ -20,17 +20,18 @@ namespace {
 // call; with one, sixteen horizontal bands, so the progress line moves and a cancel is heard
 // (a band boundary costs one round trip to the device, nothing next to the band). False when
 // cancelled.
-bool runWholeFrame(const CompiledKernel& kernel, const KernelFrame& frame,
+bool runWholeFrame(const CompiledKernel& kernel, const KernelFrame& frame, TileRect region,
                    const ExecOptions& options, Image& img) {
-    const size_t rowStride = static_cast<size_t>(frame.imageW) * img.channels;
-    const int bands = options.progress || options.cancelled ? std::min(frame.imageH, 16) : 1;
+    const size_t rowStride = static_cast<size_t>(img.width) * img.channels;
+    const int bands = options.progress || options.cancelled ? std::min(img.height, 16) : 1;
     for (int b = 0; b < bands; ++b) {
         if (options.cancelled && options.cancelled()) return false;
-        const int y0 = static_cast<int>(static_cast<int64_t>(frame.imageH) * b / bands);
-        const int y1 = static_cast<int>(static_cast<int64_t>(frame.imageH) * (b + 1) / bands);
+        const int y0 = static_cast<int>(static_cast<int64_t>(img.height) * b / bands);
+        const int y1 = static_cast<int>(static_cast<int64_t>(img.height) * (b + 1) / bands);
         if (y1 > y0)
-            kernel.runTile(frame, TileRect{0, y0, frame.imageW, y1}, img.row(y0), rowStride);
-        if (options.progress) options.progress(static_cast<double>(y1) / frame.imageH);
+            kernel.runTile(frame, TileRect{region.x0, region.y0 + y0, region.x1, region.y0 + y1},
+                           img.row(y0), rowStride);
+        if (options.progress) options.progress(static_cast<double>(y1) / img.height);
     }
     return true;
 }
@@ -106,6 +107,12 @@ int threadsFor(const ExecOptions& options, int items) {
 
 } // namespace
 
+TileRect regionOf(const KernelFrame& frame, const ExecOptions& options) {
+    const TileRect& r = options.region;
+    if (r.x1 <= r.x0 || r.y1 <= r.y0) return TileRect{0, 0, frame.imageW, frame.imageH};
+    return r;
+}
+
 namespace {
 
 // A GPU kernel's bands (runKernelInBands): whole bands from the calling thread, several to a
@@ -113,32 +120,35 @@ namespace {
 // the buffer stays a few tens of megabytes however wide the frame.
 constexpr int64_t kGpuCallPixels = int64_t{1} << 22;
 
-bool runWholeFrameInBands(const CompiledKernel& kernel, const KernelFrame& frame,
+bool runWholeFrameInBands(const CompiledKernel& kernel, const KernelFrame& frame, TileRect region,
                           const ExecOptions& options, int bandRows, const BandSink& sink,
                           BandTimes* times) {
     using Clock = std::chrono::steady_clock;
     const int n = kernel.numOutputs();
-    const size_t stride = static_cast<size_t>(frame.imageW) * n;
-    const int total = (frame.imageH + bandRows - 1) / bandRows;
-    const int perCall = static_cast<int>(std::clamp<int64_t>(
-        kGpuCallPixels / (int64_t{frame.imageW} * bandRows), 1, std::max(1, total)));
+    // Rows and columns of the region; the kernel takes the frame's.
+    const int width = region.x1 - region.x0, height = region.y1 - region.y0;
+    const size_t stride = static_cast<size_t>(width) * n;
+    const int total = (height + bandRows - 1) / bandRows;
+    const int perCall = static_cast<int>(
+        std::clamp<int64_t>(kGpuCallPixels / (int64_t{width} * bandRows), 1, std::max(1, total)));
     std::vector<float> rows(static_cast<size_t>(perCall) * bandRows * stride);
     double kernelSeconds = 0, sinkSeconds = 0;
     for (int b0 = 0; b0 < total; b0 += perCall) {
         if (options.cancelled && options.cancelled()) return false;
         const int b1 = std::min(total, b0 + perCall);
-        const int y0 = b0 * bandRows, y1 = std::min(frame.imageH, b1 * bandRows);
+        const int y0 = b0 * bandRows, y1 = std::min(height, b1 * bandRows);
         const auto t0 = Clock::now();
-        kernel.runTile(frame, TileRect{0, y0, frame.imageW, y1}, rows.data(), stride);
+        kernel.runTile(frame, TileRect{region.x0, region.y0 + y0, region.x1, region.y0 + y1},
+                       rows.data(), stride);
         const auto t1 = Clock::now();
         for (int b = b0; b < b1; ++b) {
             const int top = b * bandRows;
-            sink(b, 0, std::min(frame.imageH, top + bandRows) - top,
+            sink(b, 0, std::min(height, top + bandRows) - top,
                  rows.data() + static_cast<size_t>(top - y0) * stride, stride);
         }
         kernelSeconds += std::chrono::duration<double>(t1 - t0).count();
         sinkSeconds += std::chrono::duration<double>(Clock::now() - t1).count();
-        if (options.progress) options.progress(static_cast<double>(y1) / frame.imageH);
+        if (options.progress) options.progress(static_cast<double>(y1) / height);
     }
     if (times) {
         times->kernel += kernelSeconds;
@@ -153,14 +163,16 @@ bool runKernelInBands(const CompiledKernel& kernel, const KernelFrame& frame,
                       const ExecOptions& options, int bandRows, const BandSink& sink,
                       BandTimes* times, int stepRows) {
     const int n = kernel.numOutputs();
+    const TileRect region = regionOf(frame, options);
+    const int width = region.x1 - region.x0, height = region.y1 - region.y0;
     bandRows = std::max(1, bandRows);
     if (kernel.wholeFrame())
-        return runWholeFrameInBands(kernel, frame, options, bandRows, sink, times);
+        return runWholeFrameInBands(kernel, frame, region, options, bandRows, sink, times);
     stepRows = stepRows > 0 ? std::min(stepRows, bandRows) : bandRows;
-    const int total = (frame.imageH + bandRows - 1) / bandRows;
+    const int total = (height + bandRows - 1) / bandRows;
     const int ts = std::max(8, options.tileSize);
     const int threads = threadsFor(options, total);
-    const size_t stride = static_cast<size_t>(frame.imageW) * n;
+    const size_t stride = static_cast<size_t>(width) * n;
     std::vector<std::vector<float>> buffers(static_cast<size_t>(threads));
     std::mutex timesMutex;
     using Clock = std::chrono::steady_clock;
@@ -198,19 +210,21 @@ bool runKernelInBands(const CompiledKernel& kernel, const KernelFrame& frame,
         }
         std::vector<float>& rows = buffers[static_cast<size_t>(w)];
         rows.resize(static_cast<size_t>(stepRows) * stride);
-        const int top = b * bandRows, bottom = std::min(frame.imageH, top + bandRows);
+        // Rows and columns of the region here; the kernel takes the frame's.
+        const int top = b * bandRows, bottom = std::min(height, top + bandRows);
         double kernelSeconds = 0, sinkSeconds = 0;
         try {
             for (int y0 = top; y0 < bottom; y0 += stepRows) {
                 const int y1 = std::min(bottom, y0 + stepRows);
                 const auto t0 = Clock::now();
-                for (int x0 = 0; x0 < frame.imageW; x0 += ts) {
+                for (int x0 = 0; x0 < width; x0 += ts) {
                     if ((x0 > 0 || y0 > top) && options.cancelled && options.cancelled()) {
                         stop();
                         return false;
                     }
-                    kernel.runTile(frame, TileRect{x0, y0, std::min(x0 + ts, frame.imageW), y1},
-                                   rows.data() + static_cast<size_t>(x0) * n, stride);
+                    const TileRect tile{region.x0 + x0, region.y0 + y0,
+                                        region.x0 + std::min(x0 + ts, width), region.y0 + y1};
+                    kernel.runTile(frame, tile, rows.data() + static_cast<size_t>(x0) * n, stride);
                 }
                 const auto t1 = Clock::now();
                 sink(b, y0 - top, y1 - y0, rows.data(), stride);
@@ -240,26 +254,31 @@ bool runKernelInBands(const CompiledKernel& kernel, const KernelFrame& frame,
 Image runKernel(const CompiledKernel& kernel, const KernelFrame& frame,
                 const ExecOptions& options) {
     const int n = kernel.numOutputs();
+    const TileRect region = regionOf(frame, options);
+    const int width = region.x1 - region.x0, height = region.y1 - region.y0;
     // Every pixel is written by the kernel (Backend.h).
-    Image img = Image::forOverwrite(frame.imageW, frame.imageH, n);
+    Image img = Image::forOverwrite(width, height, n);
     // (`return ok ? img : Image()` would copy the frame: a conditional of an lvalue and a
     // prvalue is a prvalue, so no move.)
     if (kernel.wholeFrame()) {
-        if (!runWholeFrame(kernel, frame, options, img)) return Image();
+        if (!runWholeFrame(kernel, frame, region, options, img)) return Image();
         return img;
     }
+    // Tiles from the region's corner; r is in the image's pixels, the kernel takes the frame's.
     const int ts = std::max(8, options.tileSize);
-    const int tilesX = (frame.imageW + ts - 1) / ts;
-    const int tilesY = (frame.imageH + ts - 1) / ts;
+    const int tilesX = (width + ts - 1) / ts;
+    const int tilesY = (height + ts - 1) / ts;
     const int total = tilesX * tilesY;
-    const size_t rowStride = static_cast<size_t>(frame.imageW) * n;
+    const size_t rowStride = static_cast<size_t>(width) * n;
     const bool finished = runItems(total, threadsFor(options, total), options, [&](int t, int) {
         TileRect r;
         r.x0 = (t % tilesX) * ts;
         r.y0 = (t / tilesX) * ts;
-        r.x1 = std::min(r.x0 + ts, frame.imageW);
-        r.y1 = std::min(r.y0 + ts, frame.imageH);
-        kernel.runTile(frame, r, img.row(r.y0) + static_cast<size_t>(r.x0) * n, rowStride);
+        r.x1 = std::min(r.x0 + ts, width);
+        r.y1 = std::min(r.y0 + ts, height);
+        const TileRect inFrame{region.x0 + r.x0, region.y0 + r.y0, region.x0 + r.x1,
+                               region.y0 + r.y1};
+        kernel.runTile(frame, inFrame, img.row(r.y0) + static_cast<size_t>(r.x0) * n, rowStride);
         return true;
     });
     if (!finished) return Image();

@@ -20,9 +20,18 @@ struct ExecOptions {
     // says true the frame is abandoned and runKernel returns an empty image (width 0). The
     // viewer drops a frame this way when a newer one is wanted.
     std::function<bool()> cancelled;
+    // The window of the frame to render, in the frame's pixels (render --region); empty (the
+    // default): the whole frame. The kernel still sees the whole frame's size, so a pixel of a
+    // region is the very pixel the whole frame has there, whatever the backend.
+    TileRect region;
 };
 
-// Evaluates `kernel` at every pixel of a width x height image.
+// The window `options` asks of a frame of `frame`'s size: its region, or the whole frame when
+// that is empty. The region must lie inside the frame (the command line checks it).
+TileRect regionOf(const KernelFrame& frame, const ExecOptions& options);
+
+// Evaluates `kernel` at every pixel of the frame's region (options.region, else the whole
+// frame); the image is the region's size, its row 0 the region's top row.
 Image runKernel(const CompiledKernel& kernel, const KernelFrame& frame,
                 const ExecOptions& options = {});
 
@@ -32,17 +41,18 @@ struct BandTimes {
     double sink = 0.0;   // in the sink
 };
 
-// Called with `count` rows of band `band` from its row `first` (the frame's row
-// band * bandRows + first; numOutputs() floats a pixel, `stride` floats from one row to the
-// next), on the thread that renders the band: a band's rows come in order, and the call with
-// its last rows ends it.
+// Called with `count` rows of band `band` from its row `first` (the region's row
+// band * bandRows + first, the region's width; numOutputs() floats a pixel, `stride` floats from
+// one row to the next), on the thread that renders the band: a band's rows come in order, and the
+// call with its last rows ends it.
 using BandSink =
     std::function<void(int band, int first, int count, const float* rows, size_t stride)>;
 
-// Evaluates `kernel` in whole-width bands of `bandRows` rows, handing each to `sink` as soon
-// as it is done, and no image of the whole frame is ever made. A CPU kernel: each worker takes
-// the next band in order and renders it `stepRows` rows at a time (0: the whole band at once),
-// tile by tile into a buffer of its own, so rows are encoded while they are still in the
+// Evaluates `kernel` over the frame's region (options.region, else the whole frame) in
+// region-wide bands of `bandRows` rows counted from the region's top, handing each to `sink`
+// as soon as it is done, and no image of the whole frame is ever made. A CPU kernel: each worker
+// takes the next band in order and renders it `stepRows` rows at a time (0: the whole band at
+// once), tile by tile into a buffer of its own, so rows are encoded while they are still in the
 // cache: memory holds one step a thread; a worker waits before a band more than `threads`
 // bands below the first unfinished one, so a sink that keeps bands until those above them
 // come holds a few. A GPU kernel (wholeFrame()): a few bands to a device call from the

@@ -1,14 +1,16 @@
 // The tile executor: every pixel once, whatever the tiling and thread count; and a frame
 // abandoned part way when asked. runKernelInBands: every band once with every pixel of it; a
-// failure in the sink stops the frame; a cancelled frame says so.
+// failure in the sink stops the frame; a cancelled frame says so; a region is the frame's window.
 #include "runtime/TileExecutor.h"
 
+#include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <doctest/doctest.h>
 #include <mutex>
 #include <stdexcept>
 #include <thread>
+#include <utility>
 #include <vector>
 
 namespace moire {
@@ -182,6 +184,70 @@ TEST_CASE("runKernelInBands: a cancelled frame hands over no band after the canc
                                  }));
     // The two workers may each have been in a band when the third arrived.
     CHECK(bands.load() <= 4);
+}
+
+// A region: the image is the window, each pixel the frame's pixel there (the kernel writes
+// its frame coordinates), on the tiled and whole-frame paths, windows touching the frame's
+// edges and of sizes no multiple of the tile.
+TEST_CASE("tile executor: a region is the frame's window, pixel for pixel") {
+    const int w = 131, h = 77;
+    for (bool whole : {false, true})
+        for (TileRect r : {TileRect{0, 0, w, h}, TileRect{5, 3, 70, 40}, TileRect{64, 0, w, 9},
+                           TileRect{0, 70, 1, h}, TileRect{130, 76, w, h}}) {
+            CAPTURE(whole);
+            CAPTURE(r.x0);
+            CAPTURE(r.y0);
+            CoordinateKernel k(whole);
+            ExecOptions o;
+            o.threads = 3;
+            o.tileSize = 16;
+            o.region = r;
+            o.progress = [](double) {};
+            Image img = runKernel(k, KernelFrame{nullptr, w, h}, o);
+            REQUIRE(img.width == r.x1 - r.x0);
+            REQUIRE(img.height == r.y1 - r.y0);
+            int wrong = 0;
+            for (int y = 0; y < img.height; ++y)
+                for (int x = 0; x < img.width; ++x)
+                    wrong += img.at(x, y, 0) != r.x0 + x || img.at(x, y, 1) != r.y0 + y;
+            CHECK(wrong == 0);
+        }
+}
+
+// CPU kernels in steps and whole bands, and a GPU kernel (bands from the calling thread).
+TEST_CASE("runKernelInBands: a region's bands count from its top, its rows its own width") {
+    const int w = 131, h = 77;
+    const TileRect r{17, 11, 100, 60};
+    const int rw = r.x1 - r.x0, rh = r.y1 - r.y0;
+    for (auto [whole, step] : {std::pair{false, 0}, {false, 3}, {true, 0}}) {
+        CAPTURE(whole);
+        CoordinateKernel k(whole);
+        ExecOptions o;
+        o.threads = 2;
+        o.tileSize = 8;
+        o.region = r;
+        const int bandRows = 16;
+        std::vector<int> rowsSeen(static_cast<size_t>(rh), 0);
+        std::mutex m;
+        int wrong = 0;
+        CHECK(runKernelInBands(
+            k, KernelFrame{nullptr, w, h}, o, bandRows,
+            [&](int band, int first, int count, const float* rows, size_t stride) {
+                int bad = stride != static_cast<size_t>(rw) * 2;
+                const int y0 = band * bandRows + first;
+                for (int y = y0; y < y0 + count; ++y)
+                    for (int x = 0; x < rw; ++x) {
+                        const float* p = rows + (y - y0) * stride + x * 2;
+                        bad += p[0] != r.x0 + x || p[1] != r.y0 + y;
+                    }
+                std::lock_guard<std::mutex> lock(m);
+                for (int y = y0; y < y0 + count; ++y) ++rowsSeen.at(static_cast<size_t>(y));
+                wrong += bad;
+            },
+            nullptr, step));
+        CHECK(wrong == 0);
+        CHECK(std::count(rowsSeen.begin(), rowsSeen.end(), 1) == rh);
+    }
 }
 
 } // namespace moire

@@ -29,6 +29,7 @@ packages=(
   libimgui-dev                   # the viewer's parameter panel (Dear ImGui over GLFW and OpenGL 2)
   libcpp-httplib-dev             # moire serve: the preview page's HTTP server
   chromium                       # the browser tests of moire serve's and moire export's pages
+  slurm-wlm munge                # moire farm's test: a one-node Slurm cluster (tests/farm)
 )
 
 if [[ "${1:-}" == "--list" ]]; then

@@ -4,6 +4,7 @@
 #include "compiler/backend/js/JsFrame.h"
 #include "compiler/backend/llvm/LlvmJit.h"
 #include "compiler/Compile.h"
+#include "runtime/cli/Region.h"
 #include "runtime/cli/Shared.h"
 #include "runtime/cli/StopSignals.h"
 #include "runtime/output/ImageIO.h"
@@ -271,6 +272,20 @@ int render(const RenderArgs& args) {
                    image.output);
         return kExitUsage;
     }
+    std::optional<Region> region;
+    if (!args.region.empty()) {
+        std::string why;
+        if (!(region = parseRegion(args.region, why))) {
+            fmt::print(stderr, "moire: error: --region {}\n", why);
+            return kExitUsage;
+        }
+        if (image.format == "jpeg") {
+            fmt::print(stderr,
+                       "moire: error: --region: a JPEG cannot record where the region sits in "
+                       "its frame; write the region as .png, .tif or .exr\n");
+            return kExitUsage;
+        }
+    }
     const std::string output = toStdout ? std::string("standard output") : image.output;
     // From here on SIGINT and SIGTERM stop the render between tiles: status 128 + the
     // signal, a line saying so, and no file (and no temporary) written.
@@ -312,13 +327,28 @@ int render(const RenderArgs& args) {
         fmt::print(stderr, "{}", diags);
         return kExitScene;
     }
+    // The image: the frame, or its region (the kernel still sees the whole frame).
+    ExecOptions exec;
+    WriteOptions wo;
+    int outW = frame.width, outH = frame.height;
+    if (region) {
+        if (std::string why = regionProblem(*region, frame.width, frame.height); !why.empty()) {
+            fmt::print(stderr, "moire: error: --region {}\n", why);
+            return kExitUsage;
+        }
+        exec.region = TileRect{region->x0, region->y0, region->x1, region->y1};
+        outW = region->width(), outH = region->height();
+        // A region that is the whole frame is written as the whole frame.
+        if (outW != frame.width || outH != frame.height) {
+            wo.originX = region->x0, wo.originY = region->y0;
+            wo.fullWidth = frame.width, wo.fullHeight = frame.height;
+        }
+    }
     // The size may be the scene's own: checked against the format once it is known.
-    if (std::string problem = sizeProblem(image.format, frame.width, frame.height);
-        !problem.empty()) {
+    if (std::string problem = sizeProblem(image.format, outW, outH); !problem.empty()) {
         fmt::print(stderr, "moire: error: cannot write '{}': {}\n", output, problem);
         return kExitUsage;
     }
-    WriteOptions wo;
     wo.depth = image.depth;
     wo.dpi = args.dpi;
     wo.compression = args.compression;
@@ -327,8 +357,8 @@ int render(const RenderArgs& args) {
     // to the file as soon as the bands above it have (ImageStream.h), so no image of the whole
     // frame is made and memory is bounded by a few bands.
     FrameFootprint footprint;
-    footprint.width = frame.width;
-    footprint.height = frame.height;
+    footprint.width = outW;
+    footprint.height = outH;
     footprint.channels = program->kernel.numOutputs;
     footprint.format = image.format;
     footprint.gpu = args.backend == "vulkan";
@@ -338,7 +368,6 @@ int render(const RenderArgs& args) {
     footprint.streamed = !toStdout;
     if (!checkMemory(footprint)) return kExitMachine;
 
-    ExecOptions exec;
     exec.threads = args.threads;
     exec.cancelled = [] { return StopSignals::received() != 0; };
     bool tty = isatty(fileno(stderr));
@@ -347,7 +376,7 @@ int render(const RenderArgs& args) {
         exec.progress = [&](double fraction) {
             // Only renders that take over a second get a progress line.
             if (secondsSince(t0) < 1.0 || !tty) return;
-            fmt::print(stderr, "\rmoire: rendering {}x{} on {} {:3.0f}%", frame.width, frame.height,
+            fmt::print(stderr, "\rmoire: rendering {}x{} on {} {:3.0f}%", outW, outH,
                        backend->name(), fraction * 100.0);
             std::fflush(stderr);
             shown = true;
@@ -361,8 +390,7 @@ int render(const RenderArgs& args) {
         std::unique_ptr<CompiledKernel> kernel = backend->compile(program->kernel);
         kernelCompile = secondsSince(c0);
         const KernelFrame kf{frame.uniforms.data(), frame.width, frame.height};
-        stream = openImageStream(toStdout ? kStdoutPath : output, image.format, frame.width,
-                                 frame.height, wo);
+        stream = openImageStream(toStdout ? kStdoutPath : output, image.format, outW, outH, wo);
         const int channels = kernel->numOutputs();
         const int bandRows = stream->bandRows();
         runKernelInBands(
@@ -398,8 +426,7 @@ int render(const RenderArgs& args) {
     }
 
     if (shown) fmt::print(stderr, "\n");
-    stages.done(fmt::format("rendered {}x{} on {}{}", frame.width, frame.height, describe(*backend),
-                            cached));
+    stages.done(fmt::format("rendered {}x{} on {}{}", outW, outH, describe(*backend), cached));
     // The end of the file (a PNG's last chunk, a TIFF's directory, the fsync of gigabytes)
     // is a stage of its own on the progress line, not a bar sitting at 100%.
     if (shown) {
@@ -423,9 +450,8 @@ int render(const RenderArgs& args) {
         fmt::print(stderr,
                    "moire: wrote {} ({}x{}, {}, {:.0f} ms: compile {:.0f}, render {:.0f}, "
                    "encode and write {:.0f})\n",
-                   output, frame.width, frame.height, describe(*backend), seconds * 1000.0,
-                   compiledAt * 1000.0, (renderedAt - compiledAt) * 1000.0,
-                   (seconds - renderedAt) * 1000.0);
+                   output, outW, outH, describe(*backend), seconds * 1000.0, compiledAt * 1000.0,
+                   (renderedAt - compiledAt) * 1000.0, (seconds - renderedAt) * 1000.0);
     return kExitOk;
 }
 

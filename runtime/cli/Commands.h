@@ -27,6 +27,9 @@ struct RenderArgs {
     std::string scene;  // empty: the embedded default scene
     std::string output; // empty: <scene stem>.png in the current directory
     std::string size;   // "WxH", empty: the scene's
+    // --region "X0,Y0,X1,Y1": only that window of the frame, at the frame's pixel grid, its
+    // place recorded in the file for `moire assemble`; empty: the whole frame.
+    std::string region;
     double time = 0.0;
     std::string backend = "jit";
     int device = -1;   // --device (vulkan): -1 the first discrete GPU, else the first device
@@ -42,6 +45,19 @@ struct RenderArgs {
     Defines defines; // -D NAME=VALUE
 };
 int render(const RenderArgs& args);
+
+// `moire assemble`: region tiles (render --region) joined into the whole frame, written as
+// render writes a whole frame (AssembleCommand.cpp).
+struct AssembleArgs {
+    std::vector<std::string> tiles;
+    std::string output;
+    std::string size;     // "WxH": the frame the tiles must make; empty: the one they name
+    std::string depth;    // empty: the tiles' (the format's default when it cannot hold it)
+    int compression = -1; // PNG's zlib level; -1: render's default
+    int threads = 0;
+    Verbosity verbosity;
+};
+int assemble(const AssembleArgs& args);
 
 // `moire clip`: frame n at exactly t = from + n / fps, to numbered images or a video.
 // Exits 130 (143 for SIGTERM) when interrupted, after the frame in hand.

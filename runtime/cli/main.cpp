@@ -7,6 +7,7 @@
 #include "runtime/cli/Commands.h"
 #include "runtime/cli/DefineOption.h"
 #include "runtime/cli/ExportCommand.h"
+#include "runtime/cli/FarmCommand.h"
 #include "runtime/cli/ServeCommand.h"
 #include "runtime/output/ImageIO.h"
 #include "runtime/output/JitCache.h"
@@ -112,6 +113,10 @@ int main(int argc, char** argv) {
                           "Image to write: .png (8/16-bit), .tif (16/8-bit), .exr (float/half), "
                           ".jpg; - for a PNG on standard output (default: <scene>.png)");
     addImageOptions(renderCmd, renderArgs);
+    renderCmd->add_option("--region", renderArgs.region,
+                          "Render only the window X0,Y0,X1,Y1 of the frame (pixels of the full "
+                          "frame, X1 and Y1 excluded), its place recorded in the file for "
+                          "'moire assemble'; .png, .tif or .exr");
     renderCmd->add_option("--dpi", renderArgs.dpi,
                           "Print resolution to record in the file, in dots per inch (above 0, "
                           "at most 1000000; default 0: none recorded)");
@@ -137,6 +142,33 @@ int main(int argc, char** argv) {
         "directory is created. A write that fails (a full disk) is an error and leaves any\n"
         "earlier file as it was. Ctrl-C stops the render with status 130 and writes nothing.\n" +
         exitStatuses("the scene has errors"));
+
+    cli::AssembleArgs assembleArgs;
+    CLI::App* assembleCmd =
+        app.add_subcommand("assemble", "Join region tiles (render --region) into the whole image");
+    assembleCmd
+        ->add_option("tiles", assembleArgs.tiles,
+                     "The tiles: .png, .tif or .exr files written by render --region")
+        ->required();
+    assembleCmd
+        ->add_option("-o,--output", assembleArgs.output, "Image to write: .png, .tif, .exr or .jpg")
+        ->required();
+    assembleCmd->add_option("--size", assembleArgs.size,
+                            "The frame WIDTHxHEIGHT the tiles must make (default: the size they "
+                            "record)");
+    addDepth(assembleCmd, assembleArgs.depth, "Bits per channel (default: the tiles')");
+    assembleCmd->add_option(
+        "--compression", assembleArgs.compression,
+        fmt::format("PNG's zlib level, 0 to 9; default {}, as render's", kPrintCompression));
+    addThreads(assembleCmd, assembleArgs.threads);
+    addVerbosity(assembleCmd, assembleArgs.verbosity);
+    assembleCmd->footer(
+        "Each tile's place in the frame is read from the file. The tiles must cover the frame\n"
+        "exactly once, and agree in frame size, channels, depth and resolution. The whole is\n"
+        "written band by band, as render writes it: the tiles of a frame assemble into the\n"
+        "very file render makes of the whole with the same options.\n"
+        "Exit status: 0 done; 2 a wrong command line, or tiles that do not make one frame;\n"
+        "3 a tile that cannot be read or an image that cannot be written; 130 interrupted.");
 
     cli::ClipArgs clipArgs;
     CLI::App* clipCmd = app.add_subcommand(
@@ -293,6 +325,8 @@ int main(int argc, char** argv) {
     namesCmd->footer("Exit status: 0 done; 2 a wrong command line.");
     cli::ExportArgs exportArgs;
     CLI::App* exportCmd = cli::addExportCommand(app, exportArgs, rawDefines);
+    cli::FarmArgs farmArgs;
+    CLI::App* farmCmd = cli::addFarmCommand(app, farmArgs, rawDefines);
     CLI::App* lspCmd = app.add_subcommand(
         "lsp", "Serve the Language Server Protocol on standard input and output (docs/editors.md)");
     lspCmd->footer("Started by an editor, not by hand. Exit status: 0 after shutdown, else 1.");
@@ -312,10 +346,12 @@ int main(int argc, char** argv) {
         }
         renderArgs.defines = clipArgs.defines = watchArgs.defines = viewArgs.defines = defines;
         exportArgs.defines = defines;
+        farmArgs.defines = defines;
         serveArgs.defines = defines;
     }
     try {
         if (*renderCmd) return cli::render(renderArgs);
+        if (*assembleCmd) return cli::assemble(assembleArgs);
         if (*clipCmd) {
             clipArgs.hasTo = toOpt->count() > 0;
             return cli::clip(clipArgs);
@@ -332,6 +368,7 @@ int main(int argc, char** argv) {
         if (*fmtCmd) return cli::formatFiles(fmtArgs);
         if (*namesCmd) return cli::names(namesArgs);
         if (*exportCmd) return cli::exportPiece(exportArgs);
+        if (*farmCmd) return cli::farm(farmArgs, rawDefines);
         if (*lspCmd) return lsp::runServer(0, 1);
         fmt::print("{}", app.help());
         return 0;

@@ -67,7 +67,9 @@ BandedPng::BandedPng(const std::string& path, int width, int height, const Write
     : path_(path), stream_(stream) {
     if (std::string problem = depthProblem("png", options.depth); !problem.empty())
         throw IoError(problem);
-    chunks_ = pngColourChunks(options.dpi, "moire " MOIRE_VERSION);
+    chunks_ = pngColourChunks(
+        options.dpi, "moire " MOIRE_VERSION,
+        PngPlacement{options.originX, options.originY, options.fullWidth, options.fullHeight});
     try {
         png_ = std::make_unique<PngBands>(width, height, options.depth == PixelDepth::U16 ? 16 : 8,
                                           options.compression >= 0 ? options.compression
@@ -152,7 +154,7 @@ std::vector<unsigned char> encodeImage(const std::string& path, const std::strin
     if (std::string problem = depthProblem(format, options.depth); !problem.empty())
         throw IoError(problem);
     const int outChannels = format == "jpeg" ? 3 : 4;
-    const bool linear = format == "exr";
+    const bool linear = format == "exr" && !options.linearRows;
 
     // The other writers take the whole image as floats in the file's channels, clamped (and
     // linear for EXR), made in bands on every thread.

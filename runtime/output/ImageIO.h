@@ -46,6 +46,9 @@ struct WriteOptions {
     // so that `moire assemble` can put a tile back in its place.
     int originX = 0, originY = 0;
     int fullWidth = 0, fullHeight = 0;
+    // The rows are linear already (moire assemble joining EXR tiles into an EXR): an EXR
+    // takes them as they come instead of decoding sRGB. The other formats ignore it.
+    bool linearRows = false;
     // TIFF's and EXR's compression as OpenImageIO names it ("zip", "lzw", "none"); empty:
     // zip (moire_poster_bench compares them).
     std::string codec;

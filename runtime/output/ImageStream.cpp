@@ -161,7 +161,7 @@ class OiioStream final : public ImageStream {
     OiioStream(const std::string& path, const std::string& format, int width, int height,
                const WriteOptions& options)
         : ImageStream(width, height), path_(path), channels_(format == "jpeg" ? 3 : 4),
-          linear_(format == "exr") {
+          linear_(format == "exr" && !options.linearRows) {
         const OiioCodec& codec = oiioCodec();
         // Through the checked writer's temporary (OutputFile.h): JPEG only appends, so its
         // bytes go to it as they come; TIFF and EXR seek back to write their directories,

@@ -2,11 +2,17 @@
 // libmoire_oiio.so that moire loads the first time a file needs it.
 #include "runtime/output/OiioCodec.h"
 
+#include "runtime/output/PngBands.h"
+
+#include <algorithm>
 #include <cerrno>
+#include <cmath>
 #include <cstdint>
+#include <cstdio>
 #include <cstring>
 #include <exception>
 #include <fmt/format.h>
+#include <fstream>
 #include <OpenImageIO/filesystem.h>
 #include <OpenImageIO/imageio.h>
 #include <sys/mman.h>
@@ -88,6 +94,8 @@ std::vector<unsigned char> encode(const std::string& path, const std::string& fo
                             : encodeInMemory(path, format, spec, pixels);
 }
 
+constexpr int kNoDate = 0;
+
 // The file's spec as OpenImageIO's writer for `format` takes it: type, alpha, colour space,
 // resolution, compression (the caller has checked the format can hold the depth).
 OIIO::ImageSpec specFor(const std::string& format, int width, int height,
@@ -123,6 +131,11 @@ OIIO::ImageSpec specFor(const std::string& format, int width, int height,
     }
     spec.attribute("oiio:ColorSpace", format == "exr" ? "Linear" : "sRGB");
     spec.attribute("Software", "moire " MOIRE_VERSION);
+    // No date in a TIFF: an image is the same file whenever it is made (assembled tiles are
+    // the whole render's bytes). OpenImageIO's TIFF writer adds the current time unless the
+    // spec has a DateTime, and one that is not a string it writes nowhere. (Its EXR writer
+    // complains on standard output of such a DateTime, so an EXR keeps its capDate.)
+    if (format == "tiff") spec.attribute("DateTime", OIIO::TypeDesc::INT, &kNoDate);
     if (options.dpi > 0) {
         spec.attribute("XResolution", static_cast<float>(options.dpi));
         spec.attribute("YResolution", static_cast<float>(options.dpi));
@@ -364,11 +377,162 @@ Image readFile(const std::string& path) {
     return img;
 }
 
+// A TIFF's XPosition and YPosition in pixels, read from its first directory: OpenImageIO
+// stores a region's corner there divided by the resolution, as a 32-bit float, and reads it
+// back truncated, so that a corner at 99999 at 300 dpi comes back as 99998. The rationals
+// themselves times the resolution, rounded, are exact. False when the file has no position
+// (or is not a TIFF this can read); classic and BigTIFF, either byte order.
+bool tiffPosition(const std::string& path, int& x, int& y) {
+    // Read through a stream opened for reading only (OutputFile.h's rule: no other way of
+    // opening a file that could write it).
+    std::ifstream in(path, std::ios::binary);
+    if (!in) return false;
+    auto readAt = [&](uint64_t at, unsigned char* out, size_t n) {
+        in.clear();
+        in.seekg(static_cast<std::streamoff>(at));
+        in.read(reinterpret_cast<char*>(out), static_cast<std::streamsize>(n));
+        return in.good() && static_cast<size_t>(in.gcount()) == n;
+    };
+    unsigned char head[16];
+    if (!readAt(0, head, 16)) return false;
+    const bool little = head[0] == 'I' && head[1] == 'I';
+    if (!little && !(head[0] == 'M' && head[1] == 'M')) return false;
+    auto num = [&](const unsigned char* p, int bytes) {
+        uint64_t v = 0;
+        for (int i = 0; i < bytes; ++i) v |= uint64_t{p[little ? i : bytes - 1 - i]} << (8 * i);
+        return v;
+    };
+    const uint64_t magic = num(head + 2, 2);
+    if (magic != 42 && magic != 43) return false;
+    const bool big = magic == 43;
+    const int offsetBytes = big ? 8 : 4, entryBytes = big ? 20 : 12, countBytes = big ? 8 : 2;
+    const uint64_t ifd = big ? num(head + 8, 8) : num(head + 4, 4);
+    unsigned char countField[8];
+    if (!readAt(ifd, countField, static_cast<size_t>(countBytes))) return false;
+    const uint64_t entries = num(countField, countBytes);
+    if (entries > 4096) return false;
+    std::vector<unsigned char> dir(static_cast<size_t>(entries * entryBytes));
+    if (!readAt(ifd + static_cast<uint64_t>(countBytes), dir.data(), dir.size())) return false;
+    // Tag -> its RATIONAL value (type 5: two unsigned 32-bit numbers, kept at the offset the
+    // entry holds, or in the entry itself when it fits there, as in BigTIFF).
+    auto rational = [&](unsigned tag, double& out) {
+        for (uint64_t i = 0; i < entries; ++i) {
+            const unsigned char* e = dir.data() + i * entryBytes;
+            if (num(e, 2) != tag || num(e + 2, 2) != 5) continue;
+            unsigned char value[8];
+            const unsigned char* field = e + 4 + offsetBytes;
+            if (big) {
+                std::memcpy(value, field, 8);
+            } else if (!readAt(num(field, 4), value, 8)) {
+                return false;
+            }
+            const uint64_t n = num(value, 4), d = num(value + 4, 4);
+            if (d == 0) return false;
+            out = static_cast<double>(n) / static_cast<double>(d);
+            return true;
+        }
+        return false;
+    };
+    double xpos = 0, ypos = 0, xres = 1, yres = 1;
+    if (!rational(286, xpos) || !rational(287, ypos)) return false;
+    if (!rational(282, xres) || xres < 1) xres = 1; // as the writer divided
+    if (!rational(283, yres) || yres < 1) yres = 1;
+    x = static_cast<int>(std::lround(xpos * xres));
+    y = static_cast<int>(std::lround(ypos * yres));
+    return true;
+}
+
+// "WIDTHxHEIGHT" of a PNG's full-size text (PngBands.h); false when it is not that.
+bool parseFullSize(const std::string& text, int& w, int& h) {
+    char tail = 0;
+    return std::sscanf(text.c_str(), "%dx%d%c", &w, &h, &tail) == 2 && w > 0 && h > 0;
+}
+
+class OiioRowReader : public ImageRowReader {
+  public:
+    explicit OiioRowReader(const std::string& path) : path_(path) {
+        OIIO::ImageSpec config;
+        config.attribute("oiio:UnassociatedAlpha", 1); // straight alpha, as stored
+        in_ = OIIO::ImageInput::open(path, &config);
+        if (!in_) throw IoError(fmt::format("cannot read '{}': {}", path, OIIO::geterror()));
+        const OIIO::ImageSpec& spec = in_->spec();
+        if (spec.depth > 1 || spec.nchannels < 1)
+            throw IoError(fmt::format("cannot read '{}': not a flat image", path));
+        ImageFileInfo& i = info_;
+        i.width = spec.width;
+        i.height = spec.height;
+        i.channels = spec.nchannels;
+        switch (spec.format.basetype) {
+        case OIIO::TypeDesc::UINT8:
+            i.depth = PixelDepth::U8;
+            break;
+        case OIIO::TypeDesc::UINT16:
+            i.depth = PixelDepth::U16;
+            break;
+        case OIIO::TypeDesc::HALF:
+            i.depth = PixelDepth::Half;
+            break;
+        default:
+            i.depth = PixelDepth::Float;
+            break;
+        }
+        const std::string unit = spec.get_string_attribute("ResolutionUnit");
+        const float xres = spec.get_float_attribute("XResolution", 0.0f);
+        const std::string format = in_->format_name();
+        if (xres > 0 && format == "png") // pHYs in pixels per metre (PngBands.h)
+            i.dpi = pngDpiOf(static_cast<uint32_t>(std::lround(xres / 0.0254)));
+        else if (xres > 0 && (unit == "inch" || unit == "in"))
+            i.dpi = xres;
+        else if (xres > 0 && unit == "cm")
+            i.dpi = xres * 2.54;
+        i.x = spec.x;
+        i.y = spec.y;
+        if (format == "tiff" && (spec.x || spec.y)) tiffPosition(path, i.x, i.y);
+        i.fullWidth = spec.full_width;
+        i.fullHeight = spec.full_height;
+        if (std::string full = spec.get_string_attribute(kPngFullSizeKey); !full.empty())
+            if (!parseFullSize(full, i.fullWidth, i.fullHeight))
+                throw IoError(fmt::format("cannot read '{}': its {} is '{}', not WIDTHxHEIGHT",
+                                          path, kPngFullSizeKey, full));
+        if (i.fullWidth <= 0 || i.fullHeight <= 0) i.fullWidth = i.width, i.fullHeight = i.height;
+        i.linear = format == "openexr";
+    }
+
+    void readRows(int y, int count, float* out, size_t stride) override {
+        const OIIO::ImageSpec& spec = in_->spec();
+        const int n = std::min(spec.nchannels, 4);
+        const OIIO::stride_t pixel = 4 * sizeof(float);
+        if (!in_->read_scanlines(0, 0, spec.y + y, spec.y + y + count, 0, 0, n,
+                                 OIIO::TypeDesc::FLOAT, out, pixel,
+                                 static_cast<OIIO::stride_t>(stride * sizeof(float))))
+            throw IoError(fmt::format("cannot read '{}': {}", path_, in_->geterror()));
+        // Grey is spread to RGB; a missing alpha is opaque.
+        if (n == 4) return;
+        for (int r = 0; r < count; ++r) {
+            float* row = out + static_cast<size_t>(r) * stride;
+            for (int x = 0; x < spec.width; ++x) {
+                float* p = row + static_cast<size_t>(x) * 4;
+                p[3] = n == 2 ? p[1] : 1.0f;
+                if (n < 3) p[1] = p[2] = p[0];
+            }
+        }
+    }
+
+  private:
+    std::string path_;
+    std::unique_ptr<OIIO::ImageInput> in_;
+};
+
+std::unique_ptr<ImageRowReader> openRows(const std::string& path) {
+    return std::make_unique<OiioRowReader>(path);
+}
+
 } // namespace
 
 } // namespace moire
 
 extern "C" const moire::OiioCodec* moire_oiio_codec() {
-    static const moire::OiioCodec codec{&moire::encodeFile, &moire::readFile, &moire::openWriter};
+    static const moire::OiioCodec codec{&moire::encodeFile, &moire::readFile, &moire::openRows,
+                                        &moire::openWriter};
     return &codec;
 }

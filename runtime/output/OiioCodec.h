@@ -17,6 +17,34 @@
 
 namespace moire {
 
+// What an image file says of itself: its size and samples, and where it sits in a larger
+// frame (render --region's placement: TIFF's position and full-size tags, EXR's data and
+// display windows, PNG's oFFs and moire's full-size text, PngBands.h).
+struct ImageFileInfo {
+    int width = 0, height = 0;
+    int channels = 0;
+    PixelDepth depth = PixelDepth::Default; // U8, U16, Half or Float: as the file stores them
+    double dpi = 0.0;                       // 0: none recorded
+    int x = 0, y = 0;                       // the top-left pixel's place in the frame
+    int fullWidth = 0, fullHeight = 0;      // the frame's size: the image's own when it is whole
+    bool linear = false;                    // EXR: linear colour; otherwise sRGB-encoded
+};
+
+// An image file open for reading a few rows at a time (moire assemble), so that no more of it
+// than those rows is ever in memory.
+class ImageRowReader {
+  public:
+    virtual ~ImageRowReader() = default;
+    const ImageFileInfo& info() const { return info_; }
+    // Rows [y, y + count) of the image (0: its top row) as RGBA floats as stored (a file
+    // without alpha reads as opaque), 4 floats a pixel, `stride` floats from one row to the
+    // next. Throws IoError.
+    virtual void readRows(int y, int count, float* out, size_t stride) = 0;
+
+  protected:
+    ImageFileInfo info_;
+};
+
 // A file OpenImageIO writes row by row, top to bottom (ImageStream.cpp puts the rows in
 // order): the rows in the file's sample type, made by convert().
 class OiioRowWriter {
@@ -45,6 +73,8 @@ struct OiioCodec {
                                          const WriteOptions& options);
     // readImage (ImageIO.h). Throws IoError.
     Image (*read)(const std::string& path);
+    // Opens `path` to read its rows (ImageRowReader). Throws IoError.
+    std::unique_ptr<ImageRowReader> (*openRows)(const std::string& path);
     // A writer of `format`'s file as encode() would make it, written by rows: TIFF and EXR
     // into the seekable descriptor `fd` (an AtomicFile's temporary, or a memory file; they seek
     // back to write their directories), JPEG through `bytes` (fd -1: it only appends). Every

@@ -314,7 +314,8 @@ std::vector<unsigned char> PngBands::file(const std::vector<unsigned char>& chun
     return out;
 }
 
-std::vector<unsigned char> pngColourChunks(double dpi, const std::string& software) {
+std::vector<unsigned char> pngColourChunks(double dpi, const std::string& software,
+                                           const PngPlacement& placement) {
     std::vector<unsigned char> out;
     auto chunk = [&](const char* type, const std::vector<unsigned char>& data) {
         putChunk(out, type, data.data(), data.size());
@@ -329,10 +330,14 @@ std::vector<unsigned char> pngColourChunks(double dpi, const std::string& softwa
     chunk("gAMA", be32({45455}));
     chunk("sRGB", {3}); // rendering intent: absolute colorimetric, as OpenImageIO writes it
     chunk("cHRM", be32({31270, 32900, 64000, 33000, 30000, 60000, 15000, 6000}));
-    chunk("oFFs", {0, 0, 0, 0, 0, 0, 0, 0, 0}); // no offset, in pixels
+    // The offset: two signed 32-bit numbers and the unit, 0 for pixels.
+    std::vector<unsigned char> offset =
+        be32({static_cast<uint32_t>(placement.x), static_cast<uint32_t>(placement.y)});
+    offset.push_back(0);
+    chunk("oFFs", offset);
     if (dpi > 0) {
         // Pixels per metre, truncated as OpenImageIO converts dots per inch.
-        const auto perMetre = static_cast<uint32_t>(static_cast<float>(dpi) * (100.0 / 2.54));
+        const uint32_t perMetre = pngPixelsPerMetre(dpi);
         std::vector<unsigned char> phys = be32({perMetre, perMetre});
         phys.push_back(1); // the unit is the metre
         chunk("pHYs", phys);
@@ -345,6 +350,9 @@ std::vector<unsigned char> pngColourChunks(double dpi, const std::string& softwa
     };
     text("oiio:ColorSpace", "sRGB");
     text("Software", software);
+    if (placement.fullWidth > 0)
+        text(kPngFullSizeKey,
+             std::to_string(placement.fullWidth) + "x" + std::to_string(placement.fullHeight));
     return out;
 }
 

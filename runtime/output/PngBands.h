@@ -18,6 +18,7 @@
 // as any two PNG encoders' do.
 #pragma once
 
+#include <cmath>
 #include <cstddef>
 #include <cstdint>
 #include <string>
@@ -77,13 +78,42 @@ class PngBands {
 // bytes.
 void quantizeRow(const float* src, int width, int channels, int bits, unsigned char* out);
 
+// Where a PNG sits in a larger frame (render --region): its top-left pixel in the frame, and
+// the frame's size; fullWidth 0: the image is the whole frame.
+struct PngPlacement {
+    int x = 0, y = 0;
+    int fullWidth = 0, fullHeight = 0;
+};
+// The text key that holds a placed PNG's full frame size, "WIDTHxHEIGHT" (PNG has no chunk
+// for it; OpenImageIO reads it as an attribute of that name).
+inline constexpr const char* kPngFullSizeKey = "moire:FullSize";
+
+// Pixels per metre as a PNG's pHYs holds `dpi`: truncated, as OpenImageIO converts.
+inline uint32_t pngPixelsPerMetre(double dpi) {
+    return static_cast<uint32_t>(static_cast<float>(dpi) * (100.0 / 2.54));
+}
+// A resolution in dots per inch that pngPixelsPerMetre turns into `perMetre` again, so that
+// a PNG read and written again keeps its pHYs (300 dpi is 11811 per metre, which reads back
+// as 299.9994 dpi, which would be written as 11810): the shortest of a whole number, tenths
+// and hundredths of a dot per inch that does, else the middle of the values that do.
+inline double pngDpiOf(uint32_t perMetre) {
+    const double exact = perMetre * 0.0254;
+    for (double scale : {1.0, 10.0, 100.0}) {
+        const double rounded = std::round(exact * scale) / scale;
+        if (rounded > 0 && pngPixelsPerMetre(rounded) == perMetre) return rounded;
+    }
+    return (perMetre + 0.5) * 0.0254;
+}
+
 // The chunks moire writes between a PNG's IHDR and its pixel data: the sRGB colour space
-// (sRGB, with gAMA and cHRM for readers that ignore it), no offset, the resolution when
-// `dpi` > 0, and text naming the colour space and the software, the very chunks and bytes
-// OpenImageIO 2.4's writer gives the same image (PngBands_test holds the two together), so
-// that a file reads back with the same attributes; written here, so that writing a PNG does
-// not load OpenImageIO.
-std::vector<unsigned char> pngColourChunks(double dpi, const std::string& software);
+// (sRGB, with gAMA and cHRM for readers that ignore it), the offset (oFFs, in pixels: the
+// placement's corner, 0,0 for a whole frame), the resolution when `dpi` > 0, and text naming
+// the colour space and the software (and a placed image's full size), the very chunks and
+// bytes OpenImageIO 2.4's writer gives the same image (PngBands_test holds the two together),
+// so that a file reads back with the same attributes; written here, so that writing a PNG
+// does not load OpenImageIO.
+std::vector<unsigned char> pngColourChunks(double dpi, const std::string& software,
+                                           const PngPlacement& placement = {});
 
 // The chunks between IHDR and the first IDAT of a PNG file (whole chunks: length, type, data,
 // CRC); empty when there are none. Throws std::runtime_error on a file that is not a PNG.

@@ -259,5 +259,24 @@ TEST_CASE("pngColourChunks are OpenImageIO's chunks for the same spec") {
                 spec.attribute("ResolutionUnit", "inch");
             }
             CHECK(pngColourChunks(dpi, "moire 9.8.7") == pngChunksBeforeData(oiioPng(spec, pixel)));
+            // A region of a larger frame: its corner as OpenImageIO's origin, its frame's size
+            // as a text attribute.
+            spec.x = 1200;
+            spec.y = 77;
+            spec.attribute(kPngFullSizeKey, "4000x3000");
+            CHECK(pngColourChunks(dpi, "moire 9.8.7", PngPlacement{1200, 77, 4000, 3000}) ==
+                  pngChunksBeforeData(oiioPng(spec, pixel)));
         }
+}
+
+// A PNG's resolution read back (pixels per metre) and written again keeps its pHYs: every
+// value up to 400,000 per metre (over 10,000 dpi), and the whole dpi values come back whole.
+TEST_CASE("pngDpiOf gives back a resolution that pHYs holds as the same pixels per metre") {
+    int wrong = 0;
+    for (uint32_t perMetre = 1; perMetre <= 400000; ++perMetre)
+        wrong += pngPixelsPerMetre(pngDpiOf(perMetre)) != perMetre;
+    CHECK(wrong == 0);
+    for (double dpi : {1.0, 72.0, 96.0, 150.0, 300.0, 600.0, 1200.0, 2400.0})
+        CHECK(pngDpiOf(pngPixelsPerMetre(dpi)) == dpi);
+    CHECK(pngPixelsPerMetre(300.0) == 11811);
 }

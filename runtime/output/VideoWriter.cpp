@@ -139,8 +139,10 @@ std::vector<std::string> ffmpegArguments(VideoFormat format, int width, int heig
     case VideoFormat::WebM:
         args.insert(args.end(), colour.begin(), colour.end());
         // -b:v 0 makes -crf a constant quality rather than a cap on a target bitrate.
-        for (const char* a :
-             {"-c:v", "libvpx-vp9", "-crf", "30", "-b:v", "0", "-row-mt", "1", "-f", "webm"})
+        // +bitexact: the Matroska muxer otherwise draws a random segment UID each run, and the
+        // same frames would not give the same file twice (a farm's join must equal a clip).
+        for (const char* a : {"-c:v", "libvpx-vp9", "-crf", "30", "-b:v", "0", "-row-mt", "1",
+                              "-fflags", "+bitexact", "-f", "webm"})
             args.push_back(a);
         break;
     case VideoFormat::Gif:

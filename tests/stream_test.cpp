@@ -9,6 +9,7 @@
 #include "tests/support/Support.h"
 
 #include <algorithm>
+#include <cerrno>
 #include <doctest/doctest.h>
 #include <fcntl.h>
 #include <filesystem>
@@ -45,6 +46,9 @@ Run runMoire(const test::TempDir& dir, std::vector<std::string> args) {
     for (std::string& a : args) argv.push_back(a.data());
     argv.push_back(nullptr);
     const std::string errPath = dir.file("run.err");
+    // Closed by the exec: until then the child is a copy of this binary, whose VmHWM it has.
+    int execed[2];
+    REQUIRE(::pipe2(execed, O_CLOEXEC) == 0);
     const pid_t pid = ::fork();
     REQUIRE(pid >= 0);
     if (pid == 0) {
@@ -55,6 +59,11 @@ Run runMoire(const test::TempDir& dir, std::vector<std::string> args) {
         ::execv(argv[0], argv.data());
         ::_exit(127);
     }
+    ::close(execed[1]);
+    char byte;
+    while (::read(execed[0], &byte, 1) < 0 && errno == EINTR) {
+    }
+    ::close(execed[0]);
     int status = 0;
     Run r;
     const std::string statusPath = fmt::format("/proc/{}/status", pid);

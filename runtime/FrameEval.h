@@ -21,6 +21,8 @@ struct FrameValues {
     // frame, fitted: one pixel is max(sceneWidth / width, sceneHeight / height) / zoom
     // world units.
     double sceneWidth = 0.0, sceneHeight = 0.0;
+    // The world size of one pixel as drawn: fitted, or FrameRequest::pixelSize.
+    double pixelSize = 0.0;
     std::vector<TimingValues> timings;
     // Each param's value at this instant (SceneProgram::parameters' order; a colour's four
     // components, a vector's two, else one, the rest 0): what a slider shows.
@@ -32,6 +34,11 @@ constexpr int kMaxImageSide = 32768;
 struct FrameRequest {
     double time = 0.0;
     int width = 0, height = 0; // when non-zero, replaces the scene's size
+    // When above 0, the world size of one pixel (the camera's zoom included), in place of
+    // the scene's frame fitted to the image: the scale and the canvas set apart (`moire
+    // print`). Needs a program compiled with CompileOptions::pixelSize, which otherwise
+    // draws the fitted frame, as any render.
+    double pixelSize = 0.0;
     // When set, replaces the program's literal table (same length): the viewer's adjustments.
     const std::vector<double>* literals = nullptr;
 };

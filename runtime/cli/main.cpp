@@ -7,6 +7,7 @@
 #include "runtime/cli/Commands.h"
 #include "runtime/cli/DefineOption.h"
 #include "runtime/cli/ExportCommand.h"
+#include "runtime/cli/PrintCommand.h"
 #include "runtime/cli/ServeCommand.h"
 #include "runtime/output/ImageIO.h"
 #include "runtime/output/JitCache.h"
@@ -293,6 +294,8 @@ int main(int argc, char** argv) {
     namesCmd->footer("Exit status: 0 done; 2 a wrong command line.");
     cli::ExportArgs exportArgs;
     CLI::App* exportCmd = cli::addExportCommand(app, exportArgs, rawDefines);
+    cli::PrintArgs printArgs;
+    CLI::App* printCmd = cli::addPrintCommand(app, printArgs, rawDefines);
     CLI::App* lspCmd = app.add_subcommand(
         "lsp", "Serve the Language Server Protocol on standard input and output (docs/editors.md)");
     lspCmd->footer("Started by an editor, not by hand. Exit status: 0 after shutdown, else 1.");
@@ -311,7 +314,7 @@ int main(int argc, char** argv) {
             return cli::kExitUsage;
         }
         renderArgs.defines = clipArgs.defines = watchArgs.defines = viewArgs.defines = defines;
-        exportArgs.defines = defines;
+        exportArgs.defines = printArgs.defines = defines;
         serveArgs.defines = defines;
     }
     try {
@@ -332,6 +335,7 @@ int main(int argc, char** argv) {
         if (*fmtCmd) return cli::formatFiles(fmtArgs);
         if (*namesCmd) return cli::names(namesArgs);
         if (*exportCmd) return cli::exportPiece(exportArgs);
+        if (*printCmd) return cli::print(printArgs);
         if (*lspCmd) return lsp::runServer(0, 1);
         fmt::print("{}", app.help());
         return 0;

@@ -65,8 +65,8 @@ bool evaluateFrame(const SceneProgram& program, const FrameRequest& request, Fra
     out.turn = outputs[u + lower::OutputLayout::kSettingTurn];
 
     DiagEngine diags(*program.sources);
-    auto whole = [](double v) {
-        return std::isfinite(v) && v == std::floor(v) && v >= 1 && v <= kMaxImageSide;
+    auto whole = [](double v, int maxSide = kMaxImageSide) {
+        return std::isfinite(v) && v == std::floor(v) && v >= 1 && v <= maxSide;
     };
     out.sceneWidth = w;
     out.sceneHeight = h;
@@ -79,7 +79,12 @@ bool evaluateFrame(const SceneProgram& program, const FrameRequest& request, Fra
         h = request.height;
         if (!whole(w) || !whole(h)) diags.error(SourceRange{}, Msg::BadSize, kMaxImageSide, w, h);
     }
-    if (whole(w) && whole(h)) {
+    // A command that holds the frame whole takes less than the scene may say.
+    const int maxSide = std::min(request.maxSide, kMaxImageSide);
+    if (whole(w) && whole(h) && (!whole(w, maxSide) || !whole(h, maxSide)))
+        diags.error(request.width > 0 ? SourceRange{} : propRange(program.checked.scene, "size"),
+                    Msg::BadSize, maxSide, w, h);
+    else if (whole(w) && whole(h)) {
         out.width = static_cast<int>(w);
         out.height = static_cast<int>(h);
     }

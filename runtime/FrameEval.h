@@ -29,7 +29,16 @@ struct FrameValues {
     std::vector<std::array<double, 4>> parameters;
 };
 
-constexpr int kMaxImageSide = 32768;
+// The largest side of an image: 2^20 = 1,048,576 pixels. render streams its file band by
+// band (ImageStream.h), so memory does not bound it; what does: pixel coordinates reach the
+// kernel as f32, and a pixel's centre (x + 0.5) is exact only below 2^23; a band of the
+// widest image is 2^20 x 64 x 4 floats (1 GiB), still a band; pixel counts (2^40) and
+// byte counts of whole images (2^44 floats) stay far inside size_t and int64. TIFF (BigTIFF)
+// and EXR take such sides; JPEG and PNG have lower limits of their own (ImageIO.h).
+constexpr int kMaxImageSide = 1 << 20;
+// The largest side of a frame held whole in memory (view, serve, watch, clip, export): its
+// float pixels alone are 17 GB at 32768 x 32768.
+constexpr int kMaxFrameSide = 32768;
 
 struct FrameRequest {
     double time = 0.0;
@@ -41,6 +50,9 @@ struct FrameRequest {
     double pixelSize = 0.0;
     // When set, replaces the program's literal table (same length): the viewer's adjustments.
     const std::vector<double>* literals = nullptr;
+    // The largest side the frame rendered may have: kMaxFrameSide for a command that holds
+    // the frame whole. (The scene's own size is checked against kMaxImageSide either way.)
+    int maxSide = kMaxImageSide;
 };
 
 // Evaluates the frame at `request.time`. A value that cannot be rendered (an image size out

@@ -106,11 +106,56 @@ int threadsFor(const ExecOptions& options, int items) {
 
 } // namespace
 
+namespace {
+
+// A GPU kernel's bands (runKernelInBands): whole bands from the calling thread, several to a
+// call of the device (each call costs a round trip) but no more than kGpuCallPixels pixels, so
+// the buffer stays a few tens of megabytes however wide the frame.
+constexpr int64_t kGpuCallPixels = int64_t{1} << 22;
+
+bool runWholeFrameInBands(const CompiledKernel& kernel, const KernelFrame& frame,
+                          const ExecOptions& options, int bandRows, const BandSink& sink,
+                          BandTimes* times) {
+    using Clock = std::chrono::steady_clock;
+    const int n = kernel.numOutputs();
+    const size_t stride = static_cast<size_t>(frame.imageW) * n;
+    const int total = (frame.imageH + bandRows - 1) / bandRows;
+    const int perCall = static_cast<int>(std::clamp<int64_t>(
+        kGpuCallPixels / (int64_t{frame.imageW} * bandRows), 1, std::max(1, total)));
+    std::vector<float> rows(static_cast<size_t>(perCall) * bandRows * stride);
+    double kernelSeconds = 0, sinkSeconds = 0;
+    for (int b0 = 0; b0 < total; b0 += perCall) {
+        if (options.cancelled && options.cancelled()) return false;
+        const int b1 = std::min(total, b0 + perCall);
+        const int y0 = b0 * bandRows, y1 = std::min(frame.imageH, b1 * bandRows);
+        const auto t0 = Clock::now();
+        kernel.runTile(frame, TileRect{0, y0, frame.imageW, y1}, rows.data(), stride);
+        const auto t1 = Clock::now();
+        for (int b = b0; b < b1; ++b) {
+            const int top = b * bandRows;
+            sink(b, 0, std::min(frame.imageH, top + bandRows) - top,
+                 rows.data() + static_cast<size_t>(top - y0) * stride, stride);
+        }
+        kernelSeconds += std::chrono::duration<double>(t1 - t0).count();
+        sinkSeconds += std::chrono::duration<double>(Clock::now() - t1).count();
+        if (options.progress) options.progress(static_cast<double>(y1) / frame.imageH);
+    }
+    if (times) {
+        times->kernel += kernelSeconds;
+        times->sink += sinkSeconds;
+    }
+    return true;
+}
+
+} // namespace
+
 bool runKernelInBands(const CompiledKernel& kernel, const KernelFrame& frame,
                       const ExecOptions& options, int bandRows, const BandSink& sink,
                       BandTimes* times, int stepRows) {
     const int n = kernel.numOutputs();
     bandRows = std::max(1, bandRows);
+    if (kernel.wholeFrame())
+        return runWholeFrameInBands(kernel, frame, options, bandRows, sink, times);
     stepRows = stepRows > 0 ? std::min(stepRows, bandRows) : bandRows;
     const int total = (frame.imageH + bandRows - 1) / bandRows;
     const int ts = std::max(8, options.tileSize);
@@ -119,24 +164,70 @@ bool runKernelInBands(const CompiledKernel& kernel, const KernelFrame& frame,
     std::vector<std::vector<float>> buffers(static_cast<size_t>(threads));
     std::mutex timesMutex;
     using Clock = std::chrono::steady_clock;
-    return runItems(total, threads, options, [&](int b, int w) {
+    // How far ahead a worker may go: band b starts only once every band above b - threads
+    // has been handed over whole, so that a sink that keeps bands until those above them
+    // come (ImageStream) holds at most 2 x threads of them, whatever a slow band does. The
+    // band a waiting worker needs is in another worker's hands and that worker never waits
+    // (every band above its own has started, and bands start in order), so they cannot
+    // deadlock; a worker that stops (cancelled, failed) releases the others.
+    std::mutex aheadMutex;
+    std::condition_variable aheadMoved;
+    std::vector<char> finished(static_cast<size_t>(total), 0);
+    int finishedAbove = 0; // bands [0, finishedAbove) handed over whole
+    bool stopped = false;
+    auto stop = [&] {
+        {
+            std::lock_guard<std::mutex> lock(aheadMutex);
+            stopped = true;
+        }
+        aheadMoved.notify_all();
+    };
+    // A cancel heard between bands (by runItems) releases the waiting workers too.
+    ExecOptions itemOptions = options;
+    if (options.cancelled)
+        itemOptions.cancelled = [&] {
+            if (!options.cancelled()) return false;
+            stop();
+            return true;
+        };
+    return runItems(total, threads, itemOptions, [&](int b, int w) {
+        {
+            std::unique_lock<std::mutex> lock(aheadMutex);
+            aheadMoved.wait(lock, [&] { return stopped || finishedAbove >= b - threads; });
+            if (stopped) return false;
+        }
         std::vector<float>& rows = buffers[static_cast<size_t>(w)];
         rows.resize(static_cast<size_t>(stepRows) * stride);
         const int top = b * bandRows, bottom = std::min(frame.imageH, top + bandRows);
         double kernelSeconds = 0, sinkSeconds = 0;
-        for (int y0 = top; y0 < bottom; y0 += stepRows) {
-            const int y1 = std::min(bottom, y0 + stepRows);
-            const auto t0 = Clock::now();
-            for (int x0 = 0; x0 < frame.imageW; x0 += ts) {
-                if ((x0 > 0 || y0 > top) && options.cancelled && options.cancelled()) return false;
-                kernel.runTile(frame, TileRect{x0, y0, std::min(x0 + ts, frame.imageW), y1},
-                               rows.data() + static_cast<size_t>(x0) * n, stride);
+        try {
+            for (int y0 = top; y0 < bottom; y0 += stepRows) {
+                const int y1 = std::min(bottom, y0 + stepRows);
+                const auto t0 = Clock::now();
+                for (int x0 = 0; x0 < frame.imageW; x0 += ts) {
+                    if ((x0 > 0 || y0 > top) && options.cancelled && options.cancelled()) {
+                        stop();
+                        return false;
+                    }
+                    kernel.runTile(frame, TileRect{x0, y0, std::min(x0 + ts, frame.imageW), y1},
+                                   rows.data() + static_cast<size_t>(x0) * n, stride);
+                }
+                const auto t1 = Clock::now();
+                sink(b, y0 - top, y1 - y0, rows.data(), stride);
+                kernelSeconds += std::chrono::duration<double>(t1 - t0).count();
+                sinkSeconds += std::chrono::duration<double>(Clock::now() - t1).count();
             }
-            const auto t1 = Clock::now();
-            sink(b, y0 - top, y1 - y0, rows.data(), stride);
-            kernelSeconds += std::chrono::duration<double>(t1 - t0).count();
-            sinkSeconds += std::chrono::duration<double>(Clock::now() - t1).count();
+        } catch (...) {
+            stop();
+            throw;
         }
+        {
+            std::lock_guard<std::mutex> lock(aheadMutex);
+            finished[static_cast<size_t>(b)] = 1;
+            while (finishedAbove < total && finished[static_cast<size_t>(finishedAbove)])
+                ++finishedAbove;
+        }
+        aheadMoved.notify_all();
         if (times) {
             std::lock_guard<std::mutex> lock(timesMutex);
             times->kernel += kernelSeconds;

@@ -39,14 +39,17 @@ struct BandTimes {
 using BandSink =
     std::function<void(int band, int first, int count, const float* rows, size_t stride)>;
 
-// Evaluates a CPU kernel (not wholeFrame()) in whole-width bands of `bandRows` rows, each
-// worker taking the next band in order and rendering it `stepRows` rows at a time (0: the
-// whole band at once), tile by tile into a buffer of its own, each step handed to `sink` as
-// soon as it is done: rows are encoded while they are still in the cache, and no image of
-// the whole frame is ever made: memory holds one step a thread. Bands are handed over once
-// each, in any order. Progress and cancellation as for runKernel (progress in bands); returns
-// false when cancelled. An exception from the kernel or the sink stops the other workers and
-// is rethrown. `times`, when given, receives where the threads' time went.
+// Evaluates `kernel` in whole-width bands of `bandRows` rows, handing each to `sink` as soon
+// as it is done, and no image of the whole frame is ever made. A CPU kernel: each worker takes
+// the next band in order and renders it `stepRows` rows at a time (0: the whole band at once),
+// tile by tile into a buffer of its own, so rows are encoded while they are still in the
+// cache: memory holds one step a thread; a worker waits before a band more than `threads`
+// bands below the first unfinished one, so a sink that keeps bands until those above them
+// come holds a few. A GPU kernel (wholeFrame()): a few bands to a device call from the
+// calling thread (a buffer of about 4 Mpx), handed over whole and in order. Bands are handed
+// over once each, in any order. Progress and cancellation as for runKernel (progress in
+// bands); returns false when cancelled. An exception from the kernel or the sink stops the
+// other workers and is rethrown. `times`, when given, receives where the threads' time went.
 bool runKernelInBands(const CompiledKernel& kernel, const KernelFrame& frame,
                       const ExecOptions& options, int bandRows, const BandSink& sink,
                       BandTimes* times = nullptr, int stepRows = 0);

@@ -254,16 +254,16 @@ TEST_CASE("input: a frame larger than the memory the process may have is refused
     dir.write("s.moire", kTiny);
     const std::string scene = dir.file("s.moire");
     // 3 GB of address space: the process runs (it maps about a gigabyte before a frame), but a
-    // 32768x32768 frame, 17 GB of float pixels alone, cannot be had. (A PNG of that size is
-    // streamed to its file band by band and needs no frame; a TIFF is written whole.)
+    // 32768x32768 frame, 17 GB of float pixels alone, cannot be had. (render streams a file
+    // band by band and needs no frame, but a PNG to standard output is kept whole until the
+    // end: 4 GB of samples at most, twice.)
     const uint64_t limit = 3ull << 30;
     FrameFootprint big;
     big.width = big.height = 32768;
-    big.format = "tiff";
+    big.sink = FrameSink::Streamed;
     const std::string need = "a 32768x32768 image needs about " +
                              formatBytes(estimateFrameBytes(big)) + " of memory; there is ";
-    Measured m = runMeasured({"render", scene, "--size", "32768x32768", "-o", dir.file("big.tif")},
-                             dir, limit);
+    Measured m = runMeasured({"render", scene, "--size", "32768x32768", "-o", "-"}, dir, limit);
     CHECK(m.status == 4);
     INFO(m.err);
     CHECK(m.err.find("moire: error: " + need) == 0);
@@ -307,9 +307,10 @@ TEST_CASE("input: the memory estimate bounds a real render's peak from above, wi
         f.width = w;
         f.height = h;
         f.format = imageFormatOf(out);
-        // render encodes a PNG band by band as the workers finish them (runKernelInBands),
-        // and streams the bands to the file.
-        if (f.format == "png") f.sink = FrameSink::PngBands, f.streamed = true;
+        // render streams every format band by band as the workers finish them
+        // (runKernelInBands into an ImageStream).
+        f.sink = FrameSink::Streamed;
+        f.streamed = true;
         const uint64_t estimate = estimateFrameBytes(f);
         MESSAGE(std::string(size), " ", std::string(out), ": estimate ", formatBytes(estimate),
                 ", peak RSS ", formatBytes(m.maxRss));

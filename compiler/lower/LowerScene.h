@@ -63,8 +63,9 @@ struct ViewSlots {
 // double can overflow there, and so can products the kernel forms from it (x^2 in a phase,
 // stroke / 2 + the antialias band): past these limits the float backends would draw another
 // picture than the interpreter. Lengths stay within +-1e12 so that a world coordinate's
-// square stays far below the float range; the zoom keeps the view's extent (at most 32768
-// pixels times 1 / zoom) inside the same bound; a spacing finer than 1e-6 is solid ink at
+// square stays far below the float range; the zoom keeps the view's extent (at most 2^20
+// pixels times 1 / zoom: 1.05e12, its square still 1e14 times below the float range) about
+// the same bound; a spacing finer than 1e-6 is solid ink at
 // any zoom allowed, and is the pitch the kernel holds a non-positive spacing at.
 constexpr double kMaxMagnitude = 1e12;
 constexpr double kMinSpacing = 1e-6;

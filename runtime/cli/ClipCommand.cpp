@@ -63,9 +63,9 @@ int clip(const ClipArgs& args) {
     if (args.hasTo && !(std::isfinite(args.to) && args.to > args.from))
         return usage(fmt::format("--to ({:g}) must come after --from ({:g})", args.to, args.from));
     int w = 0, h = 0;
-    if (!args.size.empty() && !parseSize(args.size, w, h))
+    if (!args.size.empty() && !parseSize(args.size, w, h, kMaxFrameSide))
         return usage(fmt::format("--size must be WIDTHxHEIGHT in pixels (1 to {}), not '{}'",
-                                 kMaxImageSide, args.size));
+                                 kMaxFrameSide, args.size));
     PixelDepth depth;
     if (!parseDepth(args.depth, depth))
         return usage(fmt::format("--depth must be 8, 16, half or float, not '{}'", args.depth));
@@ -127,7 +127,8 @@ int clip(const ClipArgs& args) {
     stages.done(fmt::format("compiled {}", src.path));
     FrameValues first;
     std::string diags;
-    if (!evaluateFrame(*program, FrameRequest{args.from, w, h}, first, diags)) {
+    if (!evaluateFrame(*program, FrameRequest{args.from, w, h, nullptr, kMaxFrameSide}, first,
+                       diags)) {
         fmt::print(stderr, "{}", diags);
         return kExitScene;
     }
@@ -235,8 +236,10 @@ int clip(const ClipArgs& args) {
     };
     for (int64_t n = range.first; n <= range.last && StopSignals::received() == 0; ++n) {
         FrameValues frame;
-        if (!evaluateFrame(*program, FrameRequest{clip::frameTime(args.from, n, args.fps), w, h},
-                           frame, diags)) {
+        if (!evaluateFrame(
+                *program,
+                FrameRequest{clip::frameTime(args.from, n, args.fps), w, h, nullptr, kMaxFrameSide},
+                frame, diags)) {
             endLine();
             fmt::print(stderr, "{}moire: error: frame {} (t = {:.17g}) cannot be rendered\n", diags,
                        n, clip::frameTime(args.from, n, args.fps));

@@ -7,6 +7,7 @@
 #include "runtime/cli/Shared.h"
 #include "runtime/cli/StopSignals.h"
 #include "runtime/output/ImageIO.h"
+#include "runtime/output/ImageStream.h"
 #include "runtime/output/MemoryBudget.h"
 #include "runtime/output/OutputFile.h"
 #include "runtime/output/Render.h"
@@ -60,28 +61,29 @@ std::unique_ptr<SceneProgram> compileOrReport(const Source& src, const CompileOp
 
 namespace {
 
-// One side of a size: decimal digits only (no sign, space or exponent), 1 to kMaxImageSide.
+// One side of a size: decimal digits only (no sign, space or exponent), 1 to maxSide.
 // from_chars reports a value past int's range instead of wrapping it, as sscanf's %d did
 // ("4294967297" read as 1).
-bool parseSide(std::string_view t, int& v) {
+bool parseSide(std::string_view t, int& v, int maxSide) {
     if (t.empty() || t.size() > 9 ||
         !std::all_of(t.begin(), t.end(), [](char c) { return c >= '0' && c <= '9'; }))
         return false;
     int n = 0;
     auto [end, ec] = std::from_chars(t.data(), t.data() + t.size(), n);
-    if (ec != std::errc() || end != t.data() + t.size() || n < 1 || n > kMaxImageSide) return false;
+    if (ec != std::errc() || end != t.data() + t.size() || n < 1 || n > maxSide) return false;
     v = n;
     return true;
 }
 
 } // namespace
 
-bool parseSize(const std::string& s, int& w, int& h) {
+bool parseSize(const std::string& s, int& w, int& h, int maxSide) {
     const size_t x = s.find_first_of("xX");
     if (x == std::string::npos) return false;
     const std::string_view all(s);
     int pw = 0, ph = 0;
-    if (!parseSide(all.substr(0, x), pw) || !parseSide(all.substr(x + 1), ph)) return false;
+    if (!parseSide(all.substr(0, x), pw, maxSide) || !parseSide(all.substr(x + 1), ph, maxSide))
+        return false;
     w = pw, h = ph;
     return true;
 }
@@ -156,10 +158,10 @@ std::unique_ptr<Backend> openBackend(const std::string& name, int device) {
 }
 
 bool checkImageOptions(const ImageArgs& args, ImageOptions& out) {
-    if (!args.size.empty() && !parseSize(args.size, out.width, out.height)) {
+    if (!args.size.empty() && !parseSize(args.size, out.width, out.height, args.maxSide)) {
         fmt::print(stderr,
                    "moire: error: --size must be WIDTHxHEIGHT in pixels (1 to {}), not '{}'\n",
-                   kMaxImageSide, args.size);
+                   args.maxSide, args.size);
         return false;
     }
     if (!parseDepth(args.depth, out.depth)) {
@@ -316,19 +318,30 @@ int render(const RenderArgs& args) {
         fmt::print(stderr, "{}", diags);
         return kExitScene;
     }
+    // The size may be the scene's own: checked against the format once it is known.
+    if (std::string problem = sizeProblem(image.format, frame.width, frame.height);
+        !problem.empty()) {
+        fmt::print(stderr, "moire: error: cannot write '{}': {}\n", output, problem);
+        return kExitUsage;
+    }
+    WriteOptions wo;
+    wo.depth = image.depth;
+    wo.dpi = args.dpi;
+    wo.compression = args.compression;
+    wo.threads = args.threads;
+    // Every format and backend is streamed: the kernel runs band by band and each band goes
+    // to the file as soon as the bands above it have (ImageStream.h), so no image of the whole
+    // frame is made and memory is bounded by a few bands.
     FrameFootprint footprint;
     footprint.width = frame.width;
     footprint.height = frame.height;
     footprint.channels = program->kernel.numOutputs;
     footprint.format = image.format;
     footprint.gpu = args.backend == "vulkan";
-    // A PNG from a CPU kernel is encoded band by band, the frame never whole (below).
-    if (image.format == "png" && !footprint.gpu) {
-        footprint.sink = FrameSink::PngBands;
-        footprint.threads = args.threads;
-        footprint.bytesPerSample = image.depth == PixelDepth::U16 ? 2 : 1;
-        footprint.streamed = !toStdout;
-    }
+    footprint.sink = FrameSink::Streamed;
+    footprint.threads = args.threads;
+    footprint.depth = image.depth;
+    footprint.streamed = !toStdout;
     if (!checkMemory(footprint)) return kExitMachine;
 
     ExecOptions exec;
@@ -346,16 +359,7 @@ int render(const RenderArgs& args) {
             shown = true;
         };
     }
-    WriteOptions wo;
-    wo.depth = image.depth;
-    wo.dpi = args.dpi;
-    wo.compression = args.compression;
-    wo.threads = args.threads;
-    // A PNG from a CPU kernel is encoded band by band as the workers finish them, and no
-    // image of the whole frame is made; otherwise the frame is rendered whole, then encoded.
-    Image img;
-    std::optional<AtomicFile> file; // a PNG written to a file as its bands come
-    std::optional<BandedPng> png;
+    std::unique_ptr<ImageStream> stream;
     BandTimes times;
     double kernelCompile = 0.0;
     try {
@@ -363,25 +367,16 @@ int render(const RenderArgs& args) {
         std::unique_ptr<CompiledKernel> kernel = backend->compile(program->kernel);
         kernelCompile = secondsSince(c0);
         const KernelFrame kf{frame.uniforms.data(), frame.width, frame.height};
-        if (image.format == "png" && !kernel->wholeFrame()) {
-            if (!toStdout) {
-                // A missing directory is created, as clip creates one; temporaries that
-                // renders killed there earlier left behind go.
-                prepareOutputDirectory(output);
-                removeStaleTemporaries(output);
-                file.emplace(output);
-            }
-            png.emplace(output, frame.width, frame.height, wo, file ? &*file : nullptr);
-            const int channels = kernel->numOutputs();
-            runKernelInBands(
-                *kernel, kf, exec, png->bandRows(),
-                [&](int band, int first, int count, const float* rows, size_t stride) {
-                    png->addRows(band, first, count, rows, stride, channels);
-                },
-                &times, kPngStepRows);
-        } else {
-            img = runKernel(*kernel, kf, exec);
-        }
+        stream = openImageStream(toStdout ? kStdoutPath : output, image.format, frame.width,
+                                 frame.height, wo);
+        const int channels = kernel->numOutputs();
+        const int bandRows = stream->bandRows();
+        runKernelInBands(
+            *kernel, kf, exec, bandRows,
+            [&](int band, int first, int count, const float* rows, size_t stride) {
+                stream->addRows(band * bandRows + first, count, rows, stride, channels);
+            },
+            &times, kPngStepRows);
     } catch (const BackendError& e) { // the device lost, or out of memory
         if (shown) fmt::print(stderr, "\n");
         fmt::print(stderr, "moire: error: {}\n", e.what());
@@ -391,45 +386,45 @@ int render(const RenderArgs& args) {
         fmt::print(stderr, "moire: error: {}\n", e.what());
         return kExitIo;
     }
-    if (shown) fmt::print(stderr, "\n");
-    if (StopSignals::received()) return interrupted();
+    if (StopSignals::received()) {
+        if (shown) fmt::print(stderr, "\n");
+        stream.reset(); // the temporary goes, the file is never made
+        return interrupted();
+    }
     std::string cached;
     if (auto* jit = dynamic_cast<const LlvmJitBackend*>(backend.get()); jit && jit->storeHits())
         cached = fmt::format(" ({} module{} of compiled code from the cache)", jit->storeHits(),
                              jit->storeHits() == 1 ? "" : "s");
-    stages.done(fmt::format("rendered {}x{} on {}{}", frame.width, frame.height, describe(*backend),
-                            cached));
     double renderedAt = secondsSince(t0);
-    if (png && times.kernel + times.sink > 0) {
+    if (times.kernel + times.sink > 0) {
         // Kernel and encoder ran interleaved on the same threads: their wall time (the
         // kernel's compile aside) is split in proportion to the thread time each took.
         const double pipeline = renderedAt - compiledAt - kernelCompile;
         renderedAt -= pipeline * times.sink / (times.kernel + times.sink);
     }
 
+    if (shown) fmt::print(stderr, "\n");
+    stages.done(fmt::format("rendered {}x{} on {}{}", frame.width, frame.height, describe(*backend),
+                            cached));
+    // The end of the file (a PNG's last chunk, a TIFF's directory, the fsync of gigabytes)
+    // is a stage of its own on the progress line, not a bar sitting at 100%.
+    if (shown) {
+        fmt::print(stderr, "moire: writing {}...", output);
+        std::fflush(stderr);
+    }
     try {
-        if (toStdout) {
-            const std::vector<unsigned char> bytes =
-                png ? png->file() : encodeImage(output, "png", img, wo);
-            writeStandardOutput(bytes.data(), bytes.size());
-        } else if (png) {
-            png->finish(); // the bands are in the file already
-        } else {
-            // A missing directory is created, as clip creates one; temporaries that renders
-            // killed there earlier left behind go.
-            prepareOutputDirectory(output);
-            removeStaleTemporaries(output);
-            writeImage(output, img, wo);
-        }
+        stream->finish();
     } catch (const IoError& e) {
+        if (shown) fmt::print(stderr, "\n");
         fmt::print(stderr, "moire: error: {}\n", e.what());
         return kExitIo;
     }
+    if (shown) fmt::print(stderr, " done\n");
     stages.done(fmt::format("wrote {}", output));
     double seconds = secondsSince(t0);
     // The whole time, then where it went: reading and compiling the scene, evaluating the
     // frame and running the kernel (the backend's kernel compile included), and encoding and
-    // writing the file (for a PNG encoded in bands, the encoder's share of the pipeline too).
+    // writing the file (the encoder's share of the pipeline, and ending the file).
     if (!args.verbosity.quiet)
         fmt::print(stderr,
                    "moire: wrote {} ({}x{}, {}, {:.0f} ms: compile {:.0f}, render {:.0f}, "

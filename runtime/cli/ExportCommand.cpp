@@ -48,10 +48,10 @@ CLI::App* addExportCommand(CLI::App& app, ExportArgs& args, std::vector<std::str
 int exportPiece(const ExportArgs& args) {
     Stages stages(args.verbosity);
     int w = 0, h = 0;
-    if (!args.size.empty() && !parseSize(args.size, w, h)) {
+    if (!args.size.empty() && !parseSize(args.size, w, h, kMaxFrameSide)) {
         fmt::print(stderr,
                    "moire: error: --size must be WIDTHxHEIGHT in pixels (1 to {}), not '{}'\n",
-                   kMaxImageSide, args.size);
+                   kMaxFrameSide, args.size);
         return kExitUsage;
     }
     if (!checkTime(args.time, "--time")) return kExitUsage;
@@ -66,7 +66,8 @@ int exportPiece(const ExportArgs& args) {
     // The frame as the page opens: its size, and whether it can be drawn at all.
     FrameValues frame;
     std::string diags;
-    if (!evaluateFrame(*program, FrameRequest{args.time, w, h}, frame, diags)) {
+    if (!evaluateFrame(*program, FrameRequest{args.time, w, h, nullptr, kMaxFrameSide}, frame,
+                       diags)) {
         fmt::print(stderr, "{}", diags);
         return kExitScene;
     }

@@ -31,9 +31,9 @@ int serve(const ServeArgs& args) {
     }
     if (!checkTime(args.time, "--time")) return kExitUsage;
     int w = 0, h = 0;
-    if (!args.size.empty() && !parseSize(args.size, w, h)) {
+    if (!args.size.empty() && !parseSize(args.size, w, h, kMaxFrameSide)) {
         fmt::print(stderr, "moire: error: --size must be WIDTHxHEIGHT (1 to {}), not '{}'\n",
-                   kMaxImageSide, args.size);
+                   kMaxFrameSide, args.size);
         return kExitUsage;
     }
     if (args.port < 0 || args.port > 65535) {

@@ -4,6 +4,7 @@
 #include "compiler/backend/Backend.h"
 #include "compiler/Compile.h"
 #include "runtime/cli/Commands.h"
+#include "runtime/FrameEval.h"
 #include "runtime/output/ImageIO.h"
 #include "runtime/output/MemoryBudget.h"
 
@@ -39,6 +40,7 @@ struct ImageArgs {
     const std::string& depth;
     const std::string& backend;
     int device;
+    int maxSide = kMaxImageSide; // kMaxFrameSide where the frame is held whole (watch)
 };
 struct ImageOptions {
     int width = 0, height = 0; // 0: the scene's size
@@ -53,7 +55,7 @@ bool checkBackendArgs(const std::string& backend, int device);
 // the reason for the first that is wrong.
 bool checkImageOptions(const ImageArgs& args, ImageOptions& out);
 // "WIDTHxHEIGHT", each side 1 to kMaxImageSide.
-bool parseSize(const std::string& s, int& w, int& h);
+bool parseSize(const std::string& s, int& w, int& h, int maxSide = kMaxImageSide);
 // --time, --from: a finite number of seconds; prints the reason when not.
 bool checkTime(double t, const char* option);
 // --dpi: 0 (none recorded) or finite, above 0 and at most kMaxDpi; prints the reason when not.

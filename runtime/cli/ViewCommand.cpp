@@ -40,11 +40,11 @@ int view(const ViewArgs& args) {
     }
     if (!checkTime(args.time, "--time")) return kExitUsage;
     int w = 0, h = 0;
-    if (!args.size.empty() && !parseSize(args.size, w, h)) {
+    if (!args.size.empty() && !parseSize(args.size, w, h, kMaxFrameSide)) {
         fmt::print(stderr,
                    "moire: error: --size must be WIDTHxHEIGHT in screen units (1 to {}), not "
                    "'{}'\n",
-                   kMaxImageSide, args.size);
+                   kMaxFrameSide, args.size);
         return kExitUsage;
     }
     if (!checkBackendArgs(args.backend, args.device)) return kExitUsage;

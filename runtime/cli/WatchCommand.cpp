@@ -67,8 +67,9 @@ int watch(const WatchArgs& args) {
     }
     if (!checkTime(args.time, "--time")) return kExitUsage;
     ImageOptions image;
-    if (!checkImageOptions(
-            {args.scene, args.output, args.size, args.depth, args.backend, args.device}, image))
+    if (!checkImageOptions({args.scene, args.output, args.size, args.depth, args.backend,
+                            args.device, kMaxFrameSide},
+                           image))
         return kExitUsage;
     const std::string& output = image.output;
     std::unique_ptr<Backend> backend = openBackend(args.backend, args.device);
@@ -89,6 +90,7 @@ int watch(const WatchArgs& args) {
     options.request.time = args.time;
     options.request.width = image.width;
     options.request.height = image.height;
+    options.request.maxSide = kMaxFrameSide;
     options.write.depth = image.depth;
     // Rewritten on every save: the fast level.
     options.write.compression = kPreviewCompression;

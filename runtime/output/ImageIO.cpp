@@ -49,6 +49,19 @@ std::string depthProblem(const std::string& format, PixelDepth depth) {
     return "";
 }
 
+std::string sizeProblem(const std::string& format, int width, int height) {
+    const int side = std::max(width, height);
+    if (format == "jpeg" && side > kMaxJpegSide)
+        return fmt::format("JPEG holds at most {} pixels a side, not {}x{}; use .tif or .exr "
+                           "for larger images",
+                           kMaxJpegSide, width, height);
+    if (format == "png" && side > kMaxPngSide)
+        return fmt::format("a PNG over {} pixels a side is refused by libpng's readers, not "
+                           "{}x{}; use .tif or .exr for larger images",
+                           kMaxPngSide, width, height);
+    return "";
+}
+
 BandedPng::BandedPng(const std::string& path, int width, int height, const WriteOptions& options,
                      AtomicFile* stream)
     : path_(path), stream_(stream) {

@@ -46,6 +46,9 @@ struct WriteOptions {
     // so that `moire assemble` can put a tile back in its place.
     int originX = 0, originY = 0;
     int fullWidth = 0, fullHeight = 0;
+    // TIFF's and EXR's compression as OpenImageIO names it ("zip", "lzw", "none"); empty:
+    // zip (moire_poster_bench compares them).
+    std::string codec;
 };
 
 class IoError : public std::runtime_error {
@@ -95,6 +98,17 @@ class BandedPng {
 
 // Why `format` (imageFormatOf's name) cannot hold `depth`, or "" when it can.
 std::string depthProblem(const std::string& format, PixelDepth depth);
+
+// The largest side each format takes (kMaxImageSide, FrameEval.h, bounds them all): JPEG's
+// markers hold 16 bits and libjpeg refuses more than 65500; PNG's header would take 2^31 - 1,
+// but libpng, which most programs read PNGs with, refuses more than 1,000,000 unless the
+// program raises its limit, so a larger PNG would be a file few can open.
+constexpr int kMaxJpegSide = 65500;
+constexpr int kMaxPngSide = 1000000;
+
+// Why `format` cannot hold a width x height image ("JPEG holds at most 65500 pixels a side;
+// use .tif or .exr for larger images"), or "" when it can.
+std::string sizeProblem(const std::string& format, int width, int height);
 
 // Reads any image OpenImageIO understands into float RGBA (values as stored; sRGB files stay
 // sRGB-encoded, EXR stays linear). Throws IoError.

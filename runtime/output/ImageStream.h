@@ -23,12 +23,17 @@ class ImageStream {
 
     int width() const { return width_; }
     int height() const { return height_; }
+    // The rows best handed over together (the PNG encoder's band; a band of the other
+    // writers): runKernelInBands' bandRows.
+    virtual int bandRows() const = 0;
 
     // Rows [y, y + count) of the image (0: its top row): `channels` floats a pixel, straight
     // sRGB-encoded RGBA first, `stride` floats from one row to the next. Safe from any thread;
-    // rows may come in any order, each once. A call may wait while rows far above it are
-    // still being rendered, which is what bounds the memory held (rows in hand are converted
-    // to the file's sample type at once and kept only until the rows above them are written).
+    // rows may come in any order, each once. Rows in hand are converted to the file's sample
+    // type at once (PNG: encoded, when the rows above them in their band have come) and kept
+    // only until the rows above them are written; the call never waits for other rows, so
+    // what bounds the memory held is how far ahead of the first unfinished row the caller
+    // runs (runKernelInBands: a few bands), and no caller can deadlock in here.
     virtual void addRows(int y, int count, const float* rows, size_t stride, int channels) = 0;
 
     // Every row added: writes what ends the file and moves it into place. Throws IoError.
@@ -48,7 +53,8 @@ std::unique_ptr<ImageStream> openImageStream(const std::string& path, const std:
                                              int width, int height, const WriteOptions& options);
 
 // The most memory an open stream of this shape holds at its peak (its buffers and the
-// encoder's), for MemoryBudget's estimate.
+// encoder's) when fed by runKernelInBands on options.threads workers, for MemoryBudget's
+// estimate.
 uint64_t imageStreamBytes(const std::string& format, int width, const WriteOptions& options);
 
 } // namespace moire

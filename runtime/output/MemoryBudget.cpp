@@ -1,5 +1,7 @@
 #include "runtime/output/MemoryBudget.h"
 
+#include "runtime/output/ImageStream.h"
+
 #include <algorithm>
 #include <cstdio>
 #include <fmt/format.h>
@@ -25,7 +27,7 @@ constexpr uint64_t kWriterChunkBytes = 64ull << 20;
 // The Vulkan executor's two slots, each a device buffer and a host readback buffer of at most
 // 64 MiB (VulkanContext's budget); on a CPU device both live in host memory.
 constexpr uint64_t kVulkanStagingBytes = 4 * (64ull << 20);
-// The rows of a band of render's PNG pipeline (PngBands' default).
+// The rows of a band of render's pipeline (ImageStream::bandRows).
 constexpr uint64_t kBandRows = 64;
 
 uint64_t pixelsOf(const FrameFootprint& f) {
@@ -51,24 +53,35 @@ uint64_t sinkBytes(const FrameFootprint& f) {
         return imageWriterBytes(f);
     case FrameSink::Video:
         return px * 4; // the 8-bit RGBA frame written to ffmpeg's pipe
-    case FrameSink::PngBands: {
-        // zlib's output is at most the filtered samples and a little (incompressible data is
-        // stored), so every compressed band is counted at the samples' full size. A thread's
-        // share: a step of floats, the filtered band and its compressed copy, and zlib's state
-        // (under 1 MiB). Written to standard output, the compressed bands and the file made of
-        // them; streamed to a file, the bands that finished before those above them, which
-        // another thread holds at most one of at a time: a band a thread.
-        const uint64_t sampleBytes = static_cast<uint64_t>(std::clamp(f.bytesPerSample, 1, 2));
-        const uint64_t width = static_cast<uint64_t>(std::max(f.width, 0));
-        const uint64_t rowFloats = width * static_cast<uint64_t>(std::max(f.channels, 1));
-        const uint64_t rowSamples = 1 + width * 4 * sampleBytes;
-        const uint64_t perThread =
-            kPngStepRows * rowFloats * sizeof(float) + 2 * kBandRows * rowSamples + (1ull << 20);
+    case FrameSink::Streamed: {
+        // The stream's own (ImageStream.h), and each worker's step of the kernel's floats.
+        WriteOptions options;
+        options.depth = f.depth;
+        options.threads = f.threads;
         const uint64_t threads = static_cast<uint64_t>(
             f.threads > 0 ? f.threads : std::max(1u, std::thread::hardware_concurrency()));
-        const uint64_t file = px * 4 * sampleBytes + px * 4 * sampleBytes / 500 + (1ull << 16);
-        const uint64_t waiting = f.streamed ? threads * kBandRows * rowSamples : 2 * file;
-        return waiting + threads * perThread;
+        const uint64_t rowFloats = static_cast<uint64_t>(std::max(f.width, 0)) *
+                                   static_cast<uint64_t>(std::max(f.channels, 1));
+        uint64_t bytes = imageStreamBytes(f.format, f.width, options) +
+                         threads * kPngStepRows * rowFloats * sizeof(float);
+        // A GPU kernel's bands come a device call at a time (TileExecutor: a buffer of about
+        // 4 Mpx, or one band), handed over a band at a time: a band's floats in the file's
+        // channels beside them.
+        if (f.gpu) {
+            const uint64_t width = static_cast<uint64_t>(std::max(f.width, 0));
+            bytes += std::max<uint64_t>(kBandRows * width, 1ull << 22) *
+                         static_cast<uint64_t>(std::max(f.channels, 1)) * sizeof(float) +
+                     kBandRows * width * 4 * sizeof(float);
+        }
+        // To standard output, the compressed file and its copy in the writer (at most the
+        // samples' size, as zlib stores incompressible data).
+        if (!f.streamed) {
+            const uint64_t sampleBytes = f.depth == PixelDepth::U16 ? 2 : 1;
+            const uint64_t file =
+                pixelsOf(f) * 4 * sampleBytes + pixelsOf(f) * 4 * sampleBytes / 500 + (1ull << 16);
+            bytes += 2 * file;
+        }
+        return bytes;
     }
     case FrameSink::Window:
         // The frame in 8 bits as rendered, as shown and as kept for reuse, the window's
@@ -80,7 +93,7 @@ uint64_t sinkBytes(const FrameFootprint& f) {
 }
 
 uint64_t frameBytes(const FrameFootprint& f) {
-    if (f.sink == FrameSink::PngBands) return 0; // never made whole
+    if (f.sink == FrameSink::Streamed) return 0; // never made whole
     return pixelsOf(f) * static_cast<uint64_t>(std::max(f.channels, 1)) * sizeof(float);
 }
 
@@ -159,8 +172,9 @@ void rlimitHeadroom(std::optional<MemoryAvailable>& best, int resource, const ch
 } // namespace
 
 uint64_t estimateFrameBytes(const FrameFootprint& f) {
-    uint64_t bytes = (f.sink == FrameSink::PngBands ? kProcessBytesWithoutOiio : kProcessBytes) +
-                     frameBytes(f) + sinkBytes(f);
+    const bool oiio = f.sink != FrameSink::Streamed || f.format != "png";
+    uint64_t bytes =
+        (oiio ? kProcessBytes : kProcessBytesWithoutOiio) + frameBytes(f) + sinkBytes(f);
     // A queued frame is a whole picture waiting for (or in) its writer.
     bytes += static_cast<uint64_t>(std::max(f.queued, 0)) * (frameBytes(f) + sinkBytes(f));
     if (f.gpu) bytes += kVulkanStagingBytes;

@@ -17,11 +17,10 @@ enum class FrameSink {
     ImageFile, // writeImage: a float copy of the picture in the file's channels
     Video,     // ffmpeg's pipe: one 8-bit RGBA frame
     Window,    // the viewer: 8-bit copies for the window, the last frame and the texture
-    // render's PNG from a CPU kernel, encoded band by band (runKernelInBands, BandedPng): no
-    // frame, a step of floats and a band's encoding buffers a thread, and the compressed file
-    // (to standard output), or only the bands waiting for those above them (to a file, which
-    // takes each band as soon as it can)
-    PngBands,
+    // render's image, streamed band by band (runKernelInBands into an ImageStream): no frame,
+    // a step of floats a worker, the bands waiting for those above them, the encoder's
+    // buffers (imageStreamBytes), and, to standard output, the compressed file
+    Streamed,
 };
 
 struct FrameFootprint {
@@ -32,10 +31,10 @@ struct FrameFootprint {
     // Frames held while the next one renders (clip: the writes in flight), each with its own
     // writer's buffers.
     int queued = 0;
-    bool gpu = false;       // the Vulkan executor: its staging buffers
-    int threads = 0;        // PngBands: the workers (0: one per hardware thread)
-    int bytesPerSample = 1; // PngBands: 1 (8-bit) or 2 (16-bit)
-    bool streamed = false;  // PngBands: written to a file as the bands come (not assembled)
+    bool gpu = false;                       // the Vulkan executor: its staging buffers
+    int threads = 0;                        // Streamed: the workers (0: one per hardware thread)
+    PixelDepth depth = PixelDepth::Default; // Streamed: the file's samples
+    bool streamed = false; // Streamed: written to a file as the bands come (not assembled)
 };
 
 // An upper bound, in bytes, of the memory the process holds at its peak while rendering and

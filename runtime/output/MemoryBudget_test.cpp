@@ -56,14 +56,15 @@ TEST_CASE("memory budget: the estimate counts the frame and each copy of it") {
     CHECK(estimateFrameBytes(small) < 400'000'000u);
 }
 
-TEST_CASE("memory budget: a PNG encoded in bands holds no frame, only the file and bands") {
-    // 32768x32768 at 8 bits to standard output: 4 GiB of samples, counted twice (the
+TEST_CASE("memory budget: a streamed image holds no frame, only the bands (and the file to "
+          "standard output)") {
+    // 32768x32768 PNG at 8 bits to standard output: 4 GiB of samples, counted twice (the
     // compressed bands and the file made of them, each at most the samples when nothing
     // compresses); 16 GiB of float frame that is never made; a step of 8 rows a thread, 4 MiB
     // of floats here, and a band of 64 rows of samples filtered and compressed.
     FrameFootprint png;
     png.width = png.height = 32768;
-    png.sink = FrameSink::PngBands;
+    png.sink = FrameSink::Streamed;
     png.threads = 4;
     const double samples = double(uint64_t{1} << 30) * 4;
     const double bytes = double(estimateFrameBytes(png));
@@ -72,18 +73,41 @@ TEST_CASE("memory budget: a PNG encoded in bands holds no frame, only the file a
     CHECK(bytes < double(uint64_t{1} << 30) * 16); // less than the float frame alone
     // 16-bit samples double the file; more threads, more bands in flight.
     FrameFootprint deep = png;
-    deep.bytesPerSample = 2;
+    deep.depth = PixelDepth::U16;
     CHECK(double(estimateFrameBytes(deep)) == doctest::Approx(bytes + 2 * samples).epsilon(1e-2));
     FrameFootprint more = png;
     more.threads = 8;
     CHECK(estimateFrameBytes(more) > estimateFrameBytes(png));
-    // Streamed to a file, only the bands waiting for those above them: one a thread, never
-    // the file.
+    // Streamed to a file, only the bands waiting for those above them (runKernelInBands lets
+    // a worker run `threads` bands ahead: two a thread) and a thread's own, never the file.
     FrameFootprint streamed = png;
     streamed.streamed = true;
-    const double perThread = 8 * 32768.0 * 16 + 2 * 64 * 32768.0 * 4;
-    CHECK(double(estimateFrameBytes(streamed)) >= 4 * (perThread + 64 * 32768.0 * 4));
-    CHECK(double(estimateFrameBytes(streamed)) <= 4 * (perThread + 64 * 32768.0 * 4) + 4e8);
+    const double row = 32768.0 * 4 + 1;
+    const double perThread = 8 * 32768.0 * 16 + 2 * 64 * row;
+    CHECK(double(estimateFrameBytes(streamed)) >= 4 * (perThread + 2 * 64 * row));
+    CHECK(double(estimateFrameBytes(streamed)) <= 4 * (perThread + 2 * 64 * row) + 4e8);
+    // Every format alike: a 131072-pixel-wide 16-bit TIFF or float EXR is bounded by its
+    // bands (a band of 64 rows: 64 MiB of 16-bit samples), hundreds of megabytes, not the
+    // 275 GB of its float frame.
+    for (const auto& [format, depth] :
+         {std::pair{"tiff", PixelDepth::U16}, std::pair{"exr", PixelDepth::Float},
+          std::pair{"jpeg", PixelDepth::U8}}) {
+        FrameFootprint big;
+        big.width = big.height = 131072;
+        big.sink = FrameSink::Streamed;
+        big.streamed = true;
+        big.format = format;
+        big.depth = depth;
+        big.threads = 2;
+        INFO(format);
+        CHECK(estimateFrameBytes(big) < 2'000'000'000u);
+        FrameFootprint wider = big;
+        wider.width *= 2;
+        CHECK(estimateFrameBytes(wider) > estimateFrameBytes(big)); // the bands are wider
+        FrameFootprint taller = big;
+        taller.height *= 2;
+        CHECK(estimateFrameBytes(taller) == estimateFrameBytes(big)); // the height is free
+    }
 }
 
 TEST_CASE("memory budget: the address space limit lowers what is available") {

@@ -3,7 +3,9 @@
 #include "runtime/output/OiioCodec.h"
 
 #include <cerrno>
+#include <cstdint>
 #include <cstring>
+#include <exception>
 #include <fmt/format.h>
 #include <OpenImageIO/filesystem.h>
 #include <OpenImageIO/imageio.h>
@@ -124,11 +126,131 @@ OIIO::ImageSpec specFor(const std::string& format, int width, int height,
     if (options.dpi > 0) {
         spec.attribute("XResolution", static_cast<float>(options.dpi));
         spec.attribute("YResolution", static_cast<float>(options.dpi));
-        spec.attribute("ResolutionUnit", "inch");
+        // OpenImageIO's JPEG writer knows the unit only as "in" (anything else leaves JFIF's
+        // density unit 0, a bare aspect ratio that print software reads as 72 dpi); the
+        // other writers take "inch".
+        spec.attribute("ResolutionUnit", format == "jpeg" ? "in" : "inch");
     }
-    if (format == "tiff") spec.attribute("compression", "zip");
-    if (format == "exr") spec.attribute("compression", "zip");
+    const std::string codec = options.codec.empty() ? "zip" : options.codec;
+    if (format == "tiff") {
+        spec.attribute("compression", codec);
+        // Classic TIFF's offsets are 32 bits: a file that may pass 4 GB must be BigTIFF,
+        // which fewer readers take, so only then. zip stores incompressible strips nearly as
+        // they are, so the samples' own size (with an eighth to spare) decides.
+        const uint64_t samples = static_cast<uint64_t>(width) * static_cast<uint64_t>(height) *
+                                 static_cast<uint64_t>(outChannels) * type.size();
+        if (samples + samples / 8 >= (uint64_t{1} << 32)) spec.attribute("tiff:bigtiff", 1);
+    }
+    if (format == "exr") spec.attribute("compression", codec);
+    // A region of a larger frame (WriteOptions): the data window inside the display window.
+    if (options.fullWidth > 0 && options.fullHeight > 0 && format != "jpeg") {
+        spec.x = options.originX;
+        spec.y = options.originY;
+        spec.full_x = spec.full_y = 0;
+        spec.full_width = options.fullWidth;
+        spec.full_height = options.fullHeight;
+    }
     return spec;
+}
+
+// An IOProxy that hands every byte to a ByteWriter, for a writer that only appends (JPEG).
+// A failure is kept, not thrown through the codec's C code, and reported after.
+class ByteProxy : public OIIO::Filesystem::IOProxy {
+  public:
+    explicit ByteProxy(const ByteWriter& bytes) : IOProxy("", Write), bytes_(bytes) {}
+    const char* proxytype() const override { return "moire"; }
+    size_t write(const void* buf, size_t size) override {
+        if (failure_) return 0;
+        try {
+            bytes_(buf, size);
+        } catch (...) {
+            failure_ = std::current_exception();
+            return 0;
+        }
+        m_pos += static_cast<int64_t>(size);
+        return size;
+    }
+    size_t pwrite(const void* buf, size_t size, int64_t offset) override {
+        return offset == m_pos ? write(buf, size) : 0;
+    }
+    bool seek(int64_t offset) override { return offset == m_pos; }
+    size_t size() const override { return static_cast<size_t>(m_pos); }
+    void rethrow() const {
+        if (failure_) std::rethrow_exception(failure_);
+    }
+
+  private:
+    const ByteWriter& bytes_;
+    std::exception_ptr failure_;
+};
+
+class RowWriter : public OiioRowWriter {
+  public:
+    RowWriter(const std::string& path, const std::string& file, const std::string& format,
+              const OIIO::ImageSpec& spec, const ByteWriter& bytes)
+        : path_(path), file_(file), format_(format), spec_(spec), bytes_(bytes) {
+        out_ = OIIO::ImageOutput::create(format);
+        if (!out_) throw encodeFailure(path, OIIO::geterror());
+        if (format == "jpeg") {
+            proxy_ = std::make_unique<ByteProxy>(bytes_);
+            if (!out_->supports("ioproxy") || !out_->set_ioproxy(proxy_.get()))
+                throw encodeFailure(path, "the JPEG writer cannot write to a stream");
+        }
+        if (!out_->open(format == "jpeg" ? path : file, spec_)) fail(out_->geterror());
+    }
+    ~RowWriter() override {
+        // Dropped before close(): the codec lets go of the file; what it holds is the
+        // caller's to remove.
+        if (out_ && !closed_) out_->close();
+    }
+    size_t sampleBytes() const override { return spec_.format.size(); }
+    void convert(const float* floats, size_t count, void* samples) const override {
+        OIIO::convert_pixel_values(OIIO::TypeDesc::FLOAT, floats, spec_.format, samples,
+                                   static_cast<int>(count));
+    }
+    void writeRows(int y, int count, const void* samples) override {
+        if (!out_->write_scanlines(spec_.y + y, spec_.y + y + count, 0, spec_.format, samples))
+            fail(out_->geterror());
+    }
+    void close() override {
+        closed_ = true;
+        if (!out_->close()) fail(out_->geterror());
+        if (proxy_) proxy_->rethrow();
+        if (format_ != "tiff") return;
+        // libtiff writes the image's directory at TIFFClose, which reports no failure: read
+        // the directory back.
+        auto in = OIIO::ImageInput::open(file_);
+        if (!in || in->spec().width != spec_.width || in->spec().height != spec_.height ||
+            in->spec().nchannels != spec_.nchannels)
+            fail("the TIFF writer left the file incomplete");
+    }
+
+  private:
+    [[noreturn]] void fail(std::string why) {
+        if (proxy_) proxy_->rethrow(); // the stream's own words (a full disk, a limit)
+        // A file size limit: that is the reason, whatever the codec made of it.
+        struct stat st {};
+        struct rlimit limit {};
+        if (!file_.empty() && ::stat(file_.c_str(), &st) == 0 &&
+            ::getrlimit(RLIMIT_FSIZE, &limit) == 0 && limit.rlim_cur != RLIM_INFINITY &&
+            static_cast<rlim_t>(st.st_size) + (1 << 16) >= limit.rlim_cur)
+            why = std::strerror(EFBIG);
+        throw encodeFailure(path_, why);
+    }
+
+    std::string path_, file_, format_;
+    OIIO::ImageSpec spec_;
+    ByteWriter bytes_;
+    std::unique_ptr<ByteProxy> proxy_;
+    std::unique_ptr<OIIO::ImageOutput> out_;
+    bool closed_ = false;
+};
+
+std::unique_ptr<OiioRowWriter> openWriter(const std::string& path, const std::string& file,
+                                          const std::string& format, int width, int height,
+                                          const WriteOptions& options, const ByteWriter& bytes) {
+    return std::make_unique<RowWriter>(path, file, format, specFor(format, width, height, options),
+                                       bytes);
 }
 
 std::vector<unsigned char> encodeFile(const std::string& path, const std::string& format, int width,
@@ -164,6 +286,6 @@ Image readFile(const std::string& path) {
 } // namespace moire
 
 extern "C" const moire::OiioCodec* moire_oiio_codec() {
-    static const moire::OiioCodec codec{&moire::encodeFile, &moire::readFile};
+    static const moire::OiioCodec codec{&moire::encodeFile, &moire::readFile, &moire::openWriter};
     return &codec;
 }

@@ -9,10 +9,32 @@
 #include "runtime/Image.h"
 #include "runtime/output/ImageIO.h"
 
+#include <cstddef>
+#include <functional>
+#include <memory>
 #include <string>
 #include <vector>
 
 namespace moire {
+
+// A file OpenImageIO writes row by row, top to bottom (ImageStream.cpp puts the rows in
+// order): the rows in the file's sample type, made by convert().
+class OiioRowWriter {
+  public:
+    virtual ~OiioRowWriter() = default;
+    // Bytes of one channel value in the file.
+    virtual size_t sampleBytes() const = 0;
+    // `count` floats (clamped to [0, 1], linear for EXR) to the file's sample type, exactly as
+    // the whole-image encoder converts them. Safe from any thread.
+    virtual void convert(const float* floats, size_t count, void* samples) const = 0;
+    // Rows [y, y + count) of the image, the file's channels a pixel, packed. Throws IoError.
+    virtual void writeRows(int y, int count, const void* samples) = 0;
+    // Writes what ends the file and checks it is whole. Throws IoError.
+    virtual void close() = 0;
+};
+
+// Where a sequential writer (JPEG) sends its bytes; throws IoError.
+using ByteWriter = std::function<void(const void* data, size_t size)>;
 
 struct OiioCodec {
     // `format`'s file of width x height pixels of `channels` floats (3 for JPEG, 4 otherwise),
@@ -23,6 +45,14 @@ struct OiioCodec {
                                          const WriteOptions& options);
     // readImage (ImageIO.h). Throws IoError.
     Image (*read)(const std::string& path);
+    // A writer of `format`'s file as encode() would make it, written by rows: TIFF and EXR by
+    // name into `file` (a temporary the caller names, commits and removes; they seek back to
+    // write their directories), JPEG through `bytes` (it only appends). Throws IoError
+    // naming `path`.
+    std::unique_ptr<OiioRowWriter> (*openWriter)(const std::string& path, const std::string& file,
+                                                 const std::string& format, int width, int height,
+                                                 const WriteOptions& options,
+                                                 const ByteWriter& bytes);
 };
 
 // "cannot write 'path': why", for the writers on both sides.

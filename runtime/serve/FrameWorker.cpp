@@ -101,6 +101,7 @@ EncodedFrame FrameWorker::render(const FrameJob& job) {
         request.time = job.time;
         request.width = job.width;
         request.height = job.height;
+        request.maxSide = kMaxFrameSide;
         request.literals = &job.literals;
         FrameValues values;
         if (!evaluateFrame(*job.build->program, request, values, out.error)) return out;

@@ -34,9 +34,9 @@ std::pair<double, double> point(const json& j, const std::string& what) {
 
 int side(const json& j, const std::string& what) {
     const double v = number(j, what);
-    if (v != std::floor(v) || v < 1 || v > kMaxImageSide)
+    if (v != std::floor(v) || v < 1 || v > kMaxFrameSide)
         throw RequestError(
-            fmt::format("'{}' must be a whole number of pixels from 1 to {}", what, kMaxImageSide));
+            fmt::format("'{}' must be a whole number of pixels from 1 to {}", what, kMaxFrameSide));
     return static_cast<int>(v);
 }
 

@@ -126,10 +126,10 @@ void Session::rebuild() {
 // --- Requests -------------------------------------------------------------------------------
 
 uint64_t Session::resize(int width, int height) {
-    if (width < 1 || height < 1 || width > kMaxImageSide || height > kMaxImageSide)
+    if (width < 1 || height < 1 || width > kMaxFrameSide || height > kMaxFrameSide)
         throw RequestError(
             fmt::format("the frame's size must be 1 to {} pixels each way, not {}x{}",
-                        kMaxImageSide, width, height));
+                        kMaxFrameSide, width, height));
     std::lock_guard<std::mutex> lock(mutex_);
     if (options_.width > 0) return version_; // --size fixes it
     if (width == width_ && height == height_) return version_;

@@ -48,6 +48,7 @@ bool evaluateViewFrame(const SceneProgram& program, const ViewAdjust& view, doub
     req.time = time;
     req.width = width;
     req.height = height;
+    req.maxSide = kMaxFrameSide;
     req.literals = &literals;
     return evaluateFrame(program, req, out, diags);
 }

@@ -43,16 +43,16 @@ constexpr int kMaxFrameSide = 32768;
 struct FrameRequest {
     double time = 0.0;
     int width = 0, height = 0; // when non-zero, replaces the scene's size
-    // When above 0, the world size of one pixel (the camera's zoom included), in place of
-    // the scene's frame fitted to the image: the scale and the canvas set apart (`moire
-    // print`). Needs a program compiled with CompileOptions::pixelSize, which otherwise
-    // draws the fitted frame, as any render.
-    double pixelSize = 0.0;
     // When set, replaces the program's literal table (same length): the viewer's adjustments.
     const std::vector<double>* literals = nullptr;
     // The largest side the frame rendered may have: kMaxFrameSide for a command that holds
     // the frame whole. (The scene's own size is checked against kMaxImageSide either way.)
     int maxSide = kMaxImageSide;
+    // When above 0, the world size of one pixel (the camera's zoom included), in place of
+    // the scene's frame fitted to the image: the scale and the canvas set apart (`moire
+    // print`). Needs a program compiled with CompileOptions::pixelSize, which otherwise
+    // draws the fitted frame, as any render.
+    double pixelSize = 0.0;
 };
 
 // Evaluates the frame at `request.time`. A value that cannot be rendered (an image size out

@@ -192,7 +192,7 @@ TEST_CASE("print's options are checked, each with a clear message") {
         {"--paper A4 --dpi 300 --scale 0",
          "moire: error: --scale must be a number of world units per millimetre above 0"},
         {"--paper A4 --dpi 300 --scale -2", "--scale must be a number of world units"},
-        {"--paper A0 --dpi 2000", "pixels, more than"},
+        {"--paper A0 --dpi 40000", "pixels, more than"},
         {"--paper 1x1mm --dpi 1", "is less than a pixel a side; raise --dpi"},
         {"--paper A4 --dpi 300 --separate -o s.jpg", "JPEG cannot hold"},
     };

@@ -25,11 +25,9 @@ namespace {
 
 constexpr double kMostBleedMm = 1000.0;
 constexpr double kMostScale = 1e9; // world units per millimetre
-// Rows a CPU worker renders at a time, and a band's rows: each step is finished (margin and
-// marks) and handed to the stream while it is in the cache.
-constexpr int kBandRows = 32, kStepRows = 8;
-// Rows a GPU kernel renders at a time: one band, finished and added, then the next.
-constexpr int kGpuBandRows = 128;
+// Rows a CPU worker renders at a time: each step is finished (margin and marks) and handed
+// to the stream while it is in the cache (the stream chooses the band).
+constexpr int kStepRows = 8;
 
 // One sheet to write: the program that draws it and the file it goes to.
 struct Sheet {
@@ -81,42 +79,30 @@ bool frameOf(const SceneProgram& program, const FrameRequest& request, FrameValu
     return false;
 }
 
-// Renders one sheet into `stream`, band by band: the kernel's rows, the margin and the marks
-// laid on them (Marks.h), then handed over. False when stopped by a signal.
-bool renderSheet(const CompiledKernel& kernel, const KernelFrame& kf, ExecOptions exec,
+// Renders one sheet into `stream`, band by band on any backend (runKernelInBands): the
+// kernel's rows, the margin and the marks laid on them (Marks.h), then handed over, so no
+// more than a few bands are ever held. False when stopped by a signal.
+bool renderSheet(const CompiledKernel& kernel, const KernelFrame& kf, const ExecOptions& exec,
                  const print::SheetLayout& layout, const std::vector<print::MarkShape>& marks,
                  const float margin[4], ImageStream& stream) {
     const int channels = kernel.numOutputs();
-    const bool finish = layout.margin > 0 || layout.art.x0 > 0;
-    auto hand = [&](long long y, int count, const float* rows, size_t stride) {
-        if (!finish) {
-            stream.addRows(static_cast<int>(y), count, rows, stride, channels);
-            return;
-        }
-        // The worker's rows are its own, but read-only to the sink: finished in a copy.
-        thread_local std::vector<float> copy;
-        copy.assign(rows, rows + stride * static_cast<size_t>(count));
-        print::finishRows(layout, marks, margin, y, count, copy.data(), stride, channels);
-        stream.addRows(static_cast<int>(y), count, copy.data(), stride, channels);
-    };
-    if (!kernel.wholeFrame())
-        return runKernelInBands(
-            kernel, kf, exec, kBandRows,
-            [&](int band, int first, int count, const float* rows, size_t stride) {
-                hand(static_cast<long long>(band) * kBandRows + first, count, rows, stride);
-            },
-            nullptr, kStepRows);
-    // A GPU kernel takes whole-width bands from this thread, one at a time.
-    const size_t stride = static_cast<size_t>(kf.imageW) * channels;
-    std::vector<float> band(stride * kGpuBandRows);
-    for (int y = 0; y < kf.imageH; y += kGpuBandRows) {
-        if (exec.cancelled && exec.cancelled()) return false;
-        const int n = std::min(kGpuBandRows, kf.imageH - y);
-        kernel.runTile(kf, TileRect{0, y, kf.imageW, y + n}, band.data(), stride);
-        hand(y, n, band.data(), stride);
-        if (exec.progress) exec.progress(static_cast<double>(y + n) / kf.imageH);
-    }
-    return true;
+    const bool finish = layout.art.x0 > 0; // a margin to clear and mark
+    const int bandRows = stream.bandRows();
+    return runKernelInBands(
+        kernel, kf, exec, bandRows,
+        [&](int band, int first, int count, const float* rows, size_t stride) {
+            const int y = band * bandRows + first;
+            if (!finish) {
+                stream.addRows(y, count, rows, stride, channels);
+                return;
+            }
+            // The worker's rows are read-only to the sink: finished in a copy of the step.
+            thread_local std::vector<float> copy;
+            copy.assign(rows, rows + stride * static_cast<size_t>(count));
+            print::finishRows(layout, marks, margin, y, count, copy.data(), stride, channels);
+            stream.addRows(y, count, copy.data(), stride, channels);
+        },
+        nullptr, kStepRows);
 }
 
 } // namespace

@@ -253,6 +253,16 @@ int print(const PrintArgs& args) {
         return kExitUsage;
     }
     const std::vector<print::MarkShape> marks = print::sheetMarks(layout, args.dpi);
+    // Streamed as render streams: a few bands in memory, never the sheet (MemoryBudget.h).
+    if (!checkMemory({.width = static_cast<int>(layout.width),
+                      .height = static_cast<int>(layout.height),
+                      .sink = FrameSink::Streamed,
+                      .format = image.format,
+                      .gpu = args.backend == "vulkan",
+                      .threads = args.threads,
+                      .depth = image.depth,
+                      .streamed = true}))
+        return kExitMachine;
 
     StopSignals signals;
     const bool tty = isatty(fileno(stderr));

@@ -11,14 +11,13 @@ using namespace moire::print;
 namespace {
 
 SheetLayout markedSheet(double bleedMm) {
-    SheetRequest r;
-    r.paper = {60, 40};
-    r.dpi = 254; // 10 pixels a millimetre: 600 x 400 trim
-    r.bleedMm = bleedMm;
-    r.marks = true;
-    r.sceneWidth = 60;
-    r.sceneHeight = 40;
-    return layoutSheet(r);
+    // 10 pixels a millimetre: a 600 x 400 trim.
+    return layoutSheet({.paper = {60, 40},
+                        .dpi = 254,
+                        .bleedMm = bleedMm,
+                        .marks = true,
+                        .sceneWidth = 60,
+                        .sceneHeight = 40});
 }
 
 } // namespace
@@ -59,12 +58,10 @@ TEST_CASE("every mark lies in the margin, and the marks stand where the layout p
 }
 
 TEST_CASE("a sheet without marks has none") {
-    SheetRequest r;
-    r.paper = {60, 40};
-    r.dpi = 254;
-    r.sceneWidth = 60;
-    r.sceneHeight = 40;
-    CHECK(sheetMarks(layoutSheet(r), 254).empty());
+    const SheetLayout plain =
+        layoutSheet({.paper = {60, 40}, .dpi = 254, .sceneWidth = 60, .sceneHeight = 40});
+    CHECK(plain.margin == 0);
+    CHECK(sheetMarks(plain, 254).empty());
 }
 
 TEST_CASE("finishing rows clears the margin and lays the marks in black, the artwork untouched") {

@@ -77,14 +77,13 @@ TEST_CASE("the paper turns to the scene's frame unless told") {
 }
 
 TEST_CASE("bleed and marks grow the sheet around a centred trim") {
-    SheetRequest r;
-    std::string why;
-    REQUIRE(parsePaper("100x50mm", r.paper, why));
-    r.dpi = 254; // 10 pixels a millimetre
-    r.sceneWidth = 200;
-    r.sceneHeight = 100;
-    r.bleedMm = 3;
-    r.marks = true;
+    // 10 pixels a millimetre.
+    SheetRequest r{.paper = {100, 50},
+                   .dpi = 254,
+                   .bleedMm = 3,
+                   .marks = true,
+                   .sceneWidth = 200,
+                   .sceneHeight = 100};
     const SheetLayout s = layoutSheet(r);
     CHECK(s.bleed == 30);
     CHECK(s.margin == 120); // 12 mm

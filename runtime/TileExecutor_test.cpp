@@ -4,9 +4,11 @@
 #include "runtime/TileExecutor.h"
 
 #include <atomic>
+#include <chrono>
 #include <doctest/doctest.h>
 #include <mutex>
 #include <stdexcept>
+#include <thread>
 #include <vector>
 
 namespace moire {
@@ -80,46 +82,77 @@ TEST_CASE("tile executor: a cancelled frame stops between tiles and comes back e
 
 TEST_CASE("runKernelInBands hands every band over once, its rows in order, every pixel in it") {
     const int w = 131, h = 77;
-    for (int bandRows : {1, 16, 64, 100})
-        for (int threads : {1, 2, 5})
-            for (auto [tile, step] : {std::pair{8, 0}, {64, 0}, {8, 3}, {64, 8}}) {
-                CAPTURE(step);
-                CAPTURE(bandRows);
-                CAPTURE(threads);
-                CAPTURE(tile);
-                CoordinateKernel k(false);
-                ExecOptions o;
-                o.threads = threads;
-                o.tileSize = tile;
-                std::vector<int> seen((h + bandRows - 1) / bandRows, 0);
-                std::mutex m;
-                int wrong = 0;
-                BandTimes times;
-                CHECK(runKernelInBands(
-                    k, KernelFrame{nullptr, w, h}, o, bandRows,
-                    [&](int band, int first, int count, const float* rows, size_t stride) {
-                        CHECK(stride == size_t{w} * 2);
-                        int bad = 0;
-                        const int y0 = band * bandRows + first;
-                        for (int y = y0; y < y0 + count; ++y)
-                            for (int x = 0; x < w; ++x) {
-                                const float* p = rows + (y - y0) * stride + x * 2;
-                                bad += p[0] != x || p[1] != y;
-                            }
-                        std::lock_guard<std::mutex> lock(m);
-                        // Each band's steps in order, the last ending at the band's end.
-                        int& next = seen.at(static_cast<size_t>(band));
-                        bad += first != next;
-                        next = first + count;
-                        wrong += bad;
-                    },
-                    &times, step));
-                CHECK(wrong == 0);
-                for (size_t b = 0; b < seen.size(); ++b)
-                    CHECK(seen[b] == std::min(bandRows, h - static_cast<int>(b) * bandRows));
-                CHECK(times.kernel >= 0.0);
-                CHECK(times.sink >= 0.0);
-            }
+    for (bool whole : {false, true}) // a GPU kernel's bands come from the calling thread
+        for (int bandRows : {1, 16, 64, 100})
+            for (int threads : {1, 2, 5})
+                for (auto [tile, step] : {std::pair{8, 0}, {64, 0}, {8, 3}, {64, 8}}) {
+                    CAPTURE(whole);
+                    CAPTURE(step);
+                    CAPTURE(bandRows);
+                    CAPTURE(threads);
+                    CAPTURE(tile);
+                    CoordinateKernel k(whole);
+                    ExecOptions o;
+                    o.threads = threads;
+                    o.tileSize = tile;
+                    std::vector<int> seen((h + bandRows - 1) / bandRows, 0);
+                    std::mutex m;
+                    int wrong = 0;
+                    BandTimes times;
+                    CHECK(runKernelInBands(
+                        k, KernelFrame{nullptr, w, h}, o, bandRows,
+                        [&](int band, int first, int count, const float* rows, size_t stride) {
+                            CHECK(stride == size_t{w} * 2);
+                            int bad = 0;
+                            const int y0 = band * bandRows + first;
+                            for (int y = y0; y < y0 + count; ++y)
+                                for (int x = 0; x < w; ++x) {
+                                    const float* p = rows + (y - y0) * stride + x * 2;
+                                    bad += p[0] != x || p[1] != y;
+                                }
+                            std::lock_guard<std::mutex> lock(m);
+                            // Each band's steps in order, the last ending at the band's end.
+                            int& next = seen.at(static_cast<size_t>(band));
+                            bad += first != next;
+                            next = first + count;
+                            wrong += bad;
+                        },
+                        &times, step));
+                    CHECK(wrong == 0);
+                    for (size_t b = 0; b < seen.size(); ++b)
+                        CHECK(seen[b] == std::min(bandRows, h - static_cast<int>(b) * bandRows));
+                    CHECK(times.kernel >= 0.0);
+                    CHECK(times.sink >= 0.0);
+                }
+}
+
+TEST_CASE("runKernelInBands: no worker runs more than `threads` bands past a slow band") {
+    // Band 0 is slow in the sink; until it is handed over whole, bands past `threads` must
+    // not start, so that a sink keeping bands until those above them come holds a few.
+    for (int threads : {2, 3}) {
+        CAPTURE(threads);
+        CoordinateKernel k(false);
+        ExecOptions o;
+        o.threads = threads;
+        std::atomic<bool> firstDone{false};
+        std::atomic<int> furthest{0}, bands{0};
+        CHECK(runKernelInBands(
+            k, KernelFrame{nullptr, 32, 400}, o, 4,
+            [&](int band, int first, int count, const float*, size_t) {
+                if (band == 0) {
+                    std::this_thread::sleep_for(std::chrono::milliseconds(30));
+                    if (first + count == 4) firstDone.store(true);
+                } else if (!firstDone.load()) {
+                    int f = furthest.load();
+                    while (band > f && !furthest.compare_exchange_weak(f, band)) {
+                    }
+                }
+                if (first + count == 4) ++bands;
+            },
+            nullptr, 1));
+        CHECK(bands.load() == 100);
+        CHECK(furthest.load() <= threads);
+    }
 }
 
 TEST_CASE("runKernelInBands stops on the sink's failure and rethrows it") {

@@ -4,13 +4,18 @@
 #include "runtime/output/OutputFile.h"
 
 #include <algorithm>
+#include <atomic>
+#include <cerrno>
 #include <condition_variable>
+#include <cstring>
 #include <filesystem>
 #include <fmt/format.h>
 #include <map>
 #include <mutex>
 #include <optional>
+#include <sys/mman.h>
 #include <thread>
+#include <unistd.h>
 #include <vector>
 
 namespace moire {
@@ -22,9 +27,23 @@ namespace {
 // The rows OpenImageIO's writers are handed at a time: a band of render's pipeline.
 constexpr int kOiioBandRows = 64;
 
-// A PNG through BandedPng: each band's rows are encoded on the thread that hands them over,
-// in order within the band (zlib's stream); rows that come before those above them in their
-// band wait as floats. Written to a file as the bands come, or, to standard output, kept
+// The band a thread is part way through encoding: PngBands keeps a band's filtered rows so
+// far in the thread's own scratch, so a thread finishes one band before it starts another,
+// and only it can go on with the band. Streams are told apart by a number never reused (a
+// thread whose band's stream has gone may start another).
+struct OpenBand {
+    uint64_t stream = 0;
+    int band = -1;
+};
+thread_local OpenBand openBand;
+std::atomic<uint64_t> streamNumbers{0};
+
+// A PNG through BandedPng: a band's rows are encoded on the thread that started it, in order,
+// as they come (runKernelInBands hands a band to one worker, eight rows at a time, so the
+// rows are encoded while still in the cache). Rows that cannot be encoded yet (they come
+// before those above them in the band, from another thread, or from a thread part way
+// through another band) wait as floats until their band's thread, or a thread with no band
+// open, comes back to it. Written to a file as the bands come, or, to standard output, kept
 // compressed and written whole at the end.
 class PngStream final : public ImageStream {
   public:
@@ -39,18 +58,28 @@ class PngStream final : public ImageStream {
     int bandRows() const override { return png_->bandRows(); }
 
     void addRows(int y, int count, const float* rows, size_t stride, int channels) override {
+        if (y < 0 || count < 0 || y + count > height())
+            throw IoError(
+                fmt::format("internal: rows {} to {} of '{}' out of range", y, y + count, path_));
         const int r = png_->bandRows();
         for (int top = y; top < y + count;) {
             const int band = top / r;
-            const int first = top - band * r;
             const int n = std::min(y + count, (band + 1) * r) - top;
-            addToBand(band, first, n, rows + static_cast<size_t>(top - y) * stride, stride,
+            addToBand(band, top - band * r, n, rows + static_cast<size_t>(top - y) * stride, stride,
                       channels);
             top += n;
         }
     }
 
     void finish() override {
+        // Bands whose rows all wait, with no thread part way through them, are encoded here.
+        for (size_t band = 0; band < bands_.size(); ++band) {
+            Band& b = bands_[band];
+            std::lock_guard<std::mutex> lock(b.mutex);
+            if (b.next < rowsIn(static_cast<int>(band)) && b.owner == std::thread::id() &&
+                openBand.stream != number_)
+                drain(static_cast<int>(band), b);
+        }
         if (file_) {
             png_->finish(); // the bands are in the file already
             return;
@@ -60,36 +89,63 @@ class PngStream final : public ImageStream {
     }
 
   private:
+    struct Early {
+        int count, channels;
+        std::vector<float> rows; // packed
+    };
     struct Band {
         std::mutex mutex;
-        int next = 0;                                 // the first row not yet encoded
-        std::map<int, std::vector<float>> early;      // rows come before their turn, packed
-        std::map<int, std::pair<int, int>> earlyRows; // their count and channels
+        int next = 0;               // the first row not yet encoded
+        std::thread::id owner;      // the thread part way through it
+        std::map<int, Early> early; // rows waiting, by their first row in the band
     };
+
+    int rowsIn(int band) const {
+        return std::min(png_->bandRows(), height() - band * png_->bandRows());
+    }
+
+    // Encodes rows [first, first + count) of `band` on this thread (b.next == first).
+    void encode(int band, Band& b, int first, int count, const float* rows, size_t stride,
+                int channels) {
+        openBand = {number_, band};
+        b.owner = std::this_thread::get_id();
+        png_->addRows(band, first, count, rows, stride, channels);
+        b.next += count;
+        if (b.next == rowsIn(band)) {
+            openBand = {};
+            b.owner = std::thread::id();
+        }
+    }
+
+    // The waiting rows that continue the band, on this thread.
+    void drain(int band, Band& b) {
+        for (auto it = b.early.find(b.next); it != b.early.end(); it = b.early.find(b.next)) {
+            Early e = std::move(it->second);
+            b.early.erase(it);
+            encode(band, b, b.next, e.count, e.rows.data(),
+                   static_cast<size_t>(width()) * e.channels, e.channels);
+        }
+    }
 
     void addToBand(int band, int first, int count, const float* rows, size_t stride, int channels) {
         Band& b = bands_[static_cast<size_t>(band)];
         std::lock_guard<std::mutex> lock(b.mutex);
-        if (first != b.next) {
-            const size_t row = static_cast<size_t>(width()) * channels;
-            std::vector<float> copy(row * count);
-            for (int i = 0; i < count; ++i)
-                std::copy_n(rows + i * stride, row, copy.data() + i * row);
-            b.early.emplace(first, std::move(copy));
-            b.earlyRows.emplace(first, std::make_pair(count, channels));
+        const bool mine = b.owner == std::this_thread::get_id();
+        const bool free = b.owner == std::thread::id() && openBand.stream != number_;
+        if (first == b.next && (mine || free)) {
+            encode(band, b, first, count, rows, stride, channels);
+            drain(band, b);
             return;
         }
-        png_->addRows(band, first, count, rows, stride, channels);
-        b.next += count;
-        for (auto it = b.early.find(b.next); it != b.early.end(); it = b.early.find(b.next)) {
-            const auto [n, c] = b.earlyRows.at(b.next);
-            png_->addRows(band, b.next, n, it->second.data(), static_cast<size_t>(width()) * c, c);
-            b.early.erase(it);
-            b.earlyRows.erase(b.next);
-            b.next += n;
-        }
+        const size_t row = static_cast<size_t>(width()) * channels;
+        Early e{count, channels, std::vector<float>(row * count)};
+        for (int i = 0; i < count; ++i)
+            std::copy_n(rows + i * stride, row, e.rows.data() + i * row);
+        b.early.emplace(first, std::move(e));
+        if (mine || free) drain(band, b);
     }
 
+    const uint64_t number_ = ++streamNumbers;
     std::string path_;
     std::optional<AtomicFile> file_;
     std::optional<BandedPng> png_; // after file_: dropped first
@@ -107,28 +163,29 @@ class OiioStream final : public ImageStream {
         : ImageStream(width, height), path_(path), channels_(format == "jpeg" ? 3 : 4),
           linear_(format == "exr") {
         const OiioCodec& codec = oiioCodec();
-        if (format == "jpeg") {
-            // JPEG only appends: its bytes go through the checked writer as they come.
-            file_.emplace(path);
-            writer_ = codec.openWriter(
-                path, "", format, width, height, options,
-                [this](const void* data, size_t size) { file_->write(data, size); });
-        } else {
-            // TIFF and EXR seek back to write their directories: the codec writes them by
-            // name into a temporary beside the target, committed by finish().
-            temp_ = temporaryBeside(path);
-            try {
-                writer_ = codec.openWriter(path, temp_, format, width, height, options, {});
-            } catch (...) {
-                removeTemporary();
-                throw;
+        // Through the checked writer's temporary (OutputFile.h): JPEG only appends, so its
+        // bytes go to it as they come; TIFF and EXR seek back to write their directories,
+        // so they write at offsets into its descriptor, or, when the destination cannot seek
+        // (a FIFO, a device), into a memory file copied to it at the end.
+        file_.emplace(path);
+        int fd = -1;
+        if (format != "jpeg") {
+            if (file_->writtenInPlace()) {
+                memory_ = ::memfd_create("moire-image", MFD_CLOEXEC);
+                if (memory_ < 0) throw encodeFailure(path, std::strerror(errno));
+                fd = memory_;
+            } else {
+                fd = file_->descriptor();
             }
         }
+        writer_ =
+            codec.openWriter(path, format, width, height, options, fd,
+                             [this](const void* data, size_t size) { file_->write(data, size); });
     }
 
     ~OiioStream() override {
         writer_.reset();
-        removeTemporary();
+        if (memory_ >= 0) ::close(memory_);
     }
 
     int bandRows() const override { return kOiioBandRows; }
@@ -162,17 +219,32 @@ class OiioStream final : public ImageStream {
         if (writing_) return; // the writer will find them
         writing_ = true;
         for (;;) {
-            std::vector<std::pair<int, Rows>> ready;
-            for (auto it = waiting_.begin(); it != waiting_.end() && it->first == next_;
-                 it = waiting_.erase(it)) {
-                next_ += it->second.count;
-                ready.emplace_back(it->first, std::move(it->second));
+            // The run of rows from the top that is here, written once it is a band long (or
+            // ends the image), in one call: the codec gets whole strips and blocks to compress
+            // (OpenImageIO compresses a TIFF's strips in parallel when handed several).
+            int run = 0;
+            for (auto it = waiting_.begin(); it != waiting_.end() && it->first == next_ + run; ++it)
+                run += it->second.count;
+            if (run == 0 || (run < kOiioBandRows && next_ + run < height())) break;
+            const int top = next_;
+            Rows rows;
+            if (waiting_.begin()->second.count == run) {
+                rows = std::move(waiting_.begin()->second);
+                waiting_.erase(waiting_.begin());
+            } else {
+                rows.count = run;
+                rows.samples.reserve(static_cast<size_t>(run) * width() * channels_ *
+                                     writer_->sampleBytes());
+                while (!waiting_.empty() && waiting_.begin()->first < top + run) {
+                    const std::vector<unsigned char>& s = waiting_.begin()->second.samples;
+                    rows.samples.insert(rows.samples.end(), s.begin(), s.end());
+                    waiting_.erase(waiting_.begin());
+                }
             }
-            if (ready.empty()) break;
+            next_ += run;
             lock.unlock();
             try {
-                for (const auto& [top, r] : ready)
-                    writer_->writeRows(top, r.count, r.samples.data());
+                writer_->writeRows(top, rows.count, rows.samples.data());
             } catch (const IoError& e) {
                 lock.lock();
                 failed_ = true;
@@ -181,7 +253,7 @@ class OiioStream final : public ImageStream {
                 waiting_.clear();
                 throw;
             }
-            ready.clear(); // freed before the lock is taken again
+            rows = Rows(); // freed before the lock is taken again
             lock.lock();
         }
         writing_ = false;
@@ -196,12 +268,8 @@ class OiioStream final : public ImageStream {
                     fmt::format("internal: '{}' finished before every row was written", path_));
         }
         writer_->close();
-        if (file_) {
-            file_->commit();
-        } else {
-            commitTemporary(temp_, path_);
-            temp_.clear();
-        }
+        if (memory_ >= 0) copyMemoryFile();
+        file_->commit();
     }
 
   private:
@@ -210,17 +278,24 @@ class OiioStream final : public ImageStream {
         std::vector<unsigned char> samples;
     };
 
-    void removeTemporary() {
-        if (temp_.empty()) return;
-        std::error_code ec;
-        fs::remove(temp_, ec);
-        temp_.clear();
+    // The memory file, to a destination that cannot seek, a megabyte at a time.
+    void copyMemoryFile() {
+        std::vector<char> buf(1 << 20);
+        for (off_t at = 0;;) {
+            const ssize_t n = ::pread(memory_, buf.data(), buf.size(), at);
+            if (n < 0 && errno == EINTR) continue;
+            if (n < 0) throw encodeFailure(path_, std::strerror(errno));
+            if (n == 0) return;
+            file_->write(buf.data(), static_cast<size_t>(n));
+            at += n;
+        }
     }
 
-    std::string path_, temp_;
+    std::string path_;
+    int memory_ = -1; // the memory file, when the destination cannot seek
     int channels_;
     bool linear_;
-    std::optional<AtomicFile> file_;        // JPEG's bytes
+    std::optional<AtomicFile> file_;
     std::unique_ptr<OiioRowWriter> writer_; // after file_: dropped first
     std::mutex mutex_;
     std::map<int, Rows> waiting_; // by their first row

@@ -1,7 +1,7 @@
 // An image streamed row by row (ImageStream) is the file writeImage makes of the whole
 // image: for every format and depth, with the rows handed over out of order from several
-// threads, byte for byte (so the pixels, the resolution, the colour space and the software
-// tag agree); a stream dropped before finish() leaves nothing behind.
+// threads, byte for byte but the time it was written (so the pixels, the resolution, the
+// colour space and the software tag agree); a stream dropped before finish() leaves nothing behind.
 #include "runtime/output/ImageStream.h"
 #include "tests/support/Support.h"
 
@@ -11,6 +11,7 @@
 #include <cstring>
 #include <doctest/doctest.h>
 #include <filesystem>
+#include <OpenImageIO/imageio.h>
 #include <random>
 #include <thread>
 #include <vector>
@@ -37,9 +38,13 @@ Image pattern(int w, int h) {
     return img;
 }
 
-// Hands `img` to `stream` in runs of 1 to 37 rows, shuffled, from three threads, with a
-// stride wider than the row (a kernel's extra outputs).
-void feed(ImageStream& stream, const Image& img) {
+// Hands `img` to `stream` as runKernelInBands might and then some: the bands (bandRows()
+// rows) in a shuffled order on three threads, each band's rows by one thread in runs of 1 to
+// 37 rows, themselves shuffled (so rows come before those above them), with a stride wider
+// than the row (a kernel's extra outputs). `anyThread`: the runs of all bands shuffled
+// together, so that a band's rows come from several threads (which TIFF, EXR and JPEG take;
+// a PNG band is encoded on one thread, PngStream).
+void feed(ImageStream& stream, const Image& img, bool anyThread = false) {
     const int extra = 2, channels = img.channels + extra;
     std::vector<float> wide(static_cast<size_t>(img.width) * img.height * channels, 0.5f);
     for (int y = 0; y < img.height; ++y)
@@ -47,21 +52,33 @@ void feed(ImageStream& stream, const Image& img) {
             std::memcpy(&wide[(static_cast<size_t>(y) * img.width + x) * channels],
                         img.row(y) + static_cast<size_t>(x) * img.channels,
                         sizeof(float) * img.channels);
-    std::vector<std::pair<int, int>> runs;
     std::mt19937 rng(11);
-    for (int y = 0; y < img.height;) {
-        const int n = std::min(img.height - y, 1 + static_cast<int>(rng() % 37));
-        runs.emplace_back(y, n);
-        y += n;
+    std::vector<std::vector<std::pair<int, int>>> bands;
+    for (int top = 0; top < img.height; top += stream.bandRows()) {
+        const int bottom = std::min(img.height, top + stream.bandRows());
+        std::vector<std::pair<int, int>> runs;
+        for (int y = top; y < bottom;) {
+            const int n = std::min(bottom - y, 1 + static_cast<int>(rng() % 37));
+            runs.emplace_back(y, n);
+            y += n;
+        }
+        std::shuffle(runs.begin(), runs.end(), rng);
+        bands.push_back(runs);
     }
-    std::shuffle(runs.begin(), runs.end(), rng);
+    std::shuffle(bands.begin(), bands.end(), rng);
+    if (anyThread) {
+        std::vector<std::vector<std::pair<int, int>>> runs;
+        for (const auto& band : bands)
+            for (const auto& run : band) runs.push_back({run});
+        std::shuffle(runs.begin(), runs.end(), rng);
+        bands = runs;
+    }
     std::atomic<size_t> next{0};
     auto worker = [&] {
-        for (size_t i; (i = next.fetch_add(1)) < runs.size();) {
-            const auto [y, n] = runs[i];
-            stream.addRows(y, n, &wide[static_cast<size_t>(y) * img.width * channels],
-                           static_cast<size_t>(img.width) * channels, channels);
-        }
+        for (size_t i; (i = next.fetch_add(1)) < bands.size();)
+            for (const auto& [y, n] : bands[i])
+                stream.addRows(y, n, &wide[static_cast<size_t>(y) * img.width * channels],
+                               static_cast<size_t>(img.width) * channels, channels);
     };
     std::thread a(worker), b(worker);
     worker();
@@ -94,9 +111,9 @@ TEST_CASE("an image streamed out of order is the file writeImage makes, every fo
             writeImage(whole, img, wo);
             auto stream =
                 openImageStream(streamed, imageFormatOf(streamed), img.width, img.height, wo);
-            feed(*stream, img);
+            feed(*stream, img, std::string(c.ext) != "png" && dpi > 0);
             stream->finish();
-            CHECK(test::readFile(streamed) == test::readFile(whole));
+            CHECK(test::imageBytesWithoutTime(streamed) == test::imageBytesWithoutTime(whole));
             const Image a = readImage(whole), b = readImage(streamed);
             REQUIRE(a.width == b.width);
             CHECK(a.pixels == b.pixels);
@@ -177,4 +194,33 @@ TEST_CASE("a streamed EXR records its place in a larger frame: the data window i
     const Image back = readImage(path);
     CHECK(back.width == 40);
     CHECK(back.height == 30);
+}
+
+TEST_CASE("a JPEG keeps --dpi: JFIF's density in dots per inch, as OpenImageIO reads it back") {
+    // JFIF's APP0 segment: FF D8, FF E0, length (2), "JFIF\0", version (2), units (1: dots
+    // per inch; 0 would leave only an aspect ratio, which print software reads as 72 dpi),
+    // then the X and Y density, big-endian.
+    test::TempDir dir("dpi");
+    const Image img = pattern(30, 20);
+    WriteOptions wo;
+    wo.dpi = 300;
+    const std::string whole = dir.file("whole.jpg"), streamed = dir.file("stream.jpg");
+    writeImage(whole, img, wo);
+    auto stream = openImageStream(streamed, "jpeg", img.width, img.height, wo);
+    feed(*stream, img);
+    stream->finish();
+    for (const std::string& path : {whole, streamed}) {
+        CAPTURE(path);
+        const std::string b = test::readFile(path);
+        REQUIRE(b.size() > 20);
+        CHECK(b.compare(6, 5, std::string("JFIF\0", 5)) == 0);
+        CHECK(static_cast<unsigned char>(b[13]) == 1);
+        CHECK((static_cast<unsigned char>(b[14]) << 8 | static_cast<unsigned char>(b[15])) == 300);
+        CHECK((static_cast<unsigned char>(b[16]) << 8 | static_cast<unsigned char>(b[17])) == 300);
+        auto in = OIIO::ImageInput::open(path);
+        REQUIRE(in);
+        CHECK(in->spec().get_float_attribute("XResolution") == 300.0f);
+        CHECK(in->spec().get_float_attribute("YResolution") == 300.0f);
+        CHECK(in->spec().get_string_attribute("ResolutionUnit") == "in");
+    }
 }

@@ -184,23 +184,95 @@ class ByteProxy : public OIIO::Filesystem::IOProxy {
     std::exception_ptr failure_;
 };
 
+// An IOProxy over a seekable descriptor, for the writers that seek back (TIFF's directory,
+// EXR's offset table): reads and writes at offsets, the first failure's errno kept, since
+// libtiff and OpenEXR report a failed write at close poorly or not at all.
+class FdProxy : public OIIO::Filesystem::IOProxy {
+  public:
+    FdProxy(int fd, Mode mode) : IOProxy("", mode), fd_(fd) {}
+    const char* proxytype() const override { return "fd"; }
+    bool seek(int64_t offset) override {
+        m_pos = offset;
+        return offset >= 0;
+    }
+    size_t read(void* buf, size_t size) override {
+        const size_t n = pread(buf, size, m_pos);
+        m_pos += static_cast<int64_t>(n);
+        return n;
+    }
+    size_t write(const void* buf, size_t size) override {
+        const size_t n = pwrite(buf, size, m_pos);
+        m_pos += static_cast<int64_t>(n);
+        return n;
+    }
+    size_t pread(void* buf, size_t size, int64_t offset) override {
+        size_t got = 0;
+        while (got < size) {
+            const ssize_t n = ::pread(fd_, static_cast<char*>(buf) + got, size - got,
+                                      static_cast<off_t>(offset + static_cast<int64_t>(got)));
+            if (n < 0 && errno == EINTR) continue;
+            if (n < 0) keep(errno);
+            if (n <= 0) break;
+            got += static_cast<size_t>(n);
+        }
+        return got;
+    }
+    size_t pwrite(const void* buf, size_t size, int64_t offset) override {
+        size_t put = 0;
+        while (put < size) {
+            // A file size limit (RLIMIT_FSIZE) is EFBIG here (main() ignores SIGXFSZ); a full
+            // disk ENOSPC.
+            const ssize_t n = ::pwrite(fd_, static_cast<const char*>(buf) + put, size - put,
+                                       static_cast<off_t>(offset + static_cast<int64_t>(put)));
+            if (n < 0 && errno == EINTR) continue;
+            if (n <= 0) {
+                keep(n < 0 ? errno : EIO);
+                break;
+            }
+            put += static_cast<size_t>(n);
+        }
+        return put;
+    }
+    size_t size() const override {
+        struct stat st {};
+        return ::fstat(fd_, &st) == 0 ? static_cast<size_t>(st.st_size) : 0;
+    }
+    int error() const { return error_; }
+
+  private:
+    void keep(int error) {
+        if (!error_) error_ = error;
+    }
+    int fd_;
+    int error_ = 0;
+};
+
 class RowWriter : public OiioRowWriter {
   public:
-    RowWriter(const std::string& path, const std::string& file, const std::string& format,
-              const OIIO::ImageSpec& spec, const ByteWriter& bytes)
-        : path_(path), file_(file), format_(format), spec_(spec), bytes_(bytes) {
+    RowWriter(const std::string& path, const std::string& format, const OIIO::ImageSpec& spec,
+              int fd, const ByteWriter& bytes)
+        : path_(path), format_(format), spec_(spec), fd_(fd), bytes_(bytes) {
         out_ = OIIO::ImageOutput::create(format);
         if (!out_) throw encodeFailure(path, OIIO::geterror());
-        if (format == "jpeg") {
-            proxy_ = std::make_unique<ByteProxy>(bytes_);
-            if (!out_->supports("ioproxy") || !out_->set_ioproxy(proxy_.get()))
-                throw encodeFailure(path, "the JPEG writer cannot write to a stream");
+        if (format == "tiff") {
+            // OpenImageIO 2.4's TIFF writer loses its directory through an IOProxy (encodeTiff);
+            // by name it writes correctly: the descriptor's name, the same file.
+            if (!out_->open(fmt::format("/proc/self/fd/{}", fd), spec_)) fail(out_->geterror());
+            return;
         }
-        if (!out_->open(format == "jpeg" ? path : file, spec_)) fail(out_->geterror());
+        if (fd >= 0)
+            fdProxy_ = std::make_unique<FdProxy>(fd, OIIO::Filesystem::IOProxy::Write);
+        else
+            byteProxy_ = std::make_unique<ByteProxy>(bytes_);
+        OIIO::Filesystem::IOProxy* proxy =
+            fdProxy_ ? static_cast<OIIO::Filesystem::IOProxy*>(fdProxy_.get()) : byteProxy_.get();
+        if (!out_->supports("ioproxy") || !out_->set_ioproxy(proxy))
+            throw encodeFailure(path,
+                                fmt::format("the {} writer cannot write to a stream", format));
+        if (!out_->open(path, spec_)) fail(out_->geterror());
     }
     ~RowWriter() override {
-        // Dropped before close(): the codec lets go of the file; what it holds is the
-        // caller's to remove.
+        // Dropped before close(): the codec lets go; the caller removes what was written.
         if (out_ && !closed_) out_->close();
     }
     size_t sampleBytes() const override { return spec_.format.size(); }
@@ -211,45 +283,53 @@ class RowWriter : public OiioRowWriter {
     void writeRows(int y, int count, const void* samples) override {
         if (!out_->write_scanlines(spec_.y + y, spec_.y + y + count, 0, spec_.format, samples))
             fail(out_->geterror());
+        check();
     }
     void close() override {
         closed_ = true;
         if (!out_->close()) fail(out_->geterror());
-        if (proxy_) proxy_->rethrow();
+        check();
         if (format_ != "tiff") return;
         // libtiff writes the image's directory at TIFFClose, which reports no failure: read
         // the directory back.
-        auto in = OIIO::ImageInput::open(file_);
+        auto in = OIIO::ImageInput::open(fmt::format("/proc/self/fd/{}", fd_));
         if (!in || in->spec().width != spec_.width || in->spec().height != spec_.height ||
             in->spec().nchannels != spec_.nchannels)
             fail("the TIFF writer left the file incomplete");
     }
 
   private:
-    [[noreturn]] void fail(std::string why) {
-        if (proxy_) proxy_->rethrow(); // the stream's own words (a full disk, a limit)
-        // A file size limit: that is the reason, whatever the codec made of it.
+    // A failed read or write of the file, in the system's words, whatever the codec made of it.
+    void check() {
+        if (byteProxy_) byteProxy_->rethrow();
+        if (fdProxy_ && fdProxy_->error())
+            throw encodeFailure(path_, std::strerror(fdProxy_->error()));
+        // TIFF, written by name: a file size limit reached is the reason.
         struct stat st {};
         struct rlimit limit {};
-        if (!file_.empty() && ::stat(file_.c_str(), &st) == 0 &&
-            ::getrlimit(RLIMIT_FSIZE, &limit) == 0 && limit.rlim_cur != RLIM_INFINITY &&
-            static_cast<rlim_t>(st.st_size) + (1 << 16) >= limit.rlim_cur)
-            why = std::strerror(EFBIG);
+        if (format_ == "tiff" && ::fstat(fd_, &st) == 0 && ::getrlimit(RLIMIT_FSIZE, &limit) == 0 &&
+            limit.rlim_cur != RLIM_INFINITY && static_cast<rlim_t>(st.st_size) >= limit.rlim_cur)
+            throw encodeFailure(path_, std::strerror(EFBIG));
+    }
+    [[noreturn]] void fail(const std::string& why) {
+        check();
         throw encodeFailure(path_, why);
     }
 
-    std::string path_, file_, format_;
+    std::string path_, format_;
     OIIO::ImageSpec spec_;
+    int fd_;
     ByteWriter bytes_;
-    std::unique_ptr<ByteProxy> proxy_;
-    std::unique_ptr<OIIO::ImageOutput> out_;
+    std::unique_ptr<ByteProxy> byteProxy_;
+    std::unique_ptr<FdProxy> fdProxy_;
+    std::unique_ptr<OIIO::ImageOutput> out_; // after the proxies: dropped first
     bool closed_ = false;
 };
 
-std::unique_ptr<OiioRowWriter> openWriter(const std::string& path, const std::string& file,
-                                          const std::string& format, int width, int height,
-                                          const WriteOptions& options, const ByteWriter& bytes) {
-    return std::make_unique<RowWriter>(path, file, format, specFor(format, width, height, options),
+std::unique_ptr<OiioRowWriter> openWriter(const std::string& path, const std::string& format,
+                                          int width, int height, const WriteOptions& options,
+                                          int fd, const ByteWriter& bytes) {
+    return std::make_unique<RowWriter>(path, format, specFor(format, width, height, options), fd,
                                        bytes);
 }
 

@@ -45,14 +45,13 @@ struct OiioCodec {
                                          const WriteOptions& options);
     // readImage (ImageIO.h). Throws IoError.
     Image (*read)(const std::string& path);
-    // A writer of `format`'s file as encode() would make it, written by rows: TIFF and EXR by
-    // name into `file` (a temporary the caller names, commits and removes; they seek back to
-    // write their directories), JPEG through `bytes` (it only appends). Throws IoError
-    // naming `path`.
-    std::unique_ptr<OiioRowWriter> (*openWriter)(const std::string& path, const std::string& file,
-                                                 const std::string& format, int width, int height,
-                                                 const WriteOptions& options,
-                                                 const ByteWriter& bytes);
+    // A writer of `format`'s file as encode() would make it, written by rows: TIFF and EXR
+    // into the seekable descriptor `fd` (an AtomicFile's temporary, or a memory file; they seek
+    // back to write their directories), JPEG through `bytes` (fd -1: it only appends). Every
+    // failed read or write is reported with the system's words. Throws IoError naming `path`.
+    std::unique_ptr<OiioRowWriter> (*openWriter)(const std::string& path, const std::string& format,
+                                                 int width, int height, const WriteOptions& options,
+                                                 int fd, const ByteWriter& bytes);
 };
 
 // "cannot write 'path': why", for the writers on both sides.

@@ -38,6 +38,11 @@ class AtomicFile {
     // fsync, close, rename into place. A destination that exists and is not a regular file
     // (/dev/null, a FIFO) is written straight into instead, never replaced.
     void commit();
+    // The temporary's descriptor, for a writer that seeks back (TIFF, EXR: OiioCodec.h) and
+    // writes at offsets (pwrite) instead of write(); not when writtenInPlace().
+    int descriptor() const { return fd_; }
+    // The destination is not a regular file and is written straight into: it cannot seek.
+    bool writtenInPlace() const { return temp_.empty(); }
 
   private:
     [[noreturn]] void fail(int error);

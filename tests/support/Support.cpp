@@ -10,6 +10,7 @@
 #include <doctest/doctest.h>
 #include <filesystem>
 #include <fstream>
+#include <regex>
 #include <sstream>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -32,6 +33,11 @@ std::string readFile(const std::string& path) {
     std::ostringstream ss;
     ss << in.rdbuf();
     return ss.str();
+}
+
+std::string imageBytesWithoutTime(const std::string& path) {
+    static const std::regex stamp(R"([0-9]{4}:[0-9]{2}:[0-9]{2} [0-9]{2}:[0-9]{2}:[0-9]{2})");
+    return std::regex_replace(readFile(path), stamp, "0000:00:00 00:00:00");
 }
 
 std::unique_ptr<SceneProgram> compileOk(const std::string& text, const CompileOptions& options,

@@ -17,6 +17,9 @@ namespace moire::test {
 // A path inside the source tree.
 std::string sourcePath(const std::string& relative);
 std::string readFile(const std::string& path);
+// An image file's bytes with the time it was written ("2026:11:24 20:36:36", TIFF's and EXR's
+// DateTime) zeroed, so that two files written at different seconds compare equal.
+std::string imageBytesWithoutTime(const std::string& path);
 // The `moire` executable built beside the tests.
 std::string moireBinary();
 

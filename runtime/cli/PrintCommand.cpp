@@ -289,6 +289,12 @@ int print(const PrintArgs& args) {
                 std::fflush(stderr);
                 shown = true;
             };
+        // The progress line ended, then one line of error.
+        auto failed = [&](const std::exception& e, int status) {
+            if (shown) fmt::print(stderr, "\n");
+            fmt::print(stderr, "moire: error: {}\n", e.what());
+            return status;
+        };
         const float white[4] = {1, 1, 1, 1}, clear[4] = {0, 0, 0, 0};
         try {
             std::unique_ptr<CompiledKernel> kernel = backend->compile(sheet.program->kernel);
@@ -305,14 +311,10 @@ int print(const PrintArgs& args) {
                 return 128 + StopSignals::received();
             }
             stream->finish();
-        } catch (const BackendError& e) {
-            if (shown) fmt::print(stderr, "\n");
-            fmt::print(stderr, "moire: error: {}\n", e.what());
-            return kExitMachine;
+        } catch (const BackendError& e) { // the device lost, or out of memory
+            return failed(e, kExitMachine);
         } catch (const IoError& e) {
-            if (shown) fmt::print(stderr, "\n");
-            fmt::print(stderr, "moire: error: {}\n", e.what());
-            return kExitIo;
+            return failed(e, kExitIo);
         }
         stages.done(fmt::format("wrote {}", sheet.path));
         if (!args.verbosity.quiet)

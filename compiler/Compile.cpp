@@ -95,7 +95,9 @@ CompileResult compileScene(const std::string& path, std::string text,
                                            .view = options.view,
                                            .envelopeGain = options.envelopeGain,
                                            .envelopeTaps = options.envelopeTaps,
-                                           .overlay = options.overlay};
+                                           .overlay = options.overlay,
+                                           .separate = options.separateLayer,
+                                           .pixelSlot = options.pixelSize};
     lower::LoweredScene lowered =
         lower::lowerScene(program->checked, lowerOptions, program->literals);
     // A view that sweeps every layer's index needs each family's phase sample.
@@ -123,6 +125,7 @@ CompileResult compileScene(const std::string& path, std::string text,
     program->layout = std::move(lowered.layout);
     program->probeSlot = lowered.probeSlot;
     program->viewSlot = lowered.viewSlot;
+    program->pixelSlot = lowered.pixelSlot;
     clock.lap("lower");
     program->lowered = passes::simplify(lowered.function); // fold, CSE, DCE
     clock.lap("simplify");

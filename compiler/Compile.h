@@ -31,6 +31,10 @@ struct CompileOptions {
     std::optional<sema::ViewMode> view = std::nullopt;
     std::optional<double> envelopeGain = std::nullopt, envelopeTaps = std::nullopt;
     std::optional<bool> overlay = std::nullopt; // the fringe overlay
+    // `moire print`: only this layer, over a transparent paper (lower::LowerOptions::separate),
+    // and the pixel's world size set by FrameRequest::pixelSize (SceneProgram::pixelSlot).
+    std::optional<int> separateLayer = std::nullopt;
+    bool pixelSize = false;
     // `-D` values: a param's default or a named layer's property replaced before checking.
     Defines defines = {};
     // When set, each stage appends its name and wall-clock seconds (bench/compile_bench).
@@ -54,6 +58,7 @@ struct SceneProgram {
     uint64_t kernelHash = 0; // structure only: unchanged when only numbers change
     int probeSlot = -1;      // in Mode::Probe: the literal slots of the probe point
     int viewSlot = -1;       // in Mode::Interactive: the first of lower::ViewSlots' slots
+    int pixelSlot = -1;      // with CompileOptions::pixelSize: the pixel's world size
     sema::ViewMode view = sema::ViewMode::Pattern; // the view the kernel draws
     bool overlay = false;                          // and whether the fringe overlay is on it
 

@@ -1,6 +1,7 @@
 #include "runtime/FrameEval.h"
 
 #include "compiler/backend/interp/Interpreter.h"
+#include "compiler/lower/CameraModel.h"
 
 #include <cmath>
 #include <fmt/format.h>
@@ -86,6 +87,20 @@ bool evaluateFrame(const SceneProgram& program, const FrameRequest& request, Fra
     else if (whole(w) && whole(h)) {
         out.width = static_cast<int>(w);
         out.height = static_cast<int>(h);
+    }
+    out.pixelSize = lower::fitScale(out.sceneWidth, out.sceneHeight, w, h) / out.zoom;
+    MOIRE_CHECK(request.pixelSize <= 0 || program.pixelSlot >= 0,
+                "a pixel size asked of a program compiled without its slot");
+    if (program.pixelSlot >= 0) {
+        // The pixel's size is a literal the kernel reads: run again with it set (the frame
+        // program is a few hundred instructions; only the uniforms it feeds change).
+        if (request.pixelSize > 0) out.pixelSize = request.pixelSize;
+        std::vector<double> set = literals;
+        set.at(static_cast<size_t>(program.pixelSlot)) = out.pixelSize;
+        env.params = set.data();
+        interp.run(env, regs);
+        out.uniforms.assign(outputs.begin(), outputs.begin() + u);
+        env.params = literals.data();
     }
     auto outOfRange = [&](SourceRange at, const std::string& what, const char* need, double v,
                           bool angle) {

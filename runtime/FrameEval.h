@@ -21,6 +21,8 @@ struct FrameValues {
     // frame, fitted: one pixel is max(sceneWidth / width, sceneHeight / height) / zoom
     // world units.
     double sceneWidth = 0.0, sceneHeight = 0.0;
+    // The world size of one pixel as drawn: fitted, or FrameRequest::pixelSize.
+    double pixelSize = 0.0;
     std::vector<TimingValues> timings;
     // Each param's value at this instant (SceneProgram::parameters' order; a colour's four
     // components, a vector's two, else one, the rest 0): what a slider shows.
@@ -46,6 +48,11 @@ struct FrameRequest {
     // The largest side the frame rendered may have: kMaxFrameSide for a command that holds
     // the frame whole. (The scene's own size is checked against kMaxImageSide either way.)
     int maxSide = kMaxImageSide;
+    // When above 0, the world size of one pixel (the camera's zoom included), in place of
+    // the scene's frame fitted to the image: the scale and the canvas set apart (`moire
+    // print`). Needs a program compiled with CompileOptions::pixelSize, which otherwise
+    // draws the fitted frame, as any render.
+    double pixelSize = 0.0;
 };
 
 // Evaluates the frame at `request.time`. A value that cannot be rendered (an image size out

@@ -41,6 +41,9 @@ ValueId lowerCamera(SceneContext& ctx, int settingsBase) {
     BuiltValue fit = probe ? built(b.constF(1.0))
                            : fitScale(built(size[0]), built(size[1]), cam.width, cam.height);
     cam.pixel = fit / built(zoom);
+    // A pixel size set from outside (`moire print`: a physical scale on a canvas of its own)
+    // is the world size of a pixel as it stands, the camera's zoom included.
+    if (ctx.pixelSlot >= 0) cam.pixel = built(b.param(ctx.pixelSlot));
     cam.turned = turned;
     if (turned) {
         cam.cosTurn = cos(built(turn));

@@ -103,7 +103,7 @@ void Compose::output(const std::function<Vals()>& unresolvedTint) {
     // The sampling limit (§10.4): a carrier of pitch s cannot show fringes much finer than
     // 3 s, so where an encoded field is that steep the scene's `unresolved` tint is laid
     // over everything (transparent unless the scene sets it).
-    if (unresolved_ != zero_) {
+    if (unresolved_ != zero_ && unresolvedTint) {
         Vals tint = unresolvedTint();
         ValueId mark = b_.smoothstep(b_.constF(0.30), b_.constF(0.37), unresolved_);
         shown = inkOver(b_, shown, tint[0], tint[1], tint[2],

@@ -40,7 +40,8 @@ class Compose {
     // Adds the next layer, bottom to top.
     void layer(const LayerInk& ink);
     // Outputs the pixel's straight RGBA to slots 0-3. `unresolvedTint` gives the scene's
-    // `unresolved` colour; it is lowered only when a layer encodes a field.
+    // `unresolved` colour; it is lowered only when a layer encodes a field (and never when
+    // the function is empty: a print separation).
     void output(const std::function<Vals()>& unresolvedTint);
 
   private:

@@ -15,8 +15,15 @@ namespace moire::lower {
 namespace {
 
 // Appends the literal slots the mode reads to the table, set to the scene's own view.
-void reserveSlots(LowerMode mode, int numLayers, std::vector<double>& literals, LoweredScene& out) {
+void reserveSlots(const LowerOptions& options, int numLayers, std::vector<double>& literals,
+                  LoweredScene& out) {
+    const LowerMode mode = options.mode;
     const int first = static_cast<int>(literals.size());
+    if (options.pixelSlot) {
+        MOIRE_CHECK(mode == LowerMode::Render, "a pixel size slot outside render mode");
+        out.pixelSlot = first;
+        literals.push_back(1.0); // evaluateFrame sets it for each frame
+    }
     if (mode == LowerMode::Probe) {
         out.probeSlot = first;
         literals.resize(literals.size() + 2, 0.0); // the probe point: the origin
@@ -59,7 +66,7 @@ LoweredScene lowerScene(const sema::CheckedScene& scene, const LowerOptions& opt
     layout.layerFields = options.layerFields;
     layout.numKernelOutputs =
         4 + (options.layerFields ? OutputLayout::kFieldsPerLayer * layout.numLayers : 0);
-    reserveSlots(options.mode, layout.numLayers, literals, out);
+    reserveSlots(options, layout.numLayers, literals, out);
 
     out.function.name = "scene";
     ir::Builder b(out.function);
@@ -71,11 +78,20 @@ LoweredScene lowerScene(const sema::CheckedScene& scene, const LowerOptions& opt
     LowerOptions settled = options;
     settled.view = out.view = viewOf(scene, options);
     settled.overlay = out.overlay = overlayOf(scene, options);
+    const bool separation = options.separate.has_value();
+    if (separation) { // a print separation is the layer's ink alone
+        MOIRE_CHECK(!options.layerFields && *options.separate >= 0 &&
+                        *options.separate < layout.numLayers,
+                    "a separation of a layer the scene does not have");
+        settled.view = out.view = sema::ViewMode::Pattern;
+        settled.overlay = out.overlay = false;
+    }
     // The ratio view and the overlay read every layer's index field and its gradient, and the
     // envelope's sweep reads the gradients (a walking layer has them only with its index).
     const bool wantIndex = layout.layerFields || out.overlay ||
                            sema::viewReadsCharacters(out.view) || sema::viewSweeps(out.view);
     SceneContext ctx{scene, settled, b, exprs, timings, out.probeSlot, out.viewSlot, {}, {}};
+    ctx.pixelSlot = out.pixelSlot;
 
     // 1. The frame's size and camera; the pixel's world point.
     const ir::ValueId pixel = lowerCamera(ctx, layout.numKernelOutputs);
@@ -90,12 +106,20 @@ LoweredScene lowerScene(const sema::CheckedScene& scene, const LowerOptions& opt
         envelope.gain = sceneNumber("envelope_gain", options.envelopeGain);
         envelope.taps = sceneNumber("envelope_taps", options.envelopeTaps);
     }
-    Compose compose(b, out.view, ctx.setting(scene.scene, sema::sceneProperties(), "background"),
-                    envelope, out.overlay ? pixel : ir::kNoValue);
+    // A separation is laid on a transparent paper (docs/print.md: the paper's colour, then
+    // each sheet over it, gives the whole picture back).
+    const Vals paperColor = separation
+                                ? Vals(4, b.constF(0.0))
+                                : ctx.setting(scene.scene, sema::sceneProperties(), "background");
+    Compose compose(b, out.view, paperColor, envelope, out.overlay ? pixel : ir::kNoValue);
     LayerLowering layers(ctx);
     ValueChecks checks(ctx);
     for (size_t i = 0; i < scene.layers.size(); ++i) {
         const sema::CheckedLayer& layer = scene.layers[i];
+        if (separation && static_cast<int>(i) != *options.separate) {
+            checks.layer(layer); // its values are checked as in the whole picture
+            continue;
+        }
         LayerInk ink;
         ink.color = ctx.layerProp(layer, "color");
         ir::ValueId stroke = ctx.layerProp(layer, "stroke")[0];
@@ -126,7 +150,12 @@ LoweredScene lowerScene(const sema::CheckedScene& scene, const LowerOptions& opt
     }
 
     // 3. The pixel's colour.
-    compose.output([&] { return ctx.setting(scene.scene, sema::sceneProperties(), "unresolved"); });
+    std::function<Vals()> unresolved;
+    if (!separation)
+        unresolved = [&] {
+            return ctx.setting(scene.scene, sema::sceneProperties(), "unresolved");
+        };
+    compose.output(unresolved);
 
     // 4. The settings the frame reads: the timings used (clips' loop lengths, the frame's
     // checks), then the values the frame checks before drawing them (ValueCheck).

@@ -39,6 +39,13 @@ struct LowerOptions {
     std::optional<double> envelopeGain = std::nullopt, envelopeTaps = std::nullopt;
     // The fringe overlay, replacing the scene's `overlay` when set (`--overlay`, the viewer's o).
     std::optional<bool> overlay = std::nullopt;
+    // One print separation (`moire print --separate`): only the layer of this index is
+    // lowered, over a transparent paper, so the pixel's colour is the layer's and its alpha
+    // the layer's ink; drawn in the pattern view, without the overlay or the unresolved tint.
+    std::optional<int> separate = std::nullopt;
+    // The world size of a pixel read from a literal slot (LoweredScene::pixelSlot) instead of
+    // fitted to the image, so that the scale and the canvas are set apart (`moire print`).
+    bool pixelSlot = false;
 };
 
 // The literal slots of interactive mode, counted from LoweredScene::viewSlot. The camera's
@@ -128,6 +135,7 @@ struct LoweredScene {
     OutputLayout layout;
     int probeSlot = -1; // LowerMode::Probe: the literal slots of the probe point (x, then y)
     int viewSlot = -1;  // LowerMode::Interactive: the first of ViewSlots' slots
+    int pixelSlot = -1; // LowerOptions::pixelSlot: the slot of the pixel's world size
     sema::ViewMode view = sema::ViewMode::Pattern; // the view drawn
     bool overlay = false;                          // the fringe overlay drawn over it
     // The layers (by index) the view cannot draw: a sweeping view over a family that gives no

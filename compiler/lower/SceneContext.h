@@ -20,6 +20,7 @@ struct SceneContext {
     int probeSlot = -1, viewSlot = -1; // as in LoweredScene
     Frame world;                       // x and y: the pixel's world point (set by the camera)
     Frame constantFrame;               // scene settings cannot use x or y (checked)
+    int pixelSlot = -1;                // as in LoweredScene
 
     bool interactive() const { return viewSlot >= 0; }
     // A literal slot of interactive mode (ViewSlots).

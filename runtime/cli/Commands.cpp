@@ -12,6 +12,7 @@
 #include "runtime/output/MemoryBudget.h"
 #include "runtime/output/OutputFile.h"
 #include "runtime/output/Render.h"
+#include "runtime/print/PhysicalSize.h"
 #include "runtime/TextFile.h"
 #include "runtime/vulkan/VulkanBackend.h"
 #include "runtime/vulkan/VulkanContext.h"
@@ -249,8 +250,13 @@ int render(const RenderArgs& args) {
     CompileOptions compileOptions;
     if (!checkViewOptions(args, compileOptions)) return kExitUsage;
     ImageOptions image;
-    if (!checkImageOptions(
-            {args.scene, args.output, args.size, args.depth, args.backend, args.device}, image))
+    std::string size, why; // --size in pixels, or on paper at --dpi (PhysicalSize.h)
+    if (!print::sizeInPixels(args.size, args.dpi, kMaxImageSide, size, why)) {
+        fmt::print(stderr, "moire: error: {}\n", why);
+        return kExitUsage;
+    }
+    if (!checkImageOptions({args.scene, args.output, size, args.depth, args.backend, args.device},
+                           image))
         return kExitUsage;
     const int w = image.width, h = image.height;
     const bool toStdout = image.output == kStdoutPath;

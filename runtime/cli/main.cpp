@@ -8,6 +8,7 @@
 #include "runtime/cli/DefineOption.h"
 #include "runtime/cli/ExportCommand.h"
 #include "runtime/cli/FarmCommand.h"
+#include "runtime/cli/PrintCommand.h"
 #include "runtime/cli/ServeCommand.h"
 #include "runtime/output/ImageIO.h"
 #include "runtime/output/JitCache.h"
@@ -327,6 +328,8 @@ int main(int argc, char** argv) {
     CLI::App* exportCmd = cli::addExportCommand(app, exportArgs, rawDefines);
     cli::FarmArgs farmArgs;
     CLI::App* farmCmd = cli::addFarmCommand(app, farmArgs, rawDefines);
+    cli::PrintArgs printArgs;
+    CLI::App* printCmd = cli::addPrintCommand(app, printArgs, rawDefines);
     CLI::App* lspCmd = app.add_subcommand(
         "lsp", "Serve the Language Server Protocol on standard input and output (docs/editors.md)");
     lspCmd->footer("Started by an editor, not by hand. Exit status: 0 after shutdown, else 1.");
@@ -345,7 +348,7 @@ int main(int argc, char** argv) {
             return cli::kExitUsage;
         }
         renderArgs.defines = clipArgs.defines = watchArgs.defines = viewArgs.defines = defines;
-        exportArgs.defines = defines;
+        exportArgs.defines = printArgs.defines = defines;
         farmArgs.defines = defines;
         serveArgs.defines = defines;
     }
@@ -369,6 +372,7 @@ int main(int argc, char** argv) {
         if (*namesCmd) return cli::names(namesArgs);
         if (*exportCmd) return cli::exportPiece(exportArgs);
         if (*farmCmd) return cli::farm(farmArgs, rawDefines);
+        if (*printCmd) return cli::print(printArgs);
         if (*lspCmd) return lsp::runServer(0, 1);
         fmt::print("{}", app.help());
         return 0;

@@ -96,7 +96,7 @@ TEST_CASE("render streams every format from every backend: the whole-frame write
         const char* depth;
         PixelDepth pixelDepth;
     };
-    for (const std::string& name : {"jit", "interp", "vulkan"}) {
+    for (const std::string name : {"jit", "interp", "vulkan"}) {
         auto backend = test::makeBackendOrSkip(name);
         if (!backend) {
             MESSAGE("skipped: the ", name, " backend is not available here");

@@ -53,6 +53,8 @@ Measured runMeasured(const std::vector<std::string>& args, const test::TempDir& 
     std::vector<char*> av;
     for (std::string& a : argv) av.push_back(a.data());
     av.push_back(nullptr);
+    int execed[2];
+    REQUIRE(::pipe2(execed, O_CLOEXEC) == 0);
     const pid_t pid = ::fork();
     REQUIRE(pid >= 0);
     if (pid == 0) {
@@ -67,13 +69,13 @@ Measured runMeasured(const std::vector<std::string>& args, const test::TempDir& 
         ::execv(av[0], av.data());
         ::_exit(127);
     }
+    ::close(execed[1]);
     int status = 0;
-    rusage usage{};
-    REQUIRE(::wait4(pid, &status, 0, &usage) == pid);
     Measured m;
+    // The peak since the exec (wait4's ru_maxrss would fold in this binary's own).
+    m.maxRss = test::waitForPeakMemory(pid, execed[0], status);
     m.status = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
     m.err = test::readFile(errPath);
-    m.maxRss = static_cast<uint64_t>(usage.ru_maxrss) * 1024; // kB on Linux
     return m;
 }
 

@@ -46,7 +46,6 @@ Run runMoire(const test::TempDir& dir, std::vector<std::string> args) {
     for (std::string& a : args) argv.push_back(a.data());
     argv.push_back(nullptr);
     const std::string errPath = dir.file("run.err");
-    // Closed by the exec: until then the child is a copy of this binary, whose VmHWM it has.
     int execed[2];
     REQUIRE(::pipe2(execed, O_CLOEXEC) == 0);
     const pid_t pid = ::fork();
@@ -60,23 +59,9 @@ Run runMoire(const test::TempDir& dir, std::vector<std::string> args) {
         ::_exit(127);
     }
     ::close(execed[1]);
-    char byte;
-    while (::read(execed[0], &byte, 1) < 0 && errno == EINTR) {
-    }
-    ::close(execed[0]);
     int status = 0;
     Run r;
-    const std::string statusPath = fmt::format("/proc/{}/status", pid);
-    for (;;) {
-        const pid_t done = ::waitpid(pid, &status, WNOHANG);
-        REQUIRE(done >= 0);
-        if (done == pid) break;
-        std::ifstream in(statusPath);
-        for (std::string line; std::getline(in, line);)
-            if (line.rfind("VmHWM:", 0) == 0)
-                r.maxRss = std::max<uint64_t>(r.maxRss, std::stoull(line.substr(6)) * 1024);
-        ::usleep(3000);
-    }
+    r.maxRss = test::waitForPeakMemory(pid, execed[0], status);
     r.status = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
     r.err = test::readFile(errPath);
     fs::remove(errPath);

@@ -5,6 +5,7 @@
 #include "runtime/output/Render.h"
 
 #include <algorithm>
+#include <cerrno>
 #include <cmath>
 #include <cstdlib>
 #include <doctest/doctest.h>
@@ -38,6 +39,25 @@ std::string readFile(const std::string& path) {
 std::string imageBytesWithoutTime(const std::string& path) {
     static const std::regex stamp(R"([0-9]{4}:[0-9]{2}:[0-9]{2} [0-9]{2}:[0-9]{2}:[0-9]{2})");
     return std::regex_replace(readFile(path), stamp, "0000:00:00 00:00:00");
+}
+
+uint64_t waitForPeakMemory(pid_t pid, int execed, int& status) {
+    char byte;
+    while (::read(execed, &byte, 1) < 0 && errno == EINTR) {
+    }
+    ::close(execed);
+    uint64_t peak = 0;
+    const std::string statusPath = "/proc/" + std::to_string(pid) + "/status";
+    for (;;) {
+        const pid_t done = ::waitpid(pid, &status, WNOHANG);
+        REQUIRE(done >= 0);
+        if (done == pid) return peak;
+        std::ifstream in(statusPath);
+        for (std::string line; std::getline(in, line);)
+            if (line.rfind("VmHWM:", 0) == 0)
+                peak = std::max<uint64_t>(peak, std::stoull(line.substr(6)) * 1024);
+        ::usleep(3000);
+    }
 }
 
 std::unique_ptr<SceneProgram> compileOk(const std::string& text, const CompileOptions& options,

@@ -10,6 +10,7 @@
 
 #include <memory>
 #include <string>
+#include <sys/types.h>
 #include <vector>
 
 namespace moire::test {
@@ -85,6 +86,15 @@ class TempDir {
   private:
     std::string path_;
 };
+
+// Waits for the child `pid` and returns its peak resident memory since its exec, in bytes;
+// `status` receives its wait status. Not wait4's ru_maxrss: Linux folds the memory the
+// process had before its exec into it, and a child forked from a test binary starts with the
+// binary's hundreds of megabytes. VmHWM in /proc/PID/status is the peak since the exec; it is
+// read every few milliseconds while the child runs (a render peaks in its middle, not its
+// last milliseconds), from when `execed` (the read end of a close-on-exec pipe whose write
+// end only the child still holds) says the exec has happened. Closes `execed`.
+uint64_t waitForPeakMemory(pid_t pid, int execed, int& status);
 
 // Runs a command through the shell; returns its exit status and captures stdout/stderr.
 struct CommandResult {

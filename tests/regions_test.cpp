@@ -114,7 +114,7 @@ TEST_CASE("render --region writes the same window of the whole frame on every ba
     }
 }
 
-TEST_CASE("a region records its place in the frame; a whole frame records none") {
+TEST_CASE("a region records its place in the frame, and a whole frame records none") {
     Dir d;
     for (const std::string name : {"r.png", "r.tif", "r.exr"}) {
         CAPTURE(name);

@@ -204,6 +204,16 @@ test('the angle slider shows degrees; the checkbox and the colour picker draw wh
     () => window.moire.state.params.every((p) => p.name === 'gap' || !p.set),
     { timeout: 30000 }
   );
+  // The state can come before the answer to the reset; the page moves its controls once the
+  // answer is in, so the test waits for them rather than reading them at once.
+  await page
+    .waitForFunction(
+      () =>
+        document.querySelector('input[type=checkbox][data-param=bold]').checked === false &&
+        document.querySelector('input[type=color][data-param=ink]').value === '#141418',
+      { timeout: 10000 }
+    )
+    .catch(() => {});
   assert.equal(await page.$eval('input[type=checkbox][data-param=bold]', (e) => e.checked), false);
   assert.equal(await page.$eval('input[type=color][data-param=ink]', (e) => e.value), '#141418');
 });

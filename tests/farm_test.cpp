@@ -66,6 +66,22 @@ TEST_CASE("farm encode of a clip's frames rendered in pieces is byte for byte th
     CHECK_FALSE(fs::exists(dir.file("gap.mp4")));
 }
 
+TEST_CASE("an mp4 is the same file whatever the number of cores the encoder sees") {
+    // A farm's join runs on whichever node Slurm gives it; the video it encodes must equal a
+    // clip made anywhere. libx264 left to itself sizes its threads by the cores it sees.
+    if (test::runCommand("command -v ffmpeg >/dev/null && command -v taskset >/dev/null").status !=
+        0) {
+        test::skip("ffmpeg or taskset is not installed");
+        return;
+    }
+    test::TempDir dir("farm");
+    dir.write("anim.moire", kScene);
+    const std::string clip = "clip anim.moire --fps 12 --frames 0..11 -q --backend interp -o ";
+    REQUIRE(moireIn(dir, clip + "all.mp4").status == 0);
+    REQUIRE(moireIn(dir, clip + "one.mp4", "taskset -c 0").status == 0);
+    CHECK(test::readFile(dir.file("one.mp4")) == test::readFile(dir.file("all.mp4")));
+}
+
 TEST_CASE("farm clip --plan prints the scripts and writes nothing") {
     test::TempDir dir("farm");
     dir.write("anim.moire", kScene);

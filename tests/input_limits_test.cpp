@@ -36,48 +36,8 @@ test::CommandResult run(const std::string& args) {
     return test::runCommand(quoted(test::moireBinary()) + " " + args);
 }
 
-// A finished child: its exit status (128 + signal when killed), its stderr and its peak
-// resident memory in bytes.
-struct Measured {
-    int status = -1;
-    std::string err;
-    uint64_t maxRss = 0;
-};
-
-// Runs moire with `args` under an address space limit (0: none), measuring its peak RSS.
-Measured runMeasured(const std::vector<std::string>& args, const test::TempDir& dir,
-                     uint64_t addressLimit = 0) {
-    const std::string errPath = dir.file("measured.err");
-    std::vector<std::string> argv = {test::moireBinary()};
-    argv.insert(argv.end(), args.begin(), args.end());
-    std::vector<char*> av;
-    for (std::string& a : argv) av.push_back(a.data());
-    av.push_back(nullptr);
-    int execed[2];
-    REQUIRE(::pipe2(execed, O_CLOEXEC) == 0);
-    const pid_t pid = ::fork();
-    REQUIRE(pid >= 0);
-    if (pid == 0) {
-        const int err = ::open(errPath.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-        const int null = ::open("/dev/null", O_RDWR);
-        if (err < 0 || null < 0) ::_exit(126);
-        ::dup2(null, 0), ::dup2(null, 1), ::dup2(err, 2);
-        if (addressLimit) {
-            rlimit rl{addressLimit, addressLimit};
-            if (::setrlimit(RLIMIT_AS, &rl) != 0) ::_exit(126);
-        }
-        ::execv(av[0], av.data());
-        ::_exit(127);
-    }
-    ::close(execed[1]);
-    int status = 0;
-    Measured m;
-    // The peak since the exec (wait4's ru_maxrss would fold in this binary's own).
-    m.maxRss = test::waitForPeakMemory(pid, execed[0], status);
-    m.status = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
-    m.err = test::readFile(errPath);
-    return m;
-}
+using test::Measured;
+using test::runMeasured;
 
 } // namespace
 
@@ -274,7 +234,7 @@ TEST_CASE("input: a frame larger than the memory the process may have is refused
           std::string::npos);
     // Refused before the frame: nothing near its size was ever resident.
     CHECK(m.maxRss < (1ull << 30));
-    CHECK(dir.names() == std::vector<std::string>{"measured.err", "s.moire"});
+    CHECK(dir.names() == std::vector<std::string>{"s.moire"});
 
     // The same for a clip's frames, watch and a window of that size (refused before a window
     // is opened, so no display is needed).
@@ -292,7 +252,7 @@ TEST_CASE("input: a frame larger than the memory the process may have is refused
     m = runMeasured({"view", scene, "--size", "32768x32768"}, dir, limit);
     CHECK(m.status == 4);
     CHECK(m.err.find("moire: error: a 32768x32768 window needs about ") == 0);
-    CHECK(dir.names() == std::vector<std::string>{"measured.err", "s.moire"});
+    CHECK(dir.names() == std::vector<std::string>{"s.moire"});
 }
 
 TEST_CASE("input: the memory estimate bounds a real render's peak from above, within 2x") {

@@ -28,44 +28,9 @@ const char* kScene = "scene { size = (48, 32) }\n"
                      "layer { family = circles; spacing = 3 }\n"
                      "layer { family = lines; spacing = 2.5; angle = 20deg; color = #c03070 }\n";
 
-// Runs `moire ARGS` with standard output and error to files in `dir`; the exit status and
-// the child's peak resident memory. Not wait4's ru_maxrss: Linux folds the memory the
-// process had before its exec into it, and a child forked from this test binary starts
-// with the binary's hundreds of megabytes. VmHWM in /proc/PID/status is the peak since the
-// exec; it is read every few milliseconds while the child runs (the peak of a render is in
-// its middle, not its last milliseconds).
-struct Run {
-    int status = -1;
-    std::string err;
-    uint64_t maxRss = 0;
-};
-
-Run runMoire(const test::TempDir& dir, std::vector<std::string> args) {
-    args.insert(args.begin(), test::moireBinary());
-    std::vector<char*> argv;
-    for (std::string& a : args) argv.push_back(a.data());
-    argv.push_back(nullptr);
-    const std::string errPath = dir.file("run.err");
-    int execed[2];
-    REQUIRE(::pipe2(execed, O_CLOEXEC) == 0);
-    const pid_t pid = ::fork();
-    REQUIRE(pid >= 0);
-    if (pid == 0) {
-        const int err = ::open(errPath.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-        const int null = ::open("/dev/null", O_RDWR);
-        if (err < 0 || null < 0 || ::chdir(dir.path().c_str()) != 0) ::_exit(126);
-        ::dup2(null, 0), ::dup2(null, 1), ::dup2(err, 2);
-        ::execv(argv[0], argv.data());
-        ::_exit(127);
-    }
-    ::close(execed[1]);
-    int status = 0;
-    Run r;
-    r.maxRss = test::waitForPeakMemory(pid, execed[0], status);
-    r.status = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
-    r.err = test::readFile(errPath);
-    fs::remove(errPath);
-    return r;
+// `moire ARGS` run in `dir`, its peak memory measured (test::runMeasured).
+test::Measured runMoire(const test::TempDir& dir, const std::vector<std::string>& args) {
+    return test::runMeasured(args, dir);
 }
 
 } // namespace
@@ -101,9 +66,9 @@ TEST_CASE("render streams every format from every backend: the whole-frame write
             const std::string whole = dir.file(std::string("whole.") + c.ext);
             writeImage(whole, img, wo);
             const std::string out = std::string("out.") + c.ext;
-            const Run r = runMoire(dir, {"render", "s.moire", "-q", "--backend", name, "--size",
-                                         fmt::format("{}x{}", w, h), "--depth", c.depth, "--dpi",
-                                         "150", "-o", out});
+            const test::Measured r = runMoire(dir, {"render", "s.moire", "-q", "--backend", name,
+                                                    "--size", fmt::format("{}x{}", w, h), "--depth",
+                                                    c.depth, "--dpi", "150", "-o", out});
             REQUIRE_MESSAGE(r.status == 0, r.err);
             CHECK(test::imageBytesWithoutTime(dir.file(out)) == test::imageBytesWithoutTime(whole));
             const Image a = readImage(whole), b = readImage(dir.file(out));
@@ -122,8 +87,9 @@ TEST_CASE("a 20000x20000 render's peak memory is bounded by its bands, not the i
     test::TempDir dir("rss");
     dir.write("s.moire", "scene { size = (48, 32) }\nlayer { family = lines; spacing = 3 }\n");
     fs::create_symlink("/dev/null", dir.file("big.png"));
-    const Run r = runMoire(dir, {"render", "s.moire", "-q", "--size", "20000x20000",
-                                 "--compression", "0", "--threads", "2", "-o", "big.png"});
+    const test::Measured r =
+        runMoire(dir, {"render", "s.moire", "-q", "--size", "20000x20000", "--compression", "0",
+                       "--threads", "2", "-o", "big.png"});
     REQUIRE_MESSAGE(r.status == 0, r.err);
     // docs/cli.md's bound: the process (under 100 MB without OpenImageIO) and a few bands,
     // which MemoryBudget estimates from above; 20000 pixels wide, a band is a few megabytes.
@@ -169,13 +135,13 @@ TEST_CASE("sizes past a format's limit are refused, naming the format and what h
                   "'32769x16'\n"},
          }) {
         CAPTURE(fmt::format("{}", fmt::join(c.args, " ")));
-        const Run r = runMoire(dir, c.args);
+        const test::Measured r = runMoire(dir, c.args);
         CHECK(r.status == 2);
         CHECK(r.err == c.message);
     }
     // A scene whose own size is past the format's limit: the same message.
     dir.write("wide.moire", "scene { size = (70000, 10) }\nlayer { family = circles }\n");
-    const Run r = runMoire(dir, {"render", "wide.moire", "-o", "x.jpg"});
+    const test::Measured r = runMoire(dir, {"render", "wide.moire", "-o", "x.jpg"});
     CHECK(r.status == 2);
     CHECK(r.err.find("JPEG holds at most 65500 pixels a side, not 70000x10") != std::string::npos);
     CHECK(dir.names() == std::vector<std::string>{"s.moire", "wide.moire"});

@@ -132,8 +132,11 @@ std::vector<std::string> ffmpegArguments(VideoFormat format, int width, int heig
     switch (format) {
     case VideoFormat::Mp4:
         args.insert(args.end(), colour.begin(), colour.end());
-        for (const char* a : {"-c:v", "libx264", "-preset", "medium", "-crf", "18", "-movflags",
-                              "+faststart", "-f", "mp4"})
+        // A fixed thread count: libx264 splits its work, and writes its settings into the
+        // file, by the number of threads, which by default follows the cores it sees; fixed,
+        // the same frames give the same file on any machine (a farm's join must equal a clip).
+        for (const char* a : {"-c:v", "libx264", "-preset", "medium", "-crf", "18", "-threads", "8",
+                              "-movflags", "+faststart", "-f", "mp4"})
             args.push_back(a);
         break;
     case VideoFormat::WebM:

@@ -9,10 +9,12 @@
 #include <cmath>
 #include <cstdlib>
 #include <doctest/doctest.h>
+#include <fcntl.h>
 #include <filesystem>
 #include <fstream>
 #include <regex>
 #include <sstream>
+#include <sys/resource.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -41,6 +43,8 @@ std::string imageBytesWithoutTime(const std::string& path) {
     return std::regex_replace(readFile(path), stamp, "0000:00:00 00:00:00");
 }
 
+namespace {
+
 uint64_t waitForPeakMemory(pid_t pid, int execed, int& status) {
     char byte;
     while (::read(execed, &byte, 1) < 0 && errno == EINTR) {
@@ -58,6 +62,42 @@ uint64_t waitForPeakMemory(pid_t pid, int execed, int& status) {
                 peak = std::max<uint64_t>(peak, std::stoull(line.substr(6)) * 1024);
         ::usleep(3000);
     }
+}
+
+} // namespace
+
+Measured runMeasured(const std::vector<std::string>& args, const TempDir& dir,
+                     uint64_t addressLimit) {
+    const std::string errPath = dir.file("measured.err");
+    std::vector<std::string> argv = {moireBinary()};
+    argv.insert(argv.end(), args.begin(), args.end());
+    std::vector<char*> av;
+    for (std::string& a : argv) av.push_back(a.data());
+    av.push_back(nullptr);
+    int execed[2];
+    REQUIRE(::pipe2(execed, O_CLOEXEC) == 0);
+    const pid_t pid = ::fork();
+    REQUIRE(pid >= 0);
+    if (pid == 0) {
+        const int err = ::open(errPath.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+        const int null = ::open("/dev/null", O_RDWR);
+        if (err < 0 || null < 0 || ::chdir(dir.path().c_str()) != 0) ::_exit(126);
+        ::dup2(null, 0), ::dup2(null, 1), ::dup2(err, 2);
+        if (addressLimit) {
+            rlimit rl{addressLimit, addressLimit};
+            if (::setrlimit(RLIMIT_AS, &rl) != 0) ::_exit(126);
+        }
+        ::execv(av[0], av.data());
+        ::_exit(127);
+    }
+    ::close(execed[1]);
+    int status = 0;
+    Measured m;
+    m.maxRss = waitForPeakMemory(pid, execed[0], status);
+    m.status = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+    m.err = readFile(errPath);
+    fs::remove(errPath);
+    return m;
 }
 
 std::unique_ptr<SceneProgram> compileOk(const std::string& text, const CompileOptions& options,

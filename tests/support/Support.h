@@ -87,14 +87,23 @@ class TempDir {
     std::string path_;
 };
 
-// Waits for the child `pid` and returns its peak resident memory since its exec, in bytes;
-// `status` receives its wait status. Not wait4's ru_maxrss: Linux folds the memory the
-// process had before its exec into it, and a child forked from a test binary starts with the
-// binary's hundreds of megabytes. VmHWM in /proc/PID/status is the peak since the exec; it is
-// read every few milliseconds while the child runs (a render peaks in its middle, not its
-// last milliseconds), from when `execed` (the read end of a close-on-exec pipe whose write
-// end only the child still holds) says the exec has happened. Closes `execed`.
-uint64_t waitForPeakMemory(pid_t pid, int execed, int& status);
+// A finished moire: its exit status (128 + the signal when killed), its stderr and its peak
+// resident memory in bytes.
+struct Measured {
+    int status = -1;
+    std::string err;
+    uint64_t maxRss = 0;
+};
+
+// Runs `moire ARGS` in `dir` (standard input and output /dev/null, stderr kept), under an
+// address space limit when `addressLimit` is not 0, and measures its peak resident memory.
+// Not wait4's ru_maxrss: Linux folds the memory the process had before its exec into it, and
+// a child forked from a test binary starts with the binary's hundreds of megabytes. VmHWM in
+// /proc/PID/status is the peak since the exec, read every few milliseconds while the child
+// runs (a render peaks in its middle, not its last milliseconds), from when a close-on-exec
+// pipe says the exec has happened.
+Measured runMeasured(const std::vector<std::string>& args, const TempDir& dir,
+                     uint64_t addressLimit = 0);
 
 // Runs a command through the shell; returns its exit status and captures stdout/stderr.
 struct CommandResult {

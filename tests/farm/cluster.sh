@@ -29,7 +29,11 @@ start_cluster() {
     --pid-file="$dir/munge/munged.pid" --log-file="$dir/munge/munged.log" \
     --seed-file="$dir/munge/munged.seed" || { cat "$dir/munge/munged.log" >&2; return 1; }
 
-  local cpus mem ctld_port slurmd_port
+  local cpus mem ctld_port slurmd_port host
+  # The node and the controller are named after this machine, with their address given, so
+  # that nothing needs a name looked up: a chroot may have no /etc/hosts, and then even
+  # "localhost" goes to DNS, which can hang every daemon and client for minutes.
+  host=$(hostname -s 2>/dev/null || cat /proc/sys/kernel/hostname)
   cpus=$(nproc)
   mem=$(( $(awk '/^MemTotal/ {print $2}' /proc/meminfo) / 1024 / 2 ))
   ctld_port=$(free_port)
@@ -37,7 +41,7 @@ start_cluster() {
   while [[ $slurmd_port == "$ctld_port" ]]; do slurmd_port=$(free_port); done
   cat >"$dir/slurm.conf" <<CONF
 ClusterName=moirefarm
-SlurmctldHost=localhost
+SlurmctldHost=$host(127.0.0.1)
 SlurmctldPort=$ctld_port
 SlurmdPort=$slurmd_port
 SlurmUser=root
@@ -64,18 +68,18 @@ MailProg=/bin/true
 MpiDefault=none
 ReturnToService=2
 MinJobAge=300
-NodeName=localhost NodeAddr=127.0.0.1 CPUs=$cpus RealMemory=$mem State=UNKNOWN
-PartitionName=farm Nodes=localhost Default=YES MaxTime=INFINITE State=UP
+NodeName=$host NodeAddr=127.0.0.1 NodeHostname=$host CPUs=$cpus RealMemory=$mem State=UNKNOWN
+PartitionName=farm Nodes=$host Default=YES MaxTime=INFINITE State=UP
 CONF
   export SLURM_CONF=$dir/slurm.conf
   slurmctld -D -i >"$dir/slurmctld.out" 2>&1 &
   echo $! >"$dir/slurmctld.job"
-  slurmd -D -N localhost >"$dir/slurmd.out" 2>&1 &
+  slurmd -D -N "$host" >"$dir/slurmd.out" 2>&1 &
   echo $! >"$dir/slurmd.job"
   # Up when the node takes jobs.
   local i
   for i in $(seq 1 100); do
-    if sinfo -h -N -o '%T' 2>/dev/null | grep -qE '^(idle|mixed|allocated)'; then return 0; fi
+    if timeout 5 sinfo -h -N -o '%T' 2>/dev/null | grep -qE '^(idle|mixed|allocated)'; then return 0; fi
     sleep 0.2
   done
   echo "the test cluster did not come up; its logs:" >&2

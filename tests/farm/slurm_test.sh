@@ -3,7 +3,8 @@
 # clip submitted in 6 shards, numbered frames in 3 and a 4-tile poster, each compared byte for
 # byte with the same request rendered locally; and a failing shard, whose join is cancelled.
 #   slurm_test.sh MOIRE_BINARY
-# Exits 77 (ctest: skipped), saying why, when it cannot be root or Slurm or munge is missing.
+# Exits 77 (ctest: skipped), saying why, when it cannot be root, Slurm or munge is missing, or
+# there is no cgroup filesystem for slurmd.
 set -euo pipefail
 here=$(cd "$(dirname "$0")" && pwd)
 moire=$(realpath "$1")
@@ -20,6 +21,12 @@ for tool in munged slurmctld slurmd sbatch scontrol sinfo ffmpeg; do
     exit 77
   fi
 done
+# slurmd reads the cgroup filesystem as it starts, whatever plugins are configured; a chroot
+# that bound /sys without what is mounted under it has none.
+if ! mountpoint -q /sys/fs/cgroup; then
+  echo "skipped: slurmd needs a cgroup filesystem and /sys/fs/cgroup has none mounted here"
+  exit 77
+fi
 
 tmp=$(mktemp -d)
 source "$here/cluster.sh"

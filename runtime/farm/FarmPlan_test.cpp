@@ -2,6 +2,7 @@
 // checked against a brute-force count of frames and pixels, the shell text by running it in
 // bash (with a stand-in sbatch that records what it is given).
 #include "runtime/farm/FarmPlan.h"
+#include "tests/support/Support.h"
 
 #include <algorithm>
 #include <cstdio>
@@ -33,26 +34,6 @@ std::string run(const std::string& command, int* status = nullptr) {
 void writeFile(const fs::path& path, const std::string& text) {
     std::ofstream(path, std::ios::binary) << text;
 }
-
-std::string readFile(const fs::path& path) {
-    std::ifstream in(path, std::ios::binary);
-    std::stringstream s;
-    s << in.rdbuf();
-    return s.str();
-}
-
-struct TempDir {
-    fs::path path;
-    TempDir() {
-        std::string t = (fs::temp_directory_path() / "moire-farm-XXXXXX").string();
-        REQUIRE(::mkdtemp(t.data()));
-        path = t;
-    }
-    ~TempDir() {
-        std::error_code ec;
-        fs::remove_all(path, ec);
-    }
-};
 
 } // namespace
 
@@ -125,8 +106,8 @@ TEST_CASE("shellQuote: the shell reads back every word as it was") {
 }
 
 TEST_CASE("makeScripts: a shard per array task, the join, and the submission's sbatch calls") {
-    TempDir dir;
-    const fs::path work = dir.path / "work dir";
+    moire::test::TempDir dir("farm");
+    const fs::path work = fs::path(dir.path()) / "work dir";
     fs::create_directories(work);
     FarmJob job;
     job.name = "moire-test";
@@ -152,14 +133,14 @@ TEST_CASE("makeScripts: a shard per array task, the join, and the submission's s
     CHECK(fs::exists(work / "joined")); // what submit.sh --wait looks for
 
     // A stand-in sbatch: records each call's arguments, one a line, and answers a job id.
-    const fs::path bin = dir.path / "bin";
+    const fs::path bin = fs::path(dir.path()) / "bin";
     fs::create_directories(bin);
     writeFile(bin / "sbatch", "#!/bin/bash\n"
                               "n=$(( $(ls \"$LOG\" 2>/dev/null | wc -l) + 1 ))\n"
                               "mkdir -p \"$LOG\"; printf '%s\\n' \"$@\" > \"$LOG/$n\"\n"
                               "echo \"$(( 40 + n ));cluster\"\n");
     fs::permissions(bin / "sbatch", fs::perms::owner_all);
-    const fs::path log = dir.path / "calls";
+    const fs::path log = fs::path(dir.path()) / "calls";
     std::string out = run("PATH='" + bin.string() + "':$PATH LOG='" + log.string() + "' bash '" +
                               (work / "submit.sh").string() + "'",
                           &status);
@@ -167,17 +148,18 @@ TEST_CASE("makeScripts: a shard per array task, the join, and the submission's s
     CHECK(out.find("job array 41") != std::string::npos);
     CHECK(out.find("join: job 42") != std::string::npos);
     const std::string w = work.string();
-    CHECK(readFile(log / "1") ==
+    CHECK(moire::test::readFile(log / "1") ==
           "--parsable\n--job-name=moire-test-shard\n--array=0-1\n--output=" + w +
               "/logs/shard-%a.log\n--partition=gpu\n--time=10\n"
               "--account=it's\n" +
               w + "/shard.sh\n");
-    CHECK(readFile(log / "2") == "--parsable\n--job-name=moire-test-join\n"
-                                 "--dependency=afterok:41\n--kill-on-invalid-dep=yes\n--output=" +
-                                     w +
-                                     "/logs/join.log\n--partition=gpu\n--time=10\n"
-                                     "--account=it's\n" +
-                                     w + "/join.sh\n");
+    CHECK(moire::test::readFile(log / "2") ==
+          "--parsable\n--job-name=moire-test-join\n"
+          "--dependency=afterok:41\n--kill-on-invalid-dep=yes\n--output=" +
+              w +
+              "/logs/join.log\n--partition=gpu\n--time=10\n"
+              "--account=it's\n" +
+              w + "/join.sh\n");
     job.wait = true;
     CHECK(makeScripts(job).submit.find("--output='" + w +
                                        "'/logs/join.log --partition=gpu "

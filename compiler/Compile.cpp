@@ -97,7 +97,9 @@ CompileResult compileScene(const std::string& path, std::string text,
                                            .envelopeTaps = options.envelopeTaps,
                                            .overlay = options.overlay,
                                            .separate = options.separateLayer,
-                                           .pixelSlot = options.pixelSize};
+                                           .pixelSlot = options.pixelSize,
+                                           .walking = options.walking,
+                                           .strokeFloor = options.strokeFloor};
     lower::LoweredScene lowered =
         lower::lowerScene(program->checked, lowerOptions, program->literals);
     // A view that sweeps every layer's index needs each family's phase sample.

@@ -35,6 +35,10 @@ struct CompileOptions {
     // and the pixel's world size set by FrameRequest::pixelSize (SceneProgram::pixelSlot).
     std::optional<int> separateLayer = std::nullopt;
     bool pixelSize = false;
+    // For the experiments only (experiments/, bench/): the walking solver's variant and the
+    // stroke floor (lower::LowerOptions::walking, strokeFloor).
+    lower::WalkingVariant walking = {};
+    bool strokeFloor = true;
     // `-D` values: a param's default or a named layer's property replaced before checking.
     Defines defines = {};
     // When set, each stage appends its name and wall-clock seconds (bench/compile_bench).

@@ -7,6 +7,7 @@
 #include "compiler/ir/Builder.h"
 #include "compiler/lower/LayerPipeline.h"
 #include "compiler/lower/LowerExpr.h"
+#include "compiler/lower/WalkingVariant.h"
 
 #include <functional>
 #include <string_view>
@@ -36,8 +37,9 @@ struct FamilyInputs {
     std::vector<Vals> params; // the family's arguments, lowered, in declaration order
     StrokeBand band;
     Encoding enc;
-    bool wantIndex = false; // also the index field (the layer's fields are output)
-    bool tally = false;     // count the evaluations of the phase (LowerOptions::tally)
+    bool wantIndex = false;      // also the index field (the layer's fields are output)
+    bool tally = false;          // count the evaluations of the phase (LowerOptions::tally)
+    WalkingVariant walking = {}; // the walking solver's variant (LowerOptions::walking)
     // The view sweeps the layers' indices (sema::viewSweeps): the family also gives its phase
     // sample (LayerFields::sample).
     bool sweeps = false;

@@ -98,9 +98,9 @@ PhaseSample phaseSample(ir::Builder& b, ValueId index, ValueId nearest, ValueId 
     return s;
 }
 
-StrokeBand strokeBand(ir::Builder& b, ValueId stroke, ValueId pixel) {
+StrokeBand strokeBand(ir::Builder& b, ValueId stroke, ValueId pixel, bool floored) {
     StrokeBandT<ir::BuiltValue> band =
-        strokeBandOf(ir::BuiltValue(b, stroke), ir::BuiltValue(b, pixel));
+        strokeBandOf(ir::BuiltValue(b, stroke), ir::BuiltValue(b, pixel), floored);
     return {band.h.id, band.a.id};
 }
 

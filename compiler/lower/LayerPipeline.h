@@ -85,10 +85,10 @@ struct StrokeBandT {
     T h, a;
 };
 template <class T>
-inline StrokeBandT<T> strokeBandOf(T stroke, T pixel) {
+inline StrokeBandT<T> strokeBandOf(T stroke, T pixel, bool floored = true) {
     using std::max;
     T half = stroke * 0.5;
-    T floor = pixel * kStrokeFloorPixels;
+    T floor = pixel * (floored ? kStrokeFloorPixels : 0.0);
     T h = max(half, floor);
     T a = pixel * kAntialiasPixels;
     return {h, a};
@@ -96,7 +96,8 @@ inline StrokeBandT<T> strokeBandOf(T stroke, T pixel) {
 struct StrokeBand {
     ir::ValueId h, a;
 };
-StrokeBand strokeBand(ir::Builder& b, ir::ValueId stroke, ir::ValueId pixel);
+// floored false: h = t/2 at every zoom (LowerOptions::strokeFloor, for §8.2's experiment).
+StrokeBand strokeBand(ir::Builder& b, ir::ValueId stroke, ir::ValueId pixel, bool floored = true);
 
 // Members are the level sets {phi = n s + phase}. The index is (phi - phase) / s; the nearest
 // member is the rounded index (clamped to `first` when the family starts there), and the

@@ -127,7 +127,7 @@ LoweredScene lowerScene(const sema::CheckedScene& scene, const LowerOptions& opt
         checks.layer(layer);
         ink.where = layer.decl->range.begin;
         b.setLoc(ink.where);
-        ink.band = strokeBand(b, stroke, pixel);
+        ink.band = strokeBand(b, stroke, pixel, options.strokeFloor);
         ink.halfWidth = b.mul(stroke, b.constF(0.5));
         ink.spacing = ctx.layerProp(layer, "spacing")[0];
         Encoding enc = layers.encoding(layer);

@@ -5,6 +5,7 @@
 #pragma once
 
 #include "compiler/ir/IR.h"
+#include "compiler/lower/WalkingVariant.h"
 #include "compiler/sema/Sema.h"
 #include "compiler/sema/Views.h"
 
@@ -46,6 +47,10 @@ struct LowerOptions {
     // The world size of a pixel read from a literal slot (LoweredScene::pixelSlot) instead of
     // fitted to the image, so that the scale and the canvas are set apart (`moire print`).
     bool pixelSlot = false;
+    // The experiments' settings (experiments/, bench/): the walking solver's variant, and
+    // the stroke floor of Eq. 35 (false: h = t/2 at every zoom, §8.2's "floor removed").
+    WalkingVariant walking = {};
+    bool strokeFloor = true;
 };
 
 // The literal slots of interactive mode, counted from LoweredScene::viewSlot. The camera's

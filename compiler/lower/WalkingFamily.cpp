@@ -319,15 +319,16 @@ class Solver {
         ValueId stride = b_.loop(
             {c(1.0)},
             [&](std::span<const ValueId> v) {
-                return Vals{b_.lt(b_.mul(v[0], c(kWalkBudget)), span)};
+                return Vals{b_.lt(b_.mul(v[0], c(in_.variant.budget)), span)};
             },
             [&](std::span<const ValueId> v) { return Vals{b_.mul(v[0], c(2.0))}; })[0];
         // Anchored to multiples of the stride, not to n_lo: neighbouring pixels then sample
-        // the same members (§9.6).
+        // the same members (§9.6). (WalkingVariant::latticeAnchored false: at n_lo, Fig. 17.)
         ValueId invStride = b_.div(c(1.0), stride); // exact: a power of two
         // Strides per unit of (value - min(best, G)): an exact rescaling of 1 / Lambda.
         ValueId invLambdaStride = b_.mul(invLambda, invStride);
-        ValueId start = b_.mul(stride, ceil(b_.mul(nLo_, invStride)));
+        ValueId start =
+            in_.variant.latticeAnchored ? b_.mul(stride, ceil(b_.mul(nLo_, invStride))) : nLo_;
         auto [p0x, p0y] = unturn(b_.mul(start, in_.turn));
         // Rot(2^j sigma theta), j = 0 .. kCarriedPowers - 1, for the carried rotation: the
         // frame's powers at stride 1, else a cosine and a sine and repeated squaring.
@@ -359,7 +360,7 @@ class Solver {
         Vals res = b_.loop(
             init,
             [&](std::span<const ValueId> v) {
-                ValueId going = both(b_.lt(v[0], c(kWalkBudget)), b_.le(v[1], nHi));
+                ValueId going = both(b_.lt(v[0], c(in_.variant.budget)), b_.le(v[1], nHi));
                 return Vals{both(going, b_.gt(v[2], accept_))};
             },
             [&](std::span<const ValueId> v) {
@@ -547,6 +548,7 @@ LayerFields walkingLayerFields(ir::Builder& b, const FamilyInputs& fam) {
     if (slope != ir::kNoValue) in.band = {b.mul(fam.band.h, slope), b.mul(fam.band.a, slope)};
     in.wantIndex = fam.wantIndex;
     in.tally = fam.tally;
+    in.variant = fam.walking;
     in.flankGuard = fam.sweeps;
     LayerFields out = walkingFamilyFields(b, in, fam.phaseAt);
     if (slope != ir::kNoValue) {

@@ -8,6 +8,7 @@
 #include "compiler/ir/Builder.h"
 #include "compiler/lower/FamilyRegistry.h"
 #include "compiler/lower/LayerPipeline.h"
+#include "compiler/lower/WalkingVariant.h"
 
 #include <functional>
 
@@ -28,6 +29,7 @@ struct WalkingInputs {
     bool wantIndex = false;
     // Count every evaluation of the radius with `tally [0]` (the interpreter's counting mode).
     bool tally = false;
+    WalkingVariant variant = {};
 };
 
 // Evaluates the family's radius rho (its support function: the phase) at the point (qx, qy)
@@ -47,8 +49,7 @@ inline T walkGuard(const StrokeBandT<T>& band, T spacing, double pitches = kWalk
     return max(reach, least);
 }
 
-// The solver's constants (spec §7.6).
-constexpr double kWalkBudget = 1024;   // B: evaluations the scan may spend
+// The solver's constants (spec §7.6); the budget B is kWalkBudget (WalkingVariant.h).
 constexpr double kWalkSpanCap = 65536; // 2^16: widest interval the scan considers
 constexpr double kWalkReanchor = 32;   // carried rotation re-anchored this often
 constexpr double kWalkMarginal = 1e-4; // drift within this of s reads as marginal

@@ -23,22 +23,18 @@ lower::WalkingVariant variantOf(Solver solver) {
 
 // One compiled layer per (shape, solver), re-set per setting, on the double interpreter.
 Out solveWith(Solver solver, const Setting& st, double x, double y) {
-    static std::map<std::pair<int, Solver>, std::unique_ptr<Walker>> compiled;
-    std::unique_ptr<Walker>& k = compiled[{st.w.facets, solver}];
-    if (!k) k = std::make_unique<Walker>(familyOf(st.w.facets), variantOf(solver));
-    Prober& p = *k->probe;
-    p.setLiteral(k->zoom, st.zoom);
-    p.setLiteral(k->spacing, st.w.spacing);
-    p.setLiteral(k->phase, st.w.phase);
-    p.setLiteral(k->ox, st.w.offsetX);
-    p.setLiteral(k->oy, st.w.offsetY);
-    p.setLiteral(k->turn, st.w.turn);
-    p.setLiteral(k->stroke, st.stroke);
-    if (k->sides >= 0) p.setLiteral(k->sides, st.w.facets);
-    std::vector<double> v = p.at(x, y);
-    const auto& L = k->program->layout;
-    return {v[L.distanceSlot(0)], v[L.indexSlot(0)], v[L.aux0Slot(0)], v[L.aux1Slot(0)],
-            Interpreter::lastTally(0)};
+    static std::map<std::pair<std::string, Solver>, std::unique_ptr<Walker>> compiled;
+    std::unique_ptr<Walker>& k = compiled[{familyOf(st), solver}];
+    if (!k) k = std::make_unique<Walker>(familyOf(st), variantOf(solver));
+    return solveOn(*k, st, x, y);
+}
+
+// Point i of a setting: alternately uniform in the disc of radius `extent` and near a member.
+void pointOf(const Setting& st, int i, double extent, std::mt19937_64& rng, double& x, double& y) {
+    if (i % 2)
+        nearMember(st, extent, rng, x, y);
+    else
+        inDisc(extent, rng, x, y);
 }
 
 // Settings over shapes, spacings, drifts (m / s, aimed at a facet, a vertex or anywhere),
@@ -78,10 +74,7 @@ TEST_CASE("walking Loose and Window never invent ink, and Loose is Window where 
         INFO(describe(st));
         for (int i = 0; i < 12; ++i) {
             double x, y;
-            if (i % 2)
-                nearMember(st, 300.0, rng, x, y);
-            else
-                inDisc(300.0, rng, x, y);
+            pointOf(st, i, 300.0, rng, x, y);
             SHOW(x, y);
             const Out window = solveWith(Solver::Window, st, x, y);
             const Out loose = solveWith(Solver::Loose, st, x, y);
@@ -144,10 +137,7 @@ TEST_CASE("walking Sweep is the double Sweep of tests/reference, at a fixed cost
         INFO(describe(st));
         for (int i = 0; i < 6; ++i) {
             double x, y;
-            if (i % 2)
-                nearMember(st, 1200.0, rng, x, y);
-            else
-                inDisc(1200.0, rng, x, y);
+            pointOf(st, i, 1200.0, rng, x, y);
             SHOW(x, y);
             const Out got = solveWith(Solver::Sweep, st, x, y);
             const reference::SweepResult want =

@@ -111,25 +111,35 @@ inline std::string familyOf(int facets) {
                          : "ngon";
 }
 
+// The family a setting is drawn with.
+inline std::string familyOf(const Setting& st) {
+    return st.sides >= 0 ? "ngon" : familyOf(st.w.facets);
+}
+
+// The compiled layer `k` (of familyOf(st)) at (x, y) for a setting, on the double
+// interpreter.
+inline Out solveOn(Walker& k, const Setting& st, double x, double y) {
+    Prober& p = *k.probe;
+    p.setLiteral(k.zoom, st.zoom);
+    p.setLiteral(k.spacing, st.w.spacing);
+    p.setLiteral(k.phase, st.w.phase);
+    p.setLiteral(k.ox, st.w.offsetX);
+    p.setLiteral(k.oy, st.w.offsetY);
+    p.setLiteral(k.turn, st.w.turn);
+    p.setLiteral(k.stroke, st.stroke);
+    if (k.sides >= 0) p.setLiteral(k.sides, st.sides >= 0 ? st.sides : st.w.facets);
+    std::vector<double> v = p.at(x, y);
+    const auto& L = k.program->layout;
+    return {v[L.distanceSlot(0)], v[L.indexSlot(0)], v[L.aux0Slot(0)], v[L.aux1Slot(0)],
+            Interpreter::lastTally(0)};
+}
+
 // The solver at (x, y) for a setting, on the double interpreter.
 inline Out solve(const Setting& st, double x, double y) {
     static std::map<std::string, std::unique_ptr<Walker>> compiled; // one program per shape
-    const std::string fam = st.sides >= 0 ? "ngon" : familyOf(st.w.facets);
-    std::unique_ptr<Walker>& k = compiled[fam];
-    if (!k) k = std::make_unique<Walker>(fam);
-    Prober& p = *k->probe;
-    p.setLiteral(k->zoom, st.zoom);
-    p.setLiteral(k->spacing, st.w.spacing);
-    p.setLiteral(k->phase, st.w.phase);
-    p.setLiteral(k->ox, st.w.offsetX);
-    p.setLiteral(k->oy, st.w.offsetY);
-    p.setLiteral(k->turn, st.w.turn);
-    p.setLiteral(k->stroke, st.stroke);
-    if (k->sides >= 0) p.setLiteral(k->sides, st.sides >= 0 ? st.sides : st.w.facets);
-    std::vector<double> v = p.at(x, y);
-    const auto& L = k->program->layout;
-    return {v[L.distanceSlot(0)], v[L.indexSlot(0)], v[L.aux0Slot(0)], v[L.aux1Slot(0)],
-            Interpreter::lastTally(0)};
+    std::unique_ptr<Walker>& k = compiled[familyOf(st)];
+    if (!k) k = std::make_unique<Walker>(familyOf(st));
+    return solveOn(*k, st, x, y);
 }
 
 // The angle of facet normal k of an N-gon (facet 0 faces +x; vertices lie half way between).

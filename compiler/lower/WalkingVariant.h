@@ -13,13 +13,13 @@ constexpr double kWalkBudget = 1024; // B: evaluations the scan may spend (spec 
 struct WalkingVariant {
     enum class Solver {
         Window, // the shipped method: Theorem 4's interval with the exact drift constant
-        Loose,  // the same interval with ||delta|| in place of rho(-delta) (Table 6's "exact drift")
-        Sweep,  // no certificate: seed at rho(p)/s, a fixed neighbourhood, Newton refinement
+        Loose, // the same interval with ||delta|| in place of rho(-delta) (Table 6's "exact drift")
+        Sweep, // no certificate: seed at rho(p)/s, a fixed neighbourhood, Newton refinement
     };
     Solver solver = Solver::Window;
-    double budget = kWalkBudget;  // B: past it the scan strides
-    bool latticeAnchored = true;  // false: the stride anchored at n_lo (Fig. 17, centre)
-    int sweepNeighbours = 100;    // Sweep: members looked at either side of the seed
+    double budget = kWalkBudget; // B: past it the scan strides
+    bool latticeAnchored = true; // false: the stride anchored at n_lo (Fig. 17, centre)
+    int sweepNeighbours = 100;   // Sweep: members looked at either side of the seed
     // Table 6: each false removes one mechanism.
     bool lipschitzSkip = true;     // §7.4: skip members the Lipschitz bound rules out
     bool supportFastPaths = true;  // §6: the circle and polygon support forms without a loop

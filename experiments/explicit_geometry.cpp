@@ -54,13 +54,13 @@ Geometry geometryFor(PairKind kind, double spacing, double zoom, int width) {
     case PairKind::LinesPitch:
         g.spacing[1] = spacing * fringe / (fringe - spacing);
         break;
-    case PairKind::Circles:
+    case PairKind::Circles: // centres 10 spacings apart, as Table 2's
         g.shift = 5 * spacing;
-        break; // centres 10 spacings apart
-    case PairKind::Hexagons:
+        break;
+    case PairKind::Hexagons: // Table 2's 4 degrees at 4 members a pixel, at most 20 degrees
         g.rotation = std::min(20.0, 16.0 / mpp) * std::numbers::pi / 180;
         break;
-    case PairKind::Hyperbolas:
+    case PairKind::Hyperbolas: // about 5 fringes from the centre to the frame's edge
         g.spacing[1] = spacing * (1 + std::min(0.25, 10.0 / (width * mpp)));
     }
     return g;

@@ -17,17 +17,17 @@ double smoothstep(double e0, double e1, double v) {
     return u * u * (3.0 - 2.0 * u);
 }
 
-double coverage(double d, const Stroke& s) {
-    const double c = 1.0 - smoothstep(s.h - s.a, s.h + s.a, d);
-    return std::isnan(c) ? 0.0 : c; // as the renderer reads NaN coverage
-}
-
 bool finite(const LayerSample& s) {
     return std::isfinite(s.index) && std::isfinite(s.distance) && std::isfinite(s.gx) &&
            std::isfinite(s.gy);
 }
 
 } // namespace
+
+double coverage(double d, const Stroke& s) {
+    const double c = 1.0 - smoothstep(s.h - s.a, s.h + s.a, d);
+    return std::isnan(c) ? 0.0 : c; // as the renderer reads NaN coverage
+}
 
 FieldProbe::FieldProbe(const std::string& name, const std::string& text) {
     CompileResult r = compileScene(name + ".moire", text,

@@ -45,6 +45,8 @@ class FieldProbe {
 struct Stroke {
     double h, a;
 };
+// Its coverage at distance d (Eq. 4, one opaque layer): 1 - smoothstep(h - a, h + a, d).
+double coverage(double d, const Stroke& s);
 
 // The index-space stroke profile A(u) = 1 - smoothstep(w - b, w + b, pd(u, 1)) of §4.1, and
 // Phi(Delta) of Eq. 7 by the midpoint rule over `nodes` points of one period (the integrand

@@ -30,6 +30,7 @@ packages=(
   libcpp-httplib-dev             # moire serve: the preview page's HTTP server
   chromium                       # the browser tests of moire serve's and moire export's pages
   slurm-wlm munge                # moire farm's test: a one-node Slurm cluster (tests/farm)
+  libcairo2-dev                  # experiments/explicit_geometry: a real path renderer to compare with (spec §9.5)
 )
 
 if [[ "${1:-}" == "--list" ]]; then

@@ -111,7 +111,10 @@ int main(int argc, char** argv) {
     for (const Removal& r : removals()) {
         lower::WalkingVariant v;
         r.remove(v);
+        std::vector<std::string> counts; // evaluations a pixel, relative to the full method's
         for (size_t c = 0; c < cols.size(); ++c) {
+            const double evals = evaluationsPerPixel(cols[c], v, w, h, step);
+            counts.push_back(fmt2(evals / fullEvals[c]));
             const double off = shareDiffering(jitImage(cols[c], v, w, h), fullImage[c], 2.0 / 255);
             const bool marginal = cols[c].name == "marginal";
             // Loose is another interval, not a saving; the closed form's scan meets the cap.
@@ -122,9 +125,9 @@ int main(int argc, char** argv) {
                                   (exempt ? " (expected)" : ""));
                 if (!exempt) picturesKept = false;
             }
-            if (!v.polygonClosedForm && marginal)
-                closedFormCost = evaluationsPerPixel(cols[c], v, w, h, step) / fullEvals[c];
+            if (!v.polygonClosedForm && marginal) closedFormCost = evals / fullEvals[c];
         }
+        printRow("  evaluations a pixel, " + std::string(r.name), "-", joined(counts));
     }
     // The clock: the JIT in its lanes (the paper's GPU runs 32-wide), then scalar.
     for (int lanes : {jitLanes(), 1}) {

@@ -29,14 +29,6 @@ Out solveWith(Solver solver, const Setting& st, double x, double y) {
     return solveOn(*k, st, x, y);
 }
 
-// Point i of a setting: alternately uniform in the disc of radius `extent` and near a member.
-void pointOf(const Setting& st, int i, double extent, std::mt19937_64& rng, double& x, double& y) {
-    if (i % 2)
-        nearMember(st, extent, rng, x, y);
-    else
-        inDisc(extent, rng, x, y);
-}
-
 // Settings over shapes, spacings, drifts (m / s, aimed at a facet, a vertex or anywhere),
 // turns and zooms, seeded.
 std::vector<Setting> settings(std::mt19937_64& rng, const std::vector<int>& shapes) {
@@ -64,36 +56,48 @@ std::vector<Setting> settings(std::mt19937_64& rng, const std::vector<int>& shap
     return out;
 }
 
+// Calls fn(setting, x, y) at `perSetting` points of every setting (seeded), alternately
+// uniform in the disc of radius `extent` and near a member, with both in any failure message.
+template <class Fn>
+void forEachPoint(uint64_t seed, int perSetting, double extent, const Fn& fn) {
+    std::mt19937_64 rng(seed);
+    for (const Setting& st : settings(rng, {0, 3, 4, 6})) {
+        INFO(describe(st));
+        for (int i = 0; i < perSetting; ++i) {
+            double x, y;
+            if (i % 2)
+                nearMember(st, extent, rng, x, y);
+            else
+                inDisc(extent, rng, x, y);
+            SHOW(x, y);
+            fn(st, x, y);
+        }
+    }
+}
+
 } // namespace
 
 TEST_CASE("walking Loose and Window never invent ink, and Loose is Window where the drift is "
           "||delta||") {
-    std::mt19937_64 rng(1907);
     long compared = 0, circles = 0;
-    for (const Setting& st : settings(rng, {0, 3, 4, 6})) {
-        INFO(describe(st));
-        for (int i = 0; i < 12; ++i) {
-            double x, y;
-            pointOf(st, i, 300.0, rng, x, y);
-            SHOW(x, y);
-            const Out window = solveWith(Solver::Window, st, x, y);
-            const Out loose = solveWith(Solver::Loose, st, x, y);
-            reference::Nearest exact = reference::nearest(st.w, x, y, st.guard(), 200000);
-            if (exact.complete) {
-                // Both minimise |h_p| over a subset of the members.
-                const double tol = 1e-9 * (1.0 + std::hypot(x, y) + st.w.spacing);
-                CHECK(window.distance >= exact.distance - tol);
-                CHECK(loose.distance >= exact.distance - tol);
-                ++compared;
-            }
-            if (st.w.facets == 0) { // rho(-delta) = ||delta||: the same interval, the same scan
-                CHECK(loose.distance == window.distance);
-                CHECK(loose.evaluations == window.evaluations);
-                CHECK(loose.hi == window.hi);
-                ++circles;
-            }
+    forEachPoint(1907, 12, 300.0, [&](const Setting& st, double x, double y) {
+        const Out window = solveWith(Solver::Window, st, x, y);
+        const Out loose = solveWith(Solver::Loose, st, x, y);
+        reference::Nearest exact = reference::nearest(st.w, x, y, st.guard(), 200000);
+        if (exact.complete) {
+            // Both minimise |h_p| over a subset of the members.
+            const double tol = 1e-9 * (1.0 + std::hypot(x, y) + st.w.spacing);
+            CHECK(window.distance >= exact.distance - tol);
+            CHECK(loose.distance >= exact.distance - tol);
+            ++compared;
         }
-    }
+        if (st.w.facets == 0) { // rho(-delta) = ||delta||: the same interval, the same scan
+            CHECK(loose.distance == window.distance);
+            CHECK(loose.evaluations == window.evaluations);
+            CHECK(loose.hi == window.hi);
+            ++circles;
+        }
+    });
     CHECK(compared > 2000);
     CHECK(circles > 500);
 }
@@ -128,29 +132,22 @@ TEST_CASE("walking Loose loses ink that Window keeps where m < s < ||delta|| (sp
 }
 
 TEST_CASE("walking Sweep is the double Sweep of tests/reference, at a fixed cost") {
-    std::mt19937_64 rng(913);
     const int fixedCost = 1 + 2 * lower::kSweepNeighbours + 1 +
                           lower::kSweepNewtonSteps * lower::kSweepNewtonEvaluations +
                           2; // the searched index's two (the probe outputs the layer's fields)
     long compared = 0, lostSomewhere = 0;
-    for (const Setting& st : settings(rng, {0, 3, 4, 6})) {
-        INFO(describe(st));
-        for (int i = 0; i < 6; ++i) {
-            double x, y;
-            pointOf(st, i, 1200.0, rng, x, y);
-            SHOW(x, y);
-            const Out got = solveWith(Solver::Sweep, st, x, y);
-            const reference::SweepResult want =
-                reference::sweep(st.w, x, y, st.guard(), lower::kSweepNeighbours);
-            // No early exit: the same members, so the same minimum to rounding.
-            CHECK(std::fabs(got.distance - want.distance) <=
-                  1e-9 * (1.0 + std::hypot(x, y) + st.w.spacing));
-            CHECK(got.evaluations == static_cast<uint64_t>(fixedCost));
-            lostSomewhere += want.distance > reference::nearest(st.w, x, y, st.guard()).distance +
-                                                 st.guard() * 1e-3;
-            ++compared;
-        }
-    }
+    forEachPoint(913, 6, 1200.0, [&](const Setting& st, double x, double y) {
+        const Out got = solveWith(Solver::Sweep, st, x, y);
+        const reference::SweepResult want =
+            reference::sweep(st.w, x, y, st.guard(), lower::kSweepNeighbours);
+        // No early exit: the same members, so the same minimum to rounding.
+        CHECK(std::fabs(got.distance - want.distance) <=
+              1e-9 * (1.0 + std::hypot(x, y) + st.w.spacing));
+        CHECK(got.evaluations == static_cast<uint64_t>(fixedCost));
+        lostSomewhere +=
+            want.distance > reference::nearest(st.w, x, y, st.guard()).distance + st.guard() * 1e-3;
+        ++compared;
+    });
     // Without a certificate it misses the nearest member somewhere far out (§7.3).
     REPORT("Sweep above the reference at ", lostSomewhere, " of ", compared, " points");
     CHECK(lostSomewhere > 0);

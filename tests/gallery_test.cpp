@@ -1,0 +1,80 @@
+// The pictures in docs/gallery.md and docs/tutorial.md against the scenes they show: every
+// example has its gallery picture and every picture its example, the pages show them all,
+// and each picture is what moire draws of its scene today, rendered again here exactly as
+// scripts/render-gallery.sh renders it (at the stored picture's size and the script's time).
+#include "runtime/output/ImageIO.h"
+#include "tests/support/DocImages.h"
+#include "tests/support/Support.h"
+
+#include <doctest/doctest.h>
+#include <filesystem>
+#include <set>
+
+using namespace moire;
+namespace fs = std::filesystem;
+
+namespace {
+
+std::set<std::string> stems(const std::string& dir, const std::string& ext,
+                            const std::string& prefix = "") {
+    std::set<std::string> out;
+    for (const auto& e : fs::directory_iterator(test::sourcePath(dir))) {
+        std::string name = e.path().filename().string();
+        if (e.path().extension() == ext && name.rfind(prefix, 0) == 0)
+            out.insert(e.path().stem().string().substr(prefix.size()));
+    }
+    return out;
+}
+
+// Renders `scene` as the script does, at the stored picture's size, and compares.
+void checkCurrent(const std::string& scene, const std::string& stored, double time, int width,
+                  const test::TempDir& dir) {
+    CAPTURE(scene);
+    REQUIRE_MESSAGE(fs::exists(test::sourcePath(stored)), stored,
+                    " is missing: run bash scripts/render-gallery.sh");
+    Image ref = readImage(test::sourcePath(stored));
+    CHECK(ref.width == width);
+    Image fresh =
+        test::renderWithMoire(scene + " --size " + std::to_string(ref.width) + "x" +
+                                  std::to_string(ref.height) + " --time " + std::to_string(time),
+                              dir, "fresh");
+    test::checkSameAsStored(fresh, test::sourcePath(stored));
+}
+
+} // namespace
+
+TEST_CASE("every example has a gallery picture on the gallery page, and nothing else does") {
+    std::set<std::string> examples = stems("examples", ".moire");
+    std::set<std::string> pictures = stems("docs/images/gallery", ".png");
+    CHECK(examples == pictures);
+    const std::string page = test::readFile(test::sourcePath("docs/gallery.md"));
+    for (const std::string& name : examples) {
+        CAPTURE(name);
+        CHECK(page.find("](images/gallery/" + name + ".png)") != std::string::npos);
+        CHECK(page.find("`examples/" + name + ".moire`") != std::string::npos);
+    }
+}
+
+TEST_CASE("every tutorial step has its picture on the tutorial page, and nothing else does") {
+    std::set<std::string> steps = stems("docs/tutorial", ".moire");
+    CHECK(steps == stems("docs/images", ".png", "tutorial-"));
+    const std::string page = test::readFile(test::sourcePath("docs/tutorial.md"));
+    for (const std::string& name : steps) {
+        CAPTURE(name);
+        CHECK(page.find("](images/tutorial-" + name + ".png)") != std::string::npos);
+    }
+}
+
+TEST_CASE("the gallery's pictures are what the examples draw") {
+    test::TempDir dir("gallery");
+    for (const std::string& name : stems("examples", ".moire"))
+        checkCurrent("examples/" + name + ".moire", "docs/images/gallery/" + name + ".png", 3.6,
+                     480, dir);
+}
+
+TEST_CASE("the tutorial's pictures are what its steps draw") {
+    test::TempDir dir("tutorial-pictures");
+    for (const std::string& name : stems("docs/tutorial", ".moire"))
+        checkCurrent("docs/tutorial/" + name + ".moire", "docs/images/tutorial-" + name + ".png", 9,
+                     720, dir);
+}

@@ -46,7 +46,11 @@ void checkCurrent(const std::string& scene, const std::string& stored, double ti
 TEST_CASE("every example has a gallery picture on the gallery page, and nothing else does") {
     std::set<std::string> examples = stems("examples", ".moire");
     std::set<std::string> pictures = stems("docs/images/gallery", ".png");
-    CHECK(examples == pictures);
+    for (const std::string& name : examples)
+        CHECK_MESSAGE(pictures.count(name), "examples/", name,
+                      ".moire has no picture: run bash scripts/render-gallery.sh");
+    for (const std::string& name : pictures)
+        CHECK_MESSAGE(examples.count(name), "docs/images/gallery/", name, ".png has no example");
     const std::string page = test::readFile(test::sourcePath("docs/gallery.md"));
     for (const std::string& name : examples) {
         CAPTURE(name);
@@ -57,7 +61,12 @@ TEST_CASE("every example has a gallery picture on the gallery page, and nothing 
 
 TEST_CASE("every tutorial step has its picture on the tutorial page, and nothing else does") {
     std::set<std::string> steps = stems("docs/tutorial", ".moire");
-    CHECK(steps == stems("docs/images", ".png", "tutorial-"));
+    std::set<std::string> pictures = stems("docs/images", ".png", "tutorial-");
+    for (const std::string& name : steps)
+        CHECK_MESSAGE(pictures.count(name), "docs/tutorial/", name,
+                      ".moire has no picture: run bash scripts/render-gallery.sh");
+    for (const std::string& name : pictures)
+        CHECK_MESSAGE(steps.count(name), "docs/images/tutorial-", name, ".png has no step");
     const std::string page = test::readFile(test::sourcePath("docs/tutorial.md"));
     for (const std::string& name : steps) {
         CAPTURE(name);

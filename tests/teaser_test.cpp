@@ -299,7 +299,7 @@ TEST_CASE("panel 4: the twisted honeycombs' superlattice has period p / (2 sin(t
     CHECK(at4 == doctest::Approx(expected(4)).epsilon(0.03));
 }
 
-TEST_CASE("panel 6: one walking family interferes with itself; without its walk it does not") {
+TEST_CASE("panel 6: one walking family interferes with itself, and without its walk it does not") {
     test::TempDir dir("teaser6");
     const Panel& p = panels()[5];
     Image walking = renderPanel(p, dir);

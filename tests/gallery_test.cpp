@@ -41,37 +41,38 @@ void checkCurrent(const std::string& scene, const std::string& stored, double ti
     test::checkSameAsStored(fresh, test::sourcePath(stored));
 }
 
+// Scenes `sceneDir/NAME.moire` against pictures `pictureDir/PREFIX NAME.png`: each one of a
+// pair, and each named on `page`. Returns the scenes' names.
+std::set<std::string> checkPairs(const std::string& sceneDir, const std::string& pictureDir,
+                                 const std::string& prefix, const std::string& page) {
+    std::set<std::string> scenes = stems(sceneDir, ".moire");
+    std::set<std::string> pictures = stems(pictureDir, ".png", prefix);
+    for (const std::string& name : scenes)
+        CHECK_MESSAGE(pictures.count(name), sceneDir, "/", name,
+                      ".moire has no picture: run bash scripts/render-gallery.sh");
+    for (const std::string& name : pictures)
+        CHECK_MESSAGE(scenes.count(name), pictureDir, "/", prefix, name, ".png has no scene");
+    const std::string text = test::readFile(test::sourcePath(page));
+    const std::string linked = pictureDir.substr(std::string("docs/").size()) + "/" + prefix;
+    for (const std::string& name : scenes)
+        CHECK_MESSAGE(text.find("](" + linked + name + ".png)") != std::string::npos, page,
+                      " does not show ", name);
+    return scenes;
+}
+
 } // namespace
 
 TEST_CASE("every example has a gallery picture on the gallery page, and nothing else does") {
-    std::set<std::string> examples = stems("examples", ".moire");
-    std::set<std::string> pictures = stems("docs/images/gallery", ".png");
-    for (const std::string& name : examples)
-        CHECK_MESSAGE(pictures.count(name), "examples/", name,
-                      ".moire has no picture: run bash scripts/render-gallery.sh");
-    for (const std::string& name : pictures)
-        CHECK_MESSAGE(examples.count(name), "docs/images/gallery/", name, ".png has no example");
     const std::string page = test::readFile(test::sourcePath("docs/gallery.md"));
-    for (const std::string& name : examples) {
+    for (const std::string& name :
+         checkPairs("examples", "docs/images/gallery", "", "docs/gallery.md")) {
         CAPTURE(name);
-        CHECK(page.find("](images/gallery/" + name + ".png)") != std::string::npos);
         CHECK(page.find("`examples/" + name + ".moire`") != std::string::npos);
     }
 }
 
 TEST_CASE("every tutorial step has its picture on the tutorial page, and nothing else does") {
-    std::set<std::string> steps = stems("docs/tutorial", ".moire");
-    std::set<std::string> pictures = stems("docs/images", ".png", "tutorial-");
-    for (const std::string& name : steps)
-        CHECK_MESSAGE(pictures.count(name), "docs/tutorial/", name,
-                      ".moire has no picture: run bash scripts/render-gallery.sh");
-    for (const std::string& name : pictures)
-        CHECK_MESSAGE(steps.count(name), "docs/images/tutorial-", name, ".png has no step");
-    const std::string page = test::readFile(test::sourcePath("docs/tutorial.md"));
-    for (const std::string& name : steps) {
-        CAPTURE(name);
-        CHECK(page.find("](images/tutorial-" + name + ".png)") != std::string::npos);
-    }
+    checkPairs("docs/tutorial", "docs/images", "tutorial-", "docs/tutorial.md");
 }
 
 TEST_CASE("the gallery's pictures are what the examples draw") {

@@ -37,7 +37,7 @@ bool isLibraryModule(std::string_view path) {
 
 EmbeddedScene defaultScene() {
     for (const embedded::File& f : embedded::files())
-        if (std::string_view(f.path) == "stdlib/scenes/default.moire")
+        if (std::string_view(f.path) == "examples/drifting_walks.moire")
             return {"<default scene>", std::string(f.text)};
     MOIRE_ICE("the default scene is not embedded");
 }

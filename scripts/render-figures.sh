@@ -3,6 +3,7 @@
 # as split views (pattern left, envelope right), the spec's Fig. 5 (each layer, the pattern,
 # the envelope with the fringe overlay, the ratio view) and Fig. 7 (the pattern and its
 # envelope). Run from the repository root after building: bash scripts/render-figures.sh
+# tests/teaser_test.cpp renders the teaser's panels again and checks each against its caption.
 set -euo pipefail
 moire=${MOIRE:-build/bin/moire}
 out=docs/images
@@ -17,7 +18,7 @@ render --view split examples/hexagonal_twist.moire -o "$out/teaser-4-hexagonal-t
 render --view split examples/vortex_streamlines.moire -o "$out/teaser-5-vortices.png"
 render --view split examples/walking_squares.moire -o "$out/teaser-6-one-walking-family.png"
 render --view split examples/radial_fans.moire -o "$out/teaser-7-radial-fans.png"
-render --view split -o "$out/teaser-8-two-walking-families.png" # the default scene
+render --view split examples/drifting_walks.moire -o "$out/teaser-8-drifting-walks.png"
 
 # Fig. 5: the two ring families alone, together, averaged with {D in Z}, and the ratio view.
 fig5=docs/scenes/fig5_rings.moire

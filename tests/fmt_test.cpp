@@ -31,7 +31,7 @@ std::vector<std::string> moireFiles(const std::vector<std::string>& dirs) {
 
 // The scenes the tree keeps formatted (docs/formatting.md): all but the diagnostics cases
 // and the fuzz finds, which are kept byte for byte as they were found or written.
-const std::vector<std::string> kFormattedDirs = {"examples", "stdlib", "stdlib/scenes",
+const std::vector<std::string> kFormattedDirs = {"examples", "stdlib", "docs/tutorial",
                                                  "docs/scenes", "bench/scenes"};
 
 // The front end's fuzz corpus: the seeds fuzz/CMakeLists.txt copies and the regressions.

@@ -56,7 +56,8 @@ std::vector<Scene> scenes() {
          560, 380},
         {"unwinding_walk", test::readFile(test::sourcePath("examples/unwinding_walk.moire")), 500,
          330},
-        {"default", test::readFile(test::sourcePath("stdlib/scenes/default.moire")), 520, 350},
+        {"drifting_walks", test::readFile(test::sourcePath("examples/drifting_walks.moire")), 520,
+         350},
         // One scene per branch of the solver.
         {"concentric (turn only)",
          layerScene("family = squares\nspacing = 8\nturn = 1.5deg\nphase = 3"), 300, 300},

@@ -133,6 +133,8 @@ int main(int argc, char** argv) {
     std::vector<double> within, past;
     int cap = 0, capMarginal = 0, legiblePast = 0;
     double worstRatio = 1;
+    int farFromMarginal = 0;   // past the budget with m not within 4.2x of s
+    double densestSpacing = 0; // the widest spacing among those, in pixels
     std::vector<double> capInk;
     for (int b = 0; b <= 17; ++b) {
         std::vector<double> inks;
@@ -156,10 +158,13 @@ int main(int argc, char** argv) {
             continue;
         }
         past.push_back(got[i].ink);
-        if (ratio > 0)
-            worstRatio = std::max(worstRatio, std::max(ratio, 1 / ratio));
-        else
-            worstRatio = INFINITY;
+        const double off = ratio > 0 ? std::max(ratio, 1 / ratio) : INFINITY;
+        worstRatio = std::max(worstRatio, off);
+        if (off > 4.2) {
+            ++farFromMarginal;
+            // The scene's frame is the image's, so a world unit is `zoom` pixels.
+            densestSpacing = std::max(densestSpacing, settings[i].spacing * settings[i].zoom);
+        }
         legiblePast += got[i].ink < kLegible;
         if (got[i].span90 >= kSpanCap) {
             ++cap;
@@ -175,6 +180,8 @@ int main(int argc, char** argv) {
     printRow("past the budget: median ink", "0.89", fmt::format("{:.2f}", median(past)));
     printRow("within the budget: median ink", "-", fmt::format("{:.2f}", median(within)));
     printRow("past the budget: widest m/s (or s/m)", "4.2", fmt::format("{:.2f}", worstRatio));
+    printRow("  of them with m not within 4.2x of s", "0", fmt::format("{}", farFromMarginal));
+    printRow("  their widest spacing, in pixels", "-", fmt::format("{:.2f}", densestSpacing));
     printRow("past the budget and legible (< 50% ink)", "1,472 (2.6%)",
              fmt::format("{} ({})", legiblePast, percent(legiblePast / n)));
     printRow("at the span cap", "1,170", fmt::format("{}", cap));

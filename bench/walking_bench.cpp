@@ -7,7 +7,8 @@
 //  - Reference: the exhaustive stride-1 scan (tests/reference), stopping only when the
 //    drift bound closes;
 //  - Sweep: the fixed enumeration a renderer would use without a certificate (seed at
-//    rho(p)/s, a fixed neighbourhood, Newton refinement). Benchmark only, never shipped;
+//    rho(p)/s, a fixed neighbourhood, Newton refinement: tests/reference/WalkingSweep, the
+//    double copy of the IR's WalkingVariant::Solver::Sweep). Never shipped;
 //  - Window: the shipped solver, run by the interpreter in its counting mode.
 // It also reports the share of pixels whose coverage differs from the reference's by more
 // than 8/255, for Sweep and Window, and the JIT's throughput on the default scene.
@@ -26,6 +27,7 @@
 #include "runtime/FrameEval.h"
 #include "runtime/TileExecutor.h"
 #include "tests/reference/WalkingReference.h"
+#include "tests/reference/WalkingSweep.h"
 
 #include <algorithm>
 #include <chrono>
@@ -91,43 +93,6 @@ double coverage(double d, double h, double a) {
     return 1.0 - u * u * (3 - 2 * u);
 }
 
-// The fixed enumeration: seed at the member whose radius matches rho(p), evaluate a fixed
-// window of neighbours, then refine the best with Newton steps on the continuous index.
-struct SweepResult {
-    double distance;
-    int evaluations;
-};
-SweepResult sweep(const ref::Walking& w, double px, double py, double guard) {
-    constexpr int kHalfWindow = 96; // 193 members: the budget such a renderer pays everywhere
-    const double rho = ref::radius(w.facets, px, py);
-    const long seed = std::lround((rho - w.phase) / w.spacing);
-    double best = guard;
-    long argmin = std::max(0L, seed);
-    // A fixed-trip loop pays for every slot of its window, members that do not exist
-    // (n < 0) included.
-    int evals = 2 * kHalfWindow + 1;
-    for (long n = std::max(0L, seed - kHalfWindow); n <= seed + kHalfWindow; ++n) {
-        double v = std::fabs(ref::residual(w, px, py, n));
-        if (v < best) best = v, argmin = n;
-    }
-    // Newton on h(n) = 0 from the best member, with a central-difference slope; the
-    // refined members are checked too (two steps, four evaluations each).
-    double n = static_cast<double>(argmin);
-    for (int step = 0; step < 2; ++step) {
-        long k = std::lround(n);
-        double h0 = ref::residual(w, px, py, k), h1 = ref::residual(w, px, py, k + 1);
-        double hm = ref::residual(w, px, py, std::max(0L, k - 1));
-        evals += 3;
-        double slope = 0.5 * (h1 - hm);
-        if (slope == 0) break;
-        n = std::max(0.0, n - h0 / slope);
-        double v = std::fabs(ref::residual(w, px, py, std::lround(n)));
-        ++evals;
-        best = std::min(best, v);
-    }
-    return {std::min(best, guard), evals};
-}
-
 // The interpreter's environment for a w x h frame's uniforms, writing into `out`.
 InterpEnv frameEnv(const FrameValues& fv, int w, int h, std::vector<double>& out) {
     InterpEnv env;
@@ -188,7 +153,7 @@ Row measure(const Scene& s, int w, int h) {
                 const double guard = lower::walkGuard(band, l.spacing);
                 ref::Walking wk = walking(l);
                 ref::Nearest exact = ref::nearest(wk, wx, wy, guard);
-                SweepResult sw = sweep(wk, wx, wy, guard);
+                ref::SweepResult sw = ref::sweep(wk, wx, wy, guard, lower::kSweepNeighbours);
                 row.refEvals += static_cast<double>(exact.evaluations);
                 row.sweepEvals += sw.evaluations;
                 const double truth = coverage(exact.distance, hw, a);

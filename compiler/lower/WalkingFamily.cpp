@@ -31,17 +31,21 @@ class Solver {
         setUp();
         // The cheapest method that is exact for these parameters (§7.5). The conditions
         // depend on layer parameters only, so each pixel of a layer takes the same branch.
-        Vals found = b_.ifThenElse(
-            still_, [&] { return concentric(); },
-            [&] {
-                return b_.ifThenElse(
-                    quadratic_, [&] { return translatedCircle(); },
-                    [&] {
-                        return b_.ifThenElse(
-                            closedPolygon_, [&] { return translatedPolygon(); },
-                            [&] { return scan(); });
-                    });
-            });
+        // Sweep, the baseline without a certificate, has no such dispatch.
+        auto polygonOrScan = [&] {
+            if (!variant().polygonClosedForm) return scan();
+            return b_.ifThenElse(
+                closedPolygon_, [&] { return translatedPolygon(); }, [&] { return scan(); });
+        };
+        Vals found =
+            variant().solver == WalkingVariant::Solver::Sweep
+                ? sweep()
+                : b_.ifThenElse(
+                      still_, [&] { return concentric(); },
+                      [&] {
+                          return b_.ifThenElse(
+                              quadratic_, [&] { return translatedCircle(); }, polygonOrScan);
+                      });
         LayerFields out;
         // min(G, d) with the guard first: the IR's min keeps its first operand when the
         // second is NaN, so a radius that is NaN everywhere (a shape with no sides, say) draws
@@ -61,9 +65,35 @@ class Solver {
     ValueId eq(ValueId a, ValueId b) { return b_.emit(Op::Eq, {a, b}); }
     ValueId ceil(ValueId v) { return b_.neg(b_.floor(b_.neg(v))); }
 
+    const WalkingVariant& variant() const { return in_.variant; }
+
     ValueId radius(ValueId qx, ValueId qy) {
         countEvaluations(1);
+        if (!variant().supportFastPaths) return facetRadius(qx, qy);
         return rho_(b_, qx, qy);
+    }
+    // Table 6's "support fast paths" removed: a polygon's radius as the definition writes it
+    // (Eq. 16), the largest <q, u_k> over its N unit facet normals, the first facing +x, in a
+    // loop with u_k carried by a turn of 2 pi / N, in place of the family's folded form. A
+    // circle, or a side count that is no whole polygon's (a morph), keeps the family's own.
+    ValueId facetRadius(ValueId qx, ValueId qy) {
+        return b_.ifThenElse(
+            wholePolygon_, [&] { return Vals{facetLoop(qx, qy)}; },
+            [&] { return Vals{rho_(b_, qx, qy)}; })[0];
+    }
+    ValueId facetLoop(ValueId qx, ValueId qy) {
+        // Carried: facet k, u_k, the largest <q, u_k> so far.
+        Vals res = b_.loop(
+            {c(0.0), c(1.0), c(0.0), c(-kFar)},
+            [&](std::span<const ValueId> v) { return Vals{b_.lt(v[0], in_.facets)}; },
+            [&](std::span<const ValueId> v) {
+                ValueId dot = b_.add(b_.mul(qx, v[1]), b_.mul(qy, v[2]));
+                ir::Vec2T<BuiltValue> u =
+                    ir::rotate({BuiltValue(b_, v[1]), BuiltValue(b_, v[2])},
+                               BuiltValue(b_, facetCos_), BuiltValue(b_, facetSin_));
+                return Vals{b_.add(v[0], c(1.0)), u.x.id, u.y.id, b_.max(v[3], dot)};
+            });
+        return res[3];
     }
     // Counts evaluations of the residual (of rho, or of its closed form) in the tally.
     void countEvaluations(int count) {
@@ -116,6 +146,15 @@ class Solver {
         r_ = b_.hypot(in_.px, in_.py);
         len_ = b_.hypot(in_.offsetX, in_.offsetY);
         round_ = eq(in_.facets, c(0.0));
+        ValueId whole = both(eq(in_.facets, b_.floor(in_.facets)),
+                             both(b_.emit(Op::Ge, {in_.facets, c(3.0)}),
+                                  b_.emit(Op::Le, {in_.facets, c(kWalkMaxFacets)})));
+        wholePolygon_ = whole;
+        if (!variant().supportFastPaths) {
+            ValueId step = b_.div(c(2.0 * std::numbers::pi), b_.max(in_.facets, c(1.0)));
+            facetCos_ = b_.cos(step);
+            facetSin_ = b_.sin(step);
+        }
         // The drift constant m = rho(-delta) (Eq. 29): how fast member n outruns its radius.
         drift_ = rho_(b_, b_.neg(in_.offsetX), b_.neg(in_.offsetY));
         // kappa = cos(pi / N), the inradius of the shape's normals (Eq. 21); 1 for a circle.
@@ -133,9 +172,6 @@ class Solver {
         ValueId noTurn = eq(in_.turn, c(0.0));
         still_ = both(noOffset, b_.emit(Op::Or, {noTurn, round_}));
         quadratic_ = both(round_, noTurn);
-        ValueId whole = both(eq(in_.facets, b_.floor(in_.facets)),
-                             both(b_.emit(Op::Ge, {in_.facets, c(3.0)}),
-                                  b_.emit(Op::Le, {in_.facets, c(kWalkMaxFacets)})));
         closedPolygon_ = both(both(b_.emit(Op::Not, {round_}), noTurn),
                               both(whole, b_.emit(Op::Le, {drift_, b_.add(s_, c(kWalkMarginal))})));
 
@@ -143,7 +179,11 @@ class Solver {
         ValueId kr = b_.mul(kappa_, r_);
         nLo_ = member(b_.floor(
             b_.div(b_.sub(b_.sub(kr, in_.phase), guard_), b_.add(s_, b_.mul(kappa_, len_)))));
-        ValueId gap = b_.sub(s_, drift_);
+        // Loose (§9.1, Table 6's "exact drift" removed): the obvious bound ||delta|| >= m in
+        // place of m. It widens the interval, and where m < s < ||delta|| it even takes the
+        // wrong branch, so it can lose ink; it never invents any (a minimum over members).
+        ValueId intervalDrift = variant().solver == WalkingVariant::Solver::Loose ? len_ : drift_;
+        ValueId gap = b_.sub(s_, intervalDrift);
         ValueId slower = b_.div(b_.add(b_.sub(r_, in_.phase), guard_), gap);         // m < s
         ValueId faster = b_.div(b_.add(b_.add(r_, in_.phase), guard_), b_.neg(gap)); // m > s
         nHiRaw_ = ceil(
@@ -332,27 +372,30 @@ class Solver {
         auto [p0x, p0y] = unturn(b_.mul(start, in_.turn));
         // Rot(2^j sigma theta), j = 0 .. kCarriedPowers - 1, for the carried rotation: the
         // frame's powers at stride 1, else a cosine and a sine and repeated squaring.
-        Vals powers = b_.ifThenElse(
-            eq(stride, c(1.0)),
-            [&] {
-                Vals out;
-                for (auto [cj, sj] : turnPowers_) {
-                    out.push_back(cj);
-                    out.push_back(sj);
-                }
-                return out;
-            },
-            [&] {
-                ValueId strideTurn = b_.mul(stride, in_.turn);
-                std::pair<ValueId, ValueId> r{b_.cos(strideTurn), b_.sin(strideTurn)};
-                Vals out{r.first, r.second};
-                for (int j = 1; j < kCarriedPowers; ++j) {
-                    r = compose(r, r);
-                    out.push_back(r.first);
-                    out.push_back(r.second);
-                }
-                return out;
-            });
+        const bool carried = variant().carriedRotation;
+        Vals powers;
+        if (carried)
+            powers = b_.ifThenElse(
+                eq(stride, c(1.0)),
+                [&] {
+                    Vals out;
+                    for (auto [cj, sj] : turnPowers_) {
+                        out.push_back(cj);
+                        out.push_back(sj);
+                    }
+                    return out;
+                },
+                [&] {
+                    ValueId strideTurn = b_.mul(stride, in_.turn);
+                    std::pair<ValueId, ValueId> r{b_.cos(strideTurn), b_.sin(strideTurn)};
+                    Vals out{r.first, r.second};
+                    for (int j = 1; j < kCarriedPowers; ++j) {
+                        r = compose(r, r);
+                        out.push_back(r.first);
+                        out.push_back(r.second);
+                    }
+                    return out;
+                });
         auto power = [&](int j) { return std::pair{powers[2 * j], powers[2 * j + 1]}; };
 
         // Carried: iteration, n, best, argmin, Rot(-n theta) p, steps since the last anchor.
@@ -361,6 +404,7 @@ class Solver {
             init,
             [&](std::span<const ValueId> v) {
                 ValueId going = both(b_.lt(v[0], c(in_.variant.budget)), b_.le(v[1], nHi));
+                if (!variant().acceptEarlyExit) return Vals{going};
                 return Vals{both(going, b_.gt(v[2], accept_))};
             },
             [&](std::span<const ValueId> v) {
@@ -381,13 +425,24 @@ class Solver {
                 // loop's critical path instead of two. A NaN x takes one stride.
                 ValueId excess = b_.max(b_.sub(value, bar), c(0.0));
                 ValueId strides =
-                    b_.max(c(1.0), b_.add(b_.floor(b_.mul(excess, invLambdaStride)), c(1.0)));
+                    variant().lipschitzSkip
+                        ? b_.max(c(1.0), b_.add(b_.floor(b_.mul(excess, invLambdaStride)), c(1.0)))
+                        : c(1.0); // Table 6: every stride of the interval visited
                 ValueId next = b_.add(n, b_.mul(stride, strides));
                 // A jump of up to 2^kCarriedPowers - 1 strides advances the carried rotation by
                 // angle addition (one stride by Rot(sigma theta), more by the product of the
                 // powers of two in it); a longer jump, or every kWalkReanchor steps, takes a
                 // fresh cosine and sine instead. Skips of a few strides are the common case
                 // away from a member, so this keeps most cosines and sines out of the loop.
+                auto fresh = [&] {
+                    auto [ax, ay] = unturn(b_.mul(next, in_.turn));
+                    return Vals{ax, ay, c(0.0)};
+                };
+                if (!carried) {
+                    Vals turned = fresh();
+                    return Vals{
+                        b_.add(iter, c(1.0)), next, best, argmin, turned[0], turned[1], steps};
+                }
                 ValueId carry = both(b_.le(strides, c(double((1 << kCarriedPowers) - 1))),
                                      b_.lt(steps, c(kWalkReanchor)));
                 Vals turned = b_.ifThenElse(
@@ -406,14 +461,45 @@ class Solver {
                             unturn(BuiltValue(b_, by[0]), BuiltValue(b_, by[1]), tx, ty);
                         return Vals{ax, ay, b_.add(steps, c(1.0))};
                     },
-                    [&] {
-                        auto [ax, ay] = unturn(b_.mul(next, in_.turn));
-                        return Vals{ax, ay, c(0.0)};
-                    });
+                    fresh);
                 return Vals{
                     b_.add(iter, c(1.0)), next, best, argmin, turned[0], turned[1], turned[2]};
             });
         return {res[2], res[3]};
+    }
+
+    // Sweep (§9.1), the baseline without a certificate: seed at the member whose radius
+    // matches rho(p), look at a fixed neighbourhood of sweepNeighbours members either side,
+    // then refine the best with Newton steps on the index (a central-difference slope). A
+    // fixed-trip loop pays for every slot, members that do not exist (n < 0, read as member
+    // 0) included. tests/reference/WalkingSweep.cpp is the same method in double.
+    Vals sweep() {
+        const int k = variant().sweepNeighbours;
+        ValueId seed = b_.round(b_.div(b_.sub(radius(in_.px, in_.py), in_.phase), s_));
+        ValueId first = b_.sub(seed, c(double(k)));
+        Vals found = b_.loop(
+            {c(0.0), guard_, member(seed)}, // no member past the guard is recorded
+            [&](std::span<const ValueId> v) { return Vals{b_.lt(v[0], c(2.0 * k + 1.0))}; },
+            [&](std::span<const ValueId> v) {
+                ValueId n = member(b_.add(first, v[0]));
+                ValueId best = v[1], argmin = v[2];
+                consider(best, argmin, n, residual(n));
+                return Vals{b_.add(v[0], c(1.0)), best, argmin};
+            });
+        ValueId best = found[1], argmin = found[2];
+        ValueId n = argmin;
+        for (int step = 0; step < kSweepNewtonSteps; ++step) {
+            ValueId at = b_.round(n);
+            ValueId h0 = residual(at);
+            ValueId slope = b_.mul(
+                c(0.5), b_.sub(residual(b_.add(at, c(1.0))), residual(member(b_.sub(at, c(1.0))))));
+            // A flat slope ends the refinement (it stays where it is: the same member again).
+            ValueId moves = b_.emit(Op::Ne, {slope, c(0.0)});
+            n = b_.select(moves, member(b_.sub(n, b_.div(h0, slope))), n);
+            ValueId refined = b_.round(n);
+            consider(best, argmin, refined, residual(refined));
+        }
+        return {best, argmin};
     }
 
     // Rot(k sigma theta) for a whole k in [1, 2^kCarriedPowers), as the product of the powers
@@ -498,7 +584,8 @@ class Solver {
     const WalkingInputs& in_;
     const RadiusFn& rho_;
     ValueId s_, guard_, accept_, r_, len_, round_, drift_, kappa_;
-    ValueId still_, quadratic_, closedPolygon_;
+    ValueId still_, quadratic_, closedPolygon_, wholePolygon_;
+    ValueId facetCos_ = ir::kNoValue, facetSin_ = ir::kNoValue; // Rot(2 pi / N), no fast paths
     ValueId nLo_, nHiRaw_;
     // Jumps of up to 2^kCarriedPowers - 1 strides keep the rotation. Most skips are short:
     // on the walking examples 7 and 15 measured alike, 63 slower (a deeper product).

@@ -52,7 +52,7 @@ struct Walker {
     std::unique_ptr<Prober> probe;
     int zoom, spacing, phase, ox, oy, turn, stroke, sides = -1;
 
-    explicit Walker(const std::string& fam) {
+    explicit Walker(const std::string& fam, const lower::WalkingVariant& variant = {}) {
         std::string text =
             "camera { zoom = 1.0101 }\nlayer { family = " + fam +
             "; spacing = 10.0202; phase = 0.0303; offset = (0.0404, 0.0505); turn = 0.0606rad;"
@@ -60,7 +60,8 @@ struct Walker {
             (fam == "ngon" ? "; sides = 5.0808" : "") + " }\n";
         program = test::compileOk(text, CompileOptions{.mode = CompileOptions::Mode::Probe,
                                                        .layerFields = true,
-                                                       .tally = true});
+                                                       .tally = true,
+                                                       .walking = variant});
         probe = std::make_unique<Prober>(*program, nullptr);
         auto slot = [&](double v) {
             for (size_t i = 0; i < program->literals.size(); ++i)

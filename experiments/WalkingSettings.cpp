@@ -31,6 +31,29 @@ ref::Walking walkingOf(const WalkSetting& s) {
             s.turnDeg * std::numbers::pi / 180.0};
 }
 
+std::vector<WalkSetting> walkGrid(const GridAxes& axes) {
+    std::vector<WalkSetting> out;
+    for (int shape = 0; shape < static_cast<int>(sweepShapes().size()); ++shape)
+        for (double s : axes.spacings)
+            for (double f : axes.offsets)
+                for (double dir : axes.directionsDeg) {
+                    if (f == 0 && dir != axes.directionsDeg.front()) continue;
+                    const double a = dir * std::numbers::pi / 180;
+                    for (double t : axes.turnsDeg)
+                        for (double z : axes.zooms) {
+                            WalkSetting w;
+                            w.shape = shape;
+                            w.spacing = s;
+                            w.offsetX = f * s * std::cos(a);
+                            w.offsetY = f * s * std::sin(a);
+                            w.turnDeg = t;
+                            w.zoom = z;
+                            out.push_back(w);
+                        }
+                }
+    return out;
+}
+
 struct WalkingKernel::Impl {
     CompileResult compiled;
     std::unique_ptr<Interpreter> interp;

@@ -36,6 +36,14 @@ struct WalkSetting {
 constexpr int kFrameW = 1200, kFrameH = 800; // the spec's measurement grid (§9.1)
 constexpr double kStroke = 1.5;              // stroke width in world units
 
+// The grid's axes. Offsets are fractions of the spacing, in each direction (degrees from
+// the x axis); a zero offset is taken once, in the first direction.
+struct GridAxes {
+    std::vector<double> spacings, offsets, directionsDeg, turnsDeg, zooms;
+};
+// Every shape x spacing x offset x direction x turn x zoom, in that nesting order.
+std::vector<WalkSetting> walkGrid(const GridAxes& axes);
+
 // The family as the reference sees it.
 reference::Walking walkingOf(const WalkSetting& s);
 

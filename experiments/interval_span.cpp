@@ -35,34 +35,16 @@ namespace {
 constexpr double kSpanCap = 65536; // lower::kWalkSpanCap
 constexpr double kLegible = 0.5;   // §9.6's stricter cut: the strided band is darker
 
-const double kSpacings[] = {1, 2, 3, 5, 8, 12, 20, 40, 80};
-const double kOffsets[] = {0, 0.1, 0.25, 0.4, 0.55, 0.7, 0.8, 0.9, 0.95, 1.0, 1.05, 1.2, 1.5};
-const double kDirectionsDeg[] = {0, 30, 75};
-const double kTurnsDeg[] = {0, 0.05, 0.2, 1, 3, 10};
-const double kZooms[] = {0.1, 0.15, 0.4, 1, 2.5};
-
+// Less the concentric settings (no offset, no turn): one evaluation, no interval.
 std::vector<WalkSetting> grid() {
     std::vector<WalkSetting> out;
-    for (int shape = 0; shape < 5; ++shape)
-        for (double s : kSpacings)
-            for (double f : kOffsets)
-                for (double dir : kDirectionsDeg) {
-                    if (f == 0 && dir != 0) continue; // one zero offset, not three
-                    for (double t : kTurnsDeg) {
-                        if (f == 0 && t == 0) continue; // concentric: one evaluation, no interval
-                        for (double z : kZooms) {
-                            const double a = dir * std::numbers::pi / 180;
-                            WalkSetting w;
-                            w.shape = shape;
-                            w.spacing = s;
-                            w.offsetX = f * s * std::cos(a);
-                            w.offsetY = f * s * std::sin(a);
-                            w.turnDeg = t;
-                            w.zoom = z;
-                            out.push_back(w);
-                        }
-                    }
-                }
+    for (const WalkSetting& w :
+         walkGrid({.spacings = {1, 2, 3, 5, 8, 12, 20, 40, 80},
+         .offsets = {0, 0.1, 0.25, 0.4, 0.55, 0.7, 0.8, 0.9, 0.95, 1.0, 1.05, 1.2, 1.5},
+         .directionsDeg = {0, 30, 75},
+         .turnsDeg = {0, 0.05, 0.2, 1, 3, 10},
+         .zooms = {0.1, 0.15, 0.4, 1, 2.5}}))
+        if (w.offsetX != 0 || w.offsetY != 0 || w.turnDeg != 0) out.push_back(w);
     return out;
 }
 

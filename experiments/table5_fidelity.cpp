@@ -16,6 +16,7 @@
 #include "experiments/WalkingSettings.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -36,29 +37,12 @@ constexpr double kLegible = 0.70;      // exact ink under which a pattern is leg
 
 // The grid. Offsets are fractions of the spacing, along a direction 30 degrees above the x
 // axis (for the triangle the walk then leads with a vertex less than fully, so m < ||delta||).
-const double kSpacings[] = {1, 2, 4, 8, 16, 40, 80};
-const double kOffsets[] = {0, 0.1, 0.3, 0.6, 0.9, 1.2};
-const double kTurnsDeg[] = {0, 0.2, 1, 5};
-const double kZooms[] = {0.15, 0.4, 1, 2};
-
 std::vector<WalkSetting> grid() {
-    std::vector<WalkSetting> out;
-    const double dir = 30.0 * 3.141592653589793 / 180.0;
-    for (int shape = 0; shape < 5; ++shape)
-        for (double s : kSpacings)
-            for (double f : kOffsets)
-                for (double t : kTurnsDeg)
-                    for (double z : kZooms) {
-                        WalkSetting w;
-                        w.shape = shape;
-                        w.spacing = s;
-                        w.offsetX = f * s * std::cos(dir);
-                        w.offsetY = f * s * std::sin(dir);
-                        w.turnDeg = t;
-                        w.zoom = z;
-                        out.push_back(w);
-                    }
-    return out;
+    return walkGrid({.spacings = {1, 2, 4, 8, 16, 40, 80},
+                     .offsets = {0, 0.1, 0.3, 0.6, 0.9, 1.2},
+                     .directionsDeg = {30},
+                     .turnsDeg = {0, 0.2, 1, 5},
+                     .zooms = {0.15, 0.4, 1, 2}});
 }
 
 struct Column {
@@ -182,14 +166,8 @@ int main(int argc, char** argv) {
     printRow("excluded: reference over 6,000 evaluations", "819", std::to_string(excluded));
     printRow("measured settings", "2,401", std::to_string(measured));
     printRow("legible settings (exact ink < 70%)", "1,534", std::to_string(legible));
-    struct Paper {
-        const char* holes;
-        const char* worst;
-        const char* in;
-        const char* inWorst;
-        const char* leg;
-        const char* legWorst;
-    };
+    // The paper's column: holes, worst; in interval: settings, worst; legible: settings, worst.
+    using Paper = std::array<const char*, 6>;
     for (const Column& c : columns) {
         Paper p{"-", "-", "-", "-", "-", "-"};
         if (c.name == fmt::format("Sweep {}", sweepDefault) && neighbours == 0)
@@ -198,12 +176,12 @@ int main(int argc, char** argv) {
         if (c.name == "Window") p = {"146", "13.8%", "0", "0.0%", "0", "0.0%"};
         const double perPoint = c.evaluations / std::max(1.0, double(measured) * points);
         printRow(c.name + ": evaluations of rho per point", "-", fmt::format("{:.1f}", perPoint));
-        printRow(c.name + ": settings with holes", p.holes, std::to_string(c.holes));
-        printRow(c.name + ": worst ink lost", p.worst, percent(c.worst));
-        printRow(c.name + ": in interval: settings", p.in, std::to_string(c.inHoles));
-        printRow(c.name + ": in interval: worst", p.inWorst, percent(c.inWorst));
-        printRow(c.name + ": legible: settings", p.leg, std::to_string(c.legibleHoles));
-        printRow(c.name + ": legible: worst", p.legWorst, percent(c.legibleWorst));
+        printRow(c.name + ": settings with holes", p[0], std::to_string(c.holes));
+        printRow(c.name + ": worst ink lost", p[1], percent(c.worst));
+        printRow(c.name + ": in interval: settings", p[2], std::to_string(c.inHoles));
+        printRow(c.name + ": in interval: worst", p[3], percent(c.inWorst));
+        printRow(c.name + ": legible: settings", p[4], std::to_string(c.legibleHoles));
+        printRow(c.name + ": legible: worst", p[5], percent(c.legibleWorst));
         printRow(c.name + ": settings where ink was invented", "0", std::to_string(c.invented));
         if (!c.worstLegible.empty()) std::printf("    worst legible: %s\n", c.worstLegible.c_str());
     }

@@ -85,7 +85,8 @@ int main(int argc, char** argv) {
     };
     const int sweepDefault = lower::WalkingVariant{}.sweepNeighbours;
     add(fmt::format("Sweep {}", sweepDefault), Solver::Sweep, sweepDefault);
-    if (neighbours > 0) add(fmt::format("Sweep {}", neighbours), Solver::Sweep, neighbours);
+    if (neighbours > 0 && neighbours != sweepDefault)
+        add(fmt::format("Sweep {}", neighbours), Solver::Sweep, neighbours);
     add("Loose", Solver::Loose, sweepDefault);
     add("Window", Solver::Window, sweepDefault);
 
@@ -170,7 +171,7 @@ int main(int argc, char** argv) {
     using Paper = std::array<const char*, 6>;
     for (const Column& c : columns) {
         Paper p{"-", "-", "-", "-", "-", "-"};
-        if (c.name == fmt::format("Sweep {}", sweepDefault) && neighbours == 0)
+        if (c.name == fmt::format("Sweep {}", sweepDefault))
             p = {"160", "32.9%", "41", "29.6%", "3", "4.2%"};
         if (c.name == "Loose") p = {"46", "48.3%", "13", "48.3%", "0", "0.0%"};
         if (c.name == "Window") p = {"146", "13.8%", "0", "0.0%", "0", "0.0%"};

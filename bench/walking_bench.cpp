@@ -266,18 +266,9 @@ double evaluationsPerPixel(const bench::Scene& s, int w, int h) {
     FrameValues fv;
     if (!r.program || !frameOf(*r.program, w, h, fv)) return -1;
     Interpreter interp(r.program->kernel);
-    std::vector<double> out(r.program->kernel.numOutputs), regs;
+    std::vector<double> out(r.program->kernel.numOutputs);
     InterpEnv env = frameEnv(fv, w, h, out);
-    double evals = 0, pixels = 0;
-    for (int y = 1; y < h; y += 4)
-        for (int x = 1; x < w; x += 4) {
-            env.pixelX = x + 0.5;
-            env.pixelY = y + 0.5;
-            interp.run(env, regs);
-            evals += static_cast<double>(Interpreter::lastTally(lower::kRadiusTally));
-            ++pixels;
-        }
-    return evals / pixels;
+    return interp.meanTally(env, 1, 4, lower::kRadiusTally);
 }
 
 // CPU seconds for the JIT (with `lanes` pixels a step) to render one frame on one thread:

@@ -30,8 +30,7 @@ class StageClock {
 };
 
 bool isLibraryModule(std::string_view path) {
-    return path.starts_with("stdlib/") && !path.starts_with("stdlib/scenes/") &&
-           path.ends_with(".moire");
+    return path.starts_with("stdlib/") && path.ends_with(".moire");
 }
 } // namespace
 

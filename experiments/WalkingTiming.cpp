@@ -87,23 +87,14 @@ double evaluationsPerPixel(const WalkingScene& s, const lower::WalkingVariant& v
                            int step) {
     Compiled c = compile(s, v, w, h, true);
     Interpreter interp(c.program->kernel);
-    std::vector<double> out(c.program->kernel.numOutputs), regs;
+    std::vector<double> out(c.program->kernel.numOutputs);
     InterpEnv env;
     env.imageW = w;
     env.imageH = h;
     env.uniforms = c.frame.uniforms.data();
     env.numUniforms = c.frame.uniforms.size();
     env.outputs = out.data();
-    double evals = 0, pixels = 0;
-    for (int y = step / 2; y < h; y += step)
-        for (int x = step / 2; x < w; x += step) {
-            env.pixelX = x + 0.5;
-            env.pixelY = y + 0.5;
-            interp.run(env, regs);
-            evals += static_cast<double>(Interpreter::lastTally(lower::kRadiusTally));
-            ++pixels;
-        }
-    return evals / pixels;
+    return interp.meanTally(env, step / 2, step, lower::kRadiusTally);
 }
 
 Image jitImage(const WalkingScene& s, const lower::WalkingVariant& v, int w, int h) {

@@ -222,20 +222,6 @@ struct GpuWalker {
         : exact(fam), gpu(*exact.program, &vk), jit(*exact.program, &jitBackend) {}
 };
 
-Out solveOn(Prober& p, const Walker& k, const Setting& st, double x, double y) {
-    p.setLiteral(k.zoom, st.zoom);
-    p.setLiteral(k.spacing, st.w.spacing);
-    p.setLiteral(k.phase, st.w.phase);
-    p.setLiteral(k.ox, st.w.offsetX);
-    p.setLiteral(k.oy, st.w.offsetY);
-    p.setLiteral(k.turn, st.w.turn);
-    p.setLiteral(k.stroke, st.stroke);
-    if (k.sides >= 0) p.setLiteral(k.sides, st.sides >= 0 ? st.sides : st.w.facets);
-    std::vector<double> v = p.at(x, y);
-    const auto& L = k.program->layout;
-    return {v[L.distanceSlot(0)], v[L.indexSlot(0)], v[L.aux0Slot(0)], v[L.aux1Slot(0)], 0};
-}
-
 } // namespace
 
 TEST_CASE("vulkan: the walking families against the brute-force reference (reduced sweep)") {
@@ -303,7 +289,7 @@ TEST_CASE("vulkan: the walking families against the brute-force reference (reduc
                             else
                                 nearMember(st, extent, rng, x, y);
                             ++points;
-                            const Out g = solveOn(gw->gpu, gw->exact, st, x, y);
+                            const Out g = probeOn(gw->gpu, gw->exact, st, x, y);
                             INFO(describe(st));
                             SHOW(x, y, g.distance, g.lo, g.hi);
                             REQUIRE(std::isfinite(g.distance));
@@ -324,7 +310,7 @@ TEST_CASE("vulkan: the walking families against the brute-force reference (reduc
                                 return std::fabs(d - ref.distance) / (scale * 0x1p-24);
                             };
                             valued += ref.distance > st.accept();
-                            const Out j = solveOn(gw->jit, gw->exact, st, x, y);
+                            const Out j = probeOn(gw->jit, gw->exact, st, x, y);
                             SHOW(ref.distance, ref.argmin, j.distance, ulps(g.distance));
                             CHECK(ulps(g.distance) <= kUlps);
                             worst = std::max(worst, ulps(g.distance));

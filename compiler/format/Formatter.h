@@ -18,7 +18,7 @@ struct FormatResult {
 };
 
 // Formats one file. `fileName` names it in diagnostics; a file directly in a folder named
-// stdlib (not stdlib/scenes) is read as a standard-library module, which may declare
+// stdlib is read as a standard-library module, which may declare
 // builtin families. A file that does not parse is not formatted: ok is false and
 // `diagnostics` holds the errors `moire check` prints for it.
 FormatResult formatSource(std::string_view fileName, std::string_view text);

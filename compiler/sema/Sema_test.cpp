@@ -43,7 +43,7 @@ Checked check(const std::string& text) {
     c.diags = std::make_unique<DiagEngine>(*c.sm);
     for (const embedded::File& f : embedded::files()) {
         std::string_view path = f.path;
-        if (!path.starts_with("stdlib/") || path.starts_with("stdlib/scenes/")) continue;
+        if (!path.starts_with("stdlib/")) continue;
         uint32_t id = c.sm->add(std::string(path), std::string(f.text), true);
         c.modules.push_back(std::make_unique<Module>(Parser(*c.sm, id, *c.diags).parseModule()));
     }

@@ -116,10 +116,10 @@ inline std::string familyOf(const Setting& st) {
     return st.sides >= 0 ? "ngon" : familyOf(st.w.facets);
 }
 
-// The compiled layer `k` (of familyOf(st)) at (x, y) for a setting, on the double
-// interpreter.
-inline Out solveOn(Walker& k, const Setting& st, double x, double y) {
-    Prober& p = *k.probe;
+// The compiled layer `k` (of familyOf(st)) at (x, y) for a setting, probed by `p` (the
+// walker's own interpreter, or another backend's prober over the same program). The tally
+// is left at 0: only the interpreter counts.
+inline Out probeOn(Prober& p, const Walker& k, const Setting& st, double x, double y) {
     p.setLiteral(k.zoom, st.zoom);
     p.setLiteral(k.spacing, st.w.spacing);
     p.setLiteral(k.phase, st.w.phase);
@@ -130,8 +130,14 @@ inline Out solveOn(Walker& k, const Setting& st, double x, double y) {
     if (k.sides >= 0) p.setLiteral(k.sides, st.sides >= 0 ? st.sides : st.w.facets);
     std::vector<double> v = p.at(x, y);
     const auto& L = k.program->layout;
-    return {v[L.distanceSlot(0)], v[L.indexSlot(0)], v[L.aux0Slot(0)], v[L.aux1Slot(0)],
-            Interpreter::lastTally(0)};
+    return {v[L.distanceSlot(0)], v[L.indexSlot(0)], v[L.aux0Slot(0)], v[L.aux1Slot(0)], 0};
+}
+
+// The same on the walker's double interpreter, with its count of radius evaluations.
+inline Out solveOn(Walker& k, const Setting& st, double x, double y) {
+    Out o = probeOn(*k.probe, k, st, x, y);
+    o.evaluations = Interpreter::lastTally(0);
+    return o;
 }
 
 // The solver at (x, y) for a setting, on the double interpreter.

@@ -23,6 +23,20 @@ uint64_t Interpreter::lastTally(int counter) {
     return counter >= 0 && counter < ir::kMaxTallies ? tTallies[counter] : 0;
 }
 
+double Interpreter::meanTally(InterpEnv env, int first, int step, int counter) const {
+    std::vector<double> regs;
+    double total = 0, pixels = 0;
+    for (int y = first; y < env.imageH; y += step)
+        for (int x = first; x < env.imageW; x += step) {
+            env.pixelX = x + 0.5;
+            env.pixelY = y + 0.5;
+            run(env, regs);
+            total += static_cast<double>(lastTally(counter));
+            ++pixels;
+        }
+    return pixels > 0 ? total / pixels : 0.0;
+}
+
 Interpreter::Interpreter(const ir::Function& f)
     : numOutputs_(f.numOutputs), numValues_(f.numValues()) {
     blocks_.resize(f.blocks.size());

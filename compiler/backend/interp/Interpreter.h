@@ -39,6 +39,9 @@ class Interpreter {
     static uint64_t lastOpCount();
     // How many times `tally [counter]` ran in the most recent run on this thread.
     static uint64_t lastTally(int counter);
+    // The mean of tally `counter` a pixel over every `step`-th pixel of every `step`-th row
+    // from (first, first) of env's image (the benchmarks' counts of solver work).
+    double meanTally(InterpEnv env, int first, int step, int counter) const;
 
   private:
     struct PInst {

@@ -56,6 +56,16 @@ bool overlayOf(const sema::CheckedScene& scene, const LowerOptions& options) {
     return *on;
 }
 
+// The stroke filter: the options', else the scene's `filter`, else the mean.
+sema::FilterMode filterOf(const sema::CheckedScene& scene, const LowerOptions& options) {
+    if (options.filter) return *options.filter;
+    const ast::Property* p = scene.scene ? scene.scene->prop("filter") : nullptr;
+    if (!p) return sema::FilterMode::Mean;
+    std::optional<sema::FilterMode> mode = sema::filterNamed(p->value->name);
+    MOIRE_CHECK(mode, "an unknown filter survived checking");
+    return *mode;
+}
+
 } // namespace
 
 LoweredScene lowerScene(const sema::CheckedScene& scene, const LowerOptions& options,
@@ -90,6 +100,8 @@ LoweredScene lowerScene(const sema::CheckedScene& scene, const LowerOptions& opt
     // envelope's sweep reads the gradients (a walking layer has them only with its index).
     const bool wantIndex = layout.layerFields || out.overlay ||
                            sema::viewReadsCharacters(out.view) || sema::viewSweeps(out.view);
+    const sema::FilterMode filter = filterOf(scene, options);
+    settled.filter = filter;
     SceneContext ctx{scene, settled, b, exprs, timings, out.probeSlot, out.viewSlot, {}, {}};
     ctx.pixelSlot = out.pixelSlot;
 
@@ -130,6 +142,7 @@ LoweredScene lowerScene(const sema::CheckedScene& scene, const LowerOptions& opt
         ink.band = strokeBand(b, stroke, pixel, options.strokeFloor);
         ink.halfWidth = b.mul(stroke, b.constF(0.5));
         ink.spacing = ctx.layerProp(layer, "spacing")[0];
+        if (filter == sema::FilterMode::Mean) ink.pixel = pixel;
         Encoding enc = layers.encoding(layer);
         ink.fields = layers.fields(layer, ink.band, enc, wantIndex);
         if (enc.field != ir::kNoValue) ink.sampling = layers.sampling(layer, enc);

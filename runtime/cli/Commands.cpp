@@ -208,9 +208,17 @@ bool checkBackendArgs(const std::string& backend, int device) {
 
 namespace {
 
-// --view, --overlay, --envelope-gain and --envelope-taps, into the compile options.
+// --view, --overlay, --filter, --envelope-gain and --envelope-taps, into the compile options.
 bool checkViewOptions(const RenderArgs& args, CompileOptions& options) {
     if (args.overlay) options.overlay = true;
+    if (!args.filter.empty()) {
+        options.filter = sema::filterNamed(args.filter);
+        if (!options.filter) {
+            fmt::print(stderr, "moire: error: --filter must be {}, not '{}'\n", sema::filterList(),
+                       args.filter);
+            return false;
+        }
+    }
     if (!args.view.empty()) {
         options.view = sema::viewNamed(args.view);
         if (!options.view) {

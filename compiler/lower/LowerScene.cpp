@@ -36,34 +36,32 @@ void reserveSlots(const LowerOptions& options, int numLayers, std::vector<double
     }
 }
 
+// A scene setting written as a name: the options' when they set it, else the scene's
+// property `prop` read by `named`, else `fallback`.
+template <class T, class Named>
+T namedSetting(const sema::CheckedScene& scene, const char* prop, const std::optional<T>& given,
+               T fallback, Named named) {
+    if (given) return *given;
+    const ast::Property* p = scene.scene ? scene.scene->prop(prop) : nullptr;
+    if (!p) return fallback;
+    std::optional<T> value = named(p->value->name);
+    MOIRE_CHECK(value, "a name that is not one of the setting's survived checking");
+    return *value;
+}
+
 // The view: the options', else the scene's `view`, else the pattern.
 sema::ViewMode viewOf(const sema::CheckedScene& scene, const LowerOptions& options) {
-    if (options.view) return *options.view;
-    const ast::Property* p = scene.scene ? scene.scene->prop("view") : nullptr;
-    if (!p) return sema::ViewMode::Pattern;
-    std::optional<sema::ViewMode> mode = sema::viewNamed(p->value->name);
-    MOIRE_CHECK(mode, "an unknown view survived checking");
-    return *mode;
+    return namedSetting(scene, "view", options.view, sema::ViewMode::Pattern, sema::viewNamed);
 }
 
 // The fringe overlay: the options', else the scene's `overlay`, else off.
 bool overlayOf(const sema::CheckedScene& scene, const LowerOptions& options) {
-    if (options.overlay) return *options.overlay;
-    const ast::Property* p = scene.scene ? scene.scene->prop("overlay") : nullptr;
-    if (!p) return false;
-    std::optional<bool> on = sema::switchNamed(p->value->name);
-    MOIRE_CHECK(on, "an overlay that is neither true nor false survived checking");
-    return *on;
+    return namedSetting(scene, "overlay", options.overlay, false, sema::switchNamed);
 }
 
 // The stroke filter: the options', else the scene's `filter`, else the mean.
 sema::FilterMode filterOf(const sema::CheckedScene& scene, const LowerOptions& options) {
-    if (options.filter) return *options.filter;
-    const ast::Property* p = scene.scene ? scene.scene->prop("filter") : nullptr;
-    if (!p) return sema::FilterMode::Mean;
-    std::optional<sema::FilterMode> mode = sema::filterNamed(p->value->name);
-    MOIRE_CHECK(mode, "an unknown filter survived checking");
-    return *mode;
+    return namedSetting(scene, "filter", options.filter, sema::FilterMode::Mean, sema::filterNamed);
 }
 
 } // namespace

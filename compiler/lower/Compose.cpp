@@ -1,7 +1,6 @@
 #include "compiler/lower/Compose.h"
 
 #include "compiler/diag/Diagnostics.h"
-#include "compiler/lower/Prefilter.h"
 #include "compiler/lower/RatioView.h"
 
 #include <algorithm>
@@ -24,7 +23,7 @@ void Compose::layer(const LayerInk& ink) {
     // The pattern is drawn in every view (the split shows it; elsewhere what is not used
     // is removed as dead code).
     ValueId stroke = strokeInk(b_, ink.fields.distance, ink.band);
-    if (ink.pixel != ir::kNoValue && ink.fields.footprint.grad != ir::kNoValue)
+    if (ink.pixel.size != ir::kNoValue && ink.fields.footprint.grad != ir::kNoValue)
         stroke = meanInk(b_, ink.fields.footprint, stroke, ink.halfWidth, ink.pixel);
     ValueId cov = inkCoverage(b_, stroke, ink.opacity, ink.color[3]);
     acc_ = inkOver(b_, acc_, ink.color[0], ink.color[1], ink.color[2], cov);

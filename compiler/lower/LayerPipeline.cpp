@@ -78,7 +78,7 @@ LayerFields phaseFamilyFields(ir::Builder& b, ValueId phi, ValueId phase, ValueI
     out.gradX = gx;
     out.gradY = gy;
     out.sample = phaseSample(b, index, nearest, grad, foldSample);
-    out.footprint = Footprint{index, grad, first};
+    out.footprint = Footprint{index, grad, gx, gy, first};
     return out;
 }
 

@@ -57,11 +57,12 @@ struct MorphSample {
 
 // What the mean filter reads of a phase family (Prefilter.h): its fractional index, whose
 // members sit at the integers and run locally evenly, the index gradient's length per world
-// unit, and the first member where the family starts at one. Set by phaseFamilyFields only:
-// a family whose members are not that (walking, lattices, morphs, distance families) leaves
-// it unset and is point-sampled under either filter.
+// unit and its components, and the first member where the family starts at one. Set by
+// phaseFamilyFields only: a family whose members are not that (walking, lattices, morphs, distance
+// families) leaves it unset and is point-sampled under either filter.
 struct Footprint {
     ir::ValueId index = ir::kNoValue, grad = ir::kNoValue;
+    ir::ValueId gradX = ir::kNoValue, gradY = ir::kNoValue; // the gradient's components
     std::optional<int> first;
 };
 

@@ -140,7 +140,7 @@ LoweredScene lowerScene(const sema::CheckedScene& scene, const LowerOptions& opt
         ink.band = strokeBand(b, stroke, pixel, options.strokeFloor);
         ink.halfWidth = b.mul(stroke, b.constF(0.5));
         ink.spacing = ctx.layerProp(layer, "spacing")[0];
-        if (filter == sema::FilterMode::Mean) ink.pixel = pixel;
+        if (filter == sema::FilterMode::Mean) ink.pixel = {pixel, ctx.cosTurn, ctx.sinTurn};
         Encoding enc = layers.encoding(layer);
         ink.fields = layers.fields(layer, ink.band, enc, wantIndex);
         if (enc.field != ir::kNoValue) ink.sampling = layers.sampling(layer, enc);

@@ -5,11 +5,19 @@ namespace moire::lower {
 using ir::ValueId;
 
 ValueId meanInk(ir::Builder& b, const Footprint& footprint, ValueId pointInk, ValueId halfWidth,
-                ValueId pixel) {
-    ValueId nu = b.mul(footprint.grad, pixel);    // members per pixel
-    ValueId w = b.mul(halfWidth, footprint.grad); // half-width in index units
+                const PixelFootprint& pixel) {
+    ValueId nu = b.mul(footprint.grad, pixel.size); // members per pixel
+    ValueId w = b.mul(halfWidth, footprint.grad);   // half-width in index units
+    // The index's steps across the pixel's two sides: the gradient's components along them.
+    ValueId gu = footprint.gradX, gv = footprint.gradY;
+    if (pixel.cosTurn != ir::kNoValue) {
+        gu = b.add(b.mul(footprint.gradX, pixel.cosTurn), b.mul(footprint.gradY, pixel.sinTurn));
+        gv = b.sub(b.mul(footprint.gradY, pixel.cosTurn), b.mul(footprint.gradX, pixel.sinTurn));
+    }
+    ValueId along = b.mul(b.abs(gu), pixel.size), across = b.mul(b.abs(gv), pixel.size);
     ir::BuiltValue mean =
-        boxMeanInk(ir::BuiltValue(b, footprint.index), ir::BuiltValue(b, nu), ir::BuiltValue(b, w));
+        squareMeanInk(ir::BuiltValue(b, footprint.index), ir::BuiltValue(b, along),
+                      ir::BuiltValue(b, across), ir::BuiltValue(b, w));
     ValueId weight = b.smoothstep(b.constF(kMeanFrom), b.constF(kMeanFull), nu);
     if (footprint.first) {
         ValueId lowest = b.sub(footprint.index, b.mul(nu, b.constF(0.5)));

@@ -7,6 +7,9 @@
 
 #include <cmath>
 #include <doctest/doctest.h>
+#include <functional>
+#include <string>
+#include <vector>
 
 namespace moire::lower {
 namespace {
@@ -57,17 +60,42 @@ std::vector<Setting> settings() {
     return out;
 }
 
-TEST_CASE("prefilter: the box mean's closed form is the brute-force mean of the stroke") {
-    int checked = 0;
-    for (const Setting& s : settings()) {
-        CAPTURE(s.index);
-        CAPTURE(s.nu);
-        CAPTURE(s.w);
-        CHECK(std::abs(boxMeanInk(s.index, s.nu, s.w) - bruteMean(s.index, s.nu, s.w)) <=
-              sampleTolerance(s.nu));
-        ++checked;
+// A setting of a closed form: its inputs (the kernel's uniforms), and what it must give: the
+// brute-force oracle's value within `tolerance`, and the double form's.
+struct FormCase {
+    std::vector<double> uniforms;
+    double brute, tolerance, exact;
+};
+
+// The setting's inputs, for a failure's message.
+std::string named(const FormCase& c) {
+    std::string out;
+    for (double u : c.uniforms) out += std::to_string(u) + " ";
+    return out;
+}
+
+// Each setting's double form against the oracle; returns how many were checked.
+int checkDoubleForm(const std::vector<FormCase>& cases) {
+    for (const FormCase& c : cases) {
+        const std::string uniforms = named(c);
+        CAPTURE(uniforms);
+        CHECK(std::abs(c.exact - c.brute) <= c.tolerance);
     }
-    CHECK(checked == 490);
+    return static_cast<int>(cases.size());
+}
+
+std::vector<FormCase> boxCases() {
+    std::vector<FormCase> cases;
+    for (const Setting& s : settings())
+        cases.push_back({{s.index, s.nu, s.w},
+                         bruteMean(s.index, s.nu, s.w),
+                         sampleTolerance(s.nu),
+                         boxMeanInk(s.index, s.nu, s.w)});
+    return cases;
+}
+
+TEST_CASE("prefilter: the box mean's closed form is the brute-force mean of the stroke") {
+    CHECK(checkDoubleForm(boxCases()) == 490);
 }
 
 TEST_CASE("prefilter: the box mean's limits: the point rule, the mean ink 2w, solid ink") {
@@ -107,18 +135,18 @@ double squareTolerance(const SquareSetting& s) {
     return sampleTolerance(s.along + s.across) + (narrow < wide * kLeastSideShare ? 1.0 / 16 : 0);
 }
 
+std::vector<FormCase> squareCases() {
+    std::vector<FormCase> cases;
+    for (const SquareSetting& s : squareSettings())
+        cases.push_back({{s.index, s.along, s.across, s.w},
+                         bruteSquareMean(s.index, s.along, s.across, s.w),
+                         squareTolerance(s),
+                         squareMeanInk(s.index, s.along, s.across, s.w)});
+    return cases;
+}
+
 TEST_CASE("prefilter: the square pixel's closed form is the brute-force mean over the square") {
-    int checked = 0;
-    for (const SquareSetting& s : squareSettings()) {
-        CAPTURE(s.index);
-        CAPTURE(s.along);
-        CAPTURE(s.across);
-        CAPTURE(s.w);
-        CHECK(std::abs(squareMeanInk(s.index, s.along, s.across, s.w) -
-                       bruteSquareMean(s.index, s.along, s.across, s.w)) <= squareTolerance(s));
-        ++checked;
-    }
-    CHECK(checked == 480);
+    CHECK(checkDoubleForm(squareCases()) == 480);
     // Along a side it is the box; wide, the stroke's share 2w; solid where strokes touch.
     CHECK(squareMeanInk(0.37, 1.43, 0.0, 0.0714) ==
           doctest::Approx(boxMeanInk(0.37, 1.43 * (1 + kLeastSideShare), 0.0714)).epsilon(0.01));
@@ -126,47 +154,42 @@ TEST_CASE("prefilter: the square pixel's closed form is the brute-force mean ove
     CHECK(squareMeanInk(0.37, 0.8, 0.6, 0.5) == doctest::Approx(1.0));
 }
 
-TEST_CASE("prefilter: every backend computes the box mean the double form computes") {
-    test::KernelProbe probe(1, [](ir::Builder& b) {
-        ir::BuiltValue index(b, b.uniform(0)), nu(b, b.uniform(1)), w(b, b.uniform(2));
-        b.output(0, boxMeanInk(index, nu, w).id);
-    });
+// Runs `form` (built over uniforms 0, 1, ...) on every backend for every case. The float
+// kernels stay within `epsilon` of the double form (a few float steps of the footprint's
+// inverse).
+void checkOnBackends(const std::function<ir::ValueId(ir::Builder&)>& form,
+                     const std::vector<FormCase>& cases, double epsilon) {
+    test::KernelProbe probe(1, [&](ir::Builder& b) { b.output(0, form(b)); });
     for (const std::string& backend : test::probeBackends()) {
         CAPTURE(backend);
         if (!probe.use(backend)) continue;
-        for (const Setting& s : settings()) {
-            CAPTURE(s.index);
-            CAPTURE(s.nu);
-            CAPTURE(s.w);
-            const double got = probe.run({s.index, s.nu, s.w})[0];
-            CHECK(std::abs(got - bruteMean(s.index, s.nu, s.w)) <= sampleTolerance(s.nu));
-            // Float kernels: within a few float steps of the footprint's inverse.
-            CHECK(got == doctest::Approx(boxMeanInk(s.index, s.nu, s.w)).epsilon(1e-3));
+        for (const FormCase& c : cases) {
+            const std::string uniforms = named(c);
+            CAPTURE(uniforms);
+            const double got = probe.run(c.uniforms)[0];
+            CHECK(std::abs(got - c.brute) <= c.tolerance);
+            CHECK(got == doctest::Approx(c.exact).epsilon(epsilon));
         }
     }
 }
 
+TEST_CASE("prefilter: every backend computes the box mean the double form computes") {
+    checkOnBackends(
+        [](ir::Builder& b) {
+            ir::BuiltValue index(b, b.uniform(0)), nu(b, b.uniform(1)), w(b, b.uniform(2));
+            return boxMeanInk(index, nu, w).id;
+        },
+        boxCases(), 1e-3);
+}
+
 TEST_CASE("prefilter: every backend computes the square's mean the double form computes") {
-    test::KernelProbe probe(1, [](ir::Builder& b) {
-        ir::BuiltValue index(b, b.uniform(0)), along(b, b.uniform(1)), across(b, b.uniform(2)),
-            w(b, b.uniform(3));
-        b.output(0, squareMeanInk(index, along, across, w).id);
-    });
-    for (const std::string& backend : test::probeBackends()) {
-        CAPTURE(backend);
-        if (!probe.use(backend)) continue;
-        for (const SquareSetting& s : squareSettings()) {
-            CAPTURE(s.index);
-            CAPTURE(s.along);
-            CAPTURE(s.across);
-            CAPTURE(s.w);
-            const double got = probe.run({s.index, s.along, s.across, s.w})[0];
-            CHECK(std::abs(got - bruteSquareMean(s.index, s.along, s.across, s.w)) <=
-                  squareTolerance(s));
-            CHECK(got ==
-                  doctest::Approx(squareMeanInk(s.index, s.along, s.across, s.w)).epsilon(2e-3));
-        }
-    }
+    checkOnBackends(
+        [](ir::Builder& b) {
+            ir::BuiltValue index(b, b.uniform(0)), along(b, b.uniform(1)), across(b, b.uniform(2)),
+                w(b, b.uniform(3));
+            return squareMeanInk(index, along, across, w).id;
+        },
+        squareCases(), 2e-3);
 }
 
 TEST_CASE("prefilter: the hand-over keeps the point rule where members are resolved") {

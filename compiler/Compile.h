@@ -30,7 +30,8 @@ struct CompileOptions {
     // The view and the envelope's settings, replacing the scene's when set (sema/Views.h).
     std::optional<sema::ViewMode> view = std::nullopt;
     std::optional<double> envelopeGain = std::nullopt, envelopeTaps = std::nullopt;
-    std::optional<bool> overlay = std::nullopt; // the fringe overlay
+    std::optional<bool> overlay = std::nullopt;            // the fringe overlay
+    std::optional<sema::FilterMode> filter = std::nullopt; // the stroke filter (docs/filtering.md)
     // `moire print`: only this layer, over a transparent paper (lower::LowerOptions::separate),
     // and the pixel's world size set by FrameRequest::pixelSize (SceneProgram::pixelSlot).
     std::optional<int> separateLayer = std::nullopt;

@@ -61,6 +61,7 @@ LanguageNames languageNames() {
     out.words = sema::timingModeNames();
     for (const sema::ViewName& v : sema::viewNames()) out.words.push_back(v.name);
     for (const char* s : sema::kSwitchNames) out.words.push_back(s);
+    for (const char* f : sema::kFilterNames) out.words.push_back(f);
     out.units.assign(std::begin(kUnitNames), std::end(kUnitNames));
     return out;
 }

@@ -99,7 +99,7 @@ TEST_CASE("names: families, fields, easings, functions and words are what the co
             has(diagnosticIds(fmt::format("field a = {}(1)\n{}", f, kLayer)), "UnknownFunction"));
     }
     CHECK(has(diagnosticIds(fmt::format("field a = zzz(1)\n{}", kLayer)), "UnknownFunction"));
-    // The bare words: a timing's modes, the views, the overlay's switch.
+    // The bare words: a timing's modes, the views, the overlay's switch, the filters.
     int taken = 0;
     for (const std::string& w : n.words) {
         CompileResult mode = compileScene(
@@ -108,8 +108,11 @@ TEST_CASE("names: families, fields, easings, functions and words are what the co
             compileScene("w.moire", fmt::format("scene {{ view = {} }}\n{}", w, kLayer));
         CompileResult over =
             compileScene("w.moire", fmt::format("scene {{ overlay = {} }}\n{}", w, kLayer));
+        CompileResult filter =
+            compileScene("w.moire", fmt::format("scene {{ filter = {} }}\n{}", w, kLayer));
         CAPTURE(w);
-        CHECK((mode.diagnostics.empty() || view.diagnostics.empty() || over.diagnostics.empty()));
+        CHECK((mode.diagnostics.empty() || view.diagnostics.empty() || over.diagnostics.empty() ||
+               filter.diagnostics.empty()));
         ++taken;
     }
     CHECK(taken == static_cast<int>(n.words.size()));

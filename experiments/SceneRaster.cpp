@@ -19,8 +19,11 @@ namespace {
 } // namespace
 
 SceneRaster::SceneRaster(const std::string& name, const std::string& text, bool floored) {
-    CompileResult r =
-        compileScene(name + ".moire", text, {.layerFields = true, .strokeFloor = floored});
+    // Point-sampled: the stroke floor's rule and explicit geometry are each judged against the
+    // renderer's pixel at its centre (the mean filter, docs/filtering.md, is measured apart).
+    CompileResult r = compileScene(
+        name + ".moire", text,
+        {.layerFields = true, .filter = sema::FilterMode::Point, .strokeFloor = floored});
     if (!r.program) {
         std::fprintf(stderr, "%s", r.diagnostics.c_str());
         std::exit(2);

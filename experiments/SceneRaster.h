@@ -43,9 +43,9 @@ class PixelSamples {
 
 class SceneRaster {
   public:
-    // Compiles `text` with the layers' fields as outputs (floored: the renderer's stroke floor
-    // on or off, CompileOptions::strokeFloor). A scene with an error, or with other than two
-    // layers, prints its diagnostics and exits with status 2.
+    // Compiles `text`, point-sampled, with the layers' fields as outputs (floored: the
+    // renderer's stroke floor on or off, CompileOptions::strokeFloor). A scene with an error,
+    // or with other than two layers, prints its diagnostics and exits with status 2.
     SceneRaster(const std::string& name, const std::string& text, bool floored = true);
     ~SceneRaster();
 

@@ -305,6 +305,9 @@ Json completion(const DocView& doc, uint32_t offset) {
         } else if (c.block == ast::DeclKind::Scene && c.property == "overlay") {
             items.add("true", kValue);
             items.add("false", kValue);
+        } else if (c.block == ast::DeclKind::Scene && c.property == "filter") {
+            const auto& spec = sema::propertySpec(sema::sceneProperties(), "filter");
+            for (const char* f : sema::kFilterNames) items.add(f, kEnumMember, "", spec.doc);
         } else {
             addExpressionNames(items, *fe, c, decl);
         }

@@ -77,9 +77,10 @@ std::vector<Example> examples() {
 
 // The brute-force mean of the pattern's RGB over kBruteTaps advances of every layer's
 // index, swept as Eq. 11 says per pixel; `alone` >= 0 sweeps only that layer (the other's
-// opacity 0). Returns kW x kH x 3.
+// opacity 0). Returns kW x kH x 3. The pattern point-sampled, as the envelope's taps read it
+// (the mean filter, docs/filtering.md, averages where these fine pitches meet the pixels).
 std::vector<double> bruteMean(const Example& ex, int alone = -1) {
-    auto p = test::compileOk(ex.scene, {.layerFields = true});
+    auto p = test::compileOk(ex.scene, {.layerFields = true, .filter = sema::FilterMode::Point});
     auto jit = test::makeBackendOrSkip("jit");
     auto kernel = jit->compile(p->kernel);
     const int layers = p->layout.numLayers;

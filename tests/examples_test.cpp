@@ -89,13 +89,17 @@ TEST_CASE("every backend agrees with the interpreter on every example") {
 // Golden images: the interpreter's render of the middle window, quantised to 8 bits, against
 // a reviewed PNG in tests/golden/. Tolerance: at most 0.5% of samples off by more than 2/255 and a
 // mean difference under 0.5/255 (room for libm differences between machines, none for a change in
-// what is drawn). MOIRE_UPDATE_GOLDEN=1 rewrites the references.
+// what is drawn). MOIRE_UPDATE_GOLDEN=1 rewrites the references. Drawn point-sampled, as the
+// references were made: tests/filter_test.cpp holds the default mean filter to them where
+// members are resolved (docs/filtering.md).
 TEST_CASE("examples match their golden images") {
     const bool update = std::getenv("MOIRE_UPDATE_GOLDEN") != nullptr;
     auto interp = makeBackend("interp");
+    CompileOptions point;
+    point.filter = sema::FilterMode::Point;
     for (const Scene& s : allScenes()) {
         CAPTURE(s.name);
-        auto program = test::compileOk(s.text, {}, s.path);
+        auto program = test::compileOk(s.text, point, s.path);
         FrameValues fv;
         std::string diags;
         REQUIRE(evaluateFrame(*program, FrameRequest{kFrameTime}, fv, diags));

@@ -48,6 +48,8 @@ ValueId lowerCamera(SceneContext& ctx, int settingsBase) {
     if (turned) {
         cam.cosTurn = cos(built(turn));
         cam.sinTurn = sin(built(turn));
+        ctx.cosTurn = cam.cosTurn.id;
+        ctx.sinTurn = cam.sinTurn.id;
     }
     // The default centre is the origin; adding 0 would cost two ops per pixel.
     cam.centred = ctx.interactive() || probe || (camera && camera->prop("center"));

@@ -22,7 +22,10 @@ void Compose::layer(const LayerInk& ink) {
     b_.setLoc(ink.where);
     // The pattern is drawn in every view (the split shows it; elsewhere what is not used
     // is removed as dead code).
-    ValueId cov = strokeCoverage(b_, ink.fields.distance, ink.band, ink.opacity, ink.color[3]);
+    ValueId stroke = strokeInk(b_, ink.fields.distance, ink.band);
+    if (ink.pixel.size != ir::kNoValue && ink.fields.footprint.grad != ir::kNoValue)
+        stroke = meanInk(b_, ink.fields.footprint, stroke, ink.halfWidth, ink.pixel);
+    ValueId cov = inkCoverage(b_, stroke, ink.opacity, ink.color[3]);
     acc_ = inkOver(b_, acc_, ink.color[0], ink.color[1], ink.color[2], cov);
     fields_.push_back(ink.fields);
     if (!sema::viewSweeps(mode_)) return;

@@ -7,6 +7,7 @@
 #include "compiler/lower/Envelope.h"
 #include "compiler/lower/LayerPipeline.h"
 #include "compiler/lower/LowerExpr.h"
+#include "compiler/lower/Prefilter.h"
 #include "compiler/sema/Views.h"
 
 #include <functional>
@@ -24,6 +25,10 @@ struct LayerInk {
     Vals color;                           // r, g, b, a
     ir::ValueId opacity;
     ir::ValueId spacing = ir::kNoValue; // the layer's nominal pitch
+    // The pixel under the mean filter (lower/Prefilter.h): a phase family's ink is then
+    // averaged over the pixel where its members are finer than pixels. Its size kNoValue: the
+    // point filter.
+    PixelFootprint pixel;
     // gain s |grad f| of a layer that encodes a field (LayerLowering::sampling), or kNoValue.
     ir::ValueId sampling = ir::kNoValue;
     SourceLoc where; // the layer, for the instructions built from it

@@ -78,6 +78,7 @@ LayerFields phaseFamilyFields(ir::Builder& b, ValueId phi, ValueId phase, ValueI
     out.gradX = gx;
     out.gradY = gy;
     out.sample = phaseSample(b, index, nearest, grad, foldSample);
+    out.footprint = Footprint{index, grad, gx, gy, first};
     return out;
 }
 
@@ -106,8 +107,14 @@ StrokeBand strokeBand(ir::Builder& b, ValueId stroke, ValueId pixel, bool floore
 
 ValueId strokeCoverage(ir::Builder& b, ValueId d, const StrokeBand& band, ValueId opacity,
                        ValueId alpha) {
-    ValueId ink =
-        b.sub(b.constF(1.0), b.smoothstep(b.sub(band.h, band.a), b.add(band.h, band.a), d));
+    return inkCoverage(b, strokeInk(b, d, band), opacity, alpha);
+}
+
+ValueId strokeInk(ir::Builder& b, ValueId d, const StrokeBand& band) {
+    return b.sub(b.constF(1.0), b.smoothstep(b.sub(band.h, band.a), b.add(band.h, band.a), d));
+}
+
+ValueId inkCoverage(ir::Builder& b, ValueId ink, ValueId opacity, ValueId alpha) {
     ValueId cov = b.mul(ink, b.mul(b.clamp(opacity, b.constF(0.0), b.constF(1.0)),
                                    b.clamp(alpha, b.constF(0.0), b.constF(1.0))));
     return b.denan(b.clamp(cov, b.constF(0.0), b.constF(1.0)), b.constF(0.0));

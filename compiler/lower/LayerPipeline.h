@@ -55,6 +55,17 @@ struct MorphSample {
     ir::ValueId from, to, weight;
 };
 
+// What the mean filter reads of a phase family (Prefilter.h): its fractional index, whose
+// members sit at the integers and run locally evenly, the index gradient's length per world
+// unit and its components, and the first member where the family starts at one. Set by
+// phaseFamilyFields only: a family whose members are not that (walking, lattices, morphs, distance
+// families) leaves it unset and is point-sampled under either filter.
+struct Footprint {
+    ir::ValueId index = ir::kNoValue, grad = ir::kNoValue;
+    ir::ValueId gradX = ir::kNoValue, gradY = ir::kNoValue; // the gradient's components
+    std::optional<int> first;
+};
+
 struct LayerFields {
     ir::ValueId index;    // fractional member index: member n is {index = n}
     ir::ValueId distance; // world distance to the nearest member
@@ -73,6 +84,7 @@ struct LayerFields {
     // sector), the fractional index itself, whose gradient gradX, gradY are: what the
     // characters and the overlay read (Characters.h). kNoValue elsewhere (`index` is it).
     ir::ValueId smooth = ir::kNoValue;
+    Footprint footprint; // for the mean filter; unset where the family is not a phase family
 };
 
 // The stroke in world units: half-width h = max(t/2, 1.15 px) and antialias band
@@ -118,8 +130,14 @@ PhaseSample phaseSample(ir::Builder& b, ir::ValueId index, ir::ValueId nearest, 
 
 // Coverage of the stroke at distance `d` (Eq. 4):
 // (1 - smoothstep(h - a, h + a, d)) * opacity * alpha, clamped to [0, 1], NaN read as 0.
+// It is strokeInk's ink laid with inkCoverage; the mean filter (Prefilter.h) replaces the ink
+// between the two.
 ir::ValueId strokeCoverage(ir::Builder& b, ir::ValueId d, const StrokeBand& band,
                            ir::ValueId opacity, ir::ValueId alpha);
+// The point rule's ink at distance `d`: 1 - smoothstep(h - a, h + a, d).
+ir::ValueId strokeInk(ir::Builder& b, ir::ValueId d, const StrokeBand& band);
+// `ink` times opacity and alpha (each clamped to [0, 1]), clamped to [0, 1], NaN read as 0.
+ir::ValueId inkCoverage(ir::Builder& b, ir::ValueId ink, ir::ValueId opacity, ir::ValueId alpha);
 
 // Premultiplied RGBA accumulated from the background up.
 struct Ink {

@@ -36,24 +36,32 @@ void reserveSlots(const LowerOptions& options, int numLayers, std::vector<double
     }
 }
 
+// A scene setting written as a name: the options' when they set it, else the scene's
+// property `prop` read by `named`, else `fallback`.
+template <class T, class Named>
+T namedSetting(const sema::CheckedScene& scene, const char* prop, const std::optional<T>& given,
+               T fallback, Named named) {
+    if (given) return *given;
+    const ast::Property* p = scene.scene ? scene.scene->prop(prop) : nullptr;
+    if (!p) return fallback;
+    std::optional<T> value = named(p->value->name);
+    MOIRE_CHECK(value, "a name that is not one of the setting's survived checking");
+    return *value;
+}
+
 // The view: the options', else the scene's `view`, else the pattern.
 sema::ViewMode viewOf(const sema::CheckedScene& scene, const LowerOptions& options) {
-    if (options.view) return *options.view;
-    const ast::Property* p = scene.scene ? scene.scene->prop("view") : nullptr;
-    if (!p) return sema::ViewMode::Pattern;
-    std::optional<sema::ViewMode> mode = sema::viewNamed(p->value->name);
-    MOIRE_CHECK(mode, "an unknown view survived checking");
-    return *mode;
+    return namedSetting(scene, "view", options.view, sema::ViewMode::Pattern, sema::viewNamed);
 }
 
 // The fringe overlay: the options', else the scene's `overlay`, else off.
 bool overlayOf(const sema::CheckedScene& scene, const LowerOptions& options) {
-    if (options.overlay) return *options.overlay;
-    const ast::Property* p = scene.scene ? scene.scene->prop("overlay") : nullptr;
-    if (!p) return false;
-    std::optional<bool> on = sema::switchNamed(p->value->name);
-    MOIRE_CHECK(on, "an overlay that is neither true nor false survived checking");
-    return *on;
+    return namedSetting(scene, "overlay", options.overlay, false, sema::switchNamed);
+}
+
+// The stroke filter: the options', else the scene's `filter`, else the mean.
+sema::FilterMode filterOf(const sema::CheckedScene& scene, const LowerOptions& options) {
+    return namedSetting(scene, "filter", options.filter, sema::FilterMode::Mean, sema::filterNamed);
 }
 
 } // namespace
@@ -90,6 +98,8 @@ LoweredScene lowerScene(const sema::CheckedScene& scene, const LowerOptions& opt
     // envelope's sweep reads the gradients (a walking layer has them only with its index).
     const bool wantIndex = layout.layerFields || out.overlay ||
                            sema::viewReadsCharacters(out.view) || sema::viewSweeps(out.view);
+    const sema::FilterMode filter = filterOf(scene, options);
+    settled.filter = filter;
     SceneContext ctx{scene, settled, b, exprs, timings, out.probeSlot, out.viewSlot, {}, {}};
     ctx.pixelSlot = out.pixelSlot;
 
@@ -130,6 +140,7 @@ LoweredScene lowerScene(const sema::CheckedScene& scene, const LowerOptions& opt
         ink.band = strokeBand(b, stroke, pixel, options.strokeFloor);
         ink.halfWidth = b.mul(stroke, b.constF(0.5));
         ink.spacing = ctx.layerProp(layer, "spacing")[0];
+        if (filter == sema::FilterMode::Mean) ink.pixel = {pixel, ctx.cosTurn, ctx.sinTurn};
         Encoding enc = layers.encoding(layer);
         ink.fields = layers.fields(layer, ink.band, enc, wantIndex);
         if (enc.field != ir::kNoValue) ink.sampling = layers.sampling(layer, enc);

@@ -40,6 +40,9 @@ struct LowerOptions {
     std::optional<double> envelopeGain = std::nullopt, envelopeTaps = std::nullopt;
     // The fringe overlay, replacing the scene's `overlay` when set (`--overlay`, the viewer's o).
     std::optional<bool> overlay = std::nullopt;
+    // The stroke filter, replacing the scene's `filter` when set (`--filter`): point-sampled,
+    // or the mean over the pixel where members are finer than pixels (lower/Prefilter.h).
+    std::optional<sema::FilterMode> filter = std::nullopt;
     // One print separation (`moire print --separate`): only the layer of this index is
     // lowered, over a transparent paper, so the pixel's colour is the layer's and its alpha
     // the layer's ink; drawn in the pattern view, without the overlay or the unresolved tint.

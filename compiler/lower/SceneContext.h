@@ -21,6 +21,9 @@ struct SceneContext {
     Frame world;                       // x and y: the pixel's world point (set by the camera)
     Frame constantFrame;               // scene settings cannot use x or y (checked)
     int pixelSlot = -1;                // as in LoweredScene
+    // The camera's turn, where it has one: the pixel's sides run along the world's axes turned
+    // by it (the mean filter's footprint, Prefilter.h). kNoValue: no turn.
+    ir::ValueId cosTurn = ir::kNoValue, sinTurn = ir::kNoValue;
 
     bool interactive() const { return viewSlot >= 0; }
     // A literal slot of interactive mode (ViewSlots).

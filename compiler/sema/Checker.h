@@ -78,8 +78,9 @@ class Checker {
     void checkProperty(Property& p, const PropertySpec& spec, const Scope& scope);
     bool noDuplicates(Decl& d, const char* what);
     void checkBlock(Decl& d, const std::vector<PropertySpec>& specs, const char* what);
-    void checkViewName(Property& p); // `view = NAME`: one of sema/Views.h
-    void checkSwitch(Property& p);   // `overlay = true` or `false`
+    void checkViewName(Property& p);   // `view = NAME`: one of sema/Views.h
+    void checkSwitch(Property& p);     // `overlay = true` or `false`
+    void checkFilterName(Property& p); // `filter = point` or `mean`
     void checkLayer(Decl& d);
 
     // ---- expressions ------------------------------------------------------------------

@@ -28,6 +28,10 @@ const std::vector<PropertySpec>& sceneProperties() {
         {"overlay", Type::Error, true, true,
          "true: the fringe curves of the winning character, laid over the view where a "
          "fringe stands"},
+        // A filter's name (sema/Views.h), checked by name.
+        {"filter", Type::Error, true, true,
+         "how strokes are sampled: point (at the pixel's centre) or mean (averaged over the "
+         "pixel where members are finer than pixels)"},
         {"envelope_gain",
          Type::Num,
          true,

@@ -29,6 +29,7 @@ std::string written(const sema::PropertySpec& spec) {
     case ast::Type::Error: // a name from a list: the pattern unless set, the overlay off
         if (std::string_view(spec.name) == "view") return "pattern";
         if (std::string_view(spec.name) == "overlay") return "false";
+        if (std::string_view(spec.name) == "filter") return "mean";
         FAIL("no way to write a default of ", spec.name);
         return "";
     default:

@@ -452,6 +452,8 @@ void Checker::checkBlock(Decl& d, const std::vector<PropertySpec>& specs, const 
         if (spec->type == Type::Error) { // a name from a fixed list: the view, a switch
             if (p.name == "overlay")
                 checkSwitch(p);
+            else if (p.name == "filter")
+                checkFilterName(p);
             else
                 checkViewName(p);
             continue;
@@ -467,6 +469,15 @@ void Checker::checkViewName(Property& p) {
     std::string shown = p.value->kind == ExprKind::Name ? "'" + p.value->name + "'" : "this";
     diags_.error(p.value->range, Msg::UnknownView, shown, viewList(),
                  p.value->kind == ExprKind::Name ? didYouMean(p.value->name, names) : Hint());
+}
+
+void Checker::checkFilterName(Property& p) {
+    if (p.value->kind == ExprKind::Name && filterNamed(p.value->name)) return;
+    std::string shown = p.value->kind == ExprKind::Name ? "'" + p.value->name + "'" : "this";
+    diags_.error(p.value->range, Msg::UnknownFilter, shown, filterList(),
+                 p.value->kind == ExprKind::Name
+                     ? didYouMean(p.value->name, {kFilterNames[0], kFilterNames[1]})
+                     : Hint());
 }
 
 void Checker::checkSwitch(Property& p) {

@@ -51,4 +51,14 @@ std::optional<bool> switchNamed(std::string_view name) {
     return std::nullopt;
 }
 
+std::optional<FilterMode> filterNamed(std::string_view name) {
+    if (name == kFilterNames[0]) return FilterMode::Point;
+    if (name == kFilterNames[1]) return FilterMode::Mean;
+    return std::nullopt;
+}
+
+std::string filterList() {
+    return std::string(kFilterNames[0]) + " or " + kFilterNames[1];
+}
+
 } // namespace moire::sema

@@ -49,4 +49,14 @@ bool viewReadsCharacters(ViewMode mode);
 inline constexpr const char* kSwitchNames[] = {"false", "true"};
 std::optional<bool> switchNamed(std::string_view name);
 
+// How the pattern samples a layer's strokes (`filter = mean`, `--filter`, docs/filtering.md):
+// at the pixel's centre with the floored stroke (point), or averaged over the pixel's
+// footprint where a phase family's members are finer than the pixels (mean, the default).
+// kFilterNames[i] names FilterMode i.
+enum class FilterMode { Point, Mean };
+inline constexpr const char* kFilterNames[] = {"point", "mean"};
+std::optional<FilterMode> filterNamed(std::string_view name);
+// "point or mean", for messages and --help.
+std::string filterList();
+
 } // namespace moire::sema

@@ -208,17 +208,25 @@ bool checkBackendArgs(const std::string& backend, int device) {
 
 namespace {
 
-// --view, --overlay, --envelope-gain and --envelope-taps, into the compile options.
+// A name given to `flag` (--view, --filter), read by `named` into `out` when given; false,
+// after an error that lists the names (`list`), when it names none.
+template <class T, class Named>
+bool namedOption(const char* flag, const std::string& given, Named named, const std::string& list,
+                 std::optional<T>& out) {
+    if (given.empty()) return true;
+    out = named(given);
+    if (out) return true;
+    fmt::print(stderr, "moire: error: {} must be {}, not '{}'\n", flag, list, given);
+    return false;
+}
+
+// --view, --overlay, --filter, --envelope-gain and --envelope-taps, into the compile options.
 bool checkViewOptions(const RenderArgs& args, CompileOptions& options) {
     if (args.overlay) options.overlay = true;
-    if (!args.view.empty()) {
-        options.view = sema::viewNamed(args.view);
-        if (!options.view) {
-            fmt::print(stderr, "moire: error: --view must be {}, not '{}'\n", sema::viewList(),
-                       args.view);
-            return false;
-        }
-    }
+    if (!namedOption("--view", args.view, sema::viewNamed, sema::viewList(), options.view) ||
+        !namedOption("--filter", args.filter, sema::filterNamed, sema::filterList(),
+                     options.filter))
+        return false;
     if (args.envelopeGain) {
         if (!std::isfinite(*args.envelopeGain) || std::abs(*args.envelopeGain) > 1e6) {
             fmt::print(stderr,

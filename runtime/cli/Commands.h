@@ -41,6 +41,7 @@ struct RenderArgs {
     std::string view; // empty: the scene's
     std::optional<double> envelopeGain = std::nullopt, envelopeTaps = std::nullopt;
     bool overlay = false; // --overlay: the fringe curves over the view, whatever the scene says
+    std::string filter;   // --filter point|mean (docs/filtering.md); empty: the scene's
     Verbosity verbosity;
     Defines defines; // -D NAME=VALUE
 };

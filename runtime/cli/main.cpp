@@ -131,6 +131,9 @@ int main(int argc, char** argv) {
     renderCmd->add_flag("--overlay", renderArgs.overlay,
                         "Lay the fringe curves of the winning character over the view where a "
                         "fringe stands, as the scene's overlay = true does (docs/views.md)");
+    renderCmd->add_option("--filter", renderArgs.filter,
+                          "How strokes are sampled: " + sema::filterList() +
+                              " (default: the scene's filter, else mean; docs/filtering.md)");
     renderCmd->add_option("--envelope-gain", renderArgs.envelopeGain,
                           "The envelope's contrast about its pivot, replacing the scene's "
                           "envelope_gain (default 3)");

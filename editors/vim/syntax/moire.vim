@@ -16,9 +16,9 @@ syn match moireField '\<\%(terrain\|dipole\|ripple\|saddle\|bumps\|swirl\)\>'
 syn match moireEasing '\<\%(cubic_in_out\|quad_in_out\|cubic_out\|cubic_in\|quad_out\|sine_out\|quad_in\|sine_in\|linear\|sine\)\>'
 syn match moireConstant '\<\%(tau\|pi\|e\)\>'
 syn match moireVariable '\<\%(spacing\|theta\|r\|t\|u\|x\|y\)\>'
-syn match moireWord '\<\%(envelope\|pingpong\|pattern\|false\|ratio\|split\|loop\|once\|true\)\>'
+syn match moireWord '\<\%(envelope\|pingpong\|pattern\|false\|point\|ratio\|split\|loop\|mean\|once\|true\)\>'
 syn match moireParameter '\<\h\w*\>\ze\s*='
-syn match moireProperty '\<\%(envelope_gain\|envelope_taps\|background\|morph_time\|unresolved\|distance\|rotation\|opacity\|overlay\|spacing\|center\|easing\|facets\|family\|offset\|origin\|period\|stroke\|color\|delay\|field\|first\|index\|phase\|gain\|mode\|size\|turn\|view\|zoom\)\>\ze\s*='
+syn match moireProperty '\<\%(envelope_gain\|envelope_taps\|background\|morph_time\|unresolved\|distance\|rotation\|opacity\|overlay\|spacing\|center\|easing\|facets\|family\|filter\|offset\|origin\|period\|stroke\|color\|delay\|field\|first\|index\|phase\|gain\|mode\|size\|turn\|view\|zoom\)\>\ze\s*='
 syn match moireNumber '\%(\<\d\+\%(\.\.\@!\d*\)\=\|\.\@<!\.\d\+\)\%([eE][-+]\=\d\+\)\=' nextgroup=moireUnit
 syn match moireUnit '\%(deg\|rad\)\>' contained
 " END GENERATED

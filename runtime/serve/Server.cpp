@@ -5,6 +5,7 @@
 #include "runtime/serve/Token.h"
 
 #include <fmt/format.h>
+#include <functional>
 #include <httplib.h>
 #include <nlohmann/json.hpp>
 
@@ -30,10 +31,19 @@ void answerVersion(httplib::Response& res, uint64_t version) {
     res.set_content(json{{"version", version}}.dump(), "application/json");
 }
 
-// A POST handler that applies a message to the session.
+void refuse(httplib::Response& res) {
+    answerError(res, 403, "this page needs the token of the URL that moire serve printed");
+}
+
+using TokenCheck = std::function<bool(const httplib::Request&)>;
+
+// A POST handler that applies a message to the session. The token is checked here, once the
+// body has been read, not before routing: a refusal that left the body unread on a kept-alive
+// connection would have it read as the next request.
 template <class Apply>
-httplib::Server::Handler message(Session& session, Apply apply) {
-    return [&session, apply](const httplib::Request& req, httplib::Response& res) {
+httplib::Server::Handler message(Session& session, TokenCheck hasToken, Apply apply) {
+    return [&session, hasToken, apply](const httplib::Request& req, httplib::Response& res) {
+        if (!hasToken(req)) return refuse(res);
         try {
             answerVersion(res, apply(session, req.body));
         } catch (const RequestError& e) {
@@ -91,12 +101,16 @@ void Server::routes() {
     // waits for the client's delayed ACK, 40 ms on Linux, on every answer.
     s.set_tcp_nodelay(true);
 
-    // The token first: nothing else is looked at for a request without it.
-    s.set_pre_routing_handler([this](const httplib::Request& req, httplib::Response& res) {
+    // The token first: nothing else is looked at for a request without it. A request with a
+    // body is refused by its handler (message), after the body is read.
+    TokenCheck hasToken = [this](const httplib::Request& req) {
         std::string given = req.get_param_value("token");
         if (given.empty()) given = req.get_header_value("X-Moire-Token");
-        if (sameToken(given, token_)) return httplib::Server::HandlerResponse::Unhandled;
-        answerError(res, 403, "this page needs the token of the URL that moire serve printed");
+        return sameToken(given, token_);
+    };
+    s.set_pre_routing_handler([hasToken](const httplib::Request& req, httplib::Response& res) {
+        if (hasToken(req) || req.method == "POST") return httplib::Server::HandlerResponse::Unhandled;
+        refuse(res);
         return httplib::Server::HandlerResponse::Handled;
     });
     s.set_post_routing_handler([](const httplib::Request&, httplib::Response& res) {
@@ -145,9 +159,9 @@ void Server::routes() {
     s.Get("/api/state", [this](const httplib::Request&, httplib::Response& res) {
         res.set_content(session_.stateJson(), "application/json");
     });
-    s.Post("/api/view", message(session_, applyViewMessage));
-    s.Post("/api/clock", message(session_, applyClockMessage));
-    s.Post("/api/param", message(session_, applyParameterMessage));
+    s.Post("/api/view", message(session_, hasToken, applyViewMessage));
+    s.Post("/api/clock", message(session_, hasToken, applyClockMessage));
+    s.Post("/api/param", message(session_, hasToken, applyParameterMessage));
     s.Get("/api/params", [this](const httplib::Request&, httplib::Response& res) {
         res.set_content(session_.parametersJson(), "application/json");
     });

@@ -8,6 +8,7 @@
 const { test, before, after } = require('node:test');
 const assert = require('node:assert/strict');
 const fs = require('node:fs');
+const net = require('node:net');
 const path = require('node:path');
 const {
   compareRgba,
@@ -101,6 +102,47 @@ test('a request without the token, or with another, is refused', async () => {
   assert.equal(refused.status, 403);
   assert.match(refused.body.error, /token/);
   assert.equal((await request(server, '/api/state')).status, 200);
+});
+
+// Two requests, one after the other on one connection: a POST without the token whose body
+// comes a little after its head, as a browser may send it, then a GET with the token. A server
+// that refused the POST on its head alone would take the late body as the start of the next
+// request and answer that 400.
+test('a refused POST leaves its kept-alive connection ready for the next request', async () => {
+  const u = new URL(server.base);
+  const body = JSON.stringify({ reset: true });
+  const head =
+    `POST /api/view HTTP/1.1\r\nHost: ${u.host}\r\nContent-Type: application/json\r\n` +
+    `Content-Length: ${body.length}\r\n\r\n`;
+  const get = `GET /api/state?token=${server.token} HTTP/1.1\r\nHost: ${u.host}\r\nConnection: close\r\n\r\n`;
+  const reply = await new Promise((resolve, reject) => {
+    let data = '';
+    let bodySent = false;
+    let getSent = false;
+    // The GET once the body is out and the refusal has come whole (its JSON body with it).
+    const next = () => {
+      if (!getSent && bodySent && data.includes('serve printed"}')) {
+        getSent = true;
+        socket.write(get);
+      }
+    };
+    const socket = net.connect(Number(u.port), u.hostname, () => {
+      socket.write(head);
+      setTimeout(() => {
+        socket.write(body);
+        bodySent = true;
+        next();
+      }, 200);
+    });
+    socket.on('data', (d) => {
+      data += d;
+      next();
+    });
+    socket.on('end', () => resolve(data));
+    socket.on('error', reject);
+  });
+  const statuses = [...reply.matchAll(/HTTP\/1\.1 (\d{3})/g)].map((m) => m[1]);
+  assert.deepEqual(statuses, ['403', '200'], reply.slice(0, 600));
 });
 
 let first;

@@ -109,7 +109,8 @@ void Server::routes() {
         return sameToken(given, token_);
     };
     s.set_pre_routing_handler([hasToken](const httplib::Request& req, httplib::Response& res) {
-        if (hasToken(req) || req.method == "POST") return httplib::Server::HandlerResponse::Unhandled;
+        if (hasToken(req) || req.method == "POST")
+            return httplib::Server::HandlerResponse::Unhandled;
         refuse(res);
         return httplib::Server::HandlerResponse::Handled;
     });

@@ -25,6 +25,8 @@ void Compose::layer(const LayerInk& ink) {
     ValueId stroke = strokeInk(b_, ink.fields.distance, ink.band);
     if (ink.pixel.size != ir::kNoValue && ink.fields.footprint.grad != ir::kNoValue)
         stroke = meanInk(b_, ink.fields.footprint, stroke, ink.halfWidth, ink.pixel);
+    if (ink.pixel.size != ir::kNoValue && ink.fields.crowd.density != ir::kNoValue)
+        stroke = crowdInk(b_, ink.fields.crowd, stroke, ink.halfWidth, ink.pixel);
     ValueId cov = inkCoverage(b_, stroke, ink.opacity, ink.color[3]);
     acc_ = inkOver(b_, acc_, ink.color[0], ink.color[1], ink.color[2], cov);
     fields_.push_back(ink.fields);

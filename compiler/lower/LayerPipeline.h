@@ -66,6 +66,17 @@ struct Footprint {
     std::optional<int> first;
 };
 
+// A family's own estimate of how crowded its members are where it cannot resolve them itself
+// (the walking solver past its search budget, which strides over the members): `density`,
+// members per world unit across the stroke, and `engaged` in [0, 1], how far the estimate is
+// to be trusted over the drawn stroke (0 where the search was exhaustive). Under the mean filter
+// the compose step hands the drawn ink over to the crowd's mean, min(1, 2 h density) with h the
+// stroke's own half-width, by members per pixel as the phase families' mean does (Prefilter.h).
+// kNoValue: the family gives none.
+struct CrowdEstimate {
+    ir::ValueId density = ir::kNoValue, engaged = ir::kNoValue;
+};
+
 struct LayerFields {
     ir::ValueId index;    // fractional member index: member n is {index = n}
     ir::ValueId distance; // world distance to the nearest member
@@ -85,6 +96,7 @@ struct LayerFields {
     // characters and the overlay read (Characters.h). kNoValue elsewhere (`index` is it).
     ir::ValueId smooth = ir::kNoValue;
     Footprint footprint; // for the mean filter; unset where the family is not a phase family
+    CrowdEstimate crowd; // for the mean filter; unset but where a family estimates its crowd
 };
 
 // The stroke in world units: half-width h = max(t/2, 1.15 px) and antialias band

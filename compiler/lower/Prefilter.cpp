@@ -35,4 +35,13 @@ ValueId meanInk(ir::Builder& b, const Footprint& footprint, ValueId pointInk, Va
                         [&] { return std::vector<ValueId>{pointInk}; })[0];
 }
 
+ValueId crowdInk(ir::Builder& b, const CrowdEstimate& crowd, ValueId ink, ValueId halfWidth,
+                 const PixelFootprint& pixel) {
+    ValueId nu = b.mul(crowd.density, pixel.size);
+    ValueId weight =
+        b.mul(b.smoothstep(b.constF(kMeanFrom), b.constF(kMeanFull), nu), crowd.engaged);
+    ValueId mean = b.min(b.mul(b.mul(halfWidth, b.constF(2.0)), crowd.density), b.constF(1.0));
+    return b.mix(ink, mean, weight);
+}
+
 } // namespace moire::lower

@@ -60,7 +60,8 @@ std::string sceneText(Pair pair, double zoom, int width, int height, const char*
 }
 
 // The two families' indices at a world point (member n where the index is n). The fork's
-// encoded layer adds gain x theta / tau, theta in (-pi, pi], to its carrier's index.
+// encoded layer has the phase x - gain spacing theta / tau (docs/language.md, fields as an
+// instrument), theta in (-pi, pi].
 void indices(Pair pair, double x, double y, double& f1, double& f2) {
     switch (pair) {
     case kLines:
@@ -71,19 +72,24 @@ void indices(Pair pair, double x, double y, double& f1, double& f2) {
         return;
     default:
         f1 = x / kSpacing;
-        f2 = x / kSpacing + kForkGain * std::atan2(y, x) / (2.0 * M_PI);
+        f2 = x / kSpacing - kForkGain * std::atan2(y, x) / (2.0 * M_PI);
     }
 }
 
-// The exact pair's ink: either stroke covers the point (the world distance to a member under
-// half the stroke; each family's index runs at 1 / spacing per world unit across its
-// members, the fork's as its carrier's, to first order away from the origin).
+// The exact pair's ink: either stroke covers the point, the world distance to a member (the
+// index's residual over its gradient's length) under half the stroke. The lines' and circles'
+// indices run at 1 / spacing a world unit; the fork's gradient is (1 / s, 0) less
+// gain / tau times grad theta = (-y, x) / r^2, and its strokes keep their thickness.
 bool exactInk(Pair pair, double x, double y) {
     double f1, f2;
     indices(pair, x, y, f1, f2);
-    const double s2 = pair == kFork ? kSpacing : kOther;
+    double grad2 = 1.0 / kOther;
+    if (pair == kFork) {
+        const double r2 = std::max(x * x + y * y, 1e-12), k = kForkGain / (2.0 * M_PI);
+        grad2 = std::hypot(1.0 / kSpacing + k * y / r2, -k * x / r2);
+    }
     return std::abs(f1 - std::round(f1)) * kSpacing < 0.5 * kStroke ||
-           std::abs(f2 - std::round(f2)) * s2 < 0.5 * kStroke;
+           std::abs(f2 - std::round(f2)) / grad2 < 0.5 * kStroke;
 }
 
 // Pixel centre to world: the origin at the frame's middle, a pixel 1 / zoom units, y up.
@@ -177,8 +183,8 @@ int main(int argc, char** argv) {
         std::printf("\n%s: stroke %g, %d x %d pixels; fringe contrast (reference, point, mean) "
                     "and mean absolute error against 256 samples\n",
                     kPairNames[p], kStroke, width, height);
-        std::printf("  %8s %10s %8s %8s %8s %8s %10s %10s %8s\n", "zoom", "members/px",
-                    "beat px", "ref", "point", "mean", "err point", "err mean", "ratio");
+        std::printf("  %8s %10s %8s %8s %8s %8s %10s %10s %8s\n", "zoom", "members/px", "beat px",
+                    "ref", "point", "mean", "err point", "err mean", "ratio");
         for (double zoom : zooms) {
             const double members = 1.0 / (kSpacing * zoom);
             // The straight pairs' beat period is 21 units, so 21 zoom pixels; the fork's is

@@ -78,8 +78,8 @@ Ink fineUnion(ir::Builder& b, const Ink& under, const Ink& independent,
             ValueId beat = b.constF(1.0), apart = b.constF(0.0);
             std::vector<ValueId> own;
             for (const FineLayer& l : run)
-                own.push_back(transfer(
-                    b, onSides(b, l.footprint.gradX, l.footprint.gradY, pixel), pixel));
+                own.push_back(
+                    transfer(b, onSides(b, l.footprint.gradX, l.footprint.gradY, pixel), pixel));
             for (size_t i = 0; i + 1 < run.size(); ++i) {
                 const Footprint& fi = run[i].footprint;
                 const Footprint& fj = run[i + 1].footprint;
@@ -106,10 +106,10 @@ Ink fineUnion(ir::Builder& b, const Ink& under, const Ink& independent,
                     auto channel = [&](ValueId ind, ValueId mean, ValueId pivot) {
                         return b.clamp(add(ind, mean, pivot), b.constF(0.0), a);
                     };
-                    return std::vector<ValueId>{
-                        channel(independent.r, swept.mean.r, swept.pivot.r),
-                        channel(independent.g, swept.mean.g, swept.pivot.g),
-                        channel(independent.b, swept.mean.b, swept.pivot.b), a};
+                    return std::vector<ValueId>{channel(independent.r, swept.mean.r, swept.pivot.r),
+                                                channel(independent.g, swept.mean.g, swept.pivot.g),
+                                                channel(independent.b, swept.mean.b, swept.pivot.b),
+                                                a};
                 },
                 [&] {
                     return std::vector<ValueId>{independent.r, independent.g, independent.b,
@@ -117,8 +117,7 @@ Ink fineUnion(ir::Builder& b, const Ink& under, const Ink& independent,
                 });
         },
         [&] {
-            return std::vector<ValueId>{independent.r, independent.g, independent.b,
-                                        independent.a};
+            return std::vector<ValueId>{independent.r, independent.g, independent.b, independent.a};
         });
     return {out[0], out[1], out[2], out[3]};
 }

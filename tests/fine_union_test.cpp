@@ -20,9 +20,9 @@ using namespace moire;
 
 namespace {
 
-constexpr int kW = 96, kH = 64;  // the frame
-constexpr double kStroke = 0.3;  // every layer's stroke
-constexpr int kSamples = 256;    // the brute force's samples a pixel
+constexpr int kW = 96, kH = 64; // the frame
+constexpr double kStroke = 0.3; // every layer's stroke
+constexpr int kSamples = 256;   // the brute force's samples a pixel
 
 // Upright-or-turned lines: members where (x cos a + y sin a) / spacing is whole.
 struct Lines {
@@ -38,11 +38,12 @@ struct Pair {
     double zoom;
     std::string scene() const {
         char buf[512];
-        std::snprintf(buf, sizeof buf,
-                      "scene { size = (%d, %d) }\ncamera { zoom = %.17g }\n"
-                      "layer a { family = lines; spacing = %.17g; angle = %.17gdeg; stroke = %g }\n"
-                      "layer b { family = lines; spacing = %.17g; angle = %.17gdeg; stroke = %g }\n",
-                      kW, kH, zoom, a.spacing, a.degrees, kStroke, b.spacing, b.degrees, kStroke);
+        std::snprintf(
+            buf, sizeof buf,
+            "scene { size = (%d, %d) }\ncamera { zoom = %.17g }\n"
+            "layer a { family = lines; spacing = %.17g; angle = %.17gdeg; stroke = %g }\n"
+            "layer b { family = lines; spacing = %.17g; angle = %.17gdeg; stroke = %g }\n",
+            kW, kH, zoom, a.spacing, a.degrees, kStroke, b.spacing, b.degrees, kStroke);
         return buf;
     }
     // The world point of a position in the frame: the origin at the middle, y up.
@@ -213,8 +214,8 @@ TEST_CASE("fine union: the JIT and the GPU draw the union the interpreter draws"
             CAPTURE(pair->scene());
             auto backend = test::makeBackendOrSkip(name);
             if (!backend) continue;
-            test::ImageDiff d = test::compareImages(ref, test::renderScene(*program, *backend),
-                                                    2.0 / 255);
+            test::ImageDiff d =
+                test::compareImages(ref, test::renderScene(*program, *backend), 2.0 / 255);
             CHECK(d.fractionWithin() >= 0.999);
             CHECK(d.meanAbs <= 0.5 / 255.0);
         }

@@ -28,7 +28,21 @@ void Compose::layer(const LayerInk& ink) {
     if (ink.pixel.size != ir::kNoValue && ink.fields.crowd.density != ir::kNoValue)
         stroke = crowdInk(b_, ink.fields.crowd, stroke, ink.halfWidth, ink.pixel);
     ValueId cov = inkCoverage(b_, stroke, ink.opacity, ink.color[3]);
+    // Under the mean filter, consecutive phase families form a run whose union is taken
+    // together (FineUnion.h); any other layer ends the run before it is laid.
+    const bool fine =
+        ink.pixel.size != ir::kNoValue && joinsFineUnion(ink.fields.footprint, ink.fields.sample);
+    if (!fine) closeRun();
+    if (fine && run_.empty()) runUnder_ = acc_;
     acc_ = inkOver(b_, acc_, ink.color[0], ink.color[1], ink.color[2], cov);
+    if (fine) {
+        // No antialias band of the pattern's: the sweep averages the pixel, and its taps' own
+        // band (Envelope.h, kTapBand) is the only one the stroke's edge needs.
+        run_.push_back({EnvelopeLayer{ink.fields.sample, ink.halfWidth, zero_, ink.color,
+                                      ink.opacity, ink.spacing, ink.fields.gradX, ink.fields.gradY},
+                        ink.fields.footprint});
+        runPixel_ = ink.pixel;
+    }
     fields_.push_back(ink.fields);
     if (!sema::viewSweeps(mode_)) return;
     EnvelopeLayer l{ink.fields.sample, ink.halfWidth, ink.band.a,       ink.color,
@@ -44,6 +58,13 @@ void Compose::layer(const LayerInk& ink) {
                     std::nullopt,
                     nullptr};
     sweep_.push_back(l);
+}
+
+void Compose::closeRun() {
+    // The layers of the run are in acc_ already, each laid over the others (the union of their
+    // means); the union adds their correlation where their beat shows (FineUnion.cpp).
+    if (run_.size() >= 2) acc_ = fineUnion(b_, runUnder_, acc_, run_, runPixel_);
+    run_.clear();
 }
 
 Ink Compose::envelope() {
@@ -85,6 +106,7 @@ Ink Compose::split() {
 }
 
 void Compose::output(const std::function<Vals()>& unresolvedTint) {
+    closeRun();
     // The stack's winning character, for the ratio view and the overlay (Characters.h).
     std::optional<Character> winner;
     auto character = [&]() -> const Character& {

@@ -5,6 +5,7 @@
 
 #include "compiler/ir/Builder.h"
 #include "compiler/lower/Envelope.h"
+#include "compiler/lower/FineUnion.h"
 #include "compiler/lower/LayerPipeline.h"
 #include "compiler/lower/LowerExpr.h"
 #include "compiler/lower/Prefilter.h"
@@ -52,6 +53,7 @@ class Compose {
   private:
     Ink envelope();
     Ink split();
+    void closeRun(); // takes the union of the run of fine layers laid so far (FineUnion.h)
 
     ir::Builder& b_;
     ViewMode mode_;
@@ -63,6 +65,11 @@ class Compose {
     ir::ValueId overlayPixel_;
     ir::ValueId zero_;
     ir::ValueId unresolved_; // the largest gain s |grad f| of the encoded layers
+    // Under the mean filter, the phase families laid since the last other layer, the ink
+    // beneath them, and the pixel (FineUnion.h).
+    std::vector<FineLayer> run_;
+    Ink runUnder_{};
+    PixelFootprint runPixel_;
 };
 
 } // namespace moire::lower

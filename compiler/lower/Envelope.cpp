@@ -173,9 +173,7 @@ ValueId nominalCoverage(ir::Builder& b, const EnvelopeLayer& l) {
 namespace {
 
 // The stack's mean ink swept along `w` (Eq. 13-15), and the pivot it is graded about.
-struct Swept {
-    Ink mean, pivot;
-};
+using Swept = SweptInk;
 
 Swept sweptMean(ir::Builder& b, const Ink& paper, const std::vector<EnvelopeLayer>& layers,
                 const EnvelopeSettings& settings, const std::vector<ValueId>& w) {
@@ -322,12 +320,10 @@ Ink graded(ir::Builder& b, const Swept& s, const EnvelopeSettings& settings) {
 
 } // namespace
 
-Ink envelopeInk(ir::Builder& b, const Ink& paper, const std::vector<EnvelopeLayer>& layers,
-                const EnvelopeSettings& settings) {
-    if (layers.empty()) return paper;
-    const std::vector<ValueId> w = sweepDirection(b, layers);
+SweptInk sweptInk(ir::Builder& b, const Ink& paper, const std::vector<EnvelopeLayer>& layers,
+                  const EnvelopeSettings& settings, const std::vector<ValueId>& w) {
     const ValueId fade = sumFade(b, layers, w);
-    if (fade == ir::kNoValue) return graded(b, sweptMean(b, paper, layers, settings, w), settings);
+    if (fade == ir::kNoValue) return sweptMean(b, paper, layers, settings, w);
     // Inside the hand-over band both sweeps, their means mixed; elsewhere the one w picks.
     ValueId inBand = b.emit(Op::And, {b.gt(fade, b.constF(0.0)), b.lt(fade, b.constF(1.0))});
     auto values = [](const Swept& s) {
@@ -345,9 +341,14 @@ Ink envelopeInk(ir::Builder& b, const Ink& paper, const std::vector<EnvelopeLaye
             return diff;
         },
         [&] { return values(sweptMean(b, paper, layers, settings, w)); });
-    const Swept s{{mixed[0], mixed[1], mixed[2], mixed[3]},
-                  {mixed[4], mixed[5], mixed[6], mixed[7]}};
-    return graded(b, s, settings);
+    return {{mixed[0], mixed[1], mixed[2], mixed[3]}, {mixed[4], mixed[5], mixed[6], mixed[7]}};
+}
+
+Ink envelopeInk(ir::Builder& b, const Ink& paper, const std::vector<EnvelopeLayer>& layers,
+                const EnvelopeSettings& settings) {
+    if (layers.empty()) return paper;
+    const std::vector<ValueId> w = sweepDirection(b, layers);
+    return graded(b, sweptInk(b, paper, layers, settings, w), settings);
 }
 
 } // namespace moire::lower

@@ -94,6 +94,19 @@ ir::ValueId sumFade(ir::Builder& b, const std::vector<EnvelopeLayer>& layers,
 // the sweep is the character choice again). Any other layer rides the first generator.
 void rankTwoRides(ir::Builder& b, const Character& c, std::vector<EnvelopeLayer>& layers);
 
+// The stack's ink over `paper` (premultiplied) averaged over one period of every layer's index
+// advanced together along `w` (sweepDirection), the sum beat's fade mixed in where sumFade
+// gives one, and not graded: `mean`; and `pivot`, the layers' own mean coverages composited
+// in order (a sole one-index layer's nominal ink), the ink the stack would hold were its
+// phases independent. The envelope grades the one about the other; the mean filter's union of
+// fine layers (FineUnion.h) adds their difference, the stack's correlation, to the union of
+// the layers' footprint means. settings.gain is not read.
+struct SweptInk {
+    Ink mean, pivot;
+};
+SweptInk sweptInk(ir::Builder& b, const Ink& paper, const std::vector<EnvelopeLayer>& layers,
+                  const EnvelopeSettings& settings, const std::vector<ir::ValueId>& w);
+
 // The envelope over `paper` (premultiplied), graded by the settings: premultiplied RGBA.
 Ink envelopeInk(ir::Builder& b, const Ink& paper, const std::vector<EnvelopeLayer>& layers,
                 const EnvelopeSettings& settings);

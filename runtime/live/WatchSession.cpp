@@ -17,6 +17,7 @@ SceneReloader::Options reloaderOptions(const WatchOptions& o) {
     SceneReloader::Options r;
     r.watch = o.watch;
     r.compile.defines = o.defines;
+    r.compile.filter = o.filter;
     return r;
 }
 } // namespace

@@ -30,8 +30,8 @@ namespace {
 std::vector<Scene> filterScenes() {
     std::vector<Scene> out;
     for (const char* name : {"two_rings", "fork_grating", "counter_spirals"})
-        out.push_back(bench::sceneFile(std::string(MOIRE_SOURCE_DIR "/examples/") + name +
-                                       ".moire"));
+        out.push_back(
+            bench::sceneFile(std::string(MOIRE_SOURCE_DIR "/examples/") + name + ".moire"));
     // Circles 0.7 apart, 0.1 wide, at a pixel a world unit: 1.43 members a pixel everywhere.
     out.push_back({"fine circles", "fine_circles.moire",
                    "layer a { family = circles; spacing = 0.7; stroke = 0.1 }\n"});

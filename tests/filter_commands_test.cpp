@@ -29,8 +29,7 @@ double meanInk(const Image& img) {
 struct Dir : test::TempDir {
     Dir() : test::TempDir("filter-commands") { write("fine.moire", kFine); }
     test::CommandResult moire(const std::string& args) const {
-        return test::runCommand("cd '" + path() + "' && '" + test::moireBinary() +
-                                "' " + args);
+        return test::runCommand("cd '" + path() + "' && '" + test::moireBinary() + "' " + args);
     }
     // render --filter NAME of the scene, as the other commands must draw it.
     Image rendered(const std::string& filter) const {
@@ -82,13 +81,12 @@ void checkBadName(const test::CommandResult& r) {
 TEST_CASE("filter: clip --filter draws each frame as render --filter draws it") {
     Dir dir;
     for (const char* filter : {"mean", "point"}) {
-        auto r = dir.moire(std::string("clip fine.moire -q --fps 1 --frames 1 --filter ") +
-                           filter + " -o " + filter + "/f_%04d.png");
+        auto r = dir.moire(std::string("clip fine.moire -q --fps 1 --frames 1 --filter ") + filter +
+                           " -o " + filter + "/f_%04d.png");
         INFO(r.err);
         REQUIRE(r.status == 0);
     }
-    checkPair(dir, readImage(dir.file("mean/f_0000.png")),
-              readImage(dir.file("point/f_0000.png")));
+    checkPair(dir, readImage(dir.file("mean/f_0000.png")), readImage(dir.file("point/f_0000.png")));
     auto bad = dir.moire("clip fine.moire --fps 1 --frames 1 --filter blur -o bad/f_%04d.png");
     checkBadName(bad);
     CHECK_FALSE(fs::exists(dir.file("bad")));
@@ -183,8 +181,9 @@ TEST_CASE("filter: a point-sampled stroke under the floor is noted once, where i
     // 4 pixels, stands clear of the floor too, while at half the size it is 1 pixel.
     dir.write("two.moire", "scene { size = (160, 120) }\n"
                            "layer a { family = circles; spacing = 8; stroke = 2 }\n");
-    CHECK(dir.moire("render two.moire --filter point --size 320x240 -o big.png")
-              .err.find("note:") == std::string::npos);
+    CHECK(
+        dir.moire("render two.moire --filter point --size 320x240 -o big.png").err.find("note:") ==
+        std::string::npos);
     auto small = dir.moire("render two.moire --filter point --size 80x60 -o small.png");
     CHECK(small.err.find("two.moire:2:51: note: the stroke of layer 'a', 2 wide, is 1 pixels at "
                          "this size") != std::string::npos);

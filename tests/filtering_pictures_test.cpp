@@ -26,16 +26,16 @@ std::set<std::string> scenes() {
 }
 
 // Each k x k block of `big` averaged into one pixel (sRGB values, as ffmpeg's area scaler
-// averages them), RGB only.
+// averages them), every channel.
 Image boxDownsample(const Image& big, int k) {
-    Image out(big.width / k, big.height / k, 3);
+    Image out(big.width / k, big.height / k, big.channels);
     for (int y = 0; y < out.height; ++y)
         for (int x = 0; x < out.width; ++x)
-            for (int c = 0; c < 3; ++c) {
+            for (int c = 0; c < big.channels; ++c) {
                 double sum = 0.0;
                 for (int j = 0; j < k; ++j)
                     for (int i = 0; i < k; ++i) sum += big.at(x * k + i, y * k + j, c);
-                out.pixels[(static_cast<size_t>(y) * out.width + x) * 3 + c] =
+                out.pixels[(static_cast<size_t>(y) * out.width + x) * out.channels + c] =
                     static_cast<float>(sum / (k * k));
             }
     return out;
@@ -64,12 +64,12 @@ TEST_CASE("filtering pictures: each is what its scene draws today") {
         for (const char* filter : {"point", "mean"}) {
             CAPTURE(name);
             CAPTURE(filter);
-            Image fresh = test::renderWithMoire(
-                "docs/filtering/" + name + ".moire --size " + std::to_string(kWidth) + "x" +
-                    std::to_string(kHeight) + " --filter " + filter,
-                dir, name + "-" + filter);
-            test::checkSameAsStored(fresh, test::sourcePath("docs/images/filtering-" + name + "-" +
-                                                            filter + ".png"));
+            Image fresh = test::renderWithMoire("docs/filtering/" + name + ".moire --size " +
+                                                    std::to_string(kWidth) + "x" +
+                                                    std::to_string(kHeight) + " --filter " + filter,
+                                                dir, name + "-" + filter);
+            test::checkSameAsStored(
+                fresh, test::sourcePath("docs/images/filtering-" + name + "-" + filter + ".png"));
         }
     // The print: the frame 6 times larger, each 6x6 block averaged.
     Image big = test::renderWithMoire("docs/filtering/hairline.moire --size " +

@@ -138,6 +138,19 @@ TEST_CASE("filter: export, serve and view refuse a bad --filter before anything 
     checkBadName(dir.moire("view fine.moire --filter blur"));
 }
 
+TEST_CASE("filter: farm passes --filter to every shard, and refuses a bad one") {
+    Dir dir;
+    auto r = dir.moire("farm render fine.moire --shards 2 --workdir w -o poster.png --moire "
+                       "/opt/moire --filter point --plan");
+    INFO(r.err);
+    REQUIRE(r.status == 0);
+    // Each of the two tiles' renders takes it, with the options every shard shares.
+    CHECK(count(r.out, " --filter point --region ") == 2);
+    checkBadName(dir.moire("farm render fine.moire --shards 2 --workdir w -o poster.png "
+                           "--filter blur --plan"));
+    CHECK_FALSE(fs::exists(dir.file("w")));
+}
+
 TEST_CASE("filter: view --filter shows what render --filter draws") {
     using namespace moire::test::xview;
     SKIP_WITHOUT_X();

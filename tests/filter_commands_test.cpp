@@ -165,11 +165,12 @@ TEST_CASE("filter: view --filter shows what render --filter draws") {
 
 TEST_CASE("filter: a point-sampled stroke under the floor is noted once, where it is written") {
     Dir dir;
-    // render, clip and print under --filter point: the note, once, before the closing line.
+    // render, clip, print and watch under --filter point: the note, once.
     for (const std::string& cmd :
          {std::string("render fine.moire --filter point -o r.png"),
           std::string("clip fine.moire --fps 1 --frames 1 --filter point -o c/f_%04d.png"),
-          std::string("print fine.moire --paper 40x30mm --dpi 101.6 --filter point -o p.png")}) {
+          std::string("print fine.moire --paper 40x30mm --dpi 101.6 --filter point -o p.png"),
+          std::string("watch fine.moire --once --filter point -o w.png")}) {
         CAPTURE(cmd);
         auto r = dir.moire(cmd);
         REQUIRE(r.status == 0);

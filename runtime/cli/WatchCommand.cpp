@@ -30,6 +30,7 @@ void printReport(const WatchReport& r, const WatchArgs& args, const Backend& bac
         else if (!args.verbosity.quiet)
             fmt::print(stderr, "moire: watch: {} not written (no good render yet)\n", output);
     } else if (!args.verbosity.quiet) {
+        fmt::print(stderr, "{}", r.notes);
         const BuildResult& b = r.result;
         std::string how = b.kind == BuildResult::Kind::Numbers
                               ? "numbers changed, kernel reused"

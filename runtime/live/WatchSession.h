@@ -38,6 +38,7 @@ struct WatchReport {
     std::string diagnostics; // bad states: `file:line:col: error:` lines (or an I/O error)
     int width = 0, height = 0;
     double renderMs = 0.0;
+    std::string notes; // good states: the stroke floor's notes (FloorNote.h), when any
     bool good() const { return wrote; }
 };
 

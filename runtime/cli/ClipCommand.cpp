@@ -6,6 +6,7 @@
 #include "runtime/cli/Commands.h"
 #include "runtime/cli/Shared.h"
 #include "runtime/cli/StopSignals.h"
+#include "runtime/FloorNote.h"
 #include "runtime/FrameEval.h"
 #include "runtime/output/ImageIO.h"
 #include "runtime/output/OutputFile.h"
@@ -73,6 +74,8 @@ int clip(const ClipArgs& args) {
     std::optional<FrameRange> given;
     if (!args.frames.empty() && !(given = parseFrames(args.frames, why))) return usage(why);
     if (!checkBackendArgs(args.backend, args.device)) return kExitUsage;
+    CompileOptions compileOptions{.defines = args.defines};
+    if (!checkFilterOption(args.filter, compileOptions)) return kExitUsage;
     if (args.output.empty() && !args.plan)
         return usage("clip needs -o: a numbered image name like frames/f_%04d.png, or a video "
                      "(.mp4, .webm, .gif)");
@@ -122,7 +125,7 @@ int clip(const ClipArgs& args) {
     Stages stages(args.verbosity);
     Source src;
     if (!readScene(args.scene, src)) return kExitIo;
-    auto program = compileOrReport(src, CompileOptions{.defines = args.defines});
+    auto program = compileOrReport(src, compileOptions);
     if (!program) return kExitScene;
     stages.done(fmt::format("compiled {}", src.path));
     FrameValues first;
@@ -156,8 +159,11 @@ int clip(const ClipArgs& args) {
                    clip::frameTime(args.from, range.last, args.fps), first.width, first.height);
         return kExitOk;
     }
-    if (!args.verbosity.quiet)
+    if (!args.verbosity.quiet) {
         for (const std::string& n : notes) fmt::print(stderr, "moire: note: {}\n", n);
+        fmt::print(stderr, "{}",
+                   strokeFloorNotes(*program, compileOptions.filter, first.pixelSize));
+    }
     if (!video && !pattern.numbered && range.count() > 1)
         return usage(fmt::format(
             "the clip has {} frames but '{}' names one file: put a frame "

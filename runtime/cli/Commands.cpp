@@ -7,6 +7,7 @@
 #include "runtime/cli/Region.h"
 #include "runtime/cli/Shared.h"
 #include "runtime/cli/StopSignals.h"
+#include "runtime/FloorNote.h"
 #include "runtime/output/ImageIO.h"
 #include "runtime/output/ImageStream.h"
 #include "runtime/output/MemoryBudget.h"
@@ -224,8 +225,7 @@ bool namedOption(const char* flag, const std::string& given, Named named, const 
 bool checkViewOptions(const RenderArgs& args, CompileOptions& options) {
     if (args.overlay) options.overlay = true;
     if (!namedOption("--view", args.view, sema::viewNamed, sema::viewList(), options.view) ||
-        !namedOption("--filter", args.filter, sema::filterNamed, sema::filterList(),
-                     options.filter))
+        !checkFilterOption(args.filter, options))
         return false;
     if (args.envelopeGain) {
         if (!std::isfinite(*args.envelopeGain) || std::abs(*args.envelopeGain) > 1e6) {
@@ -252,6 +252,15 @@ bool checkViewOptions(const RenderArgs& args, CompileOptions& options) {
 }
 
 } // namespace
+
+std::string filterHelp() {
+    return "How strokes are sampled: " + sema::filterList() +
+           " (default: the scene's filter, else mean; docs/filtering.md)";
+}
+
+bool checkFilterOption(const std::string& given, CompileOptions& options) {
+    return namedOption("--filter", given, sema::filterNamed, sema::filterList(), options.filter);
+}
 
 int render(const RenderArgs& args) {
     if (!checkTime(args.time, "--time") || !checkDpi(args.dpi)) return kExitUsage;
@@ -341,6 +350,9 @@ int render(const RenderArgs& args) {
         fmt::print(stderr, "{}", diags);
         return kExitScene;
     }
+    if (!args.verbosity.quiet)
+        fmt::print(stderr, "{}",
+                   strokeFloorNotes(*program, compileOptions.filter, frame.pixelSize));
     // The image: the frame, or its region (the kernel still sees the whole frame).
     ExecOptions exec;
     WriteOptions wo;

@@ -75,7 +75,8 @@ struct ClipArgs {
     int device = -1;
     std::string depth; // image frames only
     int threads = 0;
-    bool plan = false; // print the schedule, render nothing
+    bool plan = false;  // print the schedule, render nothing
+    std::string filter; // --filter point|mean (docs/filtering.md); empty: the scene's
     Verbosity verbosity;
     Defines defines; // -D NAME=VALUE
 };
@@ -93,7 +94,8 @@ struct WatchArgs {
     std::string depth;
     int threads = 0;
     int debounceMs = 30;
-    bool once = false; // render the current file and exit (no watching)
+    bool once = false;  // render the current file and exit (no watching)
+    std::string filter; // --filter point|mean (docs/filtering.md); empty: the scene's
     Verbosity verbosity;
     Defines defines; // -D NAME=VALUE
 };
@@ -110,6 +112,7 @@ struct ViewArgs {
     int threads = 0;
     int debounceMs = 30;
     bool trace = false; // hidden: a line per frame shown, and after `p` a marker (tests)
+    std::string filter; // --filter point|mean (docs/filtering.md); empty: the scene's
     Verbosity verbosity;
     Defines defines; // -D NAME=VALUE
 };

@@ -31,6 +31,7 @@ CLI::App* addExportCommand(CLI::App& app, ExportArgs& args, std::vector<std::str
     cmd->add_option("--size", args.size, "Canvas size WIDTHxHEIGHT, replacing the scene's");
     cmd->add_option("--time", args.time, "Clock time t in seconds when the page opens (default 0)");
     cmd->add_flag("--paused", args.paused, "Open with the clock stopped");
+    cmd->add_option("--filter", args.filter, filterHelp());
     addDefineOption(cmd, rawDefines);
     CLI::Option* q = cmd->add_flag("-q,--quiet", args.verbosity.quiet, "Print nothing but errors");
     cmd->add_flag("-v,--verbose", args.verbosity.verbose,
@@ -55,9 +56,10 @@ int exportPiece(const ExportArgs& args) {
         return kExitUsage;
     }
     if (!checkTime(args.time, "--time")) return kExitUsage;
+    CompileOptions compileOptions;
+    if (!checkFilterOption(args.filter, compileOptions)) return kExitUsage;
     Source src;
     if (!readScene(args.scene, src)) return kExitIo;
-    CompileOptions compileOptions;
     compileOptions.defines = args.defines;
     std::unique_ptr<SceneProgram> program = compileOrReport(src, compileOptions);
     if (!program) return kExitScene;

@@ -17,7 +17,8 @@ struct ExportArgs {
     std::string size;   // "WxH", empty: the scene's
     double time = 0.0;  // the clock when the page opens
     bool paused = false;
-    Defines defines; // -D: the params' values (and layers' properties) the page starts from
+    std::string filter; // --filter point|mean (docs/filtering.md); empty: the scene's
+    Defines defines;    // -D: the params' values (and layers' properties) the page starts from
     Verbosity verbosity;
 };
 

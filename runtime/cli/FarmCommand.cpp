@@ -58,8 +58,10 @@ int resolve(const FarmArgs& args, Request& out) {
         return usage(fmt::format("--size must be WIDTHxHEIGHT in pixels (1 to {}), not '{}'",
                                  kMaxImageSide, args.size));
     if (!checkBackendArgs(args.backend, args.device)) return kExitUsage;
+    CompileOptions compileOptions{.defines = args.defines};
+    if (!checkFilterOption(args.filter, compileOptions)) return kExitUsage;
     if (!readScene(args.scene, out.source)) return kExitIo;
-    auto program = compileOrReport(out.source, CompileOptions{.defines = args.defines});
+    auto program = compileOrReport(out.source, compileOptions);
     if (!program) return kExitScene;
     const double t = args.mode == FarmArgs::Mode::Clip ? args.from : args.time;
     FrameValues first;
@@ -97,6 +99,7 @@ std::vector<std::string> sharedOptions(const FarmArgs& args,
     if (!args.backend.empty()) out.insert(out.end(), {"--backend", args.backend});
     if (args.device >= 0) out.insert(out.end(), {"--device", fmt::format("{}", args.device)});
     if (args.threads > 0) out.insert(out.end(), {"--threads", fmt::format("{}", args.threads)});
+    if (!args.filter.empty()) out.insert(out.end(), {"--filter", args.filter});
     out.insert(out.end(), args.shardArgs.begin(), args.shardArgs.end());
     return out;
 }
@@ -395,6 +398,7 @@ CLI::App* addFarmCommand(CLI::App& app, FarmArgs& args, std::vector<std::string>
             ->check(CLI::NonNegativeNumber);
         cmd->add_option("--threads", args.threads, "Worker threads per shard (default: all cores)");
         cmd->add_option("--size", args.size, "Frame size WIDTHxHEIGHT, replacing the scene's");
+        cmd->add_option("--filter", args.filter, filterHelp());
         cmd->add_option("--shard-arg", args.shardArgs,
                         "An extra option for every shard's moire, as --shard-arg=--view=envelope "
                         "(repeatable)");

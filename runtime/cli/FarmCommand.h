@@ -28,6 +28,7 @@ struct FarmArgs {
     double dpi = 0.0;                   // render: recorded in the tiles, and so in the poster
     int compression = -1;               // render: the poster's PNG level (-1: render's default)
     std::vector<std::string> shardArgs; // more options for every shard's moire, as given
+    std::string filter;                 // --filter point|mean for every shard; empty: the scene's
     Defines defines;
     // The farm.
     int shards = 0;

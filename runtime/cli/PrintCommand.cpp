@@ -3,6 +3,7 @@
 #include "runtime/cli/DefineOption.h"
 #include "runtime/cli/Shared.h"
 #include "runtime/cli/StopSignals.h"
+#include "runtime/FloorNote.h"
 #include "runtime/FrameEval.h"
 #include "runtime/output/ImageStream.h"
 #include "runtime/output/OutputFile.h"
@@ -151,6 +152,7 @@ CLI::App* addPrintCommand(CLI::App& app, PrintArgs& args, std::vector<std::strin
         ->check(CLI::NonNegativeNumber);
     cmd->add_option("--depth", args.depth, "Bits per channel: 8, 16, half or float");
     cmd->add_option("--threads", args.threads, "Worker threads (default: all cores)");
+    cmd->add_option("--filter", args.filter, filterHelp());
     CLI::Option* q = cmd->add_flag("-q,--quiet", args.verbosity.quiet, "Print nothing but errors");
     cmd->add_flag("-v,--verbose", args.verbosity.verbose,
                   "Also print each stage and how long it took")
@@ -168,6 +170,8 @@ CLI::App* addPrintCommand(CLI::App& app, PrintArgs& args, std::vector<std::strin
 int print(const PrintArgs& args) {
     print::PaperSize paper;
     if (!checkPrintArgs(args, paper)) return kExitUsage;
+    CompileOptions filterOnly; // --filter, checked before anything is opened or written
+    if (!checkFilterOption(args.filter, filterOnly)) return kExitUsage;
     ImageOptions image;
     const std::string output =
         args.output.empty() ? (args.scene.empty()         ? std::string("default")
@@ -196,6 +200,7 @@ int print(const PrintArgs& args) {
     CompileOptions options;
     options.defines = args.defines;
     options.pixelSize = true;
+    options.filter = filterOnly.filter;
     std::vector<Sheet> sheets;
     auto whole = compileOrReport(src, options);
     if (!whole) return kExitScene;
@@ -277,6 +282,9 @@ int print(const PrintArgs& args) {
         request.pixelSize = layout.pixelSize;
         FrameValues frame;
         if (!frameOf(*sheet.program, request, frame)) return kExitScene;
+        if (!args.verbosity.quiet && &sheet == &sheets.front())
+            fmt::print(stderr, "{}",
+                       strokeFloorNotes(*sheet.program, options.filter, frame.pixelSize));
         ExecOptions exec;
         exec.threads = args.threads;
         exec.cancelled = [] { return StopSignals::received() != 0; };

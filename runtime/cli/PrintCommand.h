@@ -27,6 +27,7 @@ struct PrintArgs {
     int device = -1;
     std::string depth;
     int threads = 0;
+    std::string filter; // --filter point|mean (docs/filtering.md); empty: the scene's
     Verbosity verbosity;
     Defines defines; // -D NAME=VALUE
 };

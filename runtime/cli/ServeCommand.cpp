@@ -42,6 +42,8 @@ int serve(const ServeArgs& args) {
         return kExitUsage;
     }
     if (!checkBackendArgs(args.backend, args.device)) return kExitUsage;
+    serve::SessionOptions options;
+    if (!checkFilterOption(args.filter, options.compile)) return kExitUsage;
     // SIGINT and SIGTERM are taken by sigwait below: blocked before any thread starts (the
     // backend's among them), so that every thread inherits the mask and none is stopped
     // halfway through a frame.
@@ -58,7 +60,6 @@ int serve(const ServeArgs& args) {
                    "the URL's token can see the scene and change its view\n",
                    args.host);
 
-    serve::SessionOptions options;
     options.scene = args.scene;
     options.compile.defines = args.defines;
     options.width = w;

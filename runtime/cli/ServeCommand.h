@@ -20,7 +20,8 @@ struct ServeArgs {
     bool paused = false;
     int threads = 0;
     int debounceMs = 30;
-    Defines defines; // -D NAME=VALUE: the scene's values before any slider moves
+    Defines defines;    // -D NAME=VALUE: the scene's values before any slider moves
+    std::string filter; // --filter point|mean (docs/filtering.md); empty: the scene's
     Verbosity verbosity;
 };
 

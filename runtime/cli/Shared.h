@@ -32,6 +32,10 @@ bool readScene(const std::string& path, Source& out);
 // Compiles, printing any diagnostics; null when the scene has errors.
 std::unique_ptr<SceneProgram> compileOrReport(const Source& src,
                                               const CompileOptions& options = {});
+// --filter: the help line every drawing command gives it, and the check that reads it into
+// `options.filter` (left unset when not given); false after an error naming both filters.
+std::string filterHelp();
+bool checkFilterOption(const std::string& given, CompileOptions& options);
 // The options of the commands that write one image (render, watch), and what they mean.
 struct ImageArgs {
     const std::string& scene;  // empty: the embedded default scene

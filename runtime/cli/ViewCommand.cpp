@@ -48,6 +48,8 @@ int view(const ViewArgs& args) {
         return kExitUsage;
     }
     if (!checkBackendArgs(args.backend, args.device)) return kExitUsage;
+    CompileOptions filter;
+    if (!checkFilterOption(args.filter, filter)) return kExitUsage;
     if (w > 0) {
         // Without --size the window opens at most the screen's size.
         FrameFootprint footprint;
@@ -84,6 +86,7 @@ int view(const ViewArgs& args) {
     options.height = h;
     options.time = args.time;
     options.defines = args.defines;
+    options.filter = filter.filter;
     options.paused = args.paused;
     options.threads = args.threads;
     options.debounceMs = args.debounceMs;

@@ -30,6 +30,7 @@ void printReport(const WatchReport& r, const WatchArgs& args, const Backend& bac
         else if (!args.verbosity.quiet)
             fmt::print(stderr, "moire: watch: {} not written (no good render yet)\n", output);
     } else if (!args.verbosity.quiet) {
+        fmt::print(stderr, "{}", r.notes);
         const BuildResult& b = r.result;
         std::string how = b.kind == BuildResult::Kind::Numbers
                               ? "numbers changed, kernel reused"
@@ -71,6 +72,8 @@ int watch(const WatchArgs& args) {
                             args.device, kMaxFrameSide},
                            image))
         return kExitUsage;
+    CompileOptions filter;
+    if (!checkFilterOption(args.filter, filter)) return kExitUsage;
     const std::string& output = image.output;
     std::unique_ptr<Backend> backend = openBackend(args.backend, args.device);
     if (!backend) return kExitMachine;
@@ -98,6 +101,7 @@ int watch(const WatchArgs& args) {
     options.exec.threads = args.threads;
     options.watch.debounce = std::chrono::milliseconds(args.debounceMs);
     options.defines = args.defines;
+    options.filter = filter.filter;
 
     // SIGINT and SIGTERM are taken by sigwait below, on this thread only: block them before
     // the watch thread starts, so that it inherits the mask and a signal never lands on it in

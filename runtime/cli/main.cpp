@@ -10,6 +10,7 @@
 #include "runtime/cli/FarmCommand.h"
 #include "runtime/cli/PrintCommand.h"
 #include "runtime/cli/ServeCommand.h"
+#include "runtime/cli/Shared.h"
 #include "runtime/output/ImageIO.h"
 #include "runtime/output/JitCache.h"
 
@@ -76,6 +77,11 @@ void addVerbosity(CLI::App* cmd, cli::Verbosity& v, const char* quiet = "Print n
     cmd->add_flag("-v,--verbose", v.verbose, verbose)->excludes(q);
 }
 
+// --filter, on every command that draws a scene (docs/filtering.md).
+void addFilter(CLI::App* cmd, std::string& filter) {
+    cmd->add_option("--filter", filter, cli::filterHelp());
+}
+
 // The options of the commands that draw one image of a scene (render, watch).
 template <class Args>
 void addImageOptions(CLI::App* cmd, Args& args) {
@@ -131,9 +137,7 @@ int main(int argc, char** argv) {
     renderCmd->add_flag("--overlay", renderArgs.overlay,
                         "Lay the fringe curves of the winning character over the view where a "
                         "fringe stands, as the scene's overlay = true does (docs/views.md)");
-    renderCmd->add_option("--filter", renderArgs.filter,
-                          "How strokes are sampled: " + sema::filterList() +
-                              " (default: the scene's filter, else mean; docs/filtering.md)");
+    addFilter(renderCmd, renderArgs.filter);
     renderCmd->add_option("--envelope-gain", renderArgs.envelopeGain,
                           "The envelope's contrast about its pivot, replacing the scene's "
                           "envelope_gain (default 3)");
@@ -195,6 +199,7 @@ int main(int argc, char** argv) {
     addBackend(clipCmd, clipArgs.backend, clipArgs.device);
     addDepth(clipCmd, clipArgs.depth, "Bits per channel of image frames");
     addThreads(clipCmd, clipArgs.threads);
+    addFilter(clipCmd, clipArgs.filter);
     clipCmd->add_flag("--plan", clipArgs.plan,
                       "Print the frames the clip would have and why; render nothing");
     addVerbosity(clipCmd, clipArgs.verbosity);
@@ -218,6 +223,7 @@ int main(int argc, char** argv) {
                          "Image to keep up to date (default: <scene>.png); replaced atomically");
     addImageOptions(watchCmd, watchArgs);
     addDebounce(watchCmd, watchArgs.debounceMs);
+    addFilter(watchCmd, watchArgs.filter);
     watchCmd->add_flag("--once", watchArgs.once, "Render the scene as it is now and exit");
     addVerbosity(watchCmd, watchArgs.verbosity, "Print nothing but diagnostics",
                  "Also print how long each save took to read and compile");
@@ -240,6 +246,7 @@ int main(int argc, char** argv) {
     viewCmd->add_flag("--paused", viewArgs.paused, "Start with the clock stopped");
     addThreads(viewCmd, viewArgs.threads);
     addDebounce(viewCmd, viewArgs.debounceMs);
+    addFilter(viewCmd, viewArgs.filter);
     viewCmd->add_flag("--trace", viewArgs.trace, "Print a line per frame shown")->group("");
     addVerbosity(viewCmd, viewArgs.verbosity, "Print nothing but errors",
                  "Also say which backend draws and why");
@@ -268,6 +275,7 @@ int main(int argc, char** argv) {
     serveCmd->add_flag("--paused", serveArgs.paused, "Start with the clock stopped");
     addThreads(serveCmd, serveArgs.threads);
     addDebounce(serveCmd, serveArgs.debounceMs);
+    addFilter(serveCmd, serveArgs.filter);
     addVerbosity(serveCmd, serveArgs.verbosity);
     serveCmd->footer("The first line on standard output is the page's address, with a token made "
                      "for this run:\nrequests without it are refused. Ctrl-C stops (exit 0). "

@@ -1,6 +1,7 @@
 #include "runtime/live/WatchSession.h"
 
 #include "compiler/backend/Backend.h"
+#include "runtime/FloorNote.h"
 #include "runtime/output/MemoryBudget.h"
 
 #include <fmt/format.h>
@@ -17,6 +18,7 @@ SceneReloader::Options reloaderOptions(const WatchOptions& o) {
     SceneReloader::Options r;
     r.watch = o.watch;
     r.compile.defines = o.defines;
+    r.compile.filter = o.filter;
     return r;
 }
 } // namespace
@@ -98,6 +100,7 @@ WatchReport WatchSession::handle(const BuildResult& b) {
         return r;
     }
     r.wrote = true;
+    r.notes = strokeFloorNotes(*b.build->program, options_.filter, frame.pixelSize);
     r.width = frame.width;
     r.height = frame.height;
     return r;

@@ -11,6 +11,7 @@
 #include <chrono>
 #include <functional>
 #include <memory>
+#include <optional>
 #include <string>
 
 namespace moire {
@@ -22,7 +23,8 @@ struct WatchOptions {
     WriteOptions write;
     ExecOptions exec;
     FileWatch::Options watch;
-    Defines defines; // `-D` values, applied to every build
+    Defines defines;                        // `-D` values, applied to every build
+    std::optional<sema::FilterMode> filter; // --filter, replacing the scene's; unset: the scene's
 };
 
 // What happened to one state of the file.
@@ -36,6 +38,7 @@ struct WatchReport {
     std::string diagnostics; // bad states: `file:line:col: error:` lines (or an I/O error)
     int width = 0, height = 0;
     double renderMs = 0.0;
+    std::string notes; // good states: the stroke floor's notes (FloorNote.h), when any
     bool good() const { return wrote; }
 };
 

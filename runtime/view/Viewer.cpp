@@ -157,6 +157,7 @@ class Viewer {
         compile.view = state_.viewOverride();
         compile.overlay = state_.overlayOverride();
         compile.defines = options_.defines;
+        compile.filter = options_.filter;
         BuildResult first;
         if (options_.scenePath.empty()) {
             builder_ = std::make_unique<SceneBuilder>(backend_, compile);

@@ -7,7 +7,9 @@
 
 #include "compiler/backend/Backend.h"
 #include "compiler/Defines.h"
+#include "compiler/sema/Views.h"
 
+#include <optional>
 #include <string>
 
 namespace moire::view {
@@ -23,8 +25,9 @@ struct ViewerOptions {
     // pixels rendered, V the version of the view's state they show), and `placed v=V` after
     // the placement `p` prints.
     bool trace = false;
-    std::string backendLabel; // for the status line
-    Defines defines;          // `-D` values, applied to every build
+    std::string backendLabel;               // for the status line
+    Defines defines;                        // `-D` values, applied to every build
+    std::optional<sema::FilterMode> filter; // --filter, replacing the scene's; unset: the scene's
 };
 
 // Opens the window and runs until it is closed; returns the process exit status (0, or 1

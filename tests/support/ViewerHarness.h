@@ -257,11 +257,28 @@ struct Placed {
 class Viewer {
   public:
     Viewer(const test::TempDir& dir, const VirtualScreen& screen, const std::string& scene,
-           bool paused = true, const std::string& size = "320x200")
+           bool paused = true, const std::string& size = "320x200",
+           const std::vector<std::string>& extra = {})
         : dir_(dir), screen_(screen), errPath_(dir.file("view.err")),
-          process_({test::moireBinary(), "view", scene, "--size", size,
-                    paused ? "--paused" : "--time=0", "--trace", "--backend", "jit"},
-                   {"DISPLAY=" + screen.display()}, true, errPath_) {}
+          process_(commandLine(scene, paused, size, extra), {"DISPLAY=" + screen.display()}, true,
+                   errPath_) {}
+
+    // moire view on `scene` with the trace, the JIT and `extra` (more options, as given).
+    static std::vector<std::string> commandLine(const std::string& scene, bool paused,
+                                                const std::string& size,
+                                                const std::vector<std::string>& extra) {
+        std::vector<std::string> args{test::moireBinary(),
+                                      "view",
+                                      scene,
+                                      "--size",
+                                      size,
+                                      paused ? "--paused" : "--time=0",
+                                      "--trace",
+                                      "--backend",
+                                      "jit"};
+        args.insert(args.end(), extra.begin(), extra.end());
+        return args;
+    }
 
     std::string stderrText() const {
         std::ifstream in(errPath_);
@@ -409,11 +426,13 @@ struct Session {
     std::pair<int, int> origin;
 
     // False (with a message) when this machine cannot open a window.
-    bool start(const std::string& scene, bool paused = true, int width = 320, int height = 200) {
+    // `extra`: more options for moire view, as given.
+    bool start(const std::string& scene, bool paused = true, int width = 320, int height = 200,
+               const std::vector<std::string>& extra = {}) {
         REQUIRE_MESSAGE(screen.ok(), "Xvfb did not start");
         dir.write("s.moire", scene);
         viewer.emplace(dir, screen, dir.file("s.moire"), paused,
-                       std::to_string(width) + "x" + std::to_string(height));
+                       std::to_string(width) + "x" + std::to_string(height), extra);
         if (!started(*viewer)) return false;
         origin = windowOrigin(screen, width, height);
         screen.xdo("key h");

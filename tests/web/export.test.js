@@ -87,6 +87,33 @@ test("two rings, and the default scene: the exported page draws what moire rende
   await matches("default");
 });
 
+// Circles 0.7 apart and 0.1 wide at a world unit a pixel: 14% ink under the mean filter,
+// solid ink point-sampled (docs/filtering.md).
+function inkOf(rgba) {
+  let sum = 0;
+  for (let i = 0; i < rgba.length; i += 4) sum += 1 - rgba[i] / 255;
+  return sum / (rgba.length / 4);
+}
+
+test("--filter: the page draws what render --filter draws", async () => {
+  const scene = path.join(dir, "fine.moire");
+  fs.writeFileSync(scene, "scene { size = (160, 120) }\n" +
+                   "layer a { family = circles; spacing = 0.7; stroke = 0.1 }\n");
+  const ink = {};
+  for (const filter of ["point", "mean"]) {
+    const html = path.join(dir, `fine-${filter}.html`), png = path.join(dir, `fine-${filter}.png`);
+    run(["export", scene, "-o", html, "--paused", "-q", "--filter", filter]);
+    run(["render", scene, "-o", png, "-q", "--filter", filter]);
+    const got = await pagePixels(html);
+    const d = compare(got, decodePng(fs.readFileSync(png)));
+    assert.ok(d.within >= 0.999, `${filter}: ${(100 * (1 - d.within)).toFixed(3)}% of samples ` +
+              `differ by more than 2/255 (worst ${d.worst})`);
+    ink[filter] = inkOf(got);
+  }
+  assert.ok(ink.mean < 0.3, `mean ink ${ink.mean}`);
+  assert.ok(ink.point > 0.9, `point ink ${ink.point}`);
+});
+
 test("a walking family: the walk's loops run in the fragment shader", async () => {
   await matches("walking_squares");
   await matches("unwinding_walk");

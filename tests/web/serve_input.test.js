@@ -8,7 +8,16 @@ const assert = require('node:assert/strict');
 const fs = require('node:fs');
 const net = require('node:net');
 const path = require('node:path');
-const { tempDir, startServe, request, json, waitFor } = require('./serve_support.js');
+const {
+  compareRgba,
+  decodePng,
+  tempDir,
+  startServe,
+  request,
+  json,
+  waitFor,
+  render,
+} = require('./serve_support.js');
 
 let dir, cache, server;
 
@@ -168,4 +177,37 @@ test('event streams beyond the limit are refused, and a closed one frees its pla
     return r.status === 200;
   }, 10000, 'a free stream');
   await stillServing();
+});
+
+test('--filter: the served frame is what render --filter draws', async () => {
+  // Circles 0.7 apart and 0.1 wide at a world unit a pixel: 14% ink under the mean filter,
+  // solid ink point-sampled (docs/filtering.md).
+  const scene = path.join(dir, 'fine.moire');
+  fs.writeFileSync(scene, 'layer a { family = circles; spacing = 0.7; stroke = 0.1 }\n');
+  const ink = {};
+  try {
+    for (const filter of ['point', 'mean']) {
+      const fine = await startServe(scene, ['--paused', '--size', '160x120', '--filter', filter], {
+        MOIRE_CACHE_DIR: cache,
+      });
+      try {
+        const state = await waitFor(async () => (await json(fine, '/api/state')).body.frame, 30000, 'a frame');
+        const response = await request(fine, `/frame/${state.id}.png`);
+        assert.equal(response.status, 200);
+        const frame = decodePng(Buffer.from(await response.arrayBuffer()));
+        const want = render(scene, 160, 120, ['--filter', filter]);
+        const d = compareRgba(frame.rgba, want.rgba);
+        assert.ok(d.max <= 1, `${filter}: ${d.differing} pixels differ, by up to ${d.max}`);
+        let sum = 0;
+        for (let i = 0; i < frame.rgba.length; i += 4) sum += 1 - frame.rgba[i] / 255;
+        ink[filter] = sum / (frame.rgba.length / 4);
+      } finally {
+        assert.equal(await fine.stop(), 0, fine.stderr());
+      }
+    }
+  } finally {
+    fs.rmSync(scene);
+  }
+  assert.ok(ink.mean < 0.3, `mean ink ${ink.mean}`);
+  assert.ok(ink.point > 0.9, `point ink ${ink.point}`);
 });

@@ -1,0 +1,140 @@
+// The mean filter's frame time against point sampling (docs/filtering.md), measured side by
+// side in one run on the same scenes:
+//
+//   build/bin/moire_filter_bench [--size WxH] [--repeat N] [--interp] [--vulkan] [scene ...]
+//
+// For each scene (some examples, and the cases the filter is for: fine circles, a fine pair
+// whose beat is coarse, a walking family past its budget), the scene is compiled twice, with
+// `filter = point` and with `filter = mean` (CompileOptions::filter), and each kernel renders
+// the same frame on the JIT; the fastest of --repeat renders is kept (other work on the
+// machine can only add time). The ratio mean / point is the filter's cost on that scene.
+// --interp adds the reference interpreter (one render each: it is slow), --vulkan the GPU
+// where a device is present.
+#include "bench/BenchScenes.h"
+#include "compiler/backend/Backend.h"
+#include "compiler/Compile.h"
+#include "runtime/FrameEval.h"
+#include "runtime/output/Render.h"
+
+#include <cstdio>
+#include <fmt/format.h>
+#include <memory>
+#include <optional>
+
+using namespace moire;
+using bench::Scene;
+
+namespace {
+
+// The scenes the filter is for, written here so the benchmark needs no files of its own.
+std::vector<Scene> filterScenes() {
+    std::vector<Scene> out;
+    for (const char* name : {"two_rings", "fork_grating", "counter_spirals"})
+        out.push_back(
+            bench::sceneFile(std::string(MOIRE_SOURCE_DIR "/examples/") + name + ".moire"));
+    // Circles 0.7 apart, 0.1 wide, at a pixel a world unit: 1.43 members a pixel everywhere.
+    out.push_back({"fine circles", "fine_circles.moire",
+                   "layer a { family = circles; spacing = 0.7; stroke = 0.1 }\n"});
+    // Two line families 0.6 and 0.62 apart at 1.5 degrees: members finer than pixels, a
+    // beat tens of pixels wide.
+    out.push_back({"fine pair", "fine_pair.moire",
+                   "layer a { family = lines; spacing = 0.6; stroke = 0.15 }\n"
+                   "layer b { family = lines; spacing = 0.62; stroke = 0.15; "
+                   "rotation = 1.5deg }\n"});
+    // A walking family whose drift equals its spacing, turned half a degree a member: the
+    // solver's interval is wider than its budget over most of the frame.
+    out.push_back({"walking past budget", "walking_budget.moire",
+                   "layer a { family = triangles; spacing = 6; stroke = 1; offset = (6, 0); "
+                   "turn = 0.5deg }\n"});
+    return out;
+}
+
+// The scene compiled with `filter`, its frame at t = 0 evaluated; null after the diagnostics.
+struct Compiled {
+    std::unique_ptr<SceneProgram> program;
+    FrameValues values;
+};
+std::optional<Compiled> compileWith(const Scene& s, sema::FilterMode filter, int w, int h) {
+    CompileOptions options;
+    options.filter = filter;
+    CompileResult r = compileScene(s.path, s.text, options);
+    if (!r.program) {
+        fmt::print(stderr, "{}", r.diagnostics);
+        return std::nullopt;
+    }
+    Compiled out{std::move(r.program), {}};
+    FrameRequest req;
+    req.width = w;
+    req.height = h;
+    std::string diags;
+    if (!evaluateFrame(*out.program, req, out.values, diags)) {
+        fmt::print(stderr, "{}", diags);
+        return std::nullopt;
+    }
+    return out;
+}
+
+// The fastest render of each kernel on `backend`, in ms: {point, mean}.
+std::pair<double, double> timeBoth(Backend& backend, const Compiled& point, const Compiled& mean,
+                                   int repeat) {
+    auto p = backend.compile(point.program->kernel);
+    auto m = backend.compile(mean.program->kernel);
+    KernelFrame fp{point.values.uniforms.data(), point.values.width, point.values.height};
+    KernelFrame fm{mean.values.uniforms.data(), mean.values.width, mean.values.height};
+    return {bench::bestRender(*p, fp, repeat) * 1e3, bench::bestRender(*m, fm, repeat) * 1e3};
+}
+
+} // namespace
+
+int main(int argc, char** argv) {
+    int width = 1920, height = 1080, repeat = 5;
+    bool withInterp = false, withVulkan = false;
+    std::vector<Scene> scenes;
+    for (int i = 1; i < argc; ++i) {
+        std::string a = argv[i];
+        if (bench::sizeOrRepeat(argc, argv, i, width, height, repeat))
+            continue;
+        else if (a == "--interp")
+            withInterp = true;
+        else if (a == "--vulkan")
+            withVulkan = true;
+        else
+            scenes.push_back(bench::sceneFile(a));
+    }
+    if (scenes.empty()) scenes = filterScenes();
+
+    std::unique_ptr<Backend> jit = makeBackend("jit"), interp, vulkan;
+    if (withInterp) interp = makeBackend("interp");
+    if (withVulkan) {
+        try {
+            vulkan = makeBackend("vulkan");
+        } catch (const BackendError& e) {
+            fmt::print("no Vulkan: {}\n", e.what());
+        }
+    }
+    fmt::print("moire filter benchmark: {}x{}, best of {}, ms a frame\n\n", width, height, repeat);
+    fmt::print("{:<22} {:>10} {:>10} {:>7}", "scene", "jit point", "jit mean", "ratio");
+    if (interp) fmt::print(" {:>10} {:>10} {:>7}", "int point", "int mean", "ratio");
+    if (vulkan) fmt::print(" {:>10} {:>10} {:>7}", "vk point", "vk mean", "ratio");
+    fmt::print("\n");
+    for (const Scene& s : scenes) {
+        auto point = compileWith(s, sema::FilterMode::Point, width, height);
+        auto mean = compileWith(s, sema::FilterMode::Mean, width, height);
+        if (!point || !mean) return 1;
+        auto [jp, jm] = timeBoth(*jit, *point, *mean, repeat);
+        fmt::print("{:<22} {:>10.2f} {:>10.2f} {:>6.2f}x", s.name, jp, jm, jm / jp);
+        if (interp) {
+            auto [ip, im] = timeBoth(*interp, *point, *mean, 1); // slow: once is enough
+            fmt::print(" {:>10.1f} {:>10.1f} {:>6.2f}x", ip, im, im / ip);
+        }
+        if (vulkan) {
+            auto [vp, vm] = timeBoth(*vulkan, *point, *mean, repeat);
+            fmt::print(" {:>10.2f} {:>10.2f} {:>6.2f}x", vp, vm, vm / vp);
+        }
+        fmt::print("\n");
+        std::fflush(stdout);
+    }
+    fmt::print("\nratio: the mean filter's frame time over point sampling's, the same scene and\n"
+               "frame, rendered one after the other in this run.\n");
+    return 0;
+}

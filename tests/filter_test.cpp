@@ -152,8 +152,9 @@ Image downsampledAlpha(const SceneProgram& program, Backend& backend, int x0, in
 // pixel and averaged. The mean is exact for phase families whose index runs evenly over a
 // pixel and for members apart by more than a pixel, so the tone of a preview is the tone of
 // a print (docs/filtering.md; experiments/tone_resolution measures the whole frames). The
-// walking examples are left to experiments/tone_resolution: their solver's budget depends on
-// the pixel, so the finer frame is not the same field.
+// walking examples are left to experiments/tone_resolution: inside a stroke their solver
+// reports the first member it accepts (§7.1), not always the nearest, and walking_triangles
+// piles members closer than a pixel, where the nearest member alone is not the pixel's ink.
 TEST_CASE("filter: each layer of the examples reads the box-filtered ink of its exact field") {
     auto backend = test::makeBackendOrSkip("jit");
     if (!backend) backend = test::makeBackendOrSkip("interp");

@@ -15,9 +15,10 @@ std::pair<ValueId, ValueId> alongSides(ir::Builder& b, ValueId gx, ValueId gy,
             b.sub(b.mul(gy, pixel.cosTurn), b.mul(gx, pixel.sinTurn))};
 }
 
-// Whether `v` is computed from a derivative (Op::DerivX, DerivY) anywhere: the AD pass is first
-// order, so such a value's own derivative cannot be taken. An If's or a Loop's result is read as
-// computed from everything in its regions.
+// Whether the derivatives of `v` are not to be taken: it is computed from a derivative
+// (Op::DerivX, DerivY; the AD pass is first order), or in a loop (a walking solver's search,
+// through which AD would carry tangents on every step: the solver gives its index gradient
+// instead). An If's result is read as computed from everything in its regions.
 bool fromDerivative(const ir::Function& f, ValueId v) {
     std::vector<const ir::Inst*> def(f.numValues(), nullptr);
     for (const ir::Block& block : f.blocks)
@@ -31,7 +32,9 @@ bool fromDerivative(const ir::Function& f, ValueId v) {
         if (!insts.empty()) {
             const ir::Inst* inst = insts.back();
             insts.pop_back();
-            if (inst->op == ir::Op::DerivX || inst->op == ir::Op::DerivY) return true;
+            if (inst->op == ir::Op::DerivX || inst->op == ir::Op::DerivY ||
+                inst->op == ir::Op::Loop)
+                return true;
             for (ValueId a : inst->args) todo.push_back(a);
             for (ir::BlockId r : inst->regions)
                 if (!blockSeen[r]) {

@@ -78,6 +78,7 @@ constexpr double kLeastSideShare = 1.0 / 32.0;
 template <class T>
 T squareMeanInk(T index, T along, T across, T w) {
     using ir::literal;
+    using std::abs;
     using std::floor;
     using std::max;
     using std::min;
@@ -97,7 +98,18 @@ T squareMeanInk(T index, T along, T across, T w) {
     };
     T c = residual + 0.5;
     T s1 = (a + b) * 0.5, s2 = (a - b) * 0.5;
-    return (twice(c + s1) - twice(c + s2) - twice(c - s2) + twice(c - s1)) / (a * b);
+    T mean = (twice(c + s1) - twice(c + s2) - twice(c - s2) + twice(c - s1)) / (a * b);
+    // Exactly 0 where the footprint lies wholly between member 0's stroke and the next, exactly
+    // 1 where it lies wholly within the stroke: there D is linear or quadratic over the
+    // footprint, and its second difference would round to a few float steps off.
+    const T one = literal(index, 1.0);
+    const T off = abs(residual);
+    const T clear = ir::select(ir::lessThan(off, half + s1), zero,
+                               ir::select(ir::lessThan(one - half, off + s1), zero, one));
+    const T inside = ir::select(ir::lessThan(half, off + s1), zero, one);
+    mean = min(max(mean, zero), one);
+    return ir::select(ir::lessThan(zero, inside), one,
+                      ir::select(ir::lessThan(zero, clear), zero, mean));
 }
 
 // The mean over a square pixel of one stroke seen from its distance: the pixel's centre stands
@@ -127,9 +139,17 @@ T distanceMeanInk(T d, T h, T along, T across) {
         T in = min(max(y + half, zero), half * 2.0);
         return in * in * 0.5 + half * 2.0 * max(y - half, zero);
     };
-    return (integral(centre + s1) - integral(centre + s2) - integral(centre - s2) +
-            integral(centre - s1)) /
-           (a * b);
+    const T one = literal(d, 1.0);
+    const T mean = min(max((integral(centre + s1) - integral(centre + s2) - integral(centre - s2) +
+                            integral(centre - s1)) /
+                               (a * b),
+                           zero),
+                       one);
+    // Exactly 0 where the footprint lies wholly past the stroke, exactly 1 where it lies wholly
+    // within: there E is linear or constant over the footprint, and its second difference
+    // would round to a few float steps off (a paper-white pixel drawn 1e-7 grey).
+    return ir::select(ir::lessThan(centre - s1, half),
+                      ir::select(ir::lessThan(half, centre + s1), mean, one), zero);
 }
 
 // The pixel as the mean filter reads it: its world size, and where the camera turns the

@@ -27,6 +27,10 @@ Compiled compile(const WalkingScene& s, const lower::WalkingVariant& v, int w, i
     CompileOptions opt;
     opt.walking = v;
     opt.tally = tally;
+    // The paper's tables time and judge the solver's point-sampled picture (§9): under the mean
+    // filter the ink also reads the distance inside the stroke, which the accept early exit
+    // (§7.1) leaves to whichever member it met first.
+    opt.filter = sema::FilterMode::Point;
     CompileResult r = compileScene(s.name, walkingSceneText(s, w, h), opt);
     Compiled out;
     std::string diags = r.diagnostics;

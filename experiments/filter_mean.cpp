@@ -1,10 +1,10 @@
 // The mean filter (docs/filtering.md, issue: members finer than pixels): fine lines (upright
-// and slanted) and fine circles rendered on the JIT at one sample a pixel over two decades of
-// zoom, point-sampled and with the filtered mean, each pixel against a 256-sample box-filtered
-// reference of the exact field (ink wherever the world distance to the nearest member is under half
-// the stroke), computed here in double from the families' own geometry. The mean absolute error
-// must be at least 10 times lower with the mean where members are unresolved (one member a
-// pixel or more), and no worse where they are resolved (4 pixels a member or more).
+// and slanted), fine circles and a fine spiral rendered on the JIT at one sample a pixel over two
+// decades of zoom, point-sampled and with the filtered mean, each pixel against a 256-sample
+// box-filtered reference of the exact field (ink wherever the world distance to the nearest member
+// is under half the stroke), computed here in double from the families' own geometry. The mean
+// absolute error must be at least 10 times lower with the mean where members are unresolved (one
+// member a pixel or more), and no worse where they are resolved (4 pixels a member or more).
 #include "experiments/Harness.h"
 #include "runtime/output/Render.h"
 
@@ -25,10 +25,10 @@ constexpr double kSpacing = 1.0, kStroke = 0.2; // every member inks 20% of its 
 constexpr int kReference = 256;
 constexpr double kSlant = 30.0; // degrees
 
-enum Family { kLines, kSlanted, kCircles, kFamilies };
-const char* const kFamilyNames[kFamilies] = {"lines", "slanted lines", "circles"};
+enum Family { kLines, kSlanted, kCircles, kSpiral, kFamilies };
+const char* const kFamilyNames[kFamilies] = {"lines", "slanted lines", "circles", "spiral"};
 const char* const kFamilyLayers[kFamilies] = {"family = lines", "family = lines; angle = 30deg",
-                                              "family = circles"};
+                                              "family = circles", "family = spiral"};
 
 std::string sceneText(Family family, double zoom, int width, int height, const char* filter) {
     char buf[512];
@@ -41,7 +41,16 @@ std::string sceneText(Family family, double zoom, int width, int height, const c
 
 // The exact field's ink at a world point: the distance to the nearest member (lines
 // x cos a + y sin a = n s; circles r = n s, member 0 the centre point) under half the stroke.
+// The spiral's members are r - s theta / 2 pi = n s; its distance is the index residual over
+// the index's gradient, |(1/s, 1 / (2 pi r))| (to first order: the arms are straight and evenly
+// spaced over the stroke's width once r is a few spacings).
 bool exactInk(Family family, double x, double y) {
+    if (family == kSpiral) {
+        const double r = std::hypot(x, y);
+        const double index = (r - kSpacing * std::atan2(y, x) / (2 * M_PI)) / kSpacing;
+        const double grad = std::hypot(1.0 / kSpacing, 1.0 / (2 * M_PI * std::max(r, 1e-12)));
+        return std::abs(index - std::round(index)) / grad < 0.5 * kStroke;
+    }
     const double a = kSlant * M_PI / 180.0;
     const double phase = family == kLines     ? x
                          : family == kSlanted ? x * std::cos(a) + y * std::sin(a)

@@ -1,6 +1,6 @@
-// The stroke filter (docs/filtering.md): the mean over the pixel where a phase family's members
-// are finer than pixels, the point rule where they are resolved, and the switch between them
-// in the scene and on the command line.
+// The stroke filter (docs/filtering.md): the mean of the stroke as written over the pixel, at
+// every size, against the point rule's floored strokes, and the switch between them in the
+// scene and on the command line.
 #include "runtime/output/ImageIO.h"
 #include "runtime/output/Render.h"
 #include "tests/support/Support.h"
@@ -121,37 +121,81 @@ TEST_CASE("filter: --filter on render, and a bad value named") {
     CHECK_FALSE(std::filesystem::exists(dir.file("bad.png")));
 }
 
-// The examples under the default filter against their golden images (made point-sampled), with
-// the golden test's tolerance: the mean leaves a scene whose members stand 4 pixels apart or
-// more as it was. Three examples hold members finer than that in places, and there the mean
-// draws their grey: the hyperbolae where they crowd toward the asymptotes, and the encoded
-// carriers of two_fields and vortex_streamlines where their fields compress them (measured
-// against point sampling on the golden window: 1.0%, 6.3% and 0.6% of samples off by more than
-// 2/255; docs/filtering.md).
-TEST_CASE("filter: the mean keeps the golden images of the examples whose members are resolved") {
-    const std::vector<std::string> unresolved = {"hyperbolae", "two_fields", "vortex_streamlines"};
-    auto interp = test::makeBackendOrSkip("interp");
-    REQUIRE(interp);
-    constexpr int kW = 400, kH = 300; // the golden window and frame (examples_test.cpp)
-    constexpr double kFrameTime = 3.6;
+// A window of the frame drawn k times larger (each pixel k x k pixels), box-downsampled back:
+// alpha only (a layer alone on transparent paper, whose alpha is its ink).
+Image downsampledAlpha(const SceneProgram& program, Backend& backend, int x0, int y0, int width,
+                       int height, int k) {
+    FrameRequest req;
+    req.time = 0.0;
+    FrameValues fv;
+    std::string diags;
+    REQUIRE(evaluateFrame(program, req, fv, diags));
+    req.width = fv.width * k;
+    req.height = fv.height * k;
+    REQUIRE(evaluateFrame(program, req, fv, diags));
+    auto kernel = backend.compile(program.kernel);
+    const int n = kernel->numOutputs();
+    std::vector<float> big(size_t(width) * k * height * k * n);
+    KernelFrame frame{fv.uniforms.data(), fv.width, fv.height};
+    kernel->runTile(frame, TileRect{x0 * k, y0 * k, (x0 + width) * k, (y0 + height) * k},
+                    big.data(), size_t(width) * k * n);
+    Image out(width, height, 1);
+    for (int y = 0; y < height * k; ++y)
+        for (int x = 0; x < width * k; ++x)
+            out.pixels[size_t(y / k) * width + x / k] +=
+                big[(size_t(y) * width * k + x) * n + 3] / float(k * k);
+    return out;
+}
+
+// Every layer of every example alone, under the default filter, against an independent
+// expectation: the exact field's stroke (as written, no floor) point-sampled 8 x 8 times a
+// pixel and averaged. The mean is exact for phase families whose index runs evenly over a
+// pixel and for members apart by more than a pixel, so the tone of a preview is the tone of
+// a print (docs/filtering.md; experiments/tone_resolution measures the whole frames). The
+// walking examples are left to experiments/tone_resolution: inside a stroke their solver
+// reports the first member it accepts (§7.1), not always the nearest, and walking_triangles
+// piles members closer than a pixel, where the nearest member alone is not the pixel's ink.
+TEST_CASE("filter: each layer of the examples reads the box-filtered ink of its exact field") {
+    auto backend = test::makeBackendOrSkip("jit");
+    if (!backend) backend = test::makeBackendOrSkip("interp");
+    REQUIRE(backend);
+    constexpr int kW = 96, kH = 64, kK = 8;
     int compared = 0;
     for (const std::string& rel : test::exampleScenes()) {
         const std::string name = std::filesystem::path(rel).stem().string();
-        if (std::find(unresolved.begin(), unresolved.end(), name) != unresolved.end()) continue;
-        CAPTURE(name);
-        auto program = test::compileOk(test::readFile(test::sourcePath(rel)), {}, rel);
+        if (name.find("walk") != std::string::npos) continue;
+        const std::string text = test::readFile(test::sourcePath(rel));
+        auto scene = test::compileOk(text, {}, rel);
         FrameValues fv;
         std::string diags;
-        REQUIRE(evaluateFrame(*program, FrameRequest{kFrameTime}, fv, diags));
-        Image img = test::renderWindow(*program, *interp, (fv.width - kW) / 2, (fv.height - kH) / 2,
-                                       kW, kH, kFrameTime);
-        for (float& v : img.pixels) v = std::round(std::clamp(v, 0.0f, 1.0f) * 255.0f) / 255.0f;
-        Image ref = readImage(test::sourcePath("tests/golden/" + name + ".png"));
-        test::ImageDiff d = test::compareImages(ref, img, 2.0 / 255.0);
-        INFO("max ", d.maxAbs * 255, "/255, mean ", d.meanAbs * 255, "/255");
-        CHECK(d.fractionWithin() >= 0.995);
-        CHECK(d.meanAbs <= 0.5 / 255.0);
-        ++compared;
+        REQUIRE(evaluateFrame(*scene, FrameRequest{}, fv, diags));
+        const int x0 = (fv.width - kW) / 2 + 37, y0 = (fv.height - kH) / 2 - 23;
+        for (int l = 0; l < static_cast<int>(scene->checked.layers.size()); ++l) {
+            CAPTURE(name);
+            CAPTURE(l);
+            CompileOptions mean;
+            mean.separateLayer = l;
+            CompileOptions exact = mean;
+            exact.filter = sema::FilterMode::Point;
+            exact.strokeFloor = false;
+            auto drawn = test::compileOk(text, mean, rel);
+            auto field = test::compileOk(text, exact, rel);
+            const Image got = downsampledAlpha(*drawn, *backend, x0, y0, kW, kH, 1);
+            const Image want = downsampledAlpha(*field, *backend, x0, y0, kW, kH, kK);
+            double sq = 0.0, sum = 0.0, gotInk = 0.0, wantInk = 0.0;
+            for (size_t i = 0; i < got.pixels.size(); ++i) {
+                const double e = got.pixels[i] - want.pixels[i];
+                sq += e * e;
+                sum += e;
+                gotInk += got.pixels[i];
+                wantInk += want.pixels[i];
+            }
+            const double n = static_cast<double>(got.pixels.size());
+            INFO("ink ", gotInk / n, " against ", wantInk / n);
+            CHECK(std::sqrt(sq / n) <= 0.03);  // the pixel's tone
+            CHECK(std::abs(sum / n) <= 0.005); // the window's tone
+            ++compared;
+        }
     }
-    CHECK(compared + unresolved.size() == test::exampleScenes().size());
+    CHECK(compared >= 25);
 }

@@ -61,7 +61,8 @@ using Advance = std::function<void(std::vector<double>&, const Slots&, int i, do
 std::vector<double> bruteMean(const std::string& scene, const Origins& at, const Advance& move,
                               const std::vector<std::pair<double, double>>& taps,
                               bool sumWhereOpposed, double time = 0.0) {
-    auto p = test::compileOk(scene, {.layerFields = true});
+    // The pattern point-sampled: the envelope is the mean of that picture over the advances.
+    auto p = test::compileOk(scene, {.layerFields = true, .filter = sema::FilterMode::Point});
     auto jit = test::makeBackendOrSkip("jit");
     REQUIRE(jit);
     auto kernel = jit->compile(p->kernel);

@@ -259,6 +259,9 @@ CompileOptions probing() {
     CompileOptions o;
     o.layerFields = true;
     o.mode = CompileOptions::Mode::Probe;
+    // Point-sampled: the paper's colour must reach the probe untouched, and a probe's pixel is
+    // not a pixel of any frame for the mean filter to average over.
+    o.filter = sema::FilterMode::Point;
     return o;
 }
 

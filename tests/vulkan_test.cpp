@@ -174,7 +174,8 @@ TEST_CASE("vulkan: every family draws what the interpreter draws") {
         if (std::getenv("MOIRE_PARITY_REPORT"))
             MESSAGE(layer, ": max ", d.maxAbs * 255, "/255, mean ", d.meanAbs * 255,
                     "/255, within 2/255: ", d.fractionWithin());
-        CHECK(ink > 0.02 * want.pixels.size()); // something is drawn
+        // Something is drawn: dots of 1.5 on a 9 x 11.7 lattice, as written, ink about 1.5%.
+        CHECK(ink > 0.01 * want.pixels.size());
         CHECK(d.fractionWithin() >= 0.999);
         CHECK(d.meanAbs < 0.5 / 255);
     }

@@ -22,9 +22,14 @@ void Compose::layer(const LayerInk& ink) {
     b_.setLoc(ink.where);
     // The pattern is drawn in every view (the split shows it; elsewhere what is not used
     // is removed as dead code).
-    ValueId stroke = strokeInk(b_, ink.fields.distance, ink.band);
-    if (ink.pixel.size != ir::kNoValue && ink.fields.footprint.grad != ir::kNoValue)
-        stroke = meanInk(b_, ink.fields.footprint, stroke, ink.halfWidth, ink.pixel);
+    // Under the mean filter (pixel set) the stroke as written averaged over the pixel: by its
+    // index where the family gives one to average along, else from its distance.
+    ValueId stroke =
+        ink.pixel.size == ir::kNoValue ? strokeInk(b_, ink.fields.distance, ink.band)
+        : ink.fields.footprint.grad != ir::kNoValue
+            ? meanInk(b_, ink.fields.footprint, ink.fields.distance, ink.halfWidth, ink.pixel)
+            : distanceInk(b_, ink.fields.distance, ink.halfWidth, ink.fields.gradX,
+                          ink.fields.gradY, ink.pixel);
     if (ink.pixel.size != ir::kNoValue && ink.fields.crowd.density != ir::kNoValue)
         stroke = crowdInk(b_, ink.fields.crowd, stroke, ink.halfWidth, ink.pixel);
     ValueId cov = inkCoverage(b_, stroke, ink.opacity, ink.color[3]);

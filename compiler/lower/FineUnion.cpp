@@ -34,12 +34,12 @@ ValueId transfer(ir::Builder& b, const Sides& g, const PixelFootprint& pixel) {
     return footprintTransfer(along, across).id;
 }
 
-// How far past the mean filter's hand-over a layer is: smoothstep(kMeanFrom, kMeanFull, nu),
+// How far a layer's members are past being resolved: smoothstep(kCrowdFrom, kCrowdFull, nu),
 // nu = |grad index| x pixel, and 0 where its footprint reaches below a first member (as
-// meanInk, which draws such a pixel point-sampled).
+// meanInk, which draws such a pixel from its distance).
 ValueId unresolved(ir::Builder& b, const Footprint& f, const PixelFootprint& pixel) {
     ValueId nu = b.mul(f.grad, pixel.size);
-    ValueId weight = b.smoothstep(b.constF(kMeanFrom), b.constF(kMeanFull), nu);
+    ValueId weight = b.smoothstep(b.constF(kCrowdFrom), b.constF(kCrowdFull), nu);
     if (!f.first) return weight;
     ValueId lowest = b.sub(f.index, b.mul(nu, b.constF(0.5)));
     return b.select(b.lt(lowest, b.constF(*f.first - 0.5)), b.constF(0.0), weight);

@@ -57,7 +57,7 @@ T footprintTransfer(T along, T across) {
 // layers' inks laid over it one by one (the union of their means). Returns the pixel with the
 // run's correlation added where the footprint leaves it (a run of one layer: `independent`).
 // Computed behind a branch: a pixel where fewer than two of the run's layers are past the
-// mean filter's hand-over (kMeanFrom) pays a handful of instructions.
+// unresolved threshold (kCrowdFrom) pays a handful of instructions.
 Ink fineUnion(ir::Builder& b, const Ink& under, const Ink& independent,
               const std::vector<FineLayer>& run, const PixelFootprint& pixel);
 

@@ -4,42 +4,110 @@ namespace moire::lower {
 
 using ir::ValueId;
 
-ValueId meanInk(ir::Builder& b, const Footprint& footprint, ValueId pointInk, ValueId halfWidth,
-                const PixelFootprint& pixel) {
-    ValueId nu = b.mul(footprint.grad, pixel.size); // members per pixel
-    ValueId weight = b.smoothstep(b.constF(kMeanFrom), b.constF(kMeanFull), nu);
-    if (footprint.first) {
-        ValueId lowest = b.sub(footprint.index, b.mul(nu, b.constF(0.5)));
-        ValueId below = b.lt(lowest, b.constF(*footprint.first - 0.5));
-        weight = b.select(below, b.constF(0.0), weight);
-    }
-    // Where members are resolved (weight 0) the point rule alone is drawn, and the mean is not
-    // computed: most pixels of most scenes.
-    auto mean = [&] {
-        ValueId w = b.mul(halfWidth, footprint.grad); // half-width in index units
-        // The index's steps across the pixel's two sides: the gradient's components along them.
-        ValueId gu = footprint.gradX, gv = footprint.gradY;
-        if (pixel.cosTurn != ir::kNoValue) {
-            gu =
-                b.add(b.mul(footprint.gradX, pixel.cosTurn), b.mul(footprint.gradY, pixel.sinTurn));
-            gv =
-                b.sub(b.mul(footprint.gradY, pixel.cosTurn), b.mul(footprint.gradX, pixel.sinTurn));
+namespace {
+
+// The gradient (gx, gy) turned into the pixel's frame: its components along the pixel's two
+// sides, which run along the world's axes turned by the camera's rotation.
+std::pair<ValueId, ValueId> alongSides(ir::Builder& b, ValueId gx, ValueId gy,
+                                       const PixelFootprint& pixel) {
+    if (pixel.cosTurn == ir::kNoValue) return {gx, gy};
+    return {b.add(b.mul(gx, pixel.cosTurn), b.mul(gy, pixel.sinTurn)),
+            b.sub(b.mul(gy, pixel.cosTurn), b.mul(gx, pixel.sinTurn))};
+}
+
+// Whether the derivatives of `v` are not to be taken: it is computed from a derivative
+// (Op::DerivX, DerivY; the AD pass is first order), or in a loop (a walking solver's search,
+// through which AD would carry tangents on every step: the solver gives its index gradient
+// instead). An If's result is read as computed from everything in its regions.
+bool fromDerivative(const ir::Function& f, ValueId v) {
+    std::vector<const ir::Inst*> def(f.numValues(), nullptr);
+    for (const ir::Block& block : f.blocks)
+        for (const ir::Inst& inst : block.insts)
+            for (ValueId r : inst.results) def[r] = &inst;
+    std::vector<char> seen(f.numValues(), 0);
+    std::vector<char> blockSeen(f.blocks.size(), 0);
+    std::vector<ValueId> todo{v};
+    std::vector<const ir::Inst*> insts;
+    while (!todo.empty() || !insts.empty()) {
+        if (!insts.empty()) {
+            const ir::Inst* inst = insts.back();
+            insts.pop_back();
+            if (inst->op == ir::Op::DerivX || inst->op == ir::Op::DerivY ||
+                inst->op == ir::Op::Loop)
+                return true;
+            for (ValueId a : inst->args) todo.push_back(a);
+            for (ir::BlockId r : inst->regions)
+                if (!blockSeen[r]) {
+                    blockSeen[r] = 1;
+                    for (const ir::Inst& inner : f.blocks[r].insts) insts.push_back(&inner);
+                }
+            continue;
         }
-        ValueId along = b.mul(b.abs(gu), pixel.size), across = b.mul(b.abs(gv), pixel.size);
-        ir::BuiltValue m =
-            squareMeanInk(ir::BuiltValue(b, footprint.index), ir::BuiltValue(b, along),
-                          ir::BuiltValue(b, across), ir::BuiltValue(b, w));
-        return std::vector<ValueId>{b.mix(pointInk, m.id, weight)};
-    };
-    return b.ifThenElse(b.gt(weight, b.constF(0.0)), mean,
-                        [&] { return std::vector<ValueId>{pointInk}; })[0];
+        ValueId x = todo.back();
+        todo.pop_back();
+        if (x == ir::kNoValue || seen[x]) continue;
+        seen[x] = 1;
+        if (def[x]) insts.push_back(def[x]);
+    }
+    return false;
+}
+
+} // namespace
+
+ValueId distanceInk(ir::Builder& b, ValueId distance, ValueId halfWidth, ValueId gradX,
+                    ValueId gradY, const PixelFootprint& pixel) {
+    // The nearest member's normal is the distance's own gradient (taken by AD), or where the
+    // distance is itself computed from a derivative (a phase's Eq. 5 distance, an encoded
+    // field), the family's index gradient; its components along the pixel's sides, times the
+    // pixel over its length, are the footprint's extents along the normal. Where there is no
+    // gradient, or it vanishes, the footprint is a box of the pixel's side.
+    ValueId along = pixel.size, across = b.constF(0.0);
+    ValueId gx = gradX, gy = gradY;
+    if (!fromDerivative(b.function(), distance)) {
+        gx = b.emit(ir::Op::DerivX, {distance});
+        gy = b.emit(ir::Op::DerivY, {distance});
+    }
+    if (gx != ir::kNoValue && gy != ir::kNoValue) {
+        auto [gu, gv] = alongSides(b, gx, gy, pixel);
+        ValueId length = b.hypot(gu, gv);
+        ValueId some = b.gt(length, b.constF(0.0)); // false on NaN too
+        ValueId scale = b.div(pixel.size, b.max(length, b.constF(1e-30)));
+        along = b.select(some, b.mul(b.abs(gu), scale), pixel.size);
+        across = b.select(some, b.mul(b.abs(gv), scale), across);
+    }
+    return distanceMeanInk(ir::BuiltValue(b, distance), ir::BuiltValue(b, halfWidth),
+                           ir::BuiltValue(b, along), ir::BuiltValue(b, across))
+        .id;
+}
+
+ValueId meanInk(ir::Builder& b, const Footprint& footprint, ValueId distance, ValueId halfWidth,
+                const PixelFootprint& pixel) {
+    // The index's steps across the pixel's two sides: the gradient's components along them.
+    auto [gu, gv] = alongSides(b, footprint.gradX, footprint.gradY, pixel);
+    ValueId along = b.mul(b.abs(gu), pixel.size), across = b.mul(b.abs(gv), pixel.size);
+    ValueId w = b.mul(halfWidth, footprint.grad); // half-width in index units
+    ValueId mean = squareMeanInk(ir::BuiltValue(b, footprint.index), ir::BuiltValue(b, along),
+                                 ir::BuiltValue(b, across), ir::BuiltValue(b, w))
+                       .id;
+    if (!footprint.first) return mean;
+    // Where the footprint reaches below the first member (half the square's diagonal extent
+    // along the index), the nearest member's distance mean.
+    ValueId reach = b.mul(b.add(along, across), b.constF(0.5));
+    ValueId below = b.lt(b.sub(footprint.index, reach), b.constF(*footprint.first - 0.5));
+    return b.ifThenElse(
+        below,
+        [&] {
+            return std::vector<ValueId>{
+                distanceInk(b, distance, halfWidth, footprint.gradX, footprint.gradY, pixel)};
+        },
+        [&] { return std::vector<ValueId>{mean}; })[0];
 }
 
 ValueId crowdInk(ir::Builder& b, const CrowdEstimate& crowd, ValueId ink, ValueId halfWidth,
                  const PixelFootprint& pixel) {
     ValueId nu = b.mul(crowd.density, pixel.size);
     ValueId weight =
-        b.mul(b.smoothstep(b.constF(kMeanFrom), b.constF(kMeanFull), nu), crowd.engaged);
+        b.mul(b.smoothstep(b.constF(kCrowdFrom), b.constF(kCrowdFull), nu), crowd.engaged);
     ValueId mean = b.min(b.mul(b.mul(halfWidth, b.constF(2.0)), crowd.density), b.constF(1.0));
     return b.mix(ink, mean, weight);
 }

@@ -5,8 +5,11 @@
 // of the periodic stroke over a box of width nu centred on the pixel's index is a difference
 // of the stroke's cumulative ink, which is floor-based and exact (boxMeanInk), and over the
 // square pixel, whose sides the gradient crosses at an angle, a second difference of that
-// cumulative's integral (squareMeanInk). Written once as a template: instantiated over IR values
-// for every backend, over double by the tests and experiments that check it.
+// cumulative's integral (squareMeanInk). A family that gives no index to average along is
+// averaged from its distance instead: the overlap of the nearest member's stroke with the
+// pixel's footprint along the stroke's normal (distanceMeanInk). Written once as templates:
+// instantiated over IR values for every backend, over double by the tests and experiments that
+// check them.
 #pragma once
 
 #include "compiler/ir/Builder.h"
@@ -18,16 +21,14 @@
 
 namespace moire::lower {
 
-// The hand-over by members per pixel nu: point-sampled (today's floored stroke, Eq. 35)
-// up to kMeanFrom, the square pixel's mean from kMeanFull on, smoothstep between. A floored stroke
-// (2.3 px of ink and a 0.7 px band each side) stands clear of the next member down to about 4
-// pixels a member and has merged into solid ink by 2.5, which is where the mean takes over;
-// a scene designed with its members a few pixels apart keeps its picture.
-constexpr double kMeanFrom = 1.0 / 4.0;
-constexpr double kMeanFull = 2.0 / 5.0;
 // The narrowest footprint the box mean divides by, in index units: below it the quotient
-// would be lost to float rounding, and such a layer is point-sampled anyway (kMeanFrom).
+// would be lost to float rounding (the quotient is then close to the step at the index).
 constexpr double kLeastFootprint = 1e-3;
+// A crowd's estimate (CrowdEstimate) takes over from the drawn stroke by members per pixel,
+// from kCrowdFrom (4 pixels a member, where a stroke stands clear of the next) to kCrowdFull
+// (2.5, where strokes have merged).
+constexpr double kCrowdFrom = 1.0 / 4.0;
+constexpr double kCrowdFull = 2.0 / 5.0;
 
 // The mean, over the box [index - nu/2, index + nu/2], of the periodic stroke that inks the
 // index within w of a whole number (members at the integers, half-width w in index units).
@@ -77,6 +78,7 @@ constexpr double kLeastSideShare = 1.0 / 32.0;
 template <class T>
 T squareMeanInk(T index, T along, T across, T w) {
     using ir::literal;
+    using std::abs;
     using std::floor;
     using std::max;
     using std::min;
@@ -96,7 +98,58 @@ T squareMeanInk(T index, T along, T across, T w) {
     };
     T c = residual + 0.5;
     T s1 = (a + b) * 0.5, s2 = (a - b) * 0.5;
-    return (twice(c + s1) - twice(c + s2) - twice(c - s2) + twice(c - s1)) / (a * b);
+    T mean = (twice(c + s1) - twice(c + s2) - twice(c - s2) + twice(c - s1)) / (a * b);
+    // Exactly 0 where the footprint lies wholly between member 0's stroke and the next, exactly
+    // 1 where it lies wholly within the stroke: there D is linear or quadratic over the
+    // footprint, and its second difference would round to a few float steps off.
+    const T one = literal(index, 1.0);
+    const T off = abs(residual);
+    const T clear = ir::select(ir::lessThan(off, half + s1), zero,
+                               ir::select(ir::lessThan(one - half, off + s1), zero, one));
+    const T inside = ir::select(ir::lessThan(half, off + s1), zero, one);
+    mean = min(max(mean, zero), one);
+    return ir::select(ir::lessThan(zero, inside), one,
+                      ir::select(ir::lessThan(zero, clear), zero, mean));
+}
+
+// The mean over a square pixel of one stroke seen from its distance: the pixel's centre stands
+// `d` from the member's centre line, the stroke inks [-h, h] across it, and the pixel's sides
+// span `along` and `across` world units along the stroke's normal (a trapezoid again, or a box
+// of the pixel's side where the normal is not known: across = 0). The running total of the
+// stroke across the normal is C(y) = clamp(y + h, 0, 2h), its integral
+//   E(y) = clamp(y + h, 0, 2h)^2 / 2 + 2h max(y - h, 0),
+// and the mean is (E(d + s1) - E(d + s2) - E(d - s2) + E(d - s1)) / (along x across), s1 and s2
+// as in squareMeanInk. It counts the nearest member alone: exact for members apart by more than
+// the footprint, whatever the stroke, with no floor (a box-filtered hairline is a faint line,
+// not speckle). d is read as |d| and held within reach of the footprint (a family with no
+// member in sight reports a distance of 1e30, whose E would round away the difference).
+template <class T>
+T distanceMeanInk(T d, T h, T along, T across) {
+    using ir::literal;
+    using std::abs;
+    using std::max;
+    using std::min;
+    const T zero = literal(d, 0.0);
+    const T half = max(h, zero);
+    const T least = max(max(along, across) * kLeastSideShare, literal(d, kLeastFootprint));
+    const T a = max(along, least), b = max(across, least);
+    const T s1 = (a + b) * 0.5, s2 = (a - b) * 0.5;
+    const T centre = min(abs(d), half + s1 + 1.0); // past half + s1 the mean is 0
+    auto integral = [&](T y) {                     // E(y)
+        T in = min(max(y + half, zero), half * 2.0);
+        return in * in * 0.5 + half * 2.0 * max(y - half, zero);
+    };
+    const T one = literal(d, 1.0);
+    const T mean = min(max((integral(centre + s1) - integral(centre + s2) - integral(centre - s2) +
+                            integral(centre - s1)) /
+                               (a * b),
+                           zero),
+                       one);
+    // Exactly 0 where the footprint lies wholly past the stroke, exactly 1 where it lies wholly
+    // within: there E is linear or constant over the footprint, and its second difference
+    // would round to a few float steps off (a paper-white pixel drawn 1e-7 grey).
+    return ir::select(ir::lessThan(centre - s1, half),
+                      ir::select(ir::lessThan(half, centre + s1), mean, one), zero);
 }
 
 // The pixel as the mean filter reads it: its world size, and where the camera turns the
@@ -106,19 +159,30 @@ struct PixelFootprint {
     ir::ValueId size = ir::kNoValue, cosTurn = ir::kNoValue, sinTurn = ir::kNoValue;
 };
 
-// The ink (before opacity) a phase family draws under the mean filter: the point rule's
-// `pointInk` (Eq. 4 with the floored band) handed over by nu to the box mean of the stroke
-// as written over the square pixel (squareMeanInk; half-width `halfWidth` in world units, no
-// floor: the floor exists to keep resolved hairlines from speckling, and where members are
-// unresolved it is what turns a grey into black). A family that starts at member
-// `first` stays point-sampled wherever the footprint reaches below that member, where the
-// members the periodic stroke would count do not exist.
-ir::ValueId meanInk(ir::Builder& b, const Footprint& footprint, ir::ValueId pointInk,
+// The ink (before opacity) a phase family draws under the mean filter: the mean of its stroke
+// as written (half-width `halfWidth` in world units, no floor) over the square pixel
+// (squareMeanInk), at every number of members a pixel. A box filter composes exactly (the mean
+// of a block of box-filtered small pixels is the box filter of the big one), so a frame drawn
+// small has the tone of the same frame drawn large and downsampled; and a box-filtered hairline
+// does not speckle (speckle is point sampling's aliasing, which the floor was there to hide).
+// A family that starts at member `first` takes its nearest member's distance mean
+// (distanceMeanInk) wherever the footprint reaches below that member, where the members the
+// periodic stroke would count do not exist.
+ir::ValueId meanInk(ir::Builder& b, const Footprint& footprint, ir::ValueId distance,
                     ir::ValueId halfWidth, const PixelFootprint& pixel);
+
+// The ink (before opacity) a family without a footprint (walking families, lattices, morphs,
+// the pencil, distance families) draws under the mean filter: distanceMeanInk of its nearest
+// member at `distance` (world units), across that member's normal: the distance's own gradient
+// (its derivatives in the kernel), or where the distance is itself computed from a derivative
+// (which the first-order AD cannot differentiate again), the direction of (gradX, gradY), the
+// family's index gradient (kNoValue: none, and the footprint is a box of the pixel's side).
+ir::ValueId distanceInk(ir::Builder& b, ir::ValueId distance, ir::ValueId halfWidth,
+                        ir::ValueId gradX, ir::ValueId gradY, const PixelFootprint& pixel);
 
 // The drawn ink `ink` handed over to a crowd's mean (CrowdEstimate): min(1, 2 h density), h
 // the stroke's own half-width `halfWidth`, weighted by `engaged` times the hand-over of
-// members per pixel (nu = density x pixel, kMeanFrom to kMeanFull).
+// members per pixel (nu = density x pixel, kCrowdFrom to kCrowdFull).
 ir::ValueId crowdInk(ir::Builder& b, const CrowdEstimate& crowd, ir::ValueId ink,
                      ir::ValueId halfWidth, const PixelFootprint& pixel);
 

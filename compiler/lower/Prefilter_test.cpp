@@ -1,7 +1,8 @@
 // The mean filter's closed forms (Prefilter.h) against an independent expectation: the exact
 // point rule of the stroke (ink where the index is within w of a whole number) averaged by
 // brute force over 256 evenly spread samples of the footprint (a box, or a square pixel
-// crossed by the gradient at an angle), on every backend.
+// crossed by the gradient at an angle), and a single stroke seen from its distance averaged over
+// the square pixel, on every backend.
 #include "compiler/lower/KernelProbe_test.h"
 #include "compiler/lower/Prefilter.h"
 
@@ -36,6 +37,20 @@ double bruteSquareMean(double index, double along, double across, double w) {
         v -= std::floor(v);
         double x = index + along * (u - 0.5) + across * (v - 0.5);
         if (std::abs(x - std::round(x)) < w) ++inked;
+    }
+    return static_cast<double>(inked) / kSamples;
+}
+
+// The oracle of one stroke seen from its distance: the pixel's centre `d` from the member's
+// centre line, ink within h of it, the pixel's sides spanning `along` and `across` world units
+// of the normal; 256 samples over the square on the same rank-1 lattice.
+double bruteDistanceMean(double d, double h, double along, double across) {
+    constexpr int kSamples = 256;
+    int inked = 0;
+    for (int j = 0; j < kSamples; ++j) {
+        double u = (j + 0.5) / kSamples, v = j * 0.6180339887498949 + 0.5;
+        v -= std::floor(v);
+        if (std::abs(d + along * (u - 0.5) + across * (v - 0.5)) < h) ++inked;
     }
     return static_cast<double>(inked) / kSamples;
 }
@@ -192,44 +207,165 @@ TEST_CASE("prefilter: every backend computes the square's mean the double form c
         squareCases(), 2e-3);
 }
 
-TEST_CASE("prefilter: the hand-over keeps the point rule where members are resolved") {
-    // Uniforms: index, |grad index|, point ink, half-width, pixel, and the gradient's
-    // components (0.3 radians off the pixel's first side); first member 1 or none.
+struct DistanceSetting {
+    double d, h, along, across;
+};
+
+std::vector<DistanceSetting> distanceSettings() {
+    std::vector<DistanceSetting> out;
+    for (double pixel : {0.4, 1.0, 3.0})
+        for (double angle : {0.0, 0.3, 0.7854, 1.5708})
+            for (double h : {0.0, 0.05, 0.25, 0.6, 2.0})
+                for (double d : {0.0, 0.3, 0.9, 1.7, 5.0, 1e30})
+                    out.push_back({d, h, pixel * std::abs(std::cos(angle)),
+                                   pixel * std::abs(std::sin(angle))});
+    return out;
+}
+
+std::vector<FormCase> distanceCases() {
+    std::vector<FormCase> cases;
+    for (const DistanceSetting& s : distanceSettings()) {
+        // Two stroke edges, each flipping a sample or two of the lattice; where the footprint is a
+        // box (across 0) the narrower side is held at 1/32 of the wider, moving an edge by as much.
+        const double wide = std::max(s.along, s.across), narrow = std::min(s.along, s.across);
+        const double tolerance =
+            4.0 / 256 + 1e-4 + (narrow < wide * kLeastSideShare ? 1.0 / 16 : 0);
+        cases.push_back({{s.d, s.h, s.along, s.across},
+                         bruteDistanceMean(s.d, s.h, s.along, s.across),
+                         tolerance,
+                         distanceMeanInk(s.d, s.h, s.along, s.across)});
+    }
+    return cases;
+}
+
+TEST_CASE("prefilter: the distance mean's closed form is the brute-force mean over the square") {
+    CHECK(checkDoubleForm(distanceCases()) == 360);
+    // Its limits: a hairline's share of a wide pixel, 2h / pixel, wherever it crosses; nothing
+    // past the footprint's reach; solid within a stroke wider than the pixel.
+    CHECK(distanceMeanInk(0.1, 0.05, 10.0, 0.0) == doctest::Approx(0.01).epsilon(1e-3));
+    // (a trapezoid 14 wide, 1/8 high over its middle 2)
+    CHECK(distanceMeanInk(0.1, 0.05, 6.0, 8.0) == doctest::Approx(0.1 / 8.0));
+    CHECK(distanceMeanInk(3.0, 0.5, 0.8, 0.6) == doctest::Approx(0.0));
+    CHECK(distanceMeanInk(0.2, 3.0, 0.8, 0.6) == doctest::Approx(1.0));
+}
+
+TEST_CASE("prefilter: every backend computes the distance mean the double form computes") {
+    checkOnBackends(
+        [](ir::Builder& b) {
+            ir::BuiltValue d(b, b.uniform(0)), h(b, b.uniform(1)), along(b, b.uniform(2)),
+                across(b, b.uniform(3));
+            return distanceMeanInk(d, h, along, across).id;
+        },
+        distanceCases(), 2e-3);
+}
+
+TEST_CASE("prefilter: a family without an index draws its nearest member's mean over the pixel") {
+    // A straight member through the origin with its normal at `angle` (uniforms 4, 5: its
+    // cosine and sine): the distance |x cos + y sin| of the world point (uniforms 0, 1, the
+    // kernel's independents), whose gradient (AD) is the normal; half-width and pixel in
+    // uniforms 2 and 3. A distance that does not vary (the second kernel) has no normal to
+    // read, and the footprint is a box of the pixel's side.
+    test::KernelProbe normal(
+        1,
+        [](ir::Builder& b) {
+            ir::ValueId x = b.emit(ir::Op::Indep, {b.uniform(0)}, 0.0, 0);
+            ir::ValueId y = b.emit(ir::Op::Indep, {b.uniform(1)}, 0.0, 1);
+            ir::ValueId d = b.abs(b.add(b.mul(x, b.uniform(4)), b.mul(y, b.uniform(5))));
+            b.output(0, distanceInk(b, d, b.uniform(2), ir::kNoValue, ir::kNoValue,
+                                    PixelFootprint{b.uniform(3)}));
+        },
+        true);
+    test::KernelProbe box(
+        1,
+        [](ir::Builder& b) {
+            b.output(0, distanceInk(b, b.uniform(0), b.uniform(1), ir::kNoValue, ir::kNoValue,
+                                    PixelFootprint{b.uniform(2)}));
+        },
+        true);
+    // A distance computed from a derivative (here the same line's, |x cos + y sin| times the
+    // x-derivative of x) reads the normal from the gradient the family gives (uniforms 4, 5).
+    test::KernelProbe given(
+        1,
+        [](ir::Builder& b) {
+            ir::ValueId x = b.emit(ir::Op::Indep, {b.uniform(0)}, 0.0, 0);
+            ir::ValueId y = b.emit(ir::Op::Indep, {b.uniform(1)}, 0.0, 1);
+            ir::ValueId one = b.emit(ir::Op::DerivX, {x});
+            ir::ValueId d =
+                b.mul(b.abs(b.add(b.mul(x, b.uniform(4)), b.mul(y, b.uniform(5)))), one);
+            b.output(0, distanceInk(b, d, b.uniform(2), b.uniform(4), b.uniform(5),
+                                    PixelFootprint{b.uniform(3)}));
+        },
+        true);
+    for (const std::string& backend : test::probeBackends()) {
+        CAPTURE(backend);
+        if (!normal.use(backend) || !box.use(backend) || !given.use(backend)) continue;
+        for (double pixel : {0.5, 1.0, 4.0})
+            for (double angle : {0.0, 0.4, 1.1, 2.5})
+                for (double d : {0.01, 0.35, 1.2})
+                    for (double h : {0.05, 0.6}) {
+                        CAPTURE(pixel);
+                        CAPTURE(angle);
+                        CAPTURE(d);
+                        CAPTURE(h);
+                        const double c = std::cos(angle), s = std::sin(angle);
+                        const double blur = angle == 0.0 ? 1.0 / 16 : 0.0;
+                        CHECK(std::abs(normal.run({d * c, d * s, h, pixel, c, s})[0] -
+                                       bruteDistanceMean(d, h, pixel * std::abs(c),
+                                                         pixel * std::abs(s))) <=
+                              4.0 / 256 + 1e-3 + blur);
+                        CHECK(given.run({d * c, d * s, h, pixel, c, s})[0] ==
+                              doctest::Approx(normal.run({d * c, d * s, h, pixel, c, s})[0]));
+                        CHECK(std::abs(box.run({d, h, pixel})[0] -
+                                       bruteDistanceMean(d, h, pixel, 0.0)) <=
+                              2.0 / 256 + 1.0 / 16);
+                    }
+    }
+}
+
+TEST_CASE("prefilter: a phase family draws the square pixel's mean of its stroke at every nu") {
+    // Uniforms: index, |grad index|, distance, half-width, pixel; the gradient 0.3 radians off
+    // the pixel's first side; first member 1 or none.
     auto kernel = [](std::optional<int> first) {
-        return test::KernelProbe(1, [first](ir::Builder& b) {
-            ir::ValueId grad = b.uniform(1);
-            Footprint fp{b.uniform(0), grad, b.mul(grad, b.constF(std::cos(0.3))),
-                         b.mul(grad, b.constF(std::sin(0.3))), first};
-            b.output(0, meanInk(b, fp, b.uniform(2), b.uniform(3), PixelFootprint{b.uniform(4)}));
-        });
-    };
-    auto mean = [](double index, double nu, double w) {
-        return squareMeanInk(index, nu * std::cos(0.3), nu * std::sin(0.3), w);
+        return test::KernelProbe(
+            1,
+            [first](ir::Builder& b) {
+                ir::ValueId grad = b.uniform(1);
+                Footprint fp{b.uniform(0), grad, b.mul(grad, b.constF(std::cos(0.3))),
+                             b.mul(grad, b.constF(std::sin(0.3))), first};
+                b.output(0,
+                         meanInk(b, fp, b.uniform(2), b.uniform(3), PixelFootprint{b.uniform(4)}));
+            },
+            true);
     };
     test::KernelProbe plain = kernel(std::nullopt);
     test::KernelProbe folded = kernel(1);
     for (const std::string& backend : test::probeBackends()) {
         CAPTURE(backend);
         if (!plain.use(backend) || !folded.use(backend)) continue;
-        const double point = 0.8125, h = 0.05;
-        // |grad index| 1 / spacing; pixel 1: nu = 1 / spacing members per pixel.
-        for (double nu : {kMeanFrom, 0.9 * kMeanFrom, 0.1, 0.025}) // the point rule, exactly
-            CHECK(plain.run({2.3, nu, point, h, 1.0})[0] == doctest::Approx(point));
-        for (double nu : {kMeanFull, 1.1 * kMeanFull, 1.43, 100.0}) { // the box mean
-            CAPTURE(nu);
-            CHECK(plain.run({2.3, nu, point, h, 1.0})[0] ==
-                  doctest::Approx(mean(2.3, nu, h * nu)).epsilon(1e-4));
-        }
-        // Between, a mix of the two.
-        const double nu = 0.5 * (kMeanFrom + kMeanFull), between = mean(2.3, nu, h * nu);
-        const double got = plain.run({2.3, nu, point, h, 1.0})[0];
-        CHECK(got > std::min(point, between));
-        CHECK(got < std::max(point, between));
-        // A family that starts at member 1 keeps the point rule where the footprint reaches
-        // below it, and takes the mean above.
-        CHECK(folded.run({0.9, 1.0 / 0.7, point, h, 1.0})[0] == doctest::Approx(point));
-        CHECK(folded.run({5.1, 1.0 / 0.7, point, h, 1.0})[0] ==
-              doctest::Approx(mean(5.1, 1.0 / 0.7, h / 0.7)).epsilon(1e-4));
+        const double h = 0.05;
+        // |grad index| nu, pixel 1: nu members a pixel, from resolved (40 pixels a member) to
+        // a hundred a pixel. The expectation: the unfloored stroke averaged over the square by
+        // brute force, whatever nu (no hand-over to the point rule any more).
+        for (double nu : {0.025, 0.1, 0.25, 0.4, 1.43, 100.0})
+            for (double index : {2.3, 2.02, -7.49}) {
+                CAPTURE(nu);
+                CAPTURE(index);
+                const double along = nu * std::cos(0.3), across = nu * std::sin(0.3);
+                const double distance = std::abs(index - std::round(index)) / nu;
+                CHECK(std::abs(plain.run({index, nu, distance, h, 1.0})[0] -
+                               bruteSquareMean(index, along, across, h * nu)) <=
+                      sampleTolerance(along + across) + 1e-3);
+            }
+        // A family that starts at member 1 takes its nearest member's distance mean where the
+        // footprint reaches below it (here member 1, 0.1 / 1.43 world units away; a distance
+        // given as a number has no normal to read, so the footprint is the pixel's box), and
+        // the periodic mean above.
+        const double nu = 1.0 / 0.7, d = 0.1 * 0.7;
+        CHECK(std::abs(folded.run({0.9, nu, d, h, 1.0})[0] - bruteDistanceMean(d, h, 1.0, 0.0)) <=
+              2.0 / 256 + 1.0 / 16);
+        CHECK(std::abs(folded.run({5.1, nu, d, h, 1.0})[0] -
+                       bruteSquareMean(5.1, nu * std::cos(0.3), nu * std::sin(0.3), h * nu)) <=
+              sampleTolerance(nu * 1.25) + 1e-3);
     }
 }
 

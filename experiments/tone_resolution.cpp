@@ -1,0 +1,187 @@
+// Tone at any resolution (docs/filtering.md, issue: the preview lies about the print): every
+// example rendered at 1200 x 800 against the same frame rendered at 7200 x 4800 and
+// box-downsampled 6 x 6 to 1200 x 800, point-sampled and with the mean filter. The RMSE of the
+// straight RGB (each channel in [0, 1]) says how far a preview's tone is from a print's. A box
+// filter composes exactly (the mean of 36 box-filtered small pixels is the box filter of the
+// big pixel), so under the mean the two agree up to what the filter assumes (an index linear
+// across the pixel, the nearest member alone for families without an index); the point rule's
+// floor holds strokes at 2.3 pixels whatever the pixel, so its preview is darker than its
+// print. Goal: RMSE at most 0.02 under the mean; it is met by each layer alone, and the whole
+// pictures keep what the union of layers' means misses where strokes cross within a pixel.
+#include "compiler/backend/llvm/LlvmJit.h"
+#include "experiments/Harness.h"
+#include "runtime/FrameEval.h"
+#include "runtime/TileExecutor.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+using namespace moire;
+using namespace moire::exp;
+
+namespace {
+
+constexpr int kFactor = 6; // the large frame is 6 x 6 small pixels to each preview pixel
+constexpr double kGoal = 0.02;
+
+// Quick: six examples (phase families, a lattice, a walking family, encoded fields) at half the
+// size (600 x 400 against 3600 x 2400), where their members are twice as fine against the
+// preview's pixels.
+const char* const kQuickExamples[] = {"counter_spirals", "drifting_walks", "hexagonal_twist",
+                                      "radial_fans",     "two_fields",     "two_rings"};
+
+// Families without an index are averaged from their nearest member alone, which is exact while
+// members stand a pixel apart or more; walking_triangles piles its far side's members closer
+// than that (its members' offset nearly equals their spacing), and there the nearest member
+// is one of several in the pixel (raising the solver's budget to 131072 changes nothing: it is
+// not the search). Its figure is printed and held to the point rule's, not to the goal.
+const char* const kCrowded[] = {"walking_triangles"};
+
+[[noreturn]] void fail(const std::string& what) {
+    std::fprintf(stderr, "tone_resolution: error: %s\n", what.c_str());
+    std::exit(2);
+}
+
+// The frame's channels [c0, c0 + channels) of its straight RGBA, width x height, each pixel the
+// mean of its k x k samples (the frame rendered k times larger, streamed in bands of k rows).
+std::vector<double> rendered(const SceneProgram& program, const CompiledKernel& kernel, int width,
+                             int height, int k, int c0, int channels) {
+    FrameRequest request;
+    request.width = width * k;
+    request.height = height * k;
+    FrameValues frame;
+    std::string diagnostics;
+    if (!evaluateFrame(program, request, frame, diagnostics)) fail(diagnostics);
+    const KernelFrame kf{frame.uniforms.data(), frame.width, frame.height};
+    const int n = kernel.numOutputs();
+    std::vector<double> out(size_t(width) * height * channels, 0.0);
+    runKernelInBands(kernel, kf, {}, k,
+                     [&](int band, int first, int count, const float* rows, size_t stride) {
+                         if (first != 0 || count != k) fail("a band came in parts");
+                         double* row = out.data() + size_t(band) * width * channels;
+                         for (int j = 0; j < k; ++j)
+                             for (int x = 0; x < width * k; ++x)
+                                 for (int c = 0; c < channels; ++c)
+                                     row[size_t(x / k) * channels + c] +=
+                                         rows[size_t(j) * stride + size_t(x) * n + c0 + c];
+                         for (size_t i = 0; i < size_t(width) * channels; ++i) row[i] /= k * k;
+                     });
+    return out;
+}
+
+double rmse(const std::vector<double>& a, const std::vector<double>& b) {
+    double sq = 0;
+    for (size_t i = 0; i < a.size(); ++i) sq += (a[i] - b[i]) * (a[i] - b[i]);
+    return std::sqrt(sq / double(a.size()));
+}
+
+struct Row {
+    std::string name;
+    double error[2]; // point, mean: the whole picture's RGB
+    double alone[2]; // point, mean: the worst of its layers alone (their ink, the alpha)
+    double seconds;
+};
+
+// The preview's error against the downsampled print: one compile of the scene, rendered twice.
+double previewError(const std::string& file, const std::string& text, LlvmJitBackend& jit,
+                    const CompileOptions& options, int width, int height, int c0, int count) {
+    CompileResult r = compileScene(file, text, options);
+    if (!r.program) fail(r.diagnostics);
+    auto kernel = jit.compile(r.program->kernel);
+    return rmse(rendered(*r.program, *kernel, width, height, 1, c0, count),
+                rendered(*r.program, *kernel, width, height, kFactor, c0, count));
+}
+
+Row measure(const std::filesystem::path& file, LlvmJitBackend& jit, int width, int height) {
+    std::ifstream in(file);
+    std::stringstream text;
+    text << in.rdbuf();
+    Row row{file.stem().string(), {0, 0}, {0, 0}, 0};
+    const auto start = std::chrono::steady_clock::now();
+    CompileResult parsed = compileScene(file.string(), text.str());
+    if (!parsed.program) fail(parsed.diagnostics);
+    const int layers = int(parsed.program->checked.layers.size());
+    const sema::FilterMode filters[2] = {sema::FilterMode::Point, sema::FilterMode::Mean};
+    for (int f = 0; f < 2; ++f) {
+        // The whole picture's colour; then each layer alone on a transparent paper (a print's
+        // separation), whose ink is its alpha: laid over one another, layers that cross within a
+        // pixel share ink that each one's own mean cannot know of (docs/filtering.md).
+        row.error[f] = previewError(file.string(), text.str(), jit, {.filter = filters[f]}, width,
+                                    height, 0, 3);
+        for (int l = 0; l < layers && layers > 1; ++l)
+            row.alone[f] =
+                std::max(row.alone[f], previewError(file.string(), text.str(), jit,
+                                                    {.filter = filters[f], .separateLayer = l},
+                                                    width, height, 3, 1));
+        if (layers == 1) row.alone[f] = row.error[f];
+    }
+    row.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    return row;
+}
+
+} // namespace
+
+int main(int argc, char** argv) {
+    const Options opt = parseOptions(
+        argc, argv,
+        "every example at 1200 x 800 against 7200 x 4800 box-downsampled: RMSE, point and mean");
+    const int width = opt.quick ? 600 : 1200, height = opt.quick ? 400 : 800;
+    const std::filesystem::path examples = std::filesystem::path(MOIRE_SOURCE_DIR) / "examples";
+    std::vector<std::filesystem::path> files;
+    if (opt.quick)
+        for (const char* name : kQuickExamples)
+            files.push_back(examples / (std::string(name) + ".moire"));
+    else
+        for (const auto& e : std::filesystem::directory_iterator(examples))
+            if (e.path().extension() == ".moire") files.push_back(e.path());
+    std::sort(files.begin(), files.end());
+
+    std::printf("tone_resolution: %d x %d against %d x %d box-downsampled %d x %d, RMSE of "
+                "straight RGB in [0, 1]\n\n",
+                width, height, width * kFactor, height * kFactor, kFactor, kFactor);
+    std::printf("  %-22s %21s   %21s %8s\n", "", "whole picture (RGB)", "worst layer alone (ink)",
+                "");
+    std::printf("  %-22s %10s %10s   %10s %10s %8s\n", "example", "point", "mean", "point", "mean",
+                "seconds");
+    LlvmJitBackend jit(LlvmJitBackend::Options{});
+    double worst[2] = {0, 0}, worstAlone[2] = {0, 0};
+    std::string worstName, worstAloneName, why;
+    for (const auto& file : files) {
+        const Row row = measure(file, jit, width, height);
+        std::printf("  %-22s %10.4f %10.4f   %10.4f %10.4f %8.1f\n", row.name.c_str(), row.error[0],
+                    row.error[1], row.alone[0], row.alone[1], row.seconds);
+        std::fflush(stdout);
+        if (row.error[1] > worst[1]) worstName = row.name;
+        const bool crowded =
+            std::find(std::begin(kCrowded), std::end(kCrowded), row.name) != std::end(kCrowded);
+        if (!crowded && row.alone[1] > kGoal)
+            why += " " + row.name + ": a layer's own tone differs by more than 0.02 RMSE;";
+        if (row.alone[1] > worstAlone[1]) worstAloneName = row.name;
+        for (int f = 0; f < 2; ++f) {
+            worst[f] = std::max(worst[f], row.error[f]);
+            worstAlone[f] = std::max(worstAlone[f], row.alone[f]);
+        }
+        if (!(row.error[1] <= row.error[0])) why += " " + row.name + ": the mean's tone is worse;";
+    }
+    std::printf("\n");
+    printTitle("worst RMSE over the examples, preview against the downsampled print");
+    printRow("whole picture, point sampling (the stroke floor)", "0.158 (one example)",
+             std::to_string(worst[0]));
+    printRow("whole picture, the mean filter", "at most 0.02",
+             std::to_string(worst[1]) + " (" + worstName + ")");
+    printRow("each layer alone, point sampling", "-", std::to_string(worstAlone[0]));
+    printRow("each layer alone, the mean filter", "at most 0.02",
+             std::to_string(worstAlone[1]) + " (" + worstAloneName + ")");
+    // A layer's own tone is the filter's to keep; where layers cross within a pixel the union of
+    // their means is not the mean of their union (the fringe law's part, docs/filtering.md).
+    const bool ok = why.empty();
+    return verdict(ok, why);
+}

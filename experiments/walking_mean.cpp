@@ -50,8 +50,7 @@ struct Kernels {
                                                             sema::FilterMode::Point));
             mean.push_back(std::make_unique<WalkingKernel>(shape, lower::WalkingVariant{},
                                                            sema::FilterMode::Mean));
-            raised.push_back(
-                std::make_unique<WalkingKernel>(shape, wide, sema::FilterMode::Point));
+            raised.push_back(std::make_unique<WalkingKernel>(shape, wide, sema::FilterMode::Point));
         }
     }
     void set(const WalkSetting& s) {
@@ -114,10 +113,10 @@ std::vector<WalkSetting> grid() {
     std::vector<WalkSetting> out;
     for (const WalkSetting& w :
          walkGrid({.spacings = {1, 2, 3, 5, 8, 12, 20, 40, 80},
-                   .offsets = {0, 0.1, 0.25, 0.4, 0.55, 0.7, 0.8, 0.9, 0.95, 1.0, 1.05, 1.2, 1.5},
-                   .directionsDeg = {0, 30, 75},
-                   .turnsDeg = {0, 0.05, 0.2, 1, 3, 10},
-                   .zooms = {0.1, 0.15, 0.4, 1, 2.5}}))
+         .offsets = {0, 0.1, 0.25, 0.4, 0.55, 0.7, 0.8, 0.9, 0.95, 1.0, 1.05, 1.2, 1.5},
+         .directionsDeg = {0, 30, 75},
+         .turnsDeg = {0, 0.05, 0.2, 1, 3, 10},
+         .zooms = {0.1, 0.15, 0.4, 1, 2.5}}))
         if (w.offsetX != 0 || w.offsetY != 0 || w.turnDeg != 0) out.push_back(w);
     return out;
 }
@@ -152,8 +151,7 @@ int main(int argc, char** argv) {
             ink += v.ink;
         }
         std::sort(spans.begin(), spans.end());
-        if (spans[static_cast<size_t>(std::ceil(0.9 * points)) - 1] <= lower::kWalkBudget)
-            continue;
+        if (spans[static_cast<size_t>(std::ceil(0.9 * points)) - 1] <= lower::kWalkBudget) continue;
         (ink / points < kLegible ? legible : solid).push_back(s);
     }
     const size_t wantLegible = opt.quick ? 4 : 60, wantSolid = opt.quick ? 3 : 40;
@@ -199,12 +197,10 @@ int main(int argc, char** argv) {
     row("worst ink lost", "48.8%", [](const Tally& t) { return percent(t.worst); });
     row("  its reference ink", "1.00",
         [](const Tally& t) { return fmt::format("{:.2f}", t.worstInk); });
-    row("worst ink lost, legible", "28.7%",
-        [](const Tally& t) { return percent(t.worstLegible); });
+    row("worst ink lost, legible", "28.7%", [](const Tally& t) { return percent(t.worstLegible); });
     row("worst ink invented", "0", [](const Tally& t) { return percent(t.worstInvented); });
     printRow("a pixel's mean |ink - exact|: point, mean", "-",
-             fmt::format("{:.3f}, {:.3f}", pointAbs / pixelsMeasured,
-                         meanAbs / pixelsMeasured));
+             fmt::format("{:.3f}, {:.3f}", pointAbs / pixelsMeasured, meanAbs / pixelsMeasured));
 
     // Part 2: the two cases, over a grid of pixels.
     struct Case {
@@ -225,8 +221,8 @@ int main(int argc, char** argv) {
         for (int i = 0; i < cols; ++i)
             for (int j = 0; j < rows; ++j) {
                 const double x = (i + 0.5) * kFrameW / cols, y = (j + 0.5) * kFrameH / rows;
-                const Pixel px = measure(k, c.s, std::floor(x) + 0.5, std::floor(y) + 0.5,
-                                         samples, false);
+                const Pixel px =
+                    measure(k, c.s, std::floor(x) + 0.5, std::floor(y) + 0.5, samples, false);
                 point += px.point, mean += px.mean, exact += px.exact;
                 pointOff += std::fabs(px.point - px.exact) > 8.0 / 255;
                 meanOff += std::fabs(px.mean - px.exact) > 8.0 / 255;
@@ -236,12 +232,12 @@ int main(int argc, char** argv) {
                  fmt::format("{:.2f}, {:.2f}, {:.2f}", point / n, mean / n, exact / n));
         printRow("  pixels off by > 8/255: point, mean", "85% (tri.), 9% (circ.)",
                  fmt::format("{}, {}", percent(pointOff / n), percent(meanOff / n)));
-        casesBetter = casesBetter && meanOff < pointOff &&
-                      std::fabs(mean - exact) < std::fabs(point - exact);
+        casesBetter =
+            casesBetter && meanOff < pointOff && std::fabs(mean - exact) < std::fabs(point - exact);
     }
 
-    const bool ok = !sample.empty() && meanExact.worst < 0.05 &&
-                    meanExact.worstInvented < 0.10 && meanAbs < pointAbs && casesBetter;
+    const bool ok = !sample.empty() && meanExact.worst < 0.05 && meanExact.worstInvented < 0.10 &&
+                    meanAbs < pointAbs && casesBetter;
     return verdict(ok, "under the mean filter the strided band must lose under 5% of the exact "
                        "mean's ink in every setting (and invent under 10%), be nearer the exact "
                        "mean pixel by pixel than point sampling, and so must the issue's cases");

@@ -89,8 +89,8 @@ TEST_CASE("walking crowd: the density drawn is the members' count where the scan
                                               static_cast<int64_t>(o.lo));
                 counted /= 5;
                 SHOW(drawn, counted);
-                REPORT(describe(st), " at ", x, ", ", y, ": drawn density ", drawn,
-                       ", counted ", counted);
+                REPORT(describe(st), " at ", x, ", ", y, ": drawn density ", drawn, ", counted ",
+                       counted);
                 CHECK(drawn == doctest::Approx(counted).epsilon(0.25));
                 worst = std::max(worst, std::fabs(drawn / counted - 1));
             }
@@ -121,8 +121,8 @@ TEST_CASE("walking crowd: the filtered ink is the pixel's exact mean where the s
             REQUIRE(n >= 6);
             drawn /= n, exact /= n, pointed /= n;
             SHOW(drawn, exact, pointed);
-            REPORT(describe(st), ": mean ink drawn ", drawn, ", exact ", exact,
-                   ", point-sampled ", pointed);
+            REPORT(describe(st), ": mean ink drawn ", drawn, ", exact ", exact, ", point-sampled ",
+                   pointed);
             CHECK(std::fabs(drawn - exact) <= 0.05);
             CHECK(std::fabs(drawn - exact) < std::fabs(pointed - exact));
         }
@@ -150,8 +150,7 @@ TEST_CASE("walking crowd: the point filter draws what it drew, and exhaustive sc
                                "turn = 2deg; stroke = 1.5 }\n";
     auto p2 = test::compileOk("scene { size = (96, 64); filter = point }\n" + benign);
     auto m2 = test::compileOk("scene { size = (96, 64) }\n" + benign);
-    CHECK(test::compareImages(test::renderScene(*p2, *interp), test::renderScene(*m2, *interp),
-                              0.0)
+    CHECK(test::compareImages(test::renderScene(*p2, *interp), test::renderScene(*m2, *interp), 0.0)
               .maxAbs == 0.0);
 }
 

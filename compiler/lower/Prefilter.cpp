@@ -40,7 +40,10 @@ ValueId crowdInk(ir::Builder& b, const CrowdEstimate& crowd, ValueId ink, ValueI
     ValueId nu = b.mul(crowd.density, pixel.size);
     ValueId weight =
         b.mul(b.smoothstep(b.constF(kMeanFrom), b.constF(kMeanFull), nu), crowd.engaged);
-    ValueId mean = b.min(b.mul(b.mul(halfWidth, b.constF(2.0)), crowd.density), b.constF(1.0));
+    ValueId mean =
+        crowd.mean != ir::kNoValue
+            ? crowd.mean
+            : b.min(b.mul(b.mul(halfWidth, b.constF(2.0)), crowd.density), b.constF(1.0));
     return b.mix(ink, mean, weight);
 }
 

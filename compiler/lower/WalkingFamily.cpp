@@ -588,12 +588,15 @@ class Solver {
         ValueId exact = b_.emit(Op::Or, {still_, quadratic_});
         if (variant().polygonClosedForm) exact = b_.emit(Op::Or, {exact, closedPolygon_});
         ValueId engaged = b_.select(exact, c(0.0), b_.smoothstep(c(0.5 * budget), c(budget), span));
-        ValueId density = b_.ifThenElse(
-            b_.gt(engaged, c(0.0)), [&] { return Vals{crowdDensity(argmin, span)}; },
-            [&] { return Vals{c(0.0)}; })[0];
-        return {density, engaged};
+        Vals got = b_.ifThenElse(
+            b_.gt(engaged, c(0.0)), [&] { return crowdDensity(argmin, span); },
+            [&] {
+                return Vals{c(0.0), c(0.0)};
+            });
+        return {got[0], engaged, got[1]};
     }
-    ValueId crowdDensity(ValueId argmin, ValueId span) {
+    // The crowd's density and its mean ink.
+    Vals crowdDensity(ValueId argmin, ValueId span) {
         ValueId rr = b_.max(r_, b_.mul(s_, c(1e-6)));
         ValueId k = b_.sub(drift_, s_);
         ValueId end = b_.add(nLo_, span);
@@ -614,7 +617,19 @@ class Solver {
         ValueId local = b_.div(c(1.0), b_.max(slope, b_.mul(s_, c(1e-6))));
         local = b_.select(b_.lt(argmin, c(kFarIndex)), local, averaged);
         ValueId turns = b_.div(b_.mul(b_.abs(in_.turn), span), c(2.0 * std::numbers::pi));
-        return b_.denan(b_.mix(local, averaged, b_.smoothstep(c(0.5), c(2.0), turns)), c(0.0));
+        ValueId many = b_.smoothstep(c(0.5), c(2.0), turns);
+        ValueId density = b_.denan(b_.mix(local, averaged, many), c(0.0));
+        // The ink. One crossing (few turns): an even comb, min(1, width x density). Many
+        // turns: the cosine crosses the member's level twice a turn, so the members form two
+        // branches, each a comb of nearly even members (the phases n theta of a run of members
+        // are nearly evenly spread: the three-gap theorem), laid over one another
+        // independently; their union inks 1 - (1 - x)^2 = x (2 - x), x = min(1, h density)
+        // the ink of one comb.
+        ValueId width = b_.max(in_.stroke, c(1e-9));
+        ValueId single = b_.min(c(1.0), b_.mul(width, density));
+        ValueId comb = b_.min(c(1.0), b_.mul(b_.mul(width, c(0.5)), averaged));
+        ValueId twice = b_.mul(comb, b_.sub(c(2.0), comb));
+        return {density, b_.denan(b_.mix(single, twice, many), c(0.0))};
     }
     // (1 / pi) integral over [na, nb] of dn / sqrt(r^2 - c(n)^2), c(n) = n k - phase, as
     // (nb - na) / (pi r) x (asin x_b - asin x_a) / (x_b - x_a), x = c / r; the quotient's limit

@@ -606,16 +606,25 @@ class Solver {
         ValueId far = b_.clamp(b_.div(b_.mul(rr, c(2.0)), b_.max(len_, c(1e-9))), nLo_, end);
         ValueId nearPart = arcsineDensity(nLo_, far, k, rr);
         ValueId farPart =
-            b_.mul(arcsineDensity(far, end, k, rr), crowdCoincidence(b_.sub(end, far), k, rr));
+            b_.mul(arcsineDensity(far, end, k, rr), crowdCoincidence(far, end, k, rr));
         ValueId averaged = b_.add(nearPart, farPart);
         // Few turns: 1 / |dh/dn| at the member found. The filter's evaluations are not the
         // search's: the tally (the solver's cost in the experiments) leaves them out.
         counting_ = false;
         ValueId n = b_.floor(b_.denan(b_.min(argmin, c(kFarIndex)), c(0.0)));
-        ValueId slope = b_.abs(b_.sub(residual(b_.add(n, c(1.0))), residual(n)));
+        residual0_ = residual(n);
+        ValueId slope = b_.abs(b_.sub(residual(b_.add(n, c(1.0))), residual0_));
         counting_ = true;
         ValueId local = b_.div(c(1.0), b_.max(slope, b_.mul(s_, c(1e-6))));
-        local = b_.select(b_.lt(argmin, c(kFarIndex)), local, averaged);
+        // Only where the member found is a crossing: h moves by `slope` a member, so between
+        // the scan's strides (span / B members apart) a zero lies within half a stride's move
+        // of the member found, plus the stroke's band. Farther, the members pass the point by
+        // (a convex h's minimum, say) and there is no crowd to draw.
+        ValueId stride = b_.max(c(1.0), b_.div(span, c(variant().budget)));
+        ValueId reach =
+            b_.add(b_.mul(b_.mul(stride, slope), c(0.5)), b_.add(in_.band.h, in_.band.a));
+        ValueId crossing = b_.le(b_.abs(residual0_), reach);
+        local = b_.select(both(b_.lt(argmin, c(kFarIndex)), crossing), local, c(0.0));
         ValueId turns = b_.div(b_.mul(b_.abs(in_.turn), span), c(2.0 * std::numbers::pi));
         ValueId many = b_.smoothstep(c(0.5), c(2.0), turns);
         ValueId density = b_.denan(b_.mix(local, averaged, many), c(0.0));
@@ -657,7 +666,14 @@ class Solver {
     // plus (count / q - 1) steps: q + (count - q) dev / width strokes of the count. A turn by a
     // rational share of a full turn at the marginal drift (dev = 0) leaves exactly q distinct
     // members however long the interval; no q within the count: all distinct.
-    ValueId crowdCoincidence(ValueId count, ValueId k, ValueId r) {
+    //
+    // A circle bends where a polygon's facet is straight: far out the circles' members step
+    // apart by the curvature's r^2 / (2 n ||delta||) besides (the second order of |x - n delta|),
+    // so chain members a period q apart differ by dev + C / n^2, C = r^2 q / (2 ||delta||), and
+    // they are distinct up to n_c = sqrt(C / (width - dev)). Over the far run [a, b] the distinct
+    // strokes are then (n_c - a) + (dev / width)(b - n_c) + (C / width)(1 / n_c - 1 / b).
+    ValueId crowdCoincidence(ValueId a, ValueId b, ValueId k, ValueId r) {
+        ValueId count = b_.sub(b, a);
         ValueId width = b_.max(in_.stroke, c(1e-9));
         ValueId x = b_.div(b_.abs(in_.turn), c(2.0 * std::numbers::pi)); // in [0, 1/2]
         auto deviation = [&](ValueId p, ValueId q) {
@@ -703,8 +719,14 @@ class Solver {
             });
         ValueId q = res[6], dev = res[7];
         ValueId safe = b_.max(count, c(1.0));
-        ValueId share =
-            b_.div(b_.add(q, b_.mul(b_.sub(count, q), b_.min(c(1.0), b_.div(dev, width)))), safe);
+        ValueId bend = b_.select(
+            round_, b_.div(b_.mul(b_.mul(r, r), q), b_.mul(b_.max(len_, c(1e-9)), c(2.0))), c(0.0));
+        ValueId from = b_.max(a, c(1.0)), to = b_.max(b, c(1.0));
+        ValueId nc = b_.clamp(b_.sqrt(b_.div(bend, b_.max(b_.sub(width, dev), c(1e-9)))), from, to);
+        ValueId distinct =
+            b_.add(b_.add(b_.sub(nc, from), b_.mul(b_.div(dev, width), b_.sub(to, nc))),
+                   b_.mul(b_.div(bend, width), b_.sub(b_.div(c(1.0), nc), b_.div(c(1.0), to))));
+        ValueId share = b_.div(b_.add(q, distinct), safe);
         return b_.select(b_.gt(q, c(0.0)), b_.min(share, c(1.0)), c(1.0));
     }
 
@@ -751,6 +773,7 @@ class Solver {
     ValueId facetCos_ = ir::kNoValue, facetSin_ = ir::kNoValue; // Rot(2 pi / N), no fast paths
     ValueId nLo_, nHiRaw_;
     bool counting_ = true; // the radius's evaluations go to the tally (countEvaluations)
+    ValueId residual0_ = ir::kNoValue; // the crowd estimate's h at the member found
     // Jumps of up to 2^kCarriedPowers - 1 strides keep the rotation. Most skips are short:
     // on the walking examples 7 and 15 measured alike, 63 slower (a deeper product).
     static constexpr int kCarriedPowers = 3;

@@ -118,8 +118,8 @@ ir::ValueId meanInk(ir::Builder& b, const Footprint& footprint, ir::ValueId poin
 
 // The drawn ink `ink` handed over to a crowd's mean (CrowdEstimate): min(1, 2 h density), h
 // the stroke's own half-width `halfWidth` (or the crowd's own `mean` where it gives one),
-// weighted by `engaged` times the hand-over of members per pixel (nu = density x pixel,
-// kMeanFrom to kMeanFull).
+// weighted by `engaged` (a crowd is estimated where the family's own strokes miss members,
+// so there is no resolved picture to keep: see the .cpp). Called under the mean filter only.
 ir::ValueId crowdInk(ir::Builder& b, const CrowdEstimate& crowd, ir::ValueId ink,
                      ir::ValueId halfWidth, const PixelFootprint& pixel);
 

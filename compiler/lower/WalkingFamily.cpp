@@ -550,7 +550,8 @@ class Solver {
     // The crowd estimate for the mean filter (LayerFields::crowd, docs/filtering.md "Walking
     // families past the budget"): where the interval is wider than the budget the scan strides
     // and misses members, so the ink it draws is too light; the compose step then hands it over
-    // to min(1, 2 h density). `density` is members per unit of residual across the stroke.
+    // to the crowd's mean ink (`mean`, from `density`, members per unit of residual across the
+    // stroke, below), by `engaged`.
     //
     // Why members per unit of residual is what the ink needs: member n inks the points where
     // |h_p(n)| < h. Over a footprint, a member crossing it with |grad_p h| = g covers a band

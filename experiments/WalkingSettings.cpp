@@ -81,9 +81,11 @@ std::string sceneText(const Shape& shape) {
 
 } // namespace
 
-WalkingKernel::WalkingKernel(int shape, const lower::WalkingVariant& variant)
+WalkingKernel::WalkingKernel(int shape, const lower::WalkingVariant& variant,
+                             std::optional<sema::FilterMode> filter)
     : impl_(std::make_unique<Impl>()) {
     CompileOptions opt;
+    opt.filter = filter;
     opt.layerFields = true;
     opt.tally = true;
     opt.walking = variant;
@@ -138,6 +140,7 @@ Solved WalkingKernel::at(double pixelX, double pixelY) {
     s.nLo = impl_->out[layout.aux0Slot(0)];
     s.nHi = impl_->out[layout.aux1Slot(0)];
     s.evaluations = static_cast<double>(Interpreter::lastTally(lower::kRadiusTally));
+    s.ink = 1.0 - impl_->out[0];
     return s;
 }
 

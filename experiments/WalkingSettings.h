@@ -12,6 +12,7 @@
 
 #include <array>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -52,6 +53,7 @@ reference::Walking walkingOf(const WalkSetting& s);
 struct Solved {
     double distance = 0, nLo = 0, nHi = 0;
     double evaluations = 0;
+    double ink = 0; // the pixel's ink as drawn (1 - its grey: black ink on white paper)
 };
 
 // The shipped kernel (compiled through compileScene, run on the interpreter in its counting
@@ -59,7 +61,10 @@ struct Solved {
 // params into the literal table, so one compile serves the whole grid.
 class WalkingKernel {
   public:
-    WalkingKernel(int shape, const lower::WalkingVariant& variant);
+    // `filter`: the stroke filter the kernel is compiled with (the scene's default, the
+    // mean, when not given); Solved::ink is drawn under it.
+    WalkingKernel(int shape, const lower::WalkingVariant& variant,
+                  std::optional<sema::FilterMode> filter = std::nullopt);
     ~WalkingKernel();
     void set(const WalkSetting& s);
     Solved at(double pixelX, double pixelY);

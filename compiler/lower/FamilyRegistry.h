@@ -43,6 +43,9 @@ struct FamilyInputs {
     // The view sweeps the layers' indices (sema::viewSweeps): the family also gives its phase
     // sample (LayerFields::sample).
     bool sweeps = false;
+    // The mean filter is drawn: a family that can estimate its crowd of members where it cannot
+    // resolve them gives it (LayerFields::crowd).
+    bool crowd = false;
     // For the families that evaluate their phase elsewhere than at the pixel (walking).
     PhaseFn phaseAt;
     ir::ValueId facets = ir::kNoValue; // a shape's side count (0: a circle), for walking

@@ -112,6 +112,7 @@ FamilyInputs LayerLowering::inputs(const sema::CheckedLayer& layer, const LayerF
     in.tally = ctx_.options.tally;
     in.walking = ctx_.options.walking;
     in.sweeps = ctx_.options.view && sema::viewSweeps(*ctx_.options.view);
+    in.crowd = ctx_.options.filter == sema::FilterMode::Mean;
     in.layerProp = [this, &layer](std::string_view name) { return ctx_.layerProp(layer, name); };
     return in;
 }

@@ -71,10 +71,13 @@ struct Footprint {
 // members per world unit across the stroke, and `engaged` in [0, 1], how far the estimate is
 // to be trusted over the drawn stroke (0 where the search was exhaustive). Under the mean filter
 // the compose step hands the drawn ink over to the crowd's mean, min(1, 2 h density) with h the
-// stroke's own half-width, by members per pixel as the phase families' mean does (Prefilter.h).
-// kNoValue: the family gives none.
+// stroke's own half-width, by `engaged` (Prefilter.h: crowdInk).
+// kNoValue: the family gives none. `mean`, where set, is the family's own estimate of that
+// mean ink, for a crowd whose members overlap otherwise than an even comb's (the walking
+// families' turned members cross in two branches: WalkingFamily.cpp).
 struct CrowdEstimate {
     ir::ValueId density = ir::kNoValue, engaged = ir::kNoValue;
+    ir::ValueId mean = ir::kNoValue;
 };
 
 struct LayerFields {

@@ -104,12 +104,16 @@ ValueId meanInk(ir::Builder& b, const Footprint& footprint, ValueId distance, Va
 }
 
 ValueId crowdInk(ir::Builder& b, const CrowdEstimate& crowd, ValueId ink, ValueId halfWidth,
-                 const PixelFootprint& pixel) {
-    ValueId nu = b.mul(crowd.density, pixel.size);
-    ValueId weight =
-        b.mul(b.smoothstep(b.constF(kCrowdFrom), b.constF(kCrowdFull), nu), crowd.engaged);
-    ValueId mean = b.min(b.mul(b.mul(halfWidth, b.constF(2.0)), crowd.density), b.constF(1.0));
-    return b.mix(ink, mean, weight);
+                 const PixelFootprint& /*pixel: the mean filter is on*/) {
+    // Weighted by `engaged` alone, not handed over by members per pixel as a phase family's
+    // mean is: the hand-over keeps resolved members drawn as strokes, but where a family
+    // cannot resolve its members itself (a strided scan) the strokes it draws are a subset of
+    // them, whatever their size on screen, and their ink is short by the members skipped.
+    ValueId mean =
+        crowd.mean != ir::kNoValue
+            ? crowd.mean
+            : b.min(b.mul(b.mul(halfWidth, b.constF(2.0)), crowd.density), b.constF(1.0));
+    return b.mix(ink, mean, crowd.engaged);
 }
 
 } // namespace moire::lower

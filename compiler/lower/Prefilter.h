@@ -24,9 +24,9 @@ namespace moire::lower {
 // The narrowest footprint the box mean divides by, in index units: below it the quotient
 // would be lost to float rounding (the quotient is then close to the step at the index).
 constexpr double kLeastFootprint = 1e-3;
-// A crowd's estimate (CrowdEstimate) takes over from the drawn stroke by members per pixel,
-// from kCrowdFrom (4 pixels a member, where a stroke stands clear of the next) to kCrowdFull
-// (2.5, where strokes have merged).
+// Where a layer's members count as unresolved, by members per pixel: from kCrowdFrom (4 pixels
+// a member, where a stroke stands clear of the next) to kCrowdFull (2.5, where strokes have
+// merged). The union of fine layers (FineUnion.h) correlates layers past it.
 constexpr double kCrowdFrom = 1.0 / 4.0;
 constexpr double kCrowdFull = 2.0 / 5.0;
 
@@ -181,8 +181,9 @@ ir::ValueId distanceInk(ir::Builder& b, ir::ValueId distance, ir::ValueId halfWi
                         ir::ValueId gradX, ir::ValueId gradY, const PixelFootprint& pixel);
 
 // The drawn ink `ink` handed over to a crowd's mean (CrowdEstimate): min(1, 2 h density), h
-// the stroke's own half-width `halfWidth`, weighted by `engaged` times the hand-over of
-// members per pixel (nu = density x pixel, kCrowdFrom to kCrowdFull).
+// the stroke's own half-width `halfWidth` (or the crowd's own `mean` where it gives one),
+// weighted by `engaged` (a crowd is estimated where the family's own strokes miss members,
+// so there is no resolved picture to keep: see the .cpp). Called under the mean filter only.
 ir::ValueId crowdInk(ir::Builder& b, const CrowdEstimate& crowd, ir::ValueId ink,
                      ir::ValueId halfWidth, const PixelFootprint& pixel);
 

@@ -56,6 +56,8 @@ class Solver {
         out.aux0 = nLo_;
         out.aux1 = nHiRaw_;
         if (in_.flankGuard) out.sample = phaseSample(found[0], found[1]);
+        if (in_.crowd && variant().solver != WalkingVariant::Solver::Sweep)
+            out.crowd = crowd(found[1]);
         return out;
     }
 
@@ -97,7 +99,7 @@ class Solver {
     }
     // Counts evaluations of the residual (of rho, or of its closed form) in the tally.
     void countEvaluations(int count) {
-        if (in_.tally)
+        if (in_.tally && counting_)
             for (int i = 0; i < count; ++i) b_.emitSink(Op::Tally, {}, kRadiusTally);
     }
     // Rot(-angle) p: the point in the frame of a member turned by `angle`.
@@ -545,6 +547,190 @@ class Solver {
         return out;
     }
 
+    // The crowd estimate for the mean filter (LayerFields::crowd, docs/filtering.md "Walking
+    // families past the budget"): where the interval is wider than the budget the scan strides
+    // and misses members, so the ink it draws is too light; the compose step then hands it over
+    // to the crowd's mean ink (`mean`, from `density`, members per unit of residual across the
+    // stroke, below), by `engaged`.
+    //
+    // Why members per unit of residual is what the ink needs: member n inks the points where
+    // |h_p(n)| < h. Over a footprint, a member crossing it with |grad_p h| = g covers a band
+    // 2h / g wide, and members cross at g / |dh/dn| per unit of length (the implicit function
+    // n(p) of h_p(n) = 0 has |grad n| = |grad_p h| / |dh/dn|). g cancels: the ink is
+    // 2h sum_i 1 / |dh/dn(n_i)| over the zeros n_i of h_p, and sum_i 1 / |dh/dn(n_i)| is the
+    // measure of {n : |h_p(n)| < e} / 2e as e -> 0 (the coarea formula in one variable).
+    //
+    // That sum is read two ways, mixed by how many full turns the interval's members make
+    // (|theta| x span / 2 pi):
+    //  - Few turns (no turn: a translated polygon faster than its spacing): the zero the scan
+    //    found is the crossing, and its 1 / |dh/dn| is read by a difference of h at the member
+    //    found and the next, which is exact where h is linear over one member.
+    //  - Many turns: far out (n ||delta|| >> r) the pulled-back point is -n delta plus a point
+    //    circling at radius r, so rho(q_n) = n m + u . Rot(-n theta) p to first order (u the
+    //    unit normal of the shape at -delta, m = rho(-delta)), and
+    //        h_p(n) = c(n) + r cos(n theta - beta),   c(n) = n (m - s) - phase.
+    //    Over a turn the cosine's phase runs evenly, so its values have the arcsine density
+    //    1 / (pi sqrt(r^2 - c^2)) at -c, and the measure of members with |h| < e, per 2e, is
+    //        density = (1 / pi) integral over [n_lo, n_hi + 1] of dn / sqrt(r^2 - c(n)^2)
+    //                = (n_hi + 1 - n_lo) / (pi r) x (asin x_b - asin x_a) / (x_b - x_a),
+    //    x = c(n) / r at the interval's ends (asin clamps: members whose c is out of reach
+    //    of the cosine cross nowhere). As m -> s the quotient tends to 1 / sqrt(1 - x^2):
+    //    every member of the (capped) interval crosses, each with 1 / (pi sqrt(r^2 - phase^2)).
+    //    With m far from s it tends to 1 / |m - s|: one member a |m - s| of residual.
+    //    The first order holds where n ||delta|| >> r; nearer (n ||delta|| < 2 r) it is kept as
+    //    it is, and beyond, members a period of the turn apart that fall on one another are
+    //    counted once (crowdCoincidence): the ink is their union, not their sum.
+    // `engaged` is smoothstep(B / 2, B, span): 0 where the interval is well inside the budget,
+    // 1 from where the scan strides, and 0 wherever the answer is a closed form (§7.5).
+    CrowdEstimate crowd(ValueId argmin) {
+        ValueId nHi = b_.min(nHiRaw_, b_.add(nLo_, c(kWalkSpanCap - 1.0)));
+        ValueId span = b_.add(b_.sub(nHi, nLo_), c(1.0));
+        const double budget = variant().budget;
+        ValueId exact = b_.emit(Op::Or, {still_, quadratic_});
+        if (variant().polygonClosedForm) exact = b_.emit(Op::Or, {exact, closedPolygon_});
+        ValueId engaged = b_.select(exact, c(0.0), b_.smoothstep(c(0.5 * budget), c(budget), span));
+        Vals got = b_.ifThenElse(
+            b_.gt(engaged, c(0.0)), [&] { return crowdDensity(argmin, span); },
+            [&] {
+                return Vals{c(0.0), c(0.0)};
+            });
+        return {got[0], engaged, got[1]};
+    }
+    // The crowd's density and its mean ink.
+    Vals crowdDensity(ValueId argmin, ValueId span) {
+        ValueId rr = b_.max(r_, b_.mul(s_, c(1e-6)));
+        ValueId k = b_.sub(drift_, s_);
+        ValueId end = b_.add(nLo_, span);
+        // Many turns: the arcsine average, its near field (n ||delta|| < 2 r, where the first
+        // order above is rough but every member is its own) and its far field, where members
+        // a period of the turn apart fall on one another (crowdCoincidence).
+        ValueId far = b_.clamp(b_.div(b_.mul(rr, c(2.0)), b_.max(len_, c(1e-9))), nLo_, end);
+        ValueId nearPart = arcsineDensity(nLo_, far, k, rr);
+        ValueId farPart =
+            b_.mul(arcsineDensity(far, end, k, rr), crowdCoincidence(far, end, k, rr));
+        ValueId averaged = b_.add(nearPart, farPart);
+        // Few turns: 1 / |dh/dn| at the member found. The filter's evaluations are not the
+        // search's: the tally (the solver's cost in the experiments) leaves them out.
+        counting_ = false;
+        ValueId n = b_.floor(b_.denan(b_.min(argmin, c(kFarIndex)), c(0.0)));
+        residual0_ = residual(n);
+        ValueId slope = b_.abs(b_.sub(residual(b_.add(n, c(1.0))), residual0_));
+        counting_ = true;
+        ValueId local = b_.div(c(1.0), b_.max(slope, b_.mul(s_, c(1e-6))));
+        // Only where the member found is a crossing: h moves by `slope` a member, so between
+        // the scan's strides (span / B members apart) a zero lies within half a stride's move
+        // of the member found, plus the stroke's band. Farther, the members pass the point by
+        // (a convex h's minimum, say) and there is no crowd to draw.
+        ValueId stride = b_.max(c(1.0), b_.div(span, c(variant().budget)));
+        ValueId reach =
+            b_.add(b_.mul(b_.mul(stride, slope), c(0.5)), b_.add(in_.band.h, in_.band.a));
+        ValueId crossing = b_.le(b_.abs(residual0_), reach);
+        local = b_.select(both(b_.lt(argmin, c(kFarIndex)), crossing), local, c(0.0));
+        ValueId turns = b_.div(b_.mul(b_.abs(in_.turn), span), c(2.0 * std::numbers::pi));
+        ValueId many = b_.smoothstep(c(0.5), c(2.0), turns);
+        ValueId density = b_.denan(b_.mix(local, averaged, many), c(0.0));
+        // The ink. One crossing (few turns): an even comb, min(1, width x density). Many
+        // turns: the cosine crosses the member's level twice a turn, so the members form two
+        // branches, each a comb of nearly even members (the phases n theta of a run of members
+        // are nearly evenly spread: the three-gap theorem), laid over one another
+        // independently; their union inks 1 - (1 - x)^2 = x (2 - x), x = min(1, h density)
+        // the ink of one comb.
+        ValueId width = b_.max(in_.stroke, c(1e-9));
+        ValueId single = b_.min(c(1.0), b_.mul(width, density));
+        ValueId comb = b_.min(c(1.0), b_.mul(b_.mul(width, c(0.5)), averaged));
+        ValueId twice = b_.mul(comb, b_.sub(c(2.0), comb));
+        return {density, b_.denan(b_.mix(single, twice, many), c(0.0))};
+    }
+    // (1 / pi) integral over [na, nb] of dn / sqrt(r^2 - c(n)^2), c(n) = n k - phase, as
+    // (nb - na) / (pi r) x (asin x_b - asin x_a) / (x_b - x_a), x = c / r; the quotient's limit
+    // 1 / sqrt(1 - x^2) where x_b - x_a is too small to divide by (k -> 0). 0 where nb <= na.
+    ValueId arcsineDensity(ValueId na, ValueId nb, ValueId k, ValueId r) {
+        ValueId xa = b_.div(b_.sub(b_.mul(na, k), in_.phase), r);
+        ValueId xb = b_.div(b_.sub(b_.mul(nb, k), in_.phase), r);
+        ValueId dx = b_.sub(xb, xa);
+        ValueId mid = b_.mul(b_.add(xa, xb), c(0.5));
+        ValueId limit = b_.select(
+            b_.lt(b_.abs(mid), c(1.0)),
+            b_.div(c(1.0), b_.sqrt(b_.max(b_.sub(c(1.0), b_.mul(mid, mid)), c(1e-12)))), c(0.0));
+        ValueId quotient = b_.div(b_.sub(b_.emit(Op::Asin, {xb}), b_.emit(Op::Asin, {xa})),
+                                  b_.select(eq(dx, c(0.0)), c(1.0), dx));
+        ValueId arcsine = b_.select(b_.lt(b_.abs(dx), c(1e-4)), limit, quotient);
+        ValueId count = b_.max(b_.sub(nb, na), c(0.0));
+        return b_.div(b_.mul(count, arcsine), b_.mul(c(std::numbers::pi), r));
+    }
+    // The share of `count` far members that are distinct strokes. Member n + q lies within
+    // dev(q) = |q k| + r |q theta - 2 pi p| of member n (the cosine moves by at most r times
+    // the angle it is turned by, the line by q k), for any whole p. The first q that brings
+    // dev under the stroke's width is a convergent denominator of theta / 2 pi (the best
+    // approximations), found by the continued fraction's recurrence. Then the far members fall
+    // into q chains, each of count / q members stepping dev apart, whose union is one stroke
+    // plus (count / q - 1) steps: q + (count - q) dev / width strokes of the count. A turn by a
+    // rational share of a full turn at the marginal drift (dev = 0) leaves exactly q distinct
+    // members however long the interval; no q within the count: all distinct.
+    //
+    // A circle bends where a polygon's facet is straight: far out the circles' members step
+    // apart by the curvature's r^2 / (2 n ||delta||) besides (the second order of |x - n delta|),
+    // so chain members a period q apart differ by dev + C / n^2, C = r^2 q / (2 ||delta||), and
+    // they are distinct up to n_c = sqrt(C / (width - dev)). Over the far run [a, b] the distinct
+    // strokes are then (n_c - a) + (dev / width)(b - n_c) + (C / width)(1 / n_c - 1 / b).
+    ValueId crowdCoincidence(ValueId a, ValueId b, ValueId k, ValueId r) {
+        ValueId count = b_.sub(b, a);
+        ValueId width = b_.max(in_.stroke, c(1e-9));
+        ValueId x = b_.div(b_.abs(in_.turn), c(2.0 * std::numbers::pi)); // in [0, 1/2]
+        auto deviation = [&](ValueId p, ValueId q) {
+            return b_.add(b_.abs(b_.mul(q, k)), b_.mul(b_.mul(r, c(2.0 * std::numbers::pi)),
+                                                       b_.abs(b_.sub(b_.mul(q, x), p))));
+        };
+        auto found = [&](ValueId q, ValueId dev) {
+            return both(b_.le(q, count), b_.lt(dev, width));
+        };
+        // q = 1, p = 0 first (x < 1/2: its nearest whole number is 0).
+        ValueId dev1 = deviation(c(0.0), c(1.0));
+        ValueId first = found(c(1.0), dev1);
+        // Carried: step, fract, p, q, the previous p and q, found q (0: none), its dev.
+        Vals init = {c(0.0),
+                     x,
+                     c(0.0),
+                     c(1.0),
+                     c(1.0),
+                     c(0.0),
+                     b_.select(first, c(1.0), c(0.0)),
+                     b_.select(first, dev1, c(0.0))};
+        Vals res = b_.loop(
+            init,
+            [&](std::span<const ValueId> v) {
+                return Vals{both(both(b_.lt(v[0], c(kCrowdConvergents)), b_.gt(v[1], c(1e-7))),
+                                 eq(v[6], c(0.0)))};
+            },
+            [&](std::span<const ValueId> v) {
+                ValueId y = b_.div(c(1.0), v[1]);
+                ValueId a = b_.floor(y);
+                ValueId p = b_.add(b_.mul(a, v[2]), v[4]);
+                ValueId q = b_.add(b_.mul(a, v[3]), v[5]);
+                ValueId dev = deviation(p, q);
+                ValueId hit = found(q, dev);
+                return Vals{b_.add(v[0], c(1.0)),
+                            b_.sub(y, a),
+                            p,
+                            q,
+                            v[2],
+                            v[3],
+                            b_.select(hit, q, c(0.0)),
+                            b_.select(hit, dev, c(0.0))};
+            });
+        ValueId q = res[6], dev = res[7];
+        ValueId safe = b_.max(count, c(1.0));
+        ValueId bend = b_.select(
+            round_, b_.div(b_.mul(b_.mul(r, r), q), b_.mul(b_.max(len_, c(1e-9)), c(2.0))), c(0.0));
+        ValueId from = b_.max(a, c(1.0)), to = b_.max(b, c(1.0));
+        ValueId nc = b_.clamp(b_.sqrt(b_.div(bend, b_.max(b_.sub(width, dev), c(1e-9)))), from, to);
+        ValueId distinct =
+            b_.add(b_.add(b_.sub(nc, from), b_.mul(b_.div(dev, width), b_.sub(to, nc))),
+                   b_.mul(b_.div(bend, width), b_.sub(b_.div(c(1.0), nc), b_.div(c(1.0), to))));
+        ValueId share = b_.div(b_.add(q, distinct), safe);
+        return b_.select(b_.gt(q, c(0.0)), b_.min(share, c(1.0)), c(1.0));
+    }
+
     // The searched index field of §4.1: the nearest index plus the fractional residual
     // h(n*) / (h(n*) - h(n* + 1)) (or towards n* - 1 inside member n*), and its gradient.
     //
@@ -587,9 +773,14 @@ class Solver {
     ValueId still_, quadratic_, closedPolygon_, wholePolygon_;
     ValueId facetCos_ = ir::kNoValue, facetSin_ = ir::kNoValue; // Rot(2 pi / N), no fast paths
     ValueId nLo_, nHiRaw_;
+    bool counting_ = true; // the radius's evaluations go to the tally (countEvaluations)
+    ValueId residual0_ = ir::kNoValue; // the crowd estimate's h at the member found
     // Jumps of up to 2^kCarriedPowers - 1 strides keep the rotation. Most skips are short:
     // on the walking examples 7 and 15 measured alike, 63 slower (a deeper product).
     static constexpr int kCarriedPowers = 3;
+    // Convergents of theta / 2 pi the crowd estimate looks through for a period of the turn:
+    // their denominators at least double every two steps, so 24 reach past the span cap.
+    static constexpr double kCrowdConvergents = 24;
     std::array<std::pair<ValueId, ValueId>, kCarriedPowers> turnPowers_;
 };
 
@@ -635,11 +826,18 @@ LayerFields walkingLayerFields(ir::Builder& b, const FamilyInputs& fam) {
     if (slope != ir::kNoValue) in.band = {b.mul(fam.band.h, slope), b.mul(fam.band.a, slope)};
     in.wantIndex = fam.wantIndex;
     in.tally = fam.tally;
+    in.crowd = fam.crowd;
+    if (fam.crowd) {
+        in.stroke = fam.layerProp("stroke")[0];
+        if (slope != ir::kNoValue) in.stroke = b.mul(in.stroke, slope);
+    }
     in.variant = fam.walking;
     in.flankGuard = fam.sweeps;
     LayerFields out = walkingFamilyFields(b, in, fam.phaseAt);
     if (slope != ir::kNoValue) {
         out.distance = b.div(out.distance, slope);
+        // Members per unit of residual are members per residual's 1 / slope of world.
+        if (out.crowd.density != ir::kNoValue) out.crowd.density = b.mul(out.crowd.density, slope);
         if (out.sample.z != ir::kNoValue)
             for (ValueId* v : {&out.sample.z, &out.sample.up, &out.sample.down, &out.sample.floor})
                 *v = b.div(*v, slope);

@@ -29,6 +29,10 @@ struct WalkingInputs {
     bool wantIndex = false;
     // Count every evaluation of the radius with `tally [0]` (the interpreter's counting mode).
     bool tally = false;
+    // Also estimate the crowd of members where the scan strides (LayerFields::crowd), for the
+    // mean filter.
+    bool crowd = false;
+    ir::ValueId stroke = ir::kNoValue; // with crowd: the stroke's width as written (residual units)
     WalkingVariant variant = {};
 };
 

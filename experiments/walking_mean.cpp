@@ -1,0 +1,249 @@
+// §9.6 of the spec under the mean filter (docs/filtering.md, "Walking families past the
+// budget"): where Theorem 4's interval is wider than the budget the scan strides and loses ink;
+// the filter hands the drawn ink over to the family's crowd estimate (WalkingFamily.cpp).
+//
+//   build/bin/experiments/walking_mean [--quick]
+//
+// 1. The strided band of interval_span's grid (settings past the budget whose solver scans),
+//    a stratified sample of it (legible, under 50% ink, and saturated), each at quasi-random
+//    pixels. Per pixel, four numbers:
+//     - point: the shipped kernel (B = 1024) with filter = point, the floored stroke;
+//     - mean: the same kernel with filter = mean (the default);
+//     - the paper's reference: the solver with the budget raised to 131072 (stride 1 over the
+//       capped span), point-sampled with the same floored stroke: the protocol of §9.6;
+//     - the exact mean: the pixel's box mean (k x k samples) of the stroke as written (half-
+//       width t / 2, no floor), each sample's distance from the exhaustive double reference
+//       (tests/reference) over the members the raised solver walks (n < n_lo + 2^16).
+//    Ink lost per setting is 1 - ours / reference over its pixels; the paper's figures (4.6%
+//    mean, 48.8% worst, 28.7% legible) are point against the paper's reference.
+// 2. The two cases of the issue: triangles whose drift equals their spacing at a 0.5 degree
+//    turn, and circles offset 7.8 at spacing 8 at a 1 degree turn, over a grid of pixels:
+//    mean ink and the share of pixels off the exact mean by more than 8/255, point and mean.
+#include "compiler/lower/WalkingFamily.h"
+#include "experiments/Harness.h"
+#include "experiments/WalkingSettings.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <fmt/format.h>
+#include <string>
+#include <vector>
+
+using namespace moire;
+using namespace moire::exp;
+namespace ref = moire::reference;
+
+namespace {
+
+constexpr double kLegible = 0.5;
+constexpr double kSpanCap = 65536; // lower::kWalkSpanCap
+
+struct Kernels {
+    std::vector<std::unique_ptr<WalkingKernel>> point, mean, raised;
+    Kernels() {
+        lower::WalkingVariant wide;
+        wide.budget = 131072;
+        for (int shape = 0; shape < 5; ++shape) {
+            point.push_back(std::make_unique<WalkingKernel>(shape, lower::WalkingVariant{},
+                                                            sema::FilterMode::Point));
+            mean.push_back(std::make_unique<WalkingKernel>(shape, lower::WalkingVariant{},
+                                                           sema::FilterMode::Mean));
+            raised.push_back(std::make_unique<WalkingKernel>(shape, wide, sema::FilterMode::Point));
+        }
+    }
+    void set(const WalkSetting& s) {
+        point[s.shape]->set(s);
+        mean[s.shape]->set(s);
+        raised[s.shape]->set(s);
+    }
+};
+
+struct Pixel {
+    double point = 0, mean = 0, paper = 0, exact = 0;
+    double span = 0;
+};
+
+// The four numbers at one pixel (the setting already set).
+// Without `paper`, the raised solver is not run (its interval is the shipped one's).
+Pixel measure(Kernels& k, const WalkSetting& s, double x, double y, int samples,
+              bool paper = true) {
+    Pixel out;
+    WalkingKernel& p = *k.point[s.shape];
+    const Solved a = p.at(x, y);
+    out.point = a.ink;
+    out.span = std::min(kSpanCap, std::max(0.0, a.nHi - a.nLo) + 1);
+    out.mean = k.mean[s.shape]->at(x, y).ink;
+    if (paper) out.paper = k.raised[s.shape]->at(x, y).ink;
+    const ref::Walking w = walkingOf(s);
+    const auto cap = static_cast<int64_t>(a.nLo + kSpanCap);
+    const double half = kStroke / 2;
+    int inked = 0;
+    for (int i = 0; i < samples; ++i)
+        for (int j = 0; j < samples; ++j) {
+            const double sx = x + (i + 0.5) / samples - 0.5, sy = y + (j + 0.5) / samples - 0.5;
+            const auto [wx, wy] = p.world(sx, sy);
+            inked += ref::nearest(w, wx, wy, p.guard(), cap).distance < half;
+        }
+    out.exact = double(inked) / (samples * samples);
+    return out;
+}
+
+// Ink lost: 1 - ours / reference (negative: ink invented).
+double lost(double ours, double reference) {
+    return reference > 0 ? 1 - ours / reference : 0.0;
+}
+
+struct Tally {
+    double meanLoss = 0, worst = 0, worstInk = 0, worstLegible = 0, worstInvented = 0;
+    int settings = 0;
+    void add(double ours, double reference) {
+        const double l = lost(ours, reference);
+        meanLoss += std::max(0.0, l);
+        ++settings;
+        if (l > worst) worst = l, worstInk = reference;
+        if (reference < kLegible) worstLegible = std::max(worstLegible, l);
+        worstInvented = std::max(worstInvented, -l);
+    }
+    std::string meanText() const { return percent(settings ? meanLoss / settings : 0); }
+};
+
+std::vector<WalkSetting> grid() {
+    std::vector<WalkSetting> out;
+    for (const WalkSetting& w :
+         walkGrid({.spacings = {1, 2, 3, 5, 8, 12, 20, 40, 80},
+         .offsets = {0, 0.1, 0.25, 0.4, 0.55, 0.7, 0.8, 0.9, 0.95, 1.0, 1.05, 1.2, 1.5},
+         .directionsDeg = {0, 30, 75},
+         .turnsDeg = {0, 0.05, 0.2, 1, 3, 10},
+         .zooms = {0.1, 0.15, 0.4, 1, 2.5}}))
+        if (w.offsetX != 0 || w.offsetY != 0 || w.turnDeg != 0) out.push_back(w);
+    return out;
+}
+
+} // namespace
+
+int main(int argc, char** argv) {
+    const Options opt = parseOptions(argc, argv, "§9.6 of the spec under the mean filter");
+    Kernels k;
+    const int points = opt.quick ? 12 : 32;
+    const int samples = opt.quick ? 3 : 4;
+    const std::vector<std::array<double, 2>> pixels = haltonPixels(points, kFrameW, kFrameH);
+
+    // Part 1: the strided band, found as interval_span finds it (90th-percentile span past
+    // the budget, a solver that scans), then sampled.
+    const std::vector<WalkSetting> all = grid();
+    const size_t step = opt.quick ? 211 : 7;
+    std::vector<WalkSetting> legible, solid;
+    std::vector<double> spans(points);
+    for (size_t i = 0; i < all.size(); i += step) {
+        const WalkSetting& s = all[i];
+        const ref::Walking w = walkingOf(s);
+        const bool closedForm =
+            s.turnDeg == 0 && (w.facets == 0 || ref::drift(w) <= s.spacing + lower::kWalkMarginal);
+        if (closedForm) continue;
+        WalkingKernel& p = *k.point[s.shape];
+        p.set(s);
+        double ink = 0;
+        for (int j = 0; j < points; ++j) {
+            const Solved v = p.at(pixels[j][0], pixels[j][1]);
+            spans[j] = std::min(kSpanCap, std::max(0.0, v.nHi - v.nLo) + 1);
+            ink += v.ink;
+        }
+        std::sort(spans.begin(), spans.end());
+        if (spans[static_cast<size_t>(std::ceil(0.9 * points)) - 1] <= lower::kWalkBudget) continue;
+        (ink / points < kLegible ? legible : solid).push_back(s);
+    }
+    const size_t wantLegible = opt.quick ? 4 : 60, wantSolid = opt.quick ? 3 : 40;
+    std::vector<WalkSetting> sample;
+    for (const auto* band : {&legible, &solid}) {
+        const size_t want = band == &legible ? wantLegible : wantSolid;
+        const size_t every = std::max<size_t>(1, (band->size() + want - 1) / want);
+        for (size_t j = 0; j < band->size(); j += every) sample.push_back((*band)[j]);
+    }
+
+    Tally paper, pointExact, meanExact;
+    double meanAbs = 0, pointAbs = 0;
+    for (const WalkSetting& s : sample) {
+        k.set(s);
+        double point = 0, mean = 0, raised = 0, exact = 0;
+        for (int j = 0; j < points; ++j) {
+            const Pixel px = measure(k, s, pixels[j][0], pixels[j][1], samples);
+            point += px.point, mean += px.mean, raised += px.paper, exact += px.exact;
+            pointAbs += std::fabs(px.point - px.exact);
+            meanAbs += std::fabs(px.mean - px.exact);
+        }
+        if (std::getenv("MOIRE_WALKING_MEAN_VERBOSE"))
+            std::printf("  %s s=%g off=(%g, %g) turn=%g zoom=%g: point %.3f mean %.3f paper %.3f "
+                        "exact %.3f\n",
+                        sweepShapes()[s.shape].name, s.spacing, s.offsetX, s.offsetY, s.turnDeg,
+                        s.zoom, point / points, mean / points, raised / points, exact / points);
+        paper.add(point / points, raised / points);
+        pointExact.add(point / points, exact / points);
+        meanExact.add(mean / points, exact / points);
+    }
+    const double pixelsMeasured = double(sample.size()) * points;
+    printTitle(fmt::format("walking_mean: §9.6 under the mean filter, {} strided settings "
+                           "({} legible, {} saturated found){}",
+                           sample.size(), legible.size(), solid.size(),
+                           opt.quick ? " (quick)" : ""));
+    std::printf("  columns: the paper | point against the paper's reference (B = 131072, "
+                "floored) | point, mean filter against the exact box mean\n");
+    auto row = [&](const char* what, const char* fig, auto get) {
+        printRow(what, fig,
+                 fmt::format("{} | {} | {}", get(paper), get(pointExact), get(meanExact)));
+    };
+    row("mean ink lost", "4.6%", [](const Tally& t) { return t.meanText(); });
+    row("worst ink lost", "48.8%", [](const Tally& t) { return percent(t.worst); });
+    row("  its reference ink", "1.00",
+        [](const Tally& t) { return fmt::format("{:.2f}", t.worstInk); });
+    row("worst ink lost, legible", "28.7%", [](const Tally& t) { return percent(t.worstLegible); });
+    row("worst ink invented", "0", [](const Tally& t) { return percent(t.worstInvented); });
+    printRow("a pixel's mean |ink - exact|: point, mean", "-",
+             fmt::format("{:.3f}, {:.3f}", pointAbs / pixelsMeasured, meanAbs / pixelsMeasured));
+
+    // Part 2: the issue's two cases, over a grid of pixels.
+    struct Case {
+        const char* name;
+        WalkSetting s;
+    };
+    WalkSetting tri;
+    tri.shape = 1, tri.spacing = 10, tri.offsetX = -10, tri.turnDeg = 0.5; // rho(-delta) = s
+    WalkSetting circ;
+    circ.shape = 0, circ.spacing = 8, circ.offsetX = 7.8, circ.turnDeg = 1;
+    const int cols = opt.quick ? 12 : 48, rows = opt.quick ? 8 : 32;
+    bool casesBetter = true;
+    for (const Case& c : {Case{"triangles, drift = spacing, 0.5 deg", tri},
+                          Case{"circles, offset 7.8, spacing 8, 1 deg", circ}}) {
+        k.set(c.s);
+        double point = 0, mean = 0, exact = 0;
+        int pointOff = 0, meanOff = 0;
+        for (int i = 0; i < cols; ++i)
+            for (int j = 0; j < rows; ++j) {
+                const double x = (i + 0.5) * kFrameW / cols, y = (j + 0.5) * kFrameH / rows;
+                const Pixel px =
+                    measure(k, c.s, std::floor(x) + 0.5, std::floor(y) + 0.5, samples, false);
+                point += px.point, mean += px.mean, exact += px.exact;
+                pointOff += std::fabs(px.point - px.exact) > 8.0 / 255;
+                meanOff += std::fabs(px.mean - px.exact) > 8.0 / 255;
+            }
+        const double n = double(cols) * rows;
+        printRow(fmt::format("{}: ink point, mean, exact", c.name), "0.22 / - / 0.95 (tri.)",
+                 fmt::format("{:.2f}, {:.2f}, {:.2f}", point / n, mean / n, exact / n));
+        printRow("  pixels off by > 8/255: point, mean", "85% (tri.), 9% (circ.)",
+                 fmt::format("{}, {}", percent(pointOff / n), percent(meanOff / n)));
+        // The ink nearer the exact mean's, and for the circles fewer pixels off it (the
+        // triangles' periodic members stand 2.6 pixels apart: there the mean's even grey is off
+        // the exact picture's lines pixel by pixel, as point sampling's missing lines are).
+        casesBetter = casesBetter && std::fabs(mean - exact) < std::fabs(point - exact);
+        if (c.s.shape == 0) casesBetter = casesBetter && meanOff < pointOff;
+    }
+
+    // The goal (worst loss under 5%) is printed, not asserted: see docs/experiments.md.
+    const bool ok = !sample.empty() && meanExact.meanLoss < 0.5 * pointExact.meanLoss &&
+                    meanExact.worstInvented < 0.10 && meanAbs < 0.5 * pointAbs && casesBetter;
+    return verdict(ok, "under the mean filter the strided band must lose less than half the ink "
+                       "point sampling loses against the exact mean, invent under 10% of it, halve "
+                       "point sampling's error pixel by pixel, and draw the issue's cases nearer "
+                       "their exact ink");
+}

@@ -159,8 +159,8 @@ TEST_CASE("walking crowd: the filtered ink is the pixel's exact mean where the s
     }
 }
 
-TEST_CASE("walking crowd: the point filter draws what it drew, and exhaustive scans keep "
-          "their ink") {
+TEST_CASE("walking crowd: the point filter draws what it drew, and the mean the strided "
+          "scan's missing members") {
     // filter = point: the crowd is not estimated; the picture is the solver's own.
     auto interp = test::makeBackendOrSkip("interp");
     REQUIRE(interp);
@@ -180,13 +180,33 @@ TEST_CASE("walking crowd: the point filter draws what it drew, and exhaustive sc
         for (int x = 0; x < a.width; ++x)
             pointInk += 1 - a.at(x, y, 0), meanInk += 1 - c.at(x, y, 0);
     CHECK(meanInk > pointInk); // the strided scan's missing members drawn as grey
-    // Within the budget (a benign drift) the mean filter changes nothing.
-    const std::string benign = "layer { family = circles; spacing = 10; offset = (3, 0); "
-                               "turn = 2deg; stroke = 1.5 }\n";
-    auto p2 = test::compileOk("scene { size = (96, 64); filter = point }\n" + benign);
-    auto m2 = test::compileOk("scene { size = (96, 64) }\n" + benign);
-    CHECK(test::compareImages(test::renderScene(*p2, *interp), test::renderScene(*m2, *interp), 0.0)
-              .maxAbs == 0.0);
+}
+
+TEST_CASE("walking crowd: within the budget the mean is the exhaustive field's, no crowd drawn") {
+    // A benign drift: the scan is exhaustive, the crowd is not engaged, and what the mean filter
+    // draws is the pixel's mean of the members found (the nearest member's stroke as written
+    // across its normal, docs/filtering.md): within 0.06 of the exact box mean at every point,
+    // 0.02 on average. A crowd drawn there would add its even grey between the strokes.
+    Setting st;
+    st.w.facets = 0, st.w.spacing = 10, st.w.offsetX = 3, st.w.turn = 2 * kDeg;
+    st.stroke = 1.5;
+    INFO(describe(st));
+    Walker& k = walker(st);
+    std::mt19937_64 rng(11);
+    double drawnSum = 0, exactSum = 0;
+    int n = 0;
+    for (int i = 0; i < 40; ++i) {
+        double x, y;
+        inDisc(300, rng, x, y);
+        const Out o = solveOn(k, st, x, y);
+        REQUIRE(o.hi - o.lo + 1 <= lower::kWalkBudget); // exhaustive
+        const double drawn = drawnInk(k, st, x, y);
+        const double exact = exactMean(st, x, y, 1.0, static_cast<int64_t>(o.lo), 16);
+        SHOW(x, y, drawn, exact);
+        CHECK(std::fabs(drawn - exact) <= 0.06);
+        drawnSum += drawn, exactSum += exact, ++n;
+    }
+    CHECK(std::fabs(drawnSum - exactSum) / n <= 0.02);
 }
 
 TEST_CASE("walking crowd: the JIT and the GPU draw the crowd the interpreter draws") {

@@ -94,11 +94,14 @@ LoweredScene lowerScene(const sema::CheckedScene& scene, const LowerOptions& opt
         settled.view = out.view = sema::ViewMode::Pattern;
         settled.overlay = out.overlay = false;
     }
-    // The ratio view and the overlay read every layer's index field and its gradient, and the
-    // envelope's sweep reads the gradients (a walking layer has them only with its index).
-    const bool wantIndex = layout.layerFields || out.overlay ||
-                           sema::viewReadsCharacters(out.view) || sema::viewSweeps(out.view);
     const sema::FilterMode filter = filterOf(scene, options);
+    // The ratio view and the overlay read every layer's index field and its gradient, and the
+    // envelope's sweep reads the gradients (a walking layer has them only with its index); so
+    // does the mean filter, across a walking layer's members (distanceInk), in every view, so
+    // that the pattern a view draws beside another is the pattern view's.
+    const bool wantIndex = layout.layerFields || out.overlay ||
+                           sema::viewReadsCharacters(out.view) || sema::viewSweeps(out.view) ||
+                           filter == sema::FilterMode::Mean;
     settled.filter = filter;
     SceneContext ctx{scene, settled, b, exprs, timings, out.probeSlot, out.viewSlot, {}, {}};
     ctx.pixelSlot = out.pixelSlot;

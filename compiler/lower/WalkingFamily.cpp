@@ -7,6 +7,8 @@
 #include <array>
 #include <limits>
 #include <numbers>
+#include <tuple>
+#include <utility>
 
 namespace moire::lower {
 
@@ -177,19 +179,31 @@ class Solver {
         closedPolygon_ = both(both(b_.emit(Op::Not, {round_}), noTurn),
                               both(whole, b_.emit(Op::Le, {drift_, b_.add(s_, c(kWalkMarginal))})));
 
-        // Theorem 4's interval, with the per-branch upper bounds of §7.6.
+        std::tie(nLo_, nHiRaw_) = interval(guard_);
+        // The crowd (below) is estimated over the interval of the pattern's own guard, so that
+        // a view that widens the guard to read the flanking members (the split's left half)
+        // draws the pattern the pattern view draws.
+        std::tie(crowdLo_, crowdHiRaw_) =
+            in_.flankGuard ? interval(walkGuard(band, BuiltValue(b_, s_), kWalkGuardPitches).id)
+                           : std::pair{nLo_, nHiRaw_};
+    }
+
+    // Theorem 4's interval [n_lo, n_hi] for a guard distance, with the per-branch upper bounds
+    // of §7.6 (n_hi uncapped).
+    std::pair<ValueId, ValueId> interval(ValueId guard) {
         ValueId kr = b_.mul(kappa_, r_);
-        nLo_ = member(b_.floor(
-            b_.div(b_.sub(b_.sub(kr, in_.phase), guard_), b_.add(s_, b_.mul(kappa_, len_)))));
+        ValueId lo = member(b_.floor(
+            b_.div(b_.sub(b_.sub(kr, in_.phase), guard), b_.add(s_, b_.mul(kappa_, len_)))));
         // Loose (§9.1, Table 6's "exact drift" removed): the obvious bound ||delta|| >= m in
         // place of m. It widens the interval, and where m < s < ||delta|| it even takes the
         // wrong branch, so it can lose ink; it never invents any (a minimum over members).
         ValueId intervalDrift = variant().solver == WalkingVariant::Solver::Loose ? len_ : drift_;
         ValueId gap = b_.sub(s_, intervalDrift);
-        ValueId slower = b_.div(b_.add(b_.sub(r_, in_.phase), guard_), gap);         // m < s
-        ValueId faster = b_.div(b_.add(b_.add(r_, in_.phase), guard_), b_.neg(gap)); // m > s
-        nHiRaw_ = ceil(
+        ValueId slower = b_.div(b_.add(b_.sub(r_, in_.phase), guard), gap);         // m < s
+        ValueId faster = b_.div(b_.add(b_.add(r_, in_.phase), guard), b_.neg(gap)); // m > s
+        ValueId hi = ceil(
             b_.select(b_.gt(gap, c(0.0)), slower, b_.select(b_.lt(gap, c(0.0)), faster, c(kFar))));
+        return {lo, hi};
     }
 
     // delta = 0, and no turn (or a circle, which turning leaves alone): h_p is affine in n,
@@ -583,8 +597,8 @@ class Solver {
     // `engaged` is smoothstep(B / 2, B, span): 0 where the interval is well inside the budget,
     // 1 from where the scan strides, and 0 wherever the answer is a closed form (§7.5).
     CrowdEstimate crowd(ValueId argmin) {
-        ValueId nHi = b_.min(nHiRaw_, b_.add(nLo_, c(kWalkSpanCap - 1.0)));
-        ValueId span = b_.add(b_.sub(nHi, nLo_), c(1.0));
+        ValueId nHi = b_.min(crowdHiRaw_, b_.add(crowdLo_, c(kWalkSpanCap - 1.0)));
+        ValueId span = b_.add(b_.sub(nHi, crowdLo_), c(1.0));
         const double budget = variant().budget;
         ValueId exact = b_.emit(Op::Or, {still_, quadratic_});
         if (variant().polygonClosedForm) exact = b_.emit(Op::Or, {exact, closedPolygon_});
@@ -600,12 +614,12 @@ class Solver {
     Vals crowdDensity(ValueId argmin, ValueId span) {
         ValueId rr = b_.max(r_, b_.mul(s_, c(1e-6)));
         ValueId k = b_.sub(drift_, s_);
-        ValueId end = b_.add(nLo_, span);
+        ValueId end = b_.add(crowdLo_, span);
         // Many turns: the arcsine average, its near field (n ||delta|| < 2 r, where the first
         // order above is rough but every member is its own) and its far field, where members
         // a period of the turn apart fall on one another (crowdCoincidence).
-        ValueId far = b_.clamp(b_.div(b_.mul(rr, c(2.0)), b_.max(len_, c(1e-9))), nLo_, end);
-        ValueId nearPart = arcsineDensity(nLo_, far, k, rr);
+        ValueId far = b_.clamp(b_.div(b_.mul(rr, c(2.0)), b_.max(len_, c(1e-9))), crowdLo_, end);
+        ValueId nearPart = arcsineDensity(crowdLo_, far, k, rr);
         ValueId farPart =
             b_.mul(arcsineDensity(far, end, k, rr), crowdCoincidence(far, end, k, rr));
         ValueId averaged = b_.add(nearPart, farPart);
@@ -773,7 +787,8 @@ class Solver {
     ValueId still_, quadratic_, closedPolygon_, wholePolygon_;
     ValueId facetCos_ = ir::kNoValue, facetSin_ = ir::kNoValue; // Rot(2 pi / N), no fast paths
     ValueId nLo_, nHiRaw_;
-    bool counting_ = true; // the radius's evaluations go to the tally (countEvaluations)
+    ValueId crowdLo_, crowdHiRaw_; // the interval of the pattern's own guard (setUp)
+    bool counting_ = true;         // the radius's evaluations go to the tally (countEvaluations)
     ValueId residual0_ = ir::kNoValue; // the crowd estimate's h at the member found
     // Jumps of up to 2^kCarriedPowers - 1 strides keep the rotation. Most skips are short:
     // on the walking examples 7 and 15 measured alike, 63 slower (a deeper product).

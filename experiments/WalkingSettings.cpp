@@ -184,4 +184,16 @@ double intervalSpan(const ref::Walking& w, double px, double py, double guard) {
     return std::max(0.0, hi - lo) + 1;
 }
 
+std::vector<WalkSetting> intervalGrid() {
+    std::vector<WalkSetting> out;
+    for (const WalkSetting& w :
+         walkGrid({.spacings = {1, 2, 3, 5, 8, 12, 20, 40, 80},
+         .offsets = {0, 0.1, 0.25, 0.4, 0.55, 0.7, 0.8, 0.9, 0.95, 1.0, 1.05, 1.2, 1.5},
+         .directionsDeg = {0, 30, 75},
+         .turnsDeg = {0, 0.05, 0.2, 1, 3, 10},
+         .zooms = {0.1, 0.15, 0.4, 1, 2.5}}))
+        if (w.offsetX != 0 || w.offsetY != 0 || w.turnDeg != 0) out.push_back(w);
+    return out;
+}
+
 } // namespace moire::exp

@@ -44,6 +44,10 @@ struct GridAxes {
 };
 // Every shape x spacing x offset x direction x turn x zoom, in that nesting order.
 std::vector<WalkSetting> walkGrid(const GridAxes& axes);
+// §9.6's broad sweep (Fig. 16; the strided band and its mean): five shapes x nine spacings x
+// thirteen offsets in three directions x six turns x five zooms, less the concentric settings
+// (no offset, no turn), which have no interval.
+std::vector<WalkSetting> intervalGrid();
 
 // The family as the reference sees it.
 reference::Walking walkingOf(const WalkSetting& s);

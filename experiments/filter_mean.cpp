@@ -6,7 +6,7 @@
 // absolute error must be at least 10 times lower with the mean where members are unresolved (one
 // member a pixel or more), and no worse where they are resolved (4 pixels a member or more).
 #include "experiments/Harness.h"
-#include "runtime/output/Render.h"
+#include "experiments/RenderedInk.h"
 
 #include <cmath>
 #include <cstdio>
@@ -79,27 +79,14 @@ std::vector<double> reference(Family family, double zoom, int width, int height)
     return out;
 }
 
-// The mean absolute difference between the rendered ink (1 - red on white) and the reference.
+// The mean absolute difference between the rendered ink and the reference.
 double renderedError(Backend& jit, Family family, double zoom, int width, int height,
                      const char* filter, const std::vector<double>& ref) {
-    CompileResult compiled =
-        compileScene("filter_mean.moire", sceneText(family, zoom, width, height, filter));
-    if (!compiled.program) {
-        std::fprintf(stderr, "%s", compiled.diagnostics.c_str());
-        std::exit(2);
-    }
-    FrameValues fv;
-    std::string diags;
-    if (!evaluateFrame(*compiled.program, FrameRequest{}, fv, diags)) {
-        std::fprintf(stderr, "%s", diags.c_str());
-        std::exit(2);
-    }
-    Image img = renderFrame(*compiled.program, jit, fv);
+    const std::vector<double> ink =
+        renderedInk(jit, "filter_mean.moire", sceneText(family, zoom, width, height, filter));
     double sum = 0.0;
-    for (int py = 0; py < height; ++py)
-        for (int px = 0; px < width; ++px)
-            sum += std::abs((1.0 - img.at(px, py, 0)) - ref[size_t(py) * width + px]);
-    return sum / (double(width) * height);
+    for (size_t i = 0; i < ink.size(); ++i) sum += std::abs(ink[i] - ref[i]);
+    return sum / double(ink.size());
 }
 
 } // namespace

@@ -12,7 +12,7 @@
 // at least 10 times lower than point sampling's where the members are unresolved, and no
 // worse where they are resolved.
 #include "experiments/Harness.h"
-#include "runtime/output/Render.h"
+#include "experiments/RenderedInk.h"
 
 #include <cmath>
 #include <complex>
@@ -130,26 +130,10 @@ double fringeContrast(Pair pair, const std::vector<double>& ink, double zoom, in
     return 2.0 * std::abs(sum) / (double(width) * height);
 }
 
-// The rendered ink (1 - red on white) of the pair's scene under `filter`.
+// The rendered ink of the pair's scene under `filter`.
 std::vector<double> rendered(Backend& jit, Pair pair, double zoom, int width, int height,
                              const char* filter) {
-    CompileResult compiled =
-        compileScene("fine_pairs.moire", sceneText(pair, zoom, width, height, filter));
-    if (!compiled.program) {
-        std::fprintf(stderr, "%s", compiled.diagnostics.c_str());
-        std::exit(2);
-    }
-    FrameValues fv;
-    std::string diags;
-    if (!evaluateFrame(*compiled.program, FrameRequest{}, fv, diags)) {
-        std::fprintf(stderr, "%s", diags.c_str());
-        std::exit(2);
-    }
-    Image img = renderFrame(*compiled.program, jit, fv);
-    std::vector<double> out(size_t(width) * height);
-    for (int py = 0; py < height; ++py)
-        for (int px = 0; px < width; ++px) out[size_t(py) * width + px] = 1.0 - img.at(px, py, 0);
-    return out;
+    return renderedInk(jit, "fine_pairs.moire", sceneText(pair, zoom, width, height, filter));
 }
 
 double meanAbsError(const std::vector<double>& a, const std::vector<double>& b) {

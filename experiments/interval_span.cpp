@@ -35,19 +35,6 @@ namespace {
 constexpr double kSpanCap = 65536; // lower::kWalkSpanCap
 constexpr double kLegible = 0.5;   // §9.6's stricter cut: the strided band is darker
 
-// Less the concentric settings (no offset, no turn): one evaluation, no interval.
-std::vector<WalkSetting> grid() {
-    std::vector<WalkSetting> out;
-    for (const WalkSetting& w :
-         walkGrid({.spacings = {1, 2, 3, 5, 8, 12, 20, 40, 80},
-         .offsets = {0, 0.1, 0.25, 0.4, 0.55, 0.7, 0.8, 0.9, 0.95, 1.0, 1.05, 1.2, 1.5},
-         .directionsDeg = {0, 30, 75},
-         .turnsDeg = {0, 0.05, 0.2, 1, 3, 10},
-         .zooms = {0.1, 0.15, 0.4, 1, 2.5}}))
-        if (w.offsetX != 0 || w.offsetY != 0 || w.turnDeg != 0) out.push_back(w);
-    return out;
-}
-
 struct Measured {
     double span90 = 0, ink = 0;
     bool strided = false;
@@ -66,7 +53,7 @@ int main(int argc, char** argv) {
     const int stride = opt.quick ? 53 : 1;
     const int points = opt.quick ? 32 : 64;
     const std::vector<std::array<double, 2>> pixels = haltonPixels(points, kFrameW, kFrameH);
-    const std::vector<WalkSetting> all = grid();
+    const std::vector<WalkSetting> all = intervalGrid();
 
     std::vector<std::unique_ptr<WalkingKernel>> shipped, raised;
     lower::WalkingVariant wide;

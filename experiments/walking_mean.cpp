@@ -109,18 +109,6 @@ struct Tally {
     std::string meanText() const { return percent(settings ? meanLoss / settings : 0); }
 };
 
-std::vector<WalkSetting> grid() {
-    std::vector<WalkSetting> out;
-    for (const WalkSetting& w :
-         walkGrid({.spacings = {1, 2, 3, 5, 8, 12, 20, 40, 80},
-         .offsets = {0, 0.1, 0.25, 0.4, 0.55, 0.7, 0.8, 0.9, 0.95, 1.0, 1.05, 1.2, 1.5},
-         .directionsDeg = {0, 30, 75},
-         .turnsDeg = {0, 0.05, 0.2, 1, 3, 10},
-         .zooms = {0.1, 0.15, 0.4, 1, 2.5}}))
-        if (w.offsetX != 0 || w.offsetY != 0 || w.turnDeg != 0) out.push_back(w);
-    return out;
-}
-
 } // namespace
 
 int main(int argc, char** argv) {
@@ -132,7 +120,7 @@ int main(int argc, char** argv) {
 
     // Part 1: the strided band, found as interval_span finds it (90th-percentile span past
     // the budget, a solver that scans), then sampled.
-    const std::vector<WalkSetting> all = grid();
+    const std::vector<WalkSetting> all = intervalGrid();
     const size_t step = opt.quick ? 211 : 7;
     std::vector<WalkSetting> legible, solid;
     std::vector<double> spans(points);

@@ -19,11 +19,7 @@ using namespace moire::exp;
 namespace {
 
 constexpr double kSpacing = 1.0, kStroke = 0.2; // every member inks 20% of its period
-// 256 samples a pixel on a rank-1 lattice: sample j at ((j + 1/2) / 256, frac(j / phi + 1/2)),
-// so that both the columns and the rows hold 256 distinct positions (a 16 x 16 grid would
-// give upright lines only 16, and alias with them).
-constexpr int kReference = 256;
-constexpr double kSlant = 30.0; // degrees
+constexpr double kSlant = 30.0;                 // degrees
 
 enum Family { kLines, kSlanted, kCircles, kSpiral, kFamilies };
 const char* const kFamilyNames[kFamilies] = {"lines", "slanted lines", "circles", "spiral"};
@@ -59,34 +55,17 @@ bool exactInk(Family family, double x, double y) {
     return std::abs(index - std::round(index)) * kSpacing < 0.5 * kStroke;
 }
 
-// The reference: each pixel's 256-sample mean of the exact ink. The camera puts the world
-// origin at the frame's middle, one pixel 1 / zoom world units, y up.
+// The reference: each pixel's 256-sample mean of the exact ink.
 std::vector<double> reference(Family family, double zoom, int width, int height) {
-    std::vector<double> out(size_t(width) * height);
-    for (int py = 0; py < height; ++py)
-        for (int px = 0; px < width; ++px) {
-            int inked = 0;
-            for (int j = 0; j < kReference; ++j) {
-                double u = (j + 0.5) / kReference;
-                double v = j * 0.6180339887498949 + 0.5;
-                v -= std::floor(v);
-                double sx = px + u - 0.5 * width;
-                double sy = 0.5 * height - (py + v);
-                inked += exactInk(family, sx / zoom, sy / zoom);
-            }
-            out[size_t(py) * width + px] = double(inked) / kReference;
-        }
-    return out;
+    return boxReference(width, height, zoom,
+                        [&](double x, double y) { return exactInk(family, x, y); });
 }
 
 // The mean absolute difference between the rendered ink and the reference.
 double renderedError(Backend& jit, Family family, double zoom, int width, int height,
                      const char* filter, const std::vector<double>& ref) {
-    const std::vector<double> ink =
-        renderedInk(jit, "filter_mean.moire", sceneText(family, zoom, width, height, filter));
-    double sum = 0.0;
-    for (size_t i = 0; i < ink.size(); ++i) sum += std::abs(ink[i] - ref[i]);
-    return sum / double(ink.size());
+    return meanAbsError(
+        renderedInk(jit, "filter_mean.moire", sceneText(family, zoom, width, height, filter)), ref);
 }
 
 } // namespace
@@ -96,11 +75,7 @@ int main(int argc, char** argv) {
                              "fine lines and circles over two decades of zoom: the error of "
                              "point sampling and of the filtered mean against 256 samples");
     const int width = o.quick ? 96 : 320, height = o.quick ? 64 : 200;
-    std::vector<double> zooms;
-    if (o.quick)
-        zooms = {0.1, 0.5, 5.0};
-    else
-        for (int k = -8; k <= 8; ++k) zooms.push_back(std::pow(10.0, k / 8.0));
+    const std::vector<double> zooms = zoomSweep(o.quick);
     auto jit = makeBackend("jit");
     bool ok = true;
     std::string why;

@@ -27,7 +27,6 @@ namespace {
 
 constexpr double kSpacing = 1.0, kOther = 1.05, kStroke = 0.3; // each inks 30% of its period
 constexpr double kForkGain = 5.0; // members the fork gains around the origin
-constexpr int kReference = 256;   // samples a pixel, on filter_mean's rank-1 lattice
 
 enum Pair { kLines, kCircles, kFork, kPairs };
 const char* const kPairNames[kPairs] = {"lines 1 and 1.05", "circles 1 and 1.05",
@@ -99,21 +98,8 @@ void world(double px, double py, double zoom, int width, int height, double& x, 
 }
 
 std::vector<double> reference(Pair pair, double zoom, int width, int height) {
-    std::vector<double> out(size_t(width) * height);
-    for (int py = 0; py < height; ++py)
-        for (int px = 0; px < width; ++px) {
-            int inked = 0;
-            for (int j = 0; j < kReference; ++j) {
-                double u = (j + 0.5) / kReference;
-                double v = j * 0.6180339887498949 + 0.5;
-                v -= std::floor(v);
-                double x, y;
-                world(px + u, py + v, zoom, width, height, x, y);
-                inked += exactInk(pair, x, y);
-            }
-            out[size_t(py) * width + px] = double(inked) / kReference;
-        }
-    return out;
+    return boxReference(width, height, zoom,
+                        [&](double x, double y) { return exactInk(pair, x, y); });
 }
 
 // The fringe's contrast: 2 |mean of ink exp(-2 pi i D)|, D = f1 - f2 at the pixel's centre.
@@ -136,12 +122,6 @@ std::vector<double> rendered(Backend& jit, Pair pair, double zoom, int width, in
     return renderedInk(jit, "fine_pairs.moire", sceneText(pair, zoom, width, height, filter));
 }
 
-double meanAbsError(const std::vector<double>& a, const std::vector<double>& b) {
-    double sum = 0.0;
-    for (size_t i = 0; i < a.size(); ++i) sum += std::abs(a[i] - b[i]);
-    return sum / double(a.size());
-}
-
 } // namespace
 
 int main(int argc, char** argv) {
@@ -150,11 +130,7 @@ int main(int argc, char** argv) {
                              "fringe contrast and error of point sampling and of the mean "
                              "against 256 samples");
     const int width = o.quick ? 96 : 320, height = o.quick ? 64 : 200;
-    std::vector<double> zooms;
-    if (o.quick)
-        zooms = {0.1, 0.5, 5.0};
-    else
-        for (int k = -8; k <= 8; ++k) zooms.push_back(std::pow(10.0, k / 8.0));
+    const std::vector<double> zooms = zoomSweep(o.quick);
     auto jit = makeBackend("jit");
     bool ok = true;
     std::string why;

@@ -30,8 +30,8 @@ void Compose::layer(const LayerInk& ink) {
             ? meanInk(b_, ink.fields.footprint, ink.fields.distance, ink.halfWidth, ink.pixel)
             : distanceInk(b_, ink.fields.distance, ink.halfWidth, ink.fields.gradX,
                           ink.fields.gradY, ink.pixel);
-    if (ink.pixel.size != ir::kNoValue && ink.fields.crowd.density != ir::kNoValue)
-        stroke = crowdInk(b_, ink.fields.crowd, stroke, ink.halfWidth, ink.pixel);
+    if (ink.pixel.size != ir::kNoValue && ink.fields.crowd.mean != ir::kNoValue)
+        stroke = crowdInk(b_, ink.fields.crowd, stroke);
     ValueId cov = inkCoverage(b_, stroke, ink.opacity, ink.color[3]);
     // Under the mean filter, consecutive phase families form a run whose union is taken
     // together (FineUnion.h); any other layer ends the run before it is laid.

@@ -66,18 +66,15 @@ struct Footprint {
     std::optional<int> first;
 };
 
-// A family's own estimate of how crowded its members are where it cannot resolve them itself
-// (the walking solver past its search budget, which strides over the members): `density`,
-// members per world unit across the stroke, and `engaged` in [0, 1], how far the estimate is
-// to be trusted over the drawn stroke (0 where the search was exhaustive). Under the mean filter
-// the compose step hands the drawn ink over to the crowd's mean, min(1, 2 h density) with h the
-// stroke's own half-width, by `engaged` (Prefilter.h: crowdInk).
-// kNoValue: the family gives none. `mean`, where set, is the family's own estimate of that
-// mean ink, for a crowd whose members overlap otherwise than an even comb's (the walking
-// families' turned members cross in two branches: WalkingFamily.cpp).
+// A family's own estimate of the ink its members lay where it cannot resolve them itself (the
+// walking solver past its search budget, which strides over the members): `mean`, the pixel's
+// mean ink of the stroke as written over the crowd (WalkingFamily.cpp derives it from the
+// members' density), and `engaged` in [0, 1], how far it is to be trusted over the drawn
+// stroke (0 where the search was exhaustive). Under the mean filter the compose step hands the
+// drawn ink over to `mean` by `engaged` (Prefilter.h: crowdInk). kNoValue: the family gives
+// none.
 struct CrowdEstimate {
-    ir::ValueId density = ir::kNoValue, engaged = ir::kNoValue;
-    ir::ValueId mean = ir::kNoValue;
+    ir::ValueId engaged = ir::kNoValue, mean = ir::kNoValue;
 };
 
 struct LayerFields {

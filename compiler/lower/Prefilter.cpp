@@ -103,17 +103,12 @@ ValueId meanInk(ir::Builder& b, const Footprint& footprint, ValueId distance, Va
         [&] { return std::vector<ValueId>{mean}; })[0];
 }
 
-ValueId crowdInk(ir::Builder& b, const CrowdEstimate& crowd, ValueId ink, ValueId halfWidth,
-                 const PixelFootprint& /*pixel: the mean filter is on*/) {
+ValueId crowdInk(ir::Builder& b, const CrowdEstimate& crowd, ValueId ink) {
     // Weighted by `engaged` alone, not handed over by members per pixel as a phase family's
     // mean is: the hand-over keeps resolved members drawn as strokes, but where a family
     // cannot resolve its members itself (a strided scan) the strokes it draws are a subset of
     // them, whatever their size on screen, and their ink is short by the members skipped.
-    ValueId mean =
-        crowd.mean != ir::kNoValue
-            ? crowd.mean
-            : b.min(b.mul(b.mul(halfWidth, b.constF(2.0)), crowd.density), b.constF(1.0));
-    return b.mix(ink, mean, crowd.engaged);
+    return b.mix(ink, crowd.mean, crowd.engaged);
 }
 
 } // namespace moire::lower

@@ -64,6 +64,28 @@ T boxMeanInk(T index, T nu, T w) {
 // 1/32 of the other blurs the box's edges by that share of a pixel, which the eye cannot see.
 constexpr double kLeastSideShare = 1.0 / 32.0;
 
+// The square pixel's footprint along a direction: the sides' extents `along` and `across`
+// (the narrower held at least kLeastSideShare of the wider, and at least kLeastFootprint),
+// spread evenly and added, a trapezoid with half-spans s1 = (a + b) / 2 and s2 = (a - b) / 2.
+template <class T>
+struct Trapezoid {
+    T a, b, s1, s2;
+};
+template <class T>
+Trapezoid<T> trapezoid(T along, T across) {
+    using std::max;
+    const T least = max(max(along, across) * kLeastSideShare, ir::literal(along, kLeastFootprint));
+    const T a = max(along, least), b = max(across, least);
+    return {a, b, (a + b) * 0.5, (a - b) * 0.5};
+}
+// The mean over the trapezoid centred on c of a function whose integral is `integral`: the
+// second difference (F(c + s1) - F(c + s2) - F(c - s2) + F(c - s1)) / (a b).
+template <class T, class F>
+T trapezoidMean(const Trapezoid<T>& t, T c, F integral) {
+    return (integral(c + t.s1) - integral(c + t.s2) - integral(c - t.s2) + integral(c - t.s1)) /
+           (t.a * t.b);
+}
+
 // The mean over a square pixel whose sides span `along` and `across` units of index (the
 // index's steps across the pixel's two sides, |grad index . side|): the stroke's ink averaged
 // over the index's offsets along u + v, u and v spread evenly over boxes that wide, a
@@ -87,8 +109,7 @@ T squareMeanInk(T index, T along, T across, T w) {
     const T twoW = half * 2.0;
     const T gap = 0.5 - half;
     const T residual = index - floor(index + 0.5);
-    const T least = max(max(along, across) * kLeastSideShare, literal(index, kLeastFootprint));
-    const T a = max(along, least), b = max(across, least);
+    const Trapezoid<T> foot = trapezoid(along, across);
     auto twice = [&](T y) { // D(y)
         T k = floor(y);
         T t = y - k;
@@ -96,17 +117,15 @@ T squareMeanInk(T index, T along, T across, T w) {
         T past = max(t - gap - twoW, zero);
         return half * k * k + twoW * k * t + inStroke * inStroke * 0.5 + twoW * past;
     };
-    T c = residual + 0.5;
-    T s1 = (a + b) * 0.5, s2 = (a - b) * 0.5;
-    T mean = (twice(c + s1) - twice(c + s2) - twice(c - s2) + twice(c - s1)) / (a * b);
+    T mean = trapezoidMean(foot, residual + 0.5, twice);
     // Exactly 0 where the footprint lies wholly between member 0's stroke and the next, exactly
     // 1 where it lies wholly within the stroke: there D is linear or quadratic over the
     // footprint, and its second difference would round to a few float steps off.
     const T one = literal(index, 1.0);
     const T off = abs(residual);
-    const T clear = ir::select(ir::lessThan(off, half + s1), zero,
-                               ir::select(ir::lessThan(one - half, off + s1), zero, one));
-    const T inside = ir::select(ir::lessThan(half, off + s1), zero, one);
+    const T clear = ir::select(ir::lessThan(off, half + foot.s1), zero,
+                               ir::select(ir::lessThan(one - half, off + foot.s1), zero, one));
+    const T inside = ir::select(ir::lessThan(half, off + foot.s1), zero, one);
     mean = min(max(mean, zero), one);
     return ir::select(ir::lessThan(zero, inside), one,
                       ir::select(ir::lessThan(zero, clear), zero, mean));
@@ -131,25 +150,19 @@ T distanceMeanInk(T d, T h, T along, T across) {
     using std::min;
     const T zero = literal(d, 0.0);
     const T half = max(h, zero);
-    const T least = max(max(along, across) * kLeastSideShare, literal(d, kLeastFootprint));
-    const T a = max(along, least), b = max(across, least);
-    const T s1 = (a + b) * 0.5, s2 = (a - b) * 0.5;
-    const T centre = min(abs(d), half + s1 + 1.0); // past half + s1 the mean is 0
-    auto integral = [&](T y) {                     // E(y)
+    const Trapezoid<T> foot = trapezoid(along, across);
+    const T centre = min(abs(d), half + foot.s1 + 1.0); // past half + s1 the mean is 0
+    auto integral = [&](T y) {                          // E(y)
         T in = min(max(y + half, zero), half * 2.0);
         return in * in * 0.5 + half * 2.0 * max(y - half, zero);
     };
     const T one = literal(d, 1.0);
-    const T mean = min(max((integral(centre + s1) - integral(centre + s2) - integral(centre - s2) +
-                            integral(centre - s1)) /
-                               (a * b),
-                           zero),
-                       one);
+    const T mean = min(max(trapezoidMean(foot, centre, integral), zero), one);
     // Exactly 0 where the footprint lies wholly past the stroke, exactly 1 where it lies wholly
     // within: there E is linear or constant over the footprint, and its second difference
     // would round to a few float steps off (a paper-white pixel drawn 1e-7 grey).
-    return ir::select(ir::lessThan(centre - s1, half),
-                      ir::select(ir::lessThan(half, centre + s1), mean, one), zero);
+    return ir::select(ir::lessThan(centre - foot.s1, half),
+                      ir::select(ir::lessThan(half, centre + foot.s1), mean, one), zero);
 }
 
 // The pixel as the mean filter reads it: its world size, and where the camera turns the
@@ -180,11 +193,9 @@ ir::ValueId meanInk(ir::Builder& b, const Footprint& footprint, ir::ValueId dist
 ir::ValueId distanceInk(ir::Builder& b, ir::ValueId distance, ir::ValueId halfWidth,
                         ir::ValueId gradX, ir::ValueId gradY, const PixelFootprint& pixel);
 
-// The drawn ink `ink` handed over to a crowd's mean (CrowdEstimate): min(1, 2 h density), h
-// the stroke's own half-width `halfWidth` (or the crowd's own `mean` where it gives one),
-// weighted by `engaged` (a crowd is estimated where the family's own strokes miss members,
-// so there is no resolved picture to keep: see the .cpp). Called under the mean filter only.
-ir::ValueId crowdInk(ir::Builder& b, const CrowdEstimate& crowd, ir::ValueId ink,
-                     ir::ValueId halfWidth, const PixelFootprint& pixel);
+// The drawn ink `ink` handed over to a crowd's mean (CrowdEstimate), weighted by `engaged`
+// (a crowd is estimated where the family's own strokes miss members, so there is no resolved
+// picture to keep: see the .cpp). Called under the mean filter only.
+ir::ValueId crowdInk(ir::Builder& b, const CrowdEstimate& crowd, ir::ValueId ink);
 
 } // namespace moire::lower

@@ -608,7 +608,7 @@ class Solver {
             [&] {
                 return Vals{c(0.0), c(0.0)};
             });
-        return {got[0], engaged, got[1]};
+        return {engaged, got[1]}; // got[0], the density, is what the mean is made of
     }
     // The crowd's density and its mean ink.
     Vals crowdDensity(ValueId argmin, ValueId span) {
@@ -851,8 +851,6 @@ LayerFields walkingLayerFields(ir::Builder& b, const FamilyInputs& fam) {
     LayerFields out = walkingFamilyFields(b, in, fam.phaseAt);
     if (slope != ir::kNoValue) {
         out.distance = b.div(out.distance, slope);
-        // Members per unit of residual are members per residual's 1 / slope of world.
-        if (out.crowd.density != ir::kNoValue) out.crowd.density = b.mul(out.crowd.density, slope);
         if (out.sample.z != ir::kNoValue)
             for (ValueId* v : {&out.sample.z, &out.sample.up, &out.sample.down, &out.sample.floor})
                 *v = b.div(*v, slope);

@@ -175,7 +175,10 @@ TEST_CASE("Fig. 7: the ratio view names the (3, -1) beat and the envelope keeps 
         }
     // The brute force: the pattern re-rendered at 240 advances u of the two indices along w,
     // through the pattern's own code (each layer's phase literal moved by u w_i s_i), averaged.
-    auto pattern = test::compileOk(scene);
+    // (Each stroke as written, point-sampled: what the sweep's taps draw. The mean filter's
+    // pattern would also count where the two layers' strokes meet within a pixel.)
+    auto pattern =
+        test::compileOk(scene, {.filter = sema::FilterMode::Point, .strokeFloor = false});
     int slot[2] = {-1, -1};
     for (size_t i = 0; i < pattern->literals.size(); ++i)
         for (int l = 0; l < 2; ++l)

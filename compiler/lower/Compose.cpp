@@ -39,7 +39,9 @@ void Compose::layer(const LayerInk& ink) {
         ink.pixel.size != ir::kNoValue && joinsFineUnion(ink.fields.footprint, ink.fields.sample);
     if (!fine) closeRun();
     if (fine && run_.empty()) runUnder_ = acc_;
+    const Ink under = acc_;
     acc_ = inkOver(b_, acc_, ink.color[0], ink.color[1], ink.color[2], cov);
+    if (ink.pixel.size != ir::kNoValue) meetStrokes(ink, cov, under);
     if (fine) {
         // No antialias band of the pattern's: the sweep averages the pixel, and its taps' own
         // band (Envelope.h, kTapBand) is the only one the stroke's edge needs.
@@ -63,6 +65,41 @@ void Compose::layer(const LayerInk& ink) {
                     std::nullopt,
                     nullptr};
     sweep_.push_back(l);
+}
+
+// The most layers beneath a layer whose strokes are met with its own: each pair costs a
+// covariance at every pixel, and a stroke far down the stack is mostly covered over.
+constexpr size_t kMostStrokesMet = 6;
+
+void Compose::meetStrokes(const LayerInk& ink, ValueId cov, const Ink& under) {
+    std::optional<StrokeAcross> stroke = strokeAcross(b_, ink.fields, ink.halfWidth, ink.pixel);
+    // k_j: the layer's coverage per unit of its ink.
+    ValueId k = inkCoverage(b_, b_.constF(1.0), ink.opacity, ink.color[3]);
+    if (stroke && !laid_.empty()) {
+        Ink add{zero_, zero_, zero_, zero_};
+        for (const Laid& l : laid_) {
+            ValueId t = b_.mul(k, strokeCovariance(b_, l.stroke, *stroke));
+            add = {b_.add(add.r, b_.mul(t, l.pending.r)), b_.add(add.g, b_.mul(t, l.pending.g)),
+                   b_.add(add.b, b_.mul(t, l.pending.b)), b_.add(add.a, b_.mul(t, l.pending.a))};
+        }
+        ValueId one = b_.constF(1.0);
+        ValueId a = b_.clamp(b_.add(acc_.a, add.a), zero_, one);
+        auto channel = [&](ValueId c, ValueId d) { return b_.clamp(b_.add(c, d), zero_, a); };
+        acc_ = {channel(acc_.r, add.r), channel(acc_.g, add.g), channel(acc_.b, add.b), a};
+    }
+    // Every layer laid scales what the strokes beneath it still add by what it leaves showing.
+    ValueId keep = b_.sub(b_.constF(1.0), cov);
+    for (Laid& l : laid_)
+        l.pending = {b_.mul(l.pending.r, keep), b_.mul(l.pending.g, keep),
+                     b_.mul(l.pending.b, keep), b_.mul(l.pending.a, keep)};
+    if (!stroke) return;
+    if (laid_.size() == kMostStrokesMet) laid_.erase(laid_.begin());
+    auto pending = [&](ValueId beneath, ValueId colour) {
+        return b_.mul(k, b_.sub(beneath, colour));
+    };
+    laid_.push_back({*stroke,
+                     {pending(under.r, ink.color[0]), pending(under.g, ink.color[1]),
+                      pending(under.b, ink.color[2]), pending(under.a, b_.constF(1.0))}});
 }
 
 void Compose::closeRun() {

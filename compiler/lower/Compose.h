@@ -9,6 +9,7 @@
 #include "compiler/lower/LayerPipeline.h"
 #include "compiler/lower/LowerExpr.h"
 #include "compiler/lower/Prefilter.h"
+#include "compiler/lower/StrokePairs.h"
 #include "compiler/sema/Views.h"
 
 #include <functional>
@@ -54,6 +55,9 @@ class Compose {
     Ink envelope();
     Ink split();
     void closeRun(); // takes the union of the run of fine layers laid so far (FineUnion.h)
+    // Under the mean filter, adds the covariance of the layer's nearest stroke with those laid
+    // before it (StrokePairs.h); `cov` is its coverage, `under` the ink it was laid over.
+    void meetStrokes(const LayerInk& ink, ir::ValueId cov, const Ink& under);
 
     ir::Builder& b_;
     ViewMode mode_;
@@ -70,6 +74,15 @@ class Compose {
     std::vector<FineLayer> run_;
     Ink runUnder_{};
     PixelFootprint runPixel_;
+    // Under the mean filter, the layers laid whose nearest stroke is known, each with what its
+    // covariance with a later layer's stroke adds to the pixel per unit of that layer's
+    // coverage: k_i (acc_{i-1} - c_i) times (1 - coverage) of every layer laid since
+    // (StrokePairs.h).
+    struct Laid {
+        StrokeAcross stroke;
+        Ink pending;
+    };
+    std::vector<Laid> laid_;
 };
 
 } // namespace moire::lower

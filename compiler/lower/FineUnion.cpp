@@ -16,19 +16,8 @@ bool joinsFineUnion(const Footprint& footprint, const PhaseSample& sample) {
 
 namespace {
 
-// A gradient's components along the pixel's two sides (the world's axes turned by the camera).
-struct Sides {
-    ValueId u, v;
-};
-
-Sides onSides(ir::Builder& b, ValueId gx, ValueId gy, const PixelFootprint& pixel) {
-    if (pixel.cosTurn == ir::kNoValue) return {gx, gy};
-    return {b.add(b.mul(gx, pixel.cosTurn), b.mul(gy, pixel.sinTurn)),
-            b.sub(b.mul(gy, pixel.cosTurn), b.mul(gx, pixel.sinTurn))};
-}
-
 // footprintTransfer of an index whose gradient has components (u, v) along the pixel's sides.
-ValueId transfer(ir::Builder& b, const Sides& g, const PixelFootprint& pixel) {
+ValueId transfer(ir::Builder& b, const PixelSides& g, const PixelFootprint& pixel) {
     ir::BuiltValue along(b, b.mul(b.abs(g.u), pixel.size));
     ir::BuiltValue across(b, b.mul(b.abs(g.v), pixel.size));
     return footprintTransfer(along, across).id;
@@ -78,15 +67,15 @@ Ink fineUnion(ir::Builder& b, const Ink& under, const Ink& independent,
             ValueId beat = b.constF(1.0), apart = b.constF(0.0);
             std::vector<ValueId> own;
             for (const FineLayer& l : run)
-                own.push_back(
-                    transfer(b, onSides(b, l.footprint.gradX, l.footprint.gradY, pixel), pixel));
+                own.push_back(transfer(
+                    b, onPixelSides(b, l.footprint.gradX, l.footprint.gradY, pixel), pixel));
             for (size_t i = 0; i + 1 < run.size(); ++i) {
                 const Footprint& fi = run[i].footprint;
                 const Footprint& fj = run[i + 1].footprint;
                 // grad D = w_j grad f_i - w_i grad f_j
                 ValueId dx = b.sub(b.mul(w[i + 1], fi.gradX), b.mul(w[i], fj.gradX));
                 ValueId dy = b.sub(b.mul(w[i + 1], fi.gradY), b.mul(w[i], fj.gradY));
-                beat = b.min(beat, transfer(b, onSides(b, dx, dy, pixel), pixel));
+                beat = b.min(beat, transfer(b, onPixelSides(b, dx, dy, pixel), pixel));
                 apart = b.max(apart, b.mul(own[i], own[i + 1]));
             }
             ValueId weight =

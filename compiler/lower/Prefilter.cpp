@@ -6,15 +6,6 @@ using ir::ValueId;
 
 namespace {
 
-// The gradient (gx, gy) turned into the pixel's frame: its components along the pixel's two
-// sides, which run along the world's axes turned by the camera's rotation.
-std::pair<ValueId, ValueId> alongSides(ir::Builder& b, ValueId gx, ValueId gy,
-                                       const PixelFootprint& pixel) {
-    if (pixel.cosTurn == ir::kNoValue) return {gx, gy};
-    return {b.add(b.mul(gx, pixel.cosTurn), b.mul(gy, pixel.sinTurn)),
-            b.sub(b.mul(gy, pixel.cosTurn), b.mul(gx, pixel.sinTurn))};
-}
-
 // Whether the derivatives of `v` are not to be taken: it is computed from a derivative
 // (Op::DerivX, DerivY; the AD pass is first order), or in a loop (a walking solver's search,
 // through which AD would carry tangents on every step: the solver gives its index gradient
@@ -54,26 +45,38 @@ bool fromDerivative(const ir::Function& f, ValueId v) {
 
 } // namespace
 
-ValueId distanceInk(ir::Builder& b, ValueId distance, ValueId halfWidth, ValueId gradX,
-                    ValueId gradY, const PixelFootprint& pixel) {
-    // The nearest member's normal is the distance's own gradient (taken by AD), or where the
-    // distance is itself computed from a derivative (a phase's Eq. 5 distance, an encoded
-    // field), the family's index gradient; its components along the pixel's sides, times the
-    // pixel over its length, are the footprint's extents along the normal. Where there is no
-    // gradient, or it vanishes, the footprint is a box of the pixel's side.
-    ValueId along = pixel.size, across = b.constF(0.0);
+PixelSides onPixelSides(ir::Builder& b, ValueId x, ValueId y, const PixelFootprint& pixel) {
+    if (pixel.cosTurn == ir::kNoValue) return {x, y};
+    return {b.add(b.mul(x, pixel.cosTurn), b.mul(y, pixel.sinTurn)),
+            b.sub(b.mul(y, pixel.cosTurn), b.mul(x, pixel.sinTurn))};
+}
+
+MemberNormal memberNormal(ir::Builder& b, ValueId distance, ValueId gradX, ValueId gradY,
+                          const PixelFootprint& pixel) {
     ValueId gx = gradX, gy = gradY;
-    if (!fromDerivative(b.function(), distance)) {
+    const bool ofDistance = !fromDerivative(b.function(), distance);
+    if (ofDistance) {
         gx = b.emit(ir::Op::DerivX, {distance});
         gy = b.emit(ir::Op::DerivY, {distance});
     }
-    if (gx != ir::kNoValue && gy != ir::kNoValue) {
-        auto [gu, gv] = alongSides(b, gx, gy, pixel);
-        ValueId length = b.hypot(gu, gv);
+    if (gx == ir::kNoValue || gy == ir::kNoValue) return {};
+    PixelSides g = onPixelSides(b, gx, gy, pixel);
+    return {g.u, g.v, ofDistance};
+}
+
+ValueId distanceInk(ir::Builder& b, ValueId distance, ValueId halfWidth, ValueId gradX,
+                    ValueId gradY, const PixelFootprint& pixel) {
+    // The nearest member's normal (memberNormal): its components along the pixel's sides,
+    // times the pixel over its length, are the footprint's extents along the normal. Where
+    // there is no normal, or it vanishes, the footprint is a box of the pixel's side.
+    ValueId along = pixel.size, across = b.constF(0.0);
+    MemberNormal n = memberNormal(b, distance, gradX, gradY, pixel);
+    if (n.u != ir::kNoValue) {
+        ValueId length = b.hypot(n.u, n.v);
         ValueId some = b.gt(length, b.constF(0.0)); // false on NaN too
         ValueId scale = b.div(pixel.size, b.max(length, b.constF(1e-30)));
-        along = b.select(some, b.mul(b.abs(gu), scale), pixel.size);
-        across = b.select(some, b.mul(b.abs(gv), scale), across);
+        along = b.select(some, b.mul(b.abs(n.u), scale), pixel.size);
+        across = b.select(some, b.mul(b.abs(n.v), scale), across);
     }
     return distanceMeanInk(ir::BuiltValue(b, distance), ir::BuiltValue(b, halfWidth),
                            ir::BuiltValue(b, along), ir::BuiltValue(b, across))
@@ -83,8 +86,8 @@ ValueId distanceInk(ir::Builder& b, ValueId distance, ValueId halfWidth, ValueId
 ValueId meanInk(ir::Builder& b, const Footprint& footprint, ValueId distance, ValueId halfWidth,
                 const PixelFootprint& pixel) {
     // The index's steps across the pixel's two sides: the gradient's components along them.
-    auto [gu, gv] = alongSides(b, footprint.gradX, footprint.gradY, pixel);
-    ValueId along = b.mul(b.abs(gu), pixel.size), across = b.mul(b.abs(gv), pixel.size);
+    PixelSides g = onPixelSides(b, footprint.gradX, footprint.gradY, pixel);
+    ValueId along = b.mul(b.abs(g.u), pixel.size), across = b.mul(b.abs(g.v), pixel.size);
     ValueId w = b.mul(halfWidth, footprint.grad); // half-width in index units
     ValueId mean = squareMeanInk(ir::BuiltValue(b, footprint.index), ir::BuiltValue(b, along),
                                  ir::BuiltValue(b, across), ir::BuiltValue(b, w))

@@ -24,11 +24,15 @@ namespace moire::lower {
 // The narrowest footprint the box mean divides by, in index units: below it the quotient
 // would be lost to float rounding (the quotient is then close to the step at the index).
 constexpr double kLeastFootprint = 1e-3;
-// Where a layer's members count as unresolved, by members per pixel: from kCrowdFrom (4 pixels
-// a member, where a stroke stands clear of the next) to kCrowdFull (2.5, where strokes have
-// merged). The union of fine layers (FineUnion.h) correlates layers past it.
-constexpr double kCrowdFrom = 1.0 / 4.0;
-constexpr double kCrowdFull = 2.0 / 5.0;
+// Where a layer's members count as unresolved, by members per pixel: from kCrowdFrom (a member
+// every 1.33 pixels) to kCrowdFull (one a pixel). Short of it a pixel meets one member of the
+// layer, its nearest, and strokes of two layers that meet in it are correlated by their
+// straight strokes (StrokePairs.h); past it the union of fine layers (FineUnion.h) correlates
+// the layers by their beat. Measured by experiments/fine_pairs, which is worst at the hand-over:
+// from 1/4 to 2/5 it left 0.05 error at 0.4-0.6 members a pixel, from 2/3 to 1 0.015 at 0.75,
+// from 3/4 to 1 0.016 at 1.
+constexpr double kCrowdFrom = 3.0 / 4.0;
+constexpr double kCrowdFull = 1.0;
 
 // The mean, over the box [index - nu/2, index + nu/2], of the periodic stroke that inks the
 // index within w of a whole number (members at the integers, half-width w in index units).
@@ -183,6 +187,25 @@ struct PixelFootprint {
 // periodic stroke would count do not exist.
 ir::ValueId meanInk(ir::Builder& b, const Footprint& footprint, ir::ValueId distance,
                     ir::ValueId halfWidth, const PixelFootprint& pixel);
+
+// A vector's components along the pixel's two sides, which run along the world's axes turned
+// by the camera (the world's own components where the camera does not turn).
+struct PixelSides {
+    ir::ValueId u, v;
+};
+PixelSides onPixelSides(ir::Builder& b, ir::ValueId x, ir::ValueId y, const PixelFootprint& pixel);
+
+// The normal of a layer's nearest member, along the pixel's sides and not normalised: the
+// distance's own gradient (`ofDistance`: it points away from the member, so the pixel's centre
+// stands `distance` along it), or where AD cannot take it (the distance is computed from a
+// derivative, or in a loop: see the .cpp) the family's index gradient (gradX, gradY), whose
+// sense relative to the member is not known. u kNoValue: neither is known.
+struct MemberNormal {
+    ir::ValueId u = ir::kNoValue, v = ir::kNoValue;
+    bool ofDistance = false;
+};
+MemberNormal memberNormal(ir::Builder& b, ir::ValueId distance, ir::ValueId gradX,
+                          ir::ValueId gradY, const PixelFootprint& pixel);
 
 // The ink (before opacity) a family without a footprint (walking families, lattices, morphs,
 // the pencil, distance families) draws under the mean filter: distanceMeanInk of its nearest

@@ -1,0 +1,72 @@
+#include "compiler/lower/StrokePairs.h"
+
+namespace moire::lower {
+
+using ir::ValueId;
+
+std::optional<StrokeAcross> strokeAcross(ir::Builder& b, const LayerFields& fields,
+                                         ValueId halfWidth, const PixelFootprint& pixel) {
+    ValueId zero = b.constF(0.0), one = b.constF(1.0);
+    ValueId nu, nv, s, weight = one;
+    if (fields.footprint.grad != ir::kNoValue && fields.footprint.gradX != ir::kNoValue) {
+        // A phase family: members at the integers of the index, which grows along its
+        // gradient g by |g| a world unit, so the pixel's centre stands residual / |g| past
+        // the nearest member along g.
+        const Footprint& f = fields.footprint;
+        PixelSides g = onPixelSides(b, f.gradX, f.gradY, pixel);
+        ValueId length = b.max(b.hypot(g.u, g.v), b.constF(1e-30));
+        nu = b.div(g.u, length);
+        nv = b.div(g.v, length);
+        ValueId residual = b.sub(f.index, b.floor(b.add(f.index, b.constF(0.5))));
+        s = b.div(residual, b.mul(length, pixel.size));
+        // Members closer than a few pixels: the nearest alone is not the pixel's ink (and a
+        // run of such layers is FineUnion's to correlate).
+        ValueId members = b.mul(length, pixel.size);
+        weight = b.sub(one, b.smoothstep(b.constF(kCrowdFrom), b.constF(kCrowdFull), members));
+        if (f.first) {
+            // Where the footprint reaches below the first member (meanInk's test), that member
+            // is the nearest, on the gradient's far side, `distance` away (the index is not
+            // linear there: it folds), and it alone is the pixel's ink.
+            ValueId reach = b.mul(b.add(b.abs(g.u), b.abs(g.v)), b.mul(pixel.size, b.constF(0.5)));
+            ValueId below =
+                b.lt(b.sub(f.index, reach), b.constF(*f.first - 0.5));
+            s = b.select(below, b.sub(zero, b.div(fields.distance, pixel.size)), s);
+            weight = b.select(below, one, weight);
+        }
+    } else {
+        MemberNormal n = memberNormal(b, fields.distance, fields.gradX, fields.gradY, pixel);
+        if (n.u == ir::kNoValue) return std::nullopt;
+        ValueId length = b.hypot(n.u, n.v);
+        ValueId some = b.gt(length, zero); // false on NaN too
+        ValueId safe = b.max(length, b.constF(1e-30));
+        nu = b.div(n.u, safe);
+        nv = b.div(n.v, safe);
+        s = b.div(fields.distance, pixel.size);
+        if (!n.ofDistance) {
+            // The normal is the index gradient (the walking solver's): the pixel stands on
+            // the side of the nearest member its index residual says, the fractional index
+            // growing along the gradient (LayerFields::smooth where `index` is a member's
+            // number).
+            ValueId index = fields.smooth != ir::kNoValue ? fields.smooth : fields.index;
+            ValueId residual = b.sub(index, b.floor(b.add(index, b.constF(0.5))));
+            s = b.select(b.lt(residual, zero), b.sub(zero, s), s);
+        }
+        weight = b.select(some, one, zero);
+    }
+    if (fields.crowd.engaged != ir::kNoValue)
+        weight = b.mul(weight, b.sub(one, b.clamp(fields.crowd.engaged, zero, one)));
+    return StrokeAcross{nu, nv, s, b.div(halfWidth, pixel.size), weight};
+}
+
+ValueId strokeCovariance(ir::Builder& b, const StrokeAcross& first, const StrokeAcross& second) {
+    // The second stroke's normal in the first's frame: cos and sin of the angle between them.
+    ValueId cosA = b.add(b.mul(first.nu, second.nu), b.mul(first.nv, second.nv));
+    ValueId sinA = b.sub(b.mul(first.nu, second.nv), b.mul(first.nv, second.nu));
+    ValueId cov = stripCovariance(ir::BuiltValue(b, first.s), ir::BuiltValue(b, first.h),
+                                  ir::BuiltValue(b, second.s), ir::BuiltValue(b, second.h),
+                                  ir::BuiltValue(b, cosA), ir::BuiltValue(b, sinA))
+                      .id;
+    return b.denan(b.mul(cov, b.mul(first.weight, second.weight)), b.constF(0.0));
+}
+
+} // namespace moire::lower

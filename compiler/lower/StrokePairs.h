@@ -1,0 +1,125 @@
+// The mean filter's strokes laid over each other within a pixel (docs/filtering.md, "Strokes
+// that meet within a pixel"). Each layer's footprint mean (Prefilter.h) laid over the others
+// takes the layers' inks as independent across the pixel: the pixel's mean of a product read
+// as the product of the means. Two resolved strokes that cross at a wide angle are near enough
+// to that; two that run nearly parallel through the pixel are not: laid on one another the
+// pixel holds one stroke's ink, not the union of two, and side by side it holds both whole.
+// That is where a moiré's fringes are (two families nearly parallel where their beat is slow),
+// so the error sits on every fringe's edge.
+//
+// Over a pixel, laying inks of coverage k_i A_i in turn gives a multilinear polynomial in the
+// A_i; its mean departs from the polynomial of the means, to second order, by
+//   sum over pairs i < j of  k_i k_j cov(A_i, A_j) (acc_{i-1} - c_i) prod_{i<l<j} (1 - k_l a_l)
+// times the layers above j, where acc_{i-1} is the ink beneath layer i and c_i its colour
+// (premultiplied, alpha 1): the second derivative of the running "over" in the two layers'
+// coverages. The compose step keeps, for each layer laid, its pending factor and adds the
+// term as each later layer is laid (Compose.cpp); this file gives cov(A_i, A_j) for the two
+// layers' nearest strokes (stripCovariance) and reads each layer's stroke in the pixel's frame
+// (strokeAcross).
+#pragma once
+
+#include "compiler/ir/Builder.h"
+#include "compiler/ir/BuiltValue.h"
+#include "compiler/lower/LayerPipeline.h"
+#include "compiler/lower/Prefilter.h"
+
+#include <algorithm>
+#include <cmath>
+#include <optional>
+
+namespace moire::lower {
+
+// The mean of max(x', 0) over x' in [x - span/2, x + span/2] (span > 0): x past the span's
+// half, 0 short of it, and between the two (x + span/2)^2 / (2 span), the ramp's integral over
+// the part above 0. Written with selects rather than as a difference of squares over span,
+// which float rounding would spoil as span -> 0.
+template <class T>
+T meanRamp(T x, T span) {
+    using ir::literal;
+    const T half = span * 0.5;
+    const T rise = x + half;
+    const T within = rise * rise / (span * 2.0);
+    return ir::select(ir::lessThan(x, half),
+                      ir::select(ir::lessThan(rise, literal(x, 0.0)), literal(x, 0.0), within),
+                      x);
+}
+
+// The mean, over centres m in [m0 - span/2, m0 + span/2], of the length [lo, hi] shares with
+// [m - r, m + r]. As a function of m that length is the two boxes' convolution, a trapezoid,
+// which is four ramps: max(m - lo + r, 0) - max(m - hi + r, 0) - max(m - lo - r, 0) +
+// max(m - hi - r, 0) (lo <= hi; lo = hi gives 0).
+template <class T>
+T meanShared(T lo, T hi, T m0, T r, T span) {
+    return meanRamp(m0 - lo + r, span) - meanRamp(m0 - hi + r, span) -
+           meanRamp(m0 - lo - r, span) + meanRamp(m0 - hi - r, span);
+}
+
+// Least |cos| between two strokes' normals the covariance divides by, and least drift across
+// the pixel it averages over: past them the strokes are crossing (the covariance is near 0 by
+// the construction below, whatever the clamp) or parallel (the drift's mean is the value at
+// its centre).
+constexpr double kLeastCrossingCos = 0.05;
+constexpr double kLeastDrift = 1e-4;
+
+// The covariance over a pixel of two straight strokes' inks (each 1 inside its stroke, 0
+// outside), in pixel units, in the frame of the first stroke's normal: u along it, v across,
+// the pixel the box [-1/2, 1/2]^2. Stroke 1 inks |u + s1| < h1; stroke 2, whose unit normal is
+// (cosA, sinA) in that frame, inks |cosA u + sinA v + s2| < h2. At a given v stroke 2 inks
+// the u within h2 / |cosA| of m(v) = -(sinA v + s2) / cosA, a centre that drifts over
+// |sinA / cosA| as v crosses the pixel; the means over the pixel are then
+//   E[A1 A2] = mean over the drift of the length [lo, hi] shares with stroke 2 (meanShared),
+//   E[A1] = hi - lo, E[A2] = the same mean with [lo, hi] = [-1/2, 1/2],
+// with [lo, hi] stroke 1's span within the pixel, and the covariance E[A1 A2] - E[A1] E[A2].
+// Exact for strokes that are parallel (no drift): two coinciding strokes give a - a^2, two
+// apart -a1 a2. At right angles stroke 2's span grows as fast as its drift and the covariance
+// goes to 0, the independence the compose step already assumes. It takes the pixel as a box
+// in the first stroke's frame, the square turned to face it: what it leaves out is the
+// square's corners, a second-order share (docs/filtering.md gives the measure).
+template <class T>
+T stripCovariance(T s1, T h1, T s2, T h2, T cosA, T sinA) {
+    using ir::literal;
+    using std::abs;
+    using std::max;
+    using std::min;
+    const T zero = literal(s1, 0.0);
+    const T half = literal(s1, 0.5);
+    const T w1 = max(h1, zero), w2 = max(h2, zero);
+    // Past a stroke's reach of the pixel (half its diagonal) the covariance is 0; holding the
+    // offsets there keeps a far member (or none: kNoMember) from swamping the sums.
+    const T near1 = min(max(s1, -(w1 + 1.0)), w1 + 1.0);
+    const T lo = max(-near1 - w1, -half);
+    const T hi = max(min(-near1 + w1, half), lo);
+    // Stroke 2 read with its normal turned to face the first's (cosA >= 0): the same stroke.
+    const T c = max(abs(cosA), literal(s1, kLeastCrossingCos));
+    const T facing = ir::select(ir::lessThan(cosA, zero), literal(s1, -1.0), literal(s1, 1.0));
+    const T near2 = min(max(s2 * facing, -(w2 + 1.0)), w2 + 1.0);
+    const T m0 = -near2 / c;
+    const T r = w2 / c;
+    const T drift = max(abs(sinA) / c, literal(s1, kLeastDrift));
+    const T both = meanShared(lo, hi, m0, r, drift);
+    const T second = meanShared(-half, half, m0, r, drift);
+    return both - (hi - lo) * second;
+}
+
+// A layer's nearest stroke in the pixel's frame, in pixel units: the unit normal (nu, nv)
+// along the pixel's sides, the pixel's centre standing `s` from the member's centre line along
+// it, and the half-width h; `weight`, how far the nearest member alone is the layer's ink in
+// the pixel (1 but where its members crowd closer than the pixel and the mean is of many).
+struct StrokeAcross {
+    ir::ValueId nu, nv, s, h, weight;
+};
+
+// The layer's nearest stroke under the mean filter: a phase family's from its index (the
+// residual over the gradient, its weight falling as its members crowd: kCrowdFrom to
+// kCrowdFull members a pixel); any other family's from its distance along the member's normal
+// (memberNormal), on the side the distance's gradient says, or where the normal is the index
+// gradient (the walking solver's) the side its fractional index says. None where no normal is
+// known (a lattice): such a layer is laid as independent. A family that estimates its crowd
+// weighs its stroke by how far the crowd is not engaged.
+std::optional<StrokeAcross> strokeAcross(ir::Builder& b, const LayerFields& fields,
+                                         ir::ValueId halfWidth, const PixelFootprint& pixel);
+
+// stripCovariance of two layers' strokes, times both their weights.
+ir::ValueId strokeCovariance(ir::Builder& b, const StrokeAcross& first, const StrokeAcross& second);
+
+} // namespace moire::lower

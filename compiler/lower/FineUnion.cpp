@@ -60,10 +60,9 @@ ValueId unresolved(ir::Builder& b, const Footprint& f, const PixelFootprint& pix
 // the closed form is the exact box. E is taken as the pixel's mean over the offsets it spans
 // (sweptOverlap), so the beat's resolution is the footprint's exactly, harmonic by harmonic,
 // and what remains of the weight is the resolved members' share (fineUnion). Where the sum
-// beat's fade mixes the two sweeps (sumFade),
-// their overlaps are mixed the same way. A family that starts at a member has no members
-// below it, which the periodic strokes count: within one member past the first the
-// correlation is faded out (the union of the means stands there).
+// beat's fade mixes the two sweeps (sumFade), their overlaps are mixed the same way. A family that
+// starts at a member has no members below it, which the periodic strokes count: within one member
+// past the first the correlation is faded out (the union of the means stands there).
 Ink pairCorrelation(ir::Builder& b, const Ink& under, const std::vector<FineLayer>& run,
                     const std::vector<ValueId>& w, const PixelFootprint& pixel) {
     const FineLayer& l1 = run[0];
@@ -135,7 +134,10 @@ Ink pairCorrelation(ir::Builder& b, const Ink& under, const std::vector<FineLaye
 // invariants, and the weight takes the least T_D and the greatest T_i T_j among them. It is
 // also held to the least hand-over weight of the run's layers (`unresolved`), so that the
 // point rule's floored strokes, which the fundamentals above do not describe, are left as
-// drawn.
+// drawn. A pair's closed form (pairCorrelation) is E's mean over the pixel, which carries
+// T_D (for each harmonic its own), so it takes the weight 1 - T_1 T_2 / T_D: the same for the
+// fundamental. With T_D = 0 and T_1 T_2 = 0 (members and beat unresolved) that weight is 1,
+// and E's mean over whole beats is a b, the independent stack's.
 Ink fineUnion(ir::Builder& b, const Ink& under, const Ink& independent,
               const std::vector<FineLayer>& run, const PixelFootprint& pixel) {
     if (run.size() < 2) return independent;
@@ -171,7 +173,7 @@ Ink fineUnion(ir::Builder& b, const Ink& under, const Ink& independent,
                                     b.constF(0.0), b.constF(1.0)))
                     : b.mul(engaged, b.clamp(b.sub(beat, apart), b.constF(0.0), b.constF(1.0)));
             weight = b.denan(weight, b.constF(0.0));
-            // Swept only where the weight is above 0.
+            // Added only where the weight is above 0.
             return b.ifThenElse(
                 b.gt(weight, b.constF(0.0)),
                 [&] {

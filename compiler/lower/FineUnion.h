@@ -8,7 +8,9 @@
 // every layer's index advanced together. Its departure from the union of the layers' own
 // swept means is the stack's correlation, and it is added to the union of the footprint means
 // with the weight the pixel's footprint leaves it (FineUnion.cpp): the moiré of two families
-// that neither are resolved shows as the box-filtered field shows it.
+// that neither are resolved shows as the box-filtered field shows it. For a pair (a run of
+// two) the correlation is in closed form, the overlap of the two periodic strokes averaged
+// over the pixel (sweptOverlap below); a longer run takes the sweep, 24 taps of every layer.
 #pragma once
 
 #include "compiler/ir/Builder.h"
@@ -63,6 +65,8 @@ T footprintTransfer(T along, T across) {
 //   F(D) = 4 h1 h2 - [Q(D + h1 + h2) - Q(D + h1 - h2) - Q(D - h1 + h2) + Q(D - h1 - h2)]:
 // the second derivatives agree (the four signs sum to 0) and so do the means (the integral
 // of g is 4 h1 h2). D is first reduced to [-1/2, 1/2), so the fracts stay small numbers.
+// This is its value at one offset; the kernel takes its mean over the pixel (below), the
+// tests hold the two against each other and this against the strokes themselves.
 template <class T>
 T periodicBoxOverlap(T offset, T h1, T h2) {
     using ir::literal;
@@ -130,7 +134,9 @@ T sweptOverlap(T f1, T f2, T p, T q, T w1, T w2, T along, T across) {
 
 // The run's pixel: `under` is the ink beneath the run (premultiplied), `independent` the run's
 // layers' inks laid over it one by one (the union of their means). Returns the pixel with the
-// run's correlation added where the footprint leaves it (a run of one layer: `independent`).
+// run's correlation added where the footprint leaves it (a run of one layer: `independent`),
+// a pair's in closed form, a longer run's by the sweep (chosen by the run's length here, not
+// per pixel).
 // Computed behind a branch: a pixel where fewer than two of the run's layers are past the
 // unresolved threshold (kCrowdFrom) pays a handful of instructions.
 Ink fineUnion(ir::Builder& b, const Ink& under, const Ink& independent,

@@ -4,7 +4,9 @@
 // members are finer than the pixels and their beat is not (the pixel holds the pair's
 // correlated mean, and the fringe shows) and where the beat is finer too (the layers are
 // independent, and the union of their means is right); the envelope view unmoved by the
-// filter; the JIT and Vulkan against the interpreter.
+// filter; the JIT and Vulkan against the interpreter. A pair's correlation is in closed form
+// (sweptOverlap): checked in double against the brute-force mean of the two periodic strokes'
+// composite, and drawn against the 24-tap sweep a longer run still takes.
 #include "compiler/lower/FineUnion.h"
 #include "runtime/output/Render.h"
 #include "tests/support/Support.h"
@@ -45,6 +47,16 @@ struct Pair {
             "layer b { family = lines; spacing = %.17g; angle = %.17gdeg; stroke = %g }\n",
             kW, kH, zoom, a.spacing, a.degrees, kStroke, b.spacing, b.degrees, kStroke);
         return buf;
+    }
+    // The pair with a third layer that inks nothing (layer a again, at opacity 0): a run of
+    // three, which the union sweeps (FineUnion.cpp), with the pair's beat and weight.
+    std::string sweptScene() const {
+        char buf[256];
+        std::snprintf(buf, sizeof buf,
+                      "layer c { family = lines; spacing = %.17g; angle = %.17gdeg; stroke = %g; "
+                      "opacity = 0 }\n",
+                      a.spacing, a.degrees, kStroke);
+        return scene() + buf;
     }
     // The world point of a position in the frame: the origin at the middle, y up.
     void world(double px, double py, double& x, double& y) const {
@@ -116,6 +128,9 @@ const Pair kTurned{{1.0, 0.0}, {1.0, 4.0}, 0.4};
 // Lines 1 and 1.37 apart at 5 members a pixel: the beat, 3.7 units, is 0.74 pixels (and the
 // pitches are far from a small ratio, which would lock the two into a higher character).
 const Pair kFineBeat{{1.0, 0.0}, {1.37, 0.0}, 0.2};
+// Lines 15 and 5.1 apart at 0.1 pixels a unit (0.67 and 2 members a pixel): the nominal
+// pitches 15 and 5 license the (3, -1) beat, swept along w = (1, 3), whose fringe is 25 pixels.
+const Pair kLicensed{{15.0, 0.0}, {5.1, 0.0}, 0.1};
 // Crossed lines, 4 members a pixel: no beat at all.
 const Pair kCrossed{{1.0, 0.0}, {1.0, 90.0}, 0.25};
 
@@ -142,6 +157,109 @@ TEST_CASE("fine union: the square pixel's transfer of a fundamental is the produ
     CHECK(std::abs(lower::footprintTransfer(1.3, 0.1)) < 1e-12);
 }
 
+namespace {
+
+// The periodic stroke: 1 within h of a whole number (in index units).
+double box(double x, double h) {
+    return std::abs(x - std::round(x)) <= h ? 1.0 : 0.0;
+}
+
+// The mean over u in [0, 1) of A(f1 + p u) B(f2 + q u), on a grid of n points (midpoints).
+double bruteOverlap(double f1, double f2, int p, int q, double h1, double h2, int n = 200000) {
+    double sum = 0.0;
+    for (int i = 0; i < n; ++i) {
+        const double u = (i + 0.5) / n;
+        sum += box(f1 + p * u, h1) * box(f2 + q * u, h2);
+    }
+    return sum / n;
+}
+
+} // namespace
+
+TEST_CASE("fine union: the pair's overlap in closed form is the strokes' mean product") {
+    // Against the brute force, over offsets, widths up to touching and both directions of the
+    // sweep, the diagonal (1, 1), the sum beat (1, -1) and licensed deviations (1, 3), (2, -3).
+    const double widths[][2] = {{0.15, 0.15}, {0.05, 0.3}, {0.3, 0.45}, {0.5, 0.2}, {0.0, 0.2}};
+    const int dirs[][2] = {{1, 1}, {1, -1}, {1, 3}, {2, -3}};
+    for (const auto& w : widths)
+        for (const auto& d : dirs)
+            for (double f1 : {0.0, 0.13, 3.37, -7.71})
+                for (double f2 : {0.0, 0.41, 12.9}) {
+                    CAPTURE(w[0]);
+                    CAPTURE(w[1]);
+                    CAPTURE(d[0]);
+                    CAPTURE(d[1]);
+                    CAPTURE(f1);
+                    CAPTURE(f2);
+                    const double want = bruteOverlap(f1, f2, d[0], d[1], w[0], w[1]);
+                    // The footprint held at its least (1e-3 of an index a side) blurs the
+                    // trapezoid's corners by as much.
+                    const double got =
+                        lower::sweptOverlap<double>(f1, f2, d[0], d[1], w[0], w[1], 0.0, 0.0);
+                    CHECK(std::abs(got - want) <= 2e-3);
+                    if (d[0] == 1 && std::abs(d[1]) == 1)
+                        CHECK(std::abs(lower::periodicBoxOverlap(d[1] > 0 ? f1 - f2 : f1 + f2, w[0],
+                                                                 w[1]) -
+                                       want) <= 1e-4);
+                }
+}
+
+TEST_CASE("fine union: the pair's overlap averaged over the pixel is the brute-force mean") {
+    // periodicBoxOverlapMean against periodicBoxOverlap averaged over the square pixel's
+    // offsets, D + along u + across v, u and v on a 400 x 400 grid.
+    for (double along : {0.02, 0.3, 0.9, 2.5})
+        for (double across : {0.0, 0.1, 0.6})
+            for (double offset : {0.0, 0.21, 0.5, 5.8}) {
+                CAPTURE(along);
+                CAPTURE(across);
+                CAPTURE(offset);
+                const double h1 = 0.15, h2 = 0.22;
+                const int n = 400;
+                double sum = 0.0;
+                for (int i = 0; i < n; ++i)
+                    for (int j = 0; j < n; ++j) {
+                        const double u = (i + 0.5) / n - 0.5, v = (j + 0.5) / n - 0.5;
+                        sum += lower::periodicBoxOverlap(offset + along * u + across * v, h1, h2);
+                    }
+                const double want = sum / (double(n) * n);
+                CHECK(std::abs(lower::periodicBoxOverlapMean(offset, h1, h2, along, across) -
+                               want) <= 2e-3);
+            }
+}
+
+TEST_CASE("fine union: the correlation is the composite's mean less the means composited") {
+    // Two layers of strengths k1, k2 and inks c1, c2 over `under`, their strokes at offset D:
+    // the brute-force mean over the sweep of the over-composite, less the composite of the
+    // layers' own means, is k1 k2 (E - a b) (under - c1) (FineUnion.cpp, pairCorrelation).
+    const double k1 = 0.8, k2 = 0.6, h1 = 0.2, h2 = 0.12;
+    const double under[4] = {0.9, 0.85, 0.7, 1.0}, c1[4] = {0.1, 0.3, 0.5, 1.0},
+                 c2[4] = {0.6, 0.2, 0.1, 1.0};
+    for (double offset : {0.0, 0.1, 0.3, 0.47}) {
+        CAPTURE(offset);
+        const int n = 100000;
+        double mean[4] = {0, 0, 0, 0}, a = 0, bb = 0;
+        for (int i = 0; i < n; ++i) {
+            const double u = (i + 0.5) / n;
+            const double cov1 = k1 * box(offset + u, h1), cov2 = k2 * box(u, h2);
+            a += cov1 / n;
+            bb += cov2 / n;
+            for (int ch = 0; ch < 4; ++ch) {
+                const double one = under[ch] * (1 - cov1) + c1[ch] * cov1;
+                mean[ch] += (one * (1 - cov2) + c2[ch] * cov2) / n;
+            }
+        }
+        const double e = lower::periodicBoxOverlap(offset, h1, h2);
+        for (int ch = 0; ch < 4; ++ch) {
+            CAPTURE(ch);
+            const double one = under[ch] * (1 - a) + c1[ch] * a;
+            const double pivot = one * (1 - bb) + c2[ch] * bb;
+            const double want = mean[ch] - pivot;
+            const double got = k1 * k2 * (e - 4 * h1 * h2) * (under[ch] - c1[ch]);
+            CHECK(std::abs(got - want) <= 1e-4);
+        }
+    }
+}
+
 TEST_CASE("fine union: unresolved members with a resolved beat draw the pair's fringe") {
     auto interp = test::makeBackendOrSkip("interp");
     REQUIRE(interp);
@@ -162,6 +280,39 @@ TEST_CASE("fine union: unresolved members with a resolved beat draw the pair's f
         CHECK(meanAbs(flat, want) > 10.0 * error);
         CHECK(pair->fringe(flat) < 0.5 * fringe);
     }
+}
+
+TEST_CASE("fine union: the pair's closed form draws what the sweep draws, a little sharper") {
+    // The closed form against the 24-tap sweep (the same pair in a run of three whose third
+    // layer inks nothing), both against the brute force: the two agree to within the sweep's
+    // own error (its taps' antialias band softens the strokes' overlap, and it weights every
+    // harmonic of the beat by the fundamental's transfer), and the closed form is no further
+    // from the brute force.
+    auto interp = test::makeBackendOrSkip("interp");
+    REQUIRE(interp);
+    for (const Pair* pair : {&kParallel, &kTurned, &kFineBeat}) {
+        CAPTURE(pair->scene());
+        const std::vector<double> want = pair->bruteForce();
+        const std::vector<double> closed =
+            inkOf(test::renderScene(*test::compileOk(pair->scene()), *interp));
+        const std::vector<double> swept =
+            inkOf(test::renderScene(*test::compileOk(pair->sweptScene()), *interp));
+        const double apart = meanAbs(closed, swept);
+        const double errClosed = meanAbs(closed, want), errSwept = meanAbs(swept, want);
+        INFO("closed against swept ", apart, ", error closed ", errClosed, ", swept ", errSwept);
+        CHECK(apart <= 0.02);
+        CHECK(apart <= errSwept);
+        CHECK(errClosed <= errSwept + 1e-3);
+    }
+    // A licensed direction (w = (1, 3)) in closed form, against the brute force: its fringe is
+    // the (3, -1) beat's, which the pixel's mean of the strokes' union shows as it is.
+    const std::vector<double> want = kLicensed.bruteForce();
+    const std::vector<double> got =
+        inkOf(test::renderScene(*test::compileOk(kLicensed.scene()), *interp));
+    const std::vector<double> flat =
+        inkOf(test::renderScene(*test::compileOk(kLicensed.scene(), pointFilter()), *interp));
+    INFO("licensed: error ", meanAbs(got, want), ", point sampled ", meanAbs(flat, want));
+    CHECK(meanAbs(got, want) <= 0.02);
 }
 
 TEST_CASE("fine union: where the beat is finer than the pixels too, the layers are independent") {
@@ -206,7 +357,7 @@ TEST_CASE("fine union: the envelope view is the filter's to leave alone") {
 TEST_CASE("fine union: the JIT and the GPU draw the union the interpreter draws") {
     auto interp = test::makeBackendOrSkip("interp");
     REQUIRE(interp);
-    for (const Pair* pair : {&kParallel, &kTurned, &kFineBeat}) {
+    for (const Pair* pair : {&kParallel, &kTurned, &kFineBeat, &kLicensed}) {
         auto program = test::compileOk(pair->scene());
         const Image ref = test::renderScene(*program, *interp);
         for (const char* name : {"jit", "vulkan"}) {

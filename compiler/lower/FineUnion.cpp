@@ -34,6 +34,78 @@ ValueId unresolved(ir::Builder& b, const Footprint& f, const PixelFootprint& pix
     return b.select(b.lt(lowest, b.constF(*f.first - 0.5)), b.constF(0.0), weight);
 }
 
+// A pair's correlation in closed form: the sweep's mean less its pivot, for two layers whose
+// strokes are boxes in their index. Over the sweep layer i covers c_i = k_i A_i (k_i its
+// opacity times its alpha, A_i in {0, 1} its stroke at the advanced index); a tap's composite
+// over the ink beneath, P, is P (1 - c1)(1 - c2) + K1 c1 (1 - c2) + K2 c2 (K_i = (r, g, b, 1),
+// as inkOver lays a layer), whose mean over the sweep is
+//   P (1 - k1 a - k2 b + k1 k2 E) + K1 k1 (a - k2 E) + K2 k2 b,
+// a = E[A_1] = 2 w1, b = E[A_2] = 2 w2 (w_i the half-width in index units, held within
+// [0, 1/2]) and E = E[A_1 A_2] (sweptOverlap). The pivot composites the layers' own means,
+// which is the same with a b in place of E; so the correlation is
+//   k1 k2 (E - a b) (P - K1)
+// per premultiplied channel. The sweep's taps draw each stroke with kTapBand taps' worth of
+// antialias ramp, whose overlap differs from the boxes' by a hair at the trapezoid's corners:
+// the closed form is the exact box. E is taken as the pixel's mean over the offsets it spans
+// (sweptOverlap), so the beat's resolution is the footprint's exactly, harmonic by harmonic,
+// and what remains of the weight is the resolved members' share (fineUnion). Where the sum
+// beat's fade mixes the two sweeps (sumFade), their overlaps are mixed the same way. A family that
+// starts at a member has no members below it, which the periodic strokes count: within one member
+// past the first the correlation is faded out (the union of the means stands there).
+Ink pairCorrelation(ir::Builder& b, const Ink& under, const std::vector<FineLayer>& run,
+                    const std::vector<ValueId>& w, const PixelFootprint& pixel) {
+    const FineLayer& l1 = run[0];
+    const FineLayer& l2 = run[1];
+    auto value = [&](ValueId v) { return ir::BuiltValue(b, v); };
+    const ValueId w1 = b.mul(l1.sweep.halfWidth, l1.footprint.grad);
+    const ValueId w2 = b.mul(l2.sweep.halfWidth, l2.footprint.grad);
+    const Sides g1 = onSides(b, l1.footprint.gradX, l1.footprint.gradY, pixel);
+    const Sides g2 = onSides(b, l2.footprint.gradX, l2.footprint.gradY, pixel);
+    auto overlap = [&](ValueId p, ValueId q) {
+        // D = q f1 - p f2 steps |q g1 - p g2 . side| x pixel across each side.
+        auto step = [&](ValueId c1, ValueId c2) {
+            return b.mul(b.abs(b.sub(b.mul(q, c1), b.mul(p, c2))), pixel.size);
+        };
+        return sweptOverlap(value(l1.footprint.index), value(l2.footprint.index), value(p),
+                            value(q), value(w1), value(w2), value(step(g1.u, g2.u)),
+                            value(step(g1.v, g2.v)))
+            .id;
+    };
+    const ValueId zero = b.constF(0.0), one = b.constF(1.0);
+    ValueId e = overlap(w[0], w[1]);
+    const ValueId fade = sumFade(b, {l1.sweep, l2.sweep}, w);
+    if (fade != ir::kNoValue) {
+        // Inside the band w = (1, +-1), and the other sweep is (1, -+1): the sweep mixes the
+        // difference's by 1 - fade and the sum's by fade, so w's own overlap takes the other's
+        // by fade (w the difference) or by 1 - fade (w the sum). Built behind a branch: the
+        // band is narrow.
+        ValueId inBand = b.emit(Op::And, {b.gt(fade, zero), b.lt(fade, one)});
+        e = b.ifThenElse(
+            inBand,
+            [&] {
+                ValueId other = overlap(w[0], b.neg(w[1]));
+                ValueId share = b.select(b.gt(w[1], zero), fade, b.sub(one, fade));
+                return std::vector<ValueId>{b.mix(e, other, share)};
+            },
+            [&] { return std::vector<ValueId>{e}; })[0];
+    }
+    auto duty = [&](ValueId half) { return b.clamp(b.mul(b.constF(2.0), half), zero, one); };
+    auto strength = [&](const EnvelopeLayer& l) {
+        return b.mul(b.clamp(l.opacity, zero, one), b.clamp(l.color[3], zero, one));
+    };
+    ValueId scale =
+        b.mul(b.mul(strength(l1.sweep), strength(l2.sweep)), b.sub(e, b.mul(duty(w1), duty(w2))));
+    for (const FineLayer* l : {&l1, &l2})
+        if (l->footprint.first) {
+            ValueId past = b.sub(l->footprint.index, b.constF(*l->footprint.first + 0.5));
+            scale = b.mul(scale, b.clamp(past, zero, one));
+        }
+    scale = b.denan(scale, zero);
+    const Vals& k = l1.sweep.color;
+    return {b.mul(scale, b.sub(under.r, k[0])), b.mul(scale, b.sub(under.g, k[1])),
+            b.mul(scale, b.sub(under.b, k[2])), b.mul(scale, b.sub(under.a, one))};
+}
+
 } // namespace
 
 // The weight of the correlation. For two layers of inks c1(f1), c2(f2), take their
@@ -51,7 +123,10 @@ ValueId unresolved(ir::Builder& b, const Footprint& f, const PixelFootprint& pix
 // invariants, and the weight takes the least T_D and the greatest T_i T_j among them. It is
 // also held to the least hand-over weight of the run's layers (`unresolved`), so that the
 // point rule's floored strokes, which the fundamentals above do not describe, are left as
-// drawn.
+// drawn. A pair's closed form (pairCorrelation) is E's mean over the pixel, which carries
+// T_D (for each harmonic its own), so it takes the weight 1 - T_1 T_2 / T_D: the same for the
+// fundamental. With T_D = 0 and T_1 T_2 = 0 (members and beat unresolved) that weight is 1,
+// and E's mean over whole beats is a b, the independent stack's.
 Ink fineUnion(ir::Builder& b, const Ink& under, const Ink& independent,
               const std::vector<FineLayer>& run, const PixelFootprint& pixel) {
     if (run.size() < 2) return independent;
@@ -59,11 +134,10 @@ Ink fineUnion(ir::Builder& b, const Ink& under, const Ink& independent,
     for (const FineLayer& l : run) layers.push_back(l.sweep);
     ValueId engaged = b.constF(1.0);
     for (const FineLayer& l : run) engaged = b.min(engaged, unresolved(b, l.footprint, pixel));
-    // The direction is chosen per pixel, so the weight is built behind the first branch.
+    const std::vector<ValueId> w = sweepDirection(b, layers);
     std::vector<ValueId> out = b.ifThenElse(
         b.gt(engaged, b.constF(0.0)),
         [&] {
-            const std::vector<ValueId> w = sweepDirection(b, layers);
             ValueId beat = b.constF(1.0), apart = b.constF(0.0);
             std::vector<ValueId> own;
             for (const FineLayer& l : run)
@@ -78,27 +152,40 @@ Ink fineUnion(ir::Builder& b, const Ink& under, const Ink& independent,
                 beat = b.min(beat, transfer(b, onPixelSides(b, dx, dy, pixel), pixel));
                 apart = b.max(apart, b.mul(own[i], own[i + 1]));
             }
+            // A pair's overlap in closed form is the pixel's mean over the beat already
+            // (pairCorrelation), T_D's share of it: it takes 1 - T_1 T_2 / T_D, the same
+            // weight for the fundamental.
             ValueId weight =
-                b.mul(engaged, b.clamp(b.sub(beat, apart), b.constF(0.0), b.constF(1.0)));
+                run.size() == 2
+                    ? b.mul(engaged,
+                            b.clamp(b.sub(b.constF(1.0), b.div(apart, b.max(beat, b.constF(1e-6)))),
+                                    b.constF(0.0), b.constF(1.0)))
+                    : b.mul(engaged, b.clamp(b.sub(beat, apart), b.constF(0.0), b.constF(1.0)));
             weight = b.denan(weight, b.constF(0.0));
-            // Swept only where the weight is above 0.
+            // Added only where the weight is above 0.
             return b.ifThenElse(
                 b.gt(weight, b.constF(0.0)),
                 [&] {
-                    EnvelopeSettings settings{b.constF(1.0), b.constF(kUnionTaps)};
-                    SweptInk swept = sweptInk(b, under, layers, settings, w);
-                    auto add = [&](ValueId ind, ValueId mean, ValueId pivot) {
-                        return b.add(ind, b.mul(weight, b.sub(mean, pivot)));
+                    // A pair in closed form; a longer run by the sweep (a choice of the run's
+                    // structure, made once here).
+                    Ink corr;
+                    if (run.size() == 2) {
+                        corr = pairCorrelation(b, under, run, w, pixel);
+                    } else {
+                        EnvelopeSettings settings{b.constF(1.0), b.constF(kUnionTaps)};
+                        SweptInk swept = sweptInk(b, under, layers, settings, w);
+                        corr = {
+                            b.sub(swept.mean.r, swept.pivot.r), b.sub(swept.mean.g, swept.pivot.g),
+                            b.sub(swept.mean.b, swept.pivot.b), b.sub(swept.mean.a, swept.pivot.a)};
+                    }
+                    auto add = [&](ValueId ind, ValueId c) { return b.add(ind, b.mul(weight, c)); };
+                    ValueId a = b.clamp(add(independent.a, corr.a), b.constF(0.0), b.constF(1.0));
+                    auto channel = [&](ValueId ind, ValueId c) {
+                        return b.clamp(add(ind, c), b.constF(0.0), a);
                     };
-                    ValueId a = b.clamp(add(independent.a, swept.mean.a, swept.pivot.a),
-                                        b.constF(0.0), b.constF(1.0));
-                    auto channel = [&](ValueId ind, ValueId mean, ValueId pivot) {
-                        return b.clamp(add(ind, mean, pivot), b.constF(0.0), a);
-                    };
-                    return std::vector<ValueId>{channel(independent.r, swept.mean.r, swept.pivot.r),
-                                                channel(independent.g, swept.mean.g, swept.pivot.g),
-                                                channel(independent.b, swept.mean.b, swept.pivot.b),
-                                                a};
+                    return std::vector<ValueId>{channel(independent.r, corr.r),
+                                                channel(independent.g, corr.g),
+                                                channel(independent.b, corr.b), a};
                 },
                 [&] {
                     return std::vector<ValueId>{independent.r, independent.g, independent.b,

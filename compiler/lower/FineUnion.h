@@ -8,7 +8,9 @@
 // every layer's index advanced together. Its departure from the union of the layers' own
 // swept means is the stack's correlation, and it is added to the union of the footprint means
 // with the weight the pixel's footprint leaves it (FineUnion.cpp): the moiré of two families
-// that neither are resolved shows as the box-filtered field shows it.
+// that neither are resolved shows as the box-filtered field shows it. For a pair (a run of
+// two) the correlation is in closed form, the overlap of the two periodic strokes averaged
+// over the pixel (sweptOverlap below); a longer run takes the sweep, 24 taps of every layer.
 #pragma once
 
 #include "compiler/ir/Builder.h"
@@ -53,9 +55,88 @@ T footprintTransfer(T along, T across) {
     return sinc(along) * sinc(across);
 }
 
+// The mean over one period of P_h1(x + D) P_h2(x), P_h the periodic box that is 1 within h
+// of a whole number (any h >= 0: a box wider than a period overlaps its neighbours and
+// counts twice there): the periodic convolution of two boxes, a trapezoid in D. Written in
+// closed form: F(D) = sum_n g(D - n) with g = box_h1 * box_h2, whose second derivative is
+//   delta(D + h1 + h2) - delta(D + h1 - h2) - delta(D - h1 + h2) + delta(D - h1 - h2).
+// The periodic Q(x) = (t^2 - t + 1/6) / 2, t = fract(x), has Q'' = 1 - sum_n delta(x - n)
+// and mean 0, so
+//   F(D) = 4 h1 h2 - [Q(D + h1 + h2) - Q(D + h1 - h2) - Q(D - h1 + h2) + Q(D - h1 - h2)]:
+// the second derivatives agree (the four signs sum to 0) and so do the means (the integral
+// of g is 4 h1 h2). D is first reduced to [-1/2, 1/2), so the fracts stay small numbers.
+// This is its value at one offset; the kernel takes its mean over the pixel (below), the
+// tests hold the two against each other and this against the strokes themselves.
+template <class T>
+T periodicBoxOverlap(T offset, T h1, T h2) {
+    using ir::literal;
+    using std::floor;
+    using std::max;
+    auto q = [&](T x) {
+        T t = x - floor(x);
+        return (t * t - t + 1.0 / 6.0) * 0.5;
+    };
+    const T d = offset - floor(offset + 0.5);
+    const T sum = h1 + h2, diff = h1 - h2;
+    const T f = h1 * h2 * 4.0 - (q(d + sum) - q(d + diff) - q(d - diff) + q(d - sum));
+    return max(f, literal(offset, 0.0)); // rounding leaves a hair below 0 where they miss
+}
+
+// periodicBoxOverlap averaged over a square pixel across which the offset steps `along` and
+// `across` (|grad D . side| for its two sides): the pixel holds the overlap's mean over the
+// offsets it spans, each harmonic of the trapezoid attenuated by the pixel as it is, where a
+// single transfer for the fundamental would leave the trapezoid's corners sharp. It is the
+// trapezoid footprint's second difference (Prefilter.h, trapezoidMean) of Q's second
+// integral, Q2(x) = t^2 (1 - t)^2 / 24 (B4(t) / 24 less its constant, which a second
+// difference drops), term by term. With the narrow side held at 1e-3 (Prefilter.h) its
+// float rounding stays under about 1e-3 of the overlap.
+template <class T>
+T periodicBoxOverlapMean(T offset, T h1, T h2, T along, T across) {
+    using ir::literal;
+    using std::floor;
+    using std::max;
+    const Trapezoid<T> foot = trapezoid(along, across);
+    auto q2 = [&](T x) {
+        T t = x - floor(x);
+        T u = t * (1.0 - t);
+        return u * u * (1.0 / 24.0);
+    };
+    auto mean = [&](T c) { return trapezoidMean(foot, c, q2); };
+    const T d = offset - floor(offset + 0.5);
+    const T sum = h1 + h2, diff = h1 - h2;
+    const T f = h1 * h2 * 4.0 - (mean(d + sum) - mean(d + diff) - mean(d - diff) + mean(d - sum));
+    return max(f, literal(offset, 0.0));
+}
+
+// E[AB]: the mean over the sweep u in [0, 1) of A(f1 + p u) B(f2 + q u), A and B the two
+// layers' strokes in their index (members at the integers, half-widths w1, w2 in index units,
+// held within [0, 1/2], where the strokes touch), advanced p and q periods over the sweep (p,
+// q whole and coprime, neither 0: sweepDirection's w). In harmonics, A = sum alpha_m e(m x),
+// B = sum beta_n e(n x) (both even), the sweep keeps the pairs p m + q n = 0, m = q j,
+// n = -p j, so E = sum_j alpha_(qj) beta_(pj) e(j D), D = q f1 - p f2. The harmonics
+// alpha_(qj) are those of A decimated by q, (1/q) sum_r A((y + r) / q), which is a box of
+// half-width q w1 at every whole number, 1/q high; so
+//   E = periodicBoxOverlap(D, |q| w1, |p| w2) / |p q|,
+// on the diagonal (p = q = 1) the overlap of the strokes at the beat's offset f1 - f2, and
+// for the sum beat (1, -1) at f1 + f2 (the strokes are even). Averaged over the pixel, whose
+// sides D steps `along` and `across` (periodicBoxOverlapMean).
+template <class T>
+T sweptOverlap(T f1, T f2, T p, T q, T w1, T w2, T along, T across) {
+    using ir::literal;
+    using std::abs;
+    using std::max;
+    using std::min;
+    const T zero = literal(f1, 0.0), half = literal(f1, 0.5), one = literal(f1, 1.0);
+    const T h1 = min(max(w1, zero), half), h2 = min(max(w2, zero), half);
+    const T ap = max(abs(p), one), aq = max(abs(q), one);
+    return periodicBoxOverlapMean(q * f1 - p * f2, aq * h1, ap * h2, along, across) / (ap * aq);
+}
+
 // The run's pixel: `under` is the ink beneath the run (premultiplied), `independent` the run's
 // layers' inks laid over it one by one (the union of their means). Returns the pixel with the
-// run's correlation added where the footprint leaves it (a run of one layer: `independent`).
+// run's correlation added where the footprint leaves it (a run of one layer: `independent`),
+// a pair's in closed form, a longer run's by the sweep (chosen by the run's length here, not
+// per pixel).
 // Computed behind a branch: a pixel where fewer than two of the run's layers are past the
 // unresolved threshold (kCrowdFrom) pays a handful of instructions.
 Ink fineUnion(ir::Builder& b, const Ink& under, const Ink& independent,

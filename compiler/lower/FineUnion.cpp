@@ -59,8 +59,8 @@ Ink pairCorrelation(ir::Builder& b, const Ink& under, const std::vector<FineLaye
     auto value = [&](ValueId v) { return ir::BuiltValue(b, v); };
     const ValueId w1 = b.mul(l1.sweep.halfWidth, l1.footprint.grad);
     const ValueId w2 = b.mul(l2.sweep.halfWidth, l2.footprint.grad);
-    const Sides g1 = onSides(b, l1.footprint.gradX, l1.footprint.gradY, pixel);
-    const Sides g2 = onSides(b, l2.footprint.gradX, l2.footprint.gradY, pixel);
+    const PixelSides g1 = onPixelSides(b, l1.footprint.gradX, l1.footprint.gradY, pixel);
+    const PixelSides g2 = onPixelSides(b, l2.footprint.gradX, l2.footprint.gradY, pixel);
     auto overlap = [&](ValueId p, ValueId q) {
         // D = q f1 - p f2 steps |q g1 - p g2 . side| x pixel across each side.
         auto step = [&](ValueId c1, ValueId c2) {

@@ -78,7 +78,12 @@ void Compose::meetStrokes(const LayerInk& ink, ValueId cov, const Ink& under) {
     if (stroke && !laid_.empty()) {
         Ink add{zero_, zero_, zero_, zero_};
         for (const Laid& l : laid_) {
-            ValueId t = b_.mul(k, strokeCovariance(b_, l.stroke, *stroke));
+            // Behind a branch: most pixels meet one stroke or none.
+            ValueId meet = b_.emit(Op::And, {l.stroke.touches, stroke->touches});
+            ValueId cov = b_.ifThenElse(
+                meet, [&] { return std::vector<ValueId>{strokeCovariance(b_, l.stroke, *stroke)}; },
+                [&] { return std::vector<ValueId>{zero_}; })[0];
+            ValueId t = b_.mul(k, cov);
             add = {b_.add(add.r, b_.mul(t, l.pending.r)), b_.add(add.g, b_.mul(t, l.pending.g)),
                    b_.add(add.b, b_.mul(t, l.pending.b)), b_.add(add.a, b_.mul(t, l.pending.a))};
         }

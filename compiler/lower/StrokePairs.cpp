@@ -28,8 +28,7 @@ std::optional<StrokeAcross> strokeAcross(ir::Builder& b, const LayerFields& fiel
             // is the nearest, on the gradient's far side, `distance` away (the index is not
             // linear there: it folds), and it alone is the pixel's ink.
             ValueId reach = b.mul(b.add(b.abs(g.u), b.abs(g.v)), b.mul(pixel.size, b.constF(0.5)));
-            ValueId below =
-                b.lt(b.sub(f.index, reach), b.constF(*f.first - 0.5));
+            ValueId below = b.lt(b.sub(f.index, reach), b.constF(*f.first - 0.5));
             s = b.select(below, b.sub(zero, b.div(fields.distance, pixel.size)), s);
             weight = b.select(below, one, weight);
         }
@@ -55,7 +54,10 @@ std::optional<StrokeAcross> strokeAcross(ir::Builder& b, const LayerFields& fiel
     }
     if (fields.crowd.engaged != ir::kNoValue)
         weight = b.mul(weight, b.sub(one, b.clamp(fields.crowd.engaged, zero, one)));
-    return StrokeAcross{nu, nv, s, b.div(halfWidth, pixel.size), weight};
+    ValueId h = b.div(halfWidth, pixel.size);
+    ValueId touches =
+        b.emit(ir::Op::And, {b.gt(weight, zero), b.lt(b.abs(s), b.add(h, b.constF(0.7072)))});
+    return StrokeAcross{nu, nv, s, h, weight, touches};
 }
 
 ValueId strokeCovariance(ir::Builder& b, const StrokeAcross& first, const StrokeAcross& second) {

@@ -29,19 +29,18 @@
 
 namespace moire::lower {
 
-// The mean of max(x', 0) over x' in [x - span/2, x + span/2] (span > 0): x past the span's
-// half, 0 short of it, and between the two (x + span/2)^2 / (2 span), the ramp's integral over
-// the part above 0. Written with selects rather than as a difference of squares over span,
-// which float rounding would spoil as span -> 0.
+// The mean of max(x', 0) over x' in [x - span/2, x + span/2] (span > 0; `half` is span / 2
+// and `inverse` 1 / (2 span), shared by a sum of ramps over one span): x past the span's half,
+// 0 short of it, and between the two (x + span/2)^2 / (2 span), the ramp's integral over the
+// part above 0. Written with selects rather than as a difference of squares over span, which
+// float rounding would spoil as span -> 0.
 template <class T>
-T meanRamp(T x, T span) {
+T meanRamp(T x, T half, T inverse) {
     using ir::literal;
-    const T half = span * 0.5;
     const T rise = x + half;
-    const T within = rise * rise / (span * 2.0);
+    const T within = rise * rise * inverse;
     return ir::select(ir::lessThan(x, half),
-                      ir::select(ir::lessThan(rise, literal(x, 0.0)), literal(x, 0.0), within),
-                      x);
+                      ir::select(ir::lessThan(rise, literal(x, 0.0)), literal(x, 0.0), within), x);
 }
 
 // The mean, over centres m in [m0 - span/2, m0 + span/2], of the length [lo, hi] shares with
@@ -50,8 +49,10 @@ T meanRamp(T x, T span) {
 // max(m - hi - r, 0) (lo <= hi; lo = hi gives 0).
 template <class T>
 T meanShared(T lo, T hi, T m0, T r, T span) {
-    return meanRamp(m0 - lo + r, span) - meanRamp(m0 - hi + r, span) -
-           meanRamp(m0 - lo - r, span) + meanRamp(m0 - hi - r, span);
+    const T half = span * 0.5;
+    const T inverse = ir::literal(span, 0.5) / span;
+    return meanRamp(m0 - lo + r, half, inverse) - meanRamp(m0 - hi + r, half, inverse) -
+           meanRamp(m0 - lo - r, half, inverse) + meanRamp(m0 - hi - r, half, inverse);
 }
 
 // Least |cos| between two strokes' normals the covariance divides by, and least drift across
@@ -104,9 +105,11 @@ T stripCovariance(T s1, T h1, T s2, T h2, T cosA, T sinA) {
 // A layer's nearest stroke in the pixel's frame, in pixel units: the unit normal (nu, nv)
 // along the pixel's sides, the pixel's centre standing `s` from the member's centre line along
 // it, and the half-width h; `weight`, how far the nearest member alone is the layer's ink in
-// the pixel (1 but where its members crowd closer than the pixel and the mean is of many).
+// the pixel (1 but where its members crowd closer than the pixel and the mean is of many);
+// `touches`, whether the stroke reaches into the pixel at all (|s| < h + half the pixel's
+// diagonal), without which its covariance with any stroke is 0.
 struct StrokeAcross {
-    ir::ValueId nu, nv, s, h, weight;
+    ir::ValueId nu, nv, s, h, weight, touches;
 };
 
 // The layer's nearest stroke under the mean filter: a phase family's from its index (the
@@ -119,7 +122,8 @@ struct StrokeAcross {
 std::optional<StrokeAcross> strokeAcross(ir::Builder& b, const LayerFields& fields,
                                          ir::ValueId halfWidth, const PixelFootprint& pixel);
 
-// stripCovariance of two layers' strokes, times both their weights.
+// stripCovariance of two layers' strokes, times both their weights (not checked for
+// `touches`: the caller branches on it).
 ir::ValueId strokeCovariance(ir::Builder& b, const StrokeAcross& first, const StrokeAcross& second);
 
 } // namespace moire::lower

@@ -102,9 +102,8 @@ TEST_CASE("stroke pairs: the closed form is the brute-force covariance over the 
     // covariance of 0.03-0.05), where the square's corners the box leaves out are what
     // remains; towards right angles the covariance itself is small (0.006 at 90 degrees) and
     // the form keeps about as much as independence had.
-    const Band bands[] = {{0, 0.2, 0.05},   {1, 0.22, 0.05},  {3, 0.2, 0.05},
-                          {8, 0.2, 0.05},   {20, 0.25, 0.05}, {45, 0.3, 0.05},
-                          {70, 0.7, 0.05},  {90, 1.3, 0.05}};
+    const Band bands[] = {{0, 0.2, 0.05},   {1, 0.22, 0.05}, {3, 0.2, 0.05},  {8, 0.2, 0.05},
+                          {20, 0.25, 0.05}, {45, 0.3, 0.05}, {70, 0.7, 0.05}, {90, 1.3, 0.05}};
     unsigned seed = 7;
     for (const Band& band : bands) {
         CAPTURE(band.turnDegrees);

@@ -2,28 +2,15 @@
 
 #include "compiler/diag/Diagnostics.h"
 #include "compiler/lower/LayerPipeline.h"
+#include "compiler/lower/LowerScene.h"
 
 #include <fmt/format.h>
 
 namespace moire {
 
-namespace {
-
-// The scene's filter: the one given, else the scene's `filter`, else the mean (as the
-// lowering reads it).
-sema::FilterMode filterOf(const sema::CheckedScene& scene,
-                          const std::optional<sema::FilterMode>& given) {
-    if (given) return *given;
-    const ast::Property* p = scene.scene ? scene.scene->prop("filter") : nullptr;
-    if (!p || !p->value) return sema::FilterMode::Mean;
-    return sema::filterNamed(p->value->name).value_or(sema::FilterMode::Mean);
-}
-
-} // namespace
-
 std::string strokeFloorNotes(const SceneProgram& program,
                              const std::optional<sema::FilterMode>& filter, double pixelSize) {
-    if (!(pixelSize > 0.0) || filterOf(program.checked, filter) != sema::FilterMode::Point)
+    if (!(pixelSize > 0.0) || lower::filterOf(program.checked, filter) != sema::FilterMode::Point)
         return {};
     // The floor's width: twice the thinnest half-width drawn, in world units.
     const double floorWidth = 2.0 * lower::kStrokeFloorPixels * pixelSize;

@@ -59,12 +59,12 @@ bool overlayOf(const sema::CheckedScene& scene, const LowerOptions& options) {
     return namedSetting(scene, "overlay", options.overlay, false, sema::switchNamed);
 }
 
-// The stroke filter: the options', else the scene's `filter`, else the mean.
-sema::FilterMode filterOf(const sema::CheckedScene& scene, const LowerOptions& options) {
-    return namedSetting(scene, "filter", options.filter, sema::FilterMode::Mean, sema::filterNamed);
-}
-
 } // namespace
+
+sema::FilterMode filterOf(const sema::CheckedScene& scene,
+                          const std::optional<sema::FilterMode>& given) {
+    return namedSetting(scene, "filter", given, sema::FilterMode::Mean, sema::filterNamed);
+}
 
 LoweredScene lowerScene(const sema::CheckedScene& scene, const LowerOptions& options,
                         std::vector<double>& literals) {
@@ -94,7 +94,7 @@ LoweredScene lowerScene(const sema::CheckedScene& scene, const LowerOptions& opt
         settled.view = out.view = sema::ViewMode::Pattern;
         settled.overlay = out.overlay = false;
     }
-    const sema::FilterMode filter = filterOf(scene, options);
+    const sema::FilterMode filter = filterOf(scene, options.filter);
     // The ratio view and the overlay read every layer's index field and its gradient, and the
     // envelope's sweep reads the gradients (a walking layer has them only with its index); so
     // does the mean filter, across a walking layer's members (distanceInk), in every view, so

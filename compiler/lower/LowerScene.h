@@ -151,6 +151,11 @@ struct LoweredScene {
     std::vector<int> unsweepable;
 };
 
+// The stroke filter a scene is drawn with: `given` (the command line's), else the scene's
+// `filter`, else the mean.
+sema::FilterMode filterOf(const sema::CheckedScene& scene,
+                          const std::optional<sema::FilterMode>& given);
+
 // Lowers the checked scene. `literals` is the scene's literal table; the slots the mode reads
 // are appended to it, set to the scene's own view (probe point at the origin; no pan, zoom
 // factor 1, no layer moved or turned).

@@ -148,26 +148,20 @@ Image downsampled(const SceneProgram& program, Backend& backend, int x0, int y0,
     return out;
 }
 
-// Alpha only: a layer alone on transparent paper, whose alpha is its ink.
-Image downsampledAlpha(const SceneProgram& program, Backend& backend, int x0, int y0, int width,
-                       int height, int k) {
-    return downsampled(program, backend, x0, y0, width, height, k, 3, 1);
-}
+// The window of an example the exact-field tests compare (96 x 64, off the frame's centre),
+// and the backend they draw with (the JIT, else the interpreter).
+struct ExampleWindow {
+    std::string rel, name, text;
+    int x0, y0;
+};
+constexpr int kWindowW = 96, kWindowH = 64, kExactSamples = 8;
 
-// Every layer of every example alone, under the default filter, against an independent
-// expectation: the exact field's stroke (as written, no floor) point-sampled 8 x 8 times a
-// pixel and averaged. The mean is exact for phase families whose index runs evenly over a
-// pixel and for members apart by more than a pixel, so the tone of a preview is the tone of
-// a print (docs/filtering.md; experiments/tone_resolution measures the whole frames). The
-// walking examples are left to experiments/tone_resolution: inside a stroke their solver
-// reports the first member it accepts (§7.1), not always the nearest, and walking_triangles
-// piles members closer than a pixel, where the nearest member alone is not the pixel's ink.
-TEST_CASE("filter: each layer of the examples reads the box-filtered ink of its exact field") {
-    auto backend = test::makeBackendOrSkip("jit");
-    if (!backend) backend = test::makeBackendOrSkip("interp");
-    REQUIRE(backend);
-    constexpr int kW = 96, kH = 64, kK = 8;
-    int compared = 0;
+// Every example but the walking ones: inside a stroke their solver reports the first member it
+// accepts (§7.1), not always the nearest, and walking_triangles piles members closer than a
+// pixel, where the nearest member alone is not the pixel's ink; experiments/tone_resolution
+// measures them.
+std::vector<ExampleWindow> exampleWindows() {
+    std::vector<ExampleWindow> out;
     for (const std::string& rel : test::exampleScenes()) {
         const std::string name = std::filesystem::path(rel).stem().string();
         if (name.find("walk") != std::string::npos) continue;
@@ -176,19 +170,48 @@ TEST_CASE("filter: each layer of the examples reads the box-filtered ink of its 
         FrameValues fv;
         std::string diags;
         REQUIRE(evaluateFrame(*scene, FrameRequest{}, fv, diags));
-        const int x0 = (fv.width - kW) / 2 + 37, y0 = (fv.height - kH) / 2 - 23;
+        out.push_back(
+            {rel, name, text, (fv.width - kWindowW) / 2 + 37, (fv.height - kWindowH) / 2 - 23});
+    }
+    return out;
+}
+
+// The exact field: each stroke as written (no floor), point-sampled; `options` as drawn.
+CompileOptions exactField(CompileOptions options) {
+    options.filter = sema::FilterMode::Point;
+    options.strokeFloor = false;
+    return options;
+}
+
+// The window drawn one sample a pixel by `drawn` and kExactSamples^2 by the exact field, its
+// outputs [c0, c0 + channels): the two images.
+std::pair<Image, Image> drawnAndExact(const ExampleWindow& w, const CompileOptions& options,
+                                      Backend& backend, int c0, int channels) {
+    auto drawn = test::compileOk(w.text, options, w.rel);
+    auto field = test::compileOk(w.text, exactField(options), w.rel);
+    return {
+        downsampled(*drawn, backend, w.x0, w.y0, kWindowW, kWindowH, 1, c0, channels),
+        downsampled(*field, backend, w.x0, w.y0, kWindowW, kWindowH, kExactSamples, c0, channels)};
+}
+
+// Every layer of every example alone, under the default filter, against an independent
+// expectation: the exact field's stroke (as written, no floor) point-sampled 8 x 8 times a
+// pixel and averaged. The mean is exact for phase families whose index runs evenly over a
+// pixel and for members apart by more than a pixel, so the tone of a preview is the tone of
+// a print (docs/filtering.md; experiments/tone_resolution measures the whole frames).
+TEST_CASE("filter: each layer of the examples reads the box-filtered ink of its exact field") {
+    auto backend = test::makeBackendOrSkip("jit");
+    if (!backend) backend = test::makeBackendOrSkip("interp");
+    REQUIRE(backend);
+    int compared = 0;
+    for (const ExampleWindow& w : exampleWindows()) {
+        auto scene = test::compileOk(w.text, {}, w.rel);
         for (int l = 0; l < static_cast<int>(scene->checked.layers.size()); ++l) {
-            CAPTURE(name);
+            CAPTURE(w.name);
             CAPTURE(l);
             CompileOptions mean;
             mean.separateLayer = l;
-            CompileOptions exact = mean;
-            exact.filter = sema::FilterMode::Point;
-            exact.strokeFloor = false;
-            auto drawn = test::compileOk(text, mean, rel);
-            auto field = test::compileOk(text, exact, rel);
-            const Image got = downsampledAlpha(*drawn, *backend, x0, y0, kW, kH, 1);
-            const Image want = downsampledAlpha(*field, *backend, x0, y0, kW, kH, kK);
+            const auto [got, want] = drawnAndExact(w, mean, *backend, 3, 1);
             double sq = 0.0, sum = 0.0, gotInk = 0.0, wantInk = 0.0;
             for (size_t i = 0; i < got.pixels.size(); ++i) {
                 const double e = got.pixels[i] - want.pixels[i];
@@ -211,31 +234,16 @@ TEST_CASE("filter: each layer of the examples reads the box-filtered ink of its 
 // (each stroke as written, no floor) point-sampled 8 x 8 times a pixel and averaged. Laid over
 // one another as independent, strokes that run nearly parallel through a pixel (a moiré's
 // fringes) were off by 0.02-0.045 RMSE in these windows; the pairs' covariance
-// (lower/StrokePairs.h) is what brings them to the layers' own tone. Walking examples are left
-// out as above.
+// (lower/StrokePairs.h) is what brings them to the layers' own tone.
 TEST_CASE("filter: whole pictures read the box-filtered colour of their exact field") {
     auto backend = test::makeBackendOrSkip("jit");
     if (!backend) backend = test::makeBackendOrSkip("interp");
     REQUIRE(backend);
-    constexpr int kW = 96, kH = 64, kK = 8;
     int compared = 0;
-    for (const std::string& rel : test::exampleScenes()) {
-        const std::string name = std::filesystem::path(rel).stem().string();
-        if (name.find("walk") != std::string::npos) continue;
-        const std::string text = test::readFile(test::sourcePath(rel));
-        auto drawn = test::compileOk(text, {}, rel);
-        if (drawn->checked.layers.size() < 2) continue;
-        CAPTURE(name);
-        FrameValues fv;
-        std::string diags;
-        REQUIRE(evaluateFrame(*drawn, FrameRequest{}, fv, diags));
-        const int x0 = (fv.width - kW) / 2 + 37, y0 = (fv.height - kH) / 2 - 23;
-        CompileOptions exact;
-        exact.filter = sema::FilterMode::Point;
-        exact.strokeFloor = false;
-        auto field = test::compileOk(text, exact, rel);
-        const Image got = downsampled(*drawn, *backend, x0, y0, kW, kH, 1, 0, 3);
-        const Image want = downsampled(*field, *backend, x0, y0, kW, kH, kK, 0, 3);
+    for (const ExampleWindow& w : exampleWindows()) {
+        if (test::compileOk(w.text, {}, w.rel)->checked.layers.size() < 2) continue;
+        CAPTURE(w.name);
+        const auto [got, want] = drawnAndExact(w, {}, *backend, 0, 3);
         double sq = 0.0;
         for (size_t i = 0; i < got.pixels.size(); ++i) {
             const double e = got.pixels[i] - want.pixels[i];
@@ -245,7 +253,7 @@ TEST_CASE("filter: whole pictures read the box-filtered colour of their exact fi
         // Measured 0.001-0.0104 (0.0067-0.045 before the pairs' covariance); hyperbolae 0.019
         // (0.031 before): its window holds its first members' vertices and the asymptotes, where
         // the index folds and is not linear across a pixel, and each layer alone is off there.
-        CHECK(rmse <= (name == "hyperbolae" ? 0.022 : 0.012));
+        CHECK(rmse <= (w.name == "hyperbolae" ? 0.022 : 0.012));
         ++compared;
     }
     CHECK(compared >= 12);

@@ -104,6 +104,11 @@ ValueId meanInk(ir::Builder& b, const Footprint& footprint, ValueId distance, Va
 }
 
 ValueId crowdInk(ir::Builder& b, const CrowdEstimate& crowd, ValueId ink) {
+    // The members beside the nearest, where the family resolved them: their means added to the
+    // nearest's, up to a pixel full. A sum counts twice where strokes overlap within the
+    // pixel; where they do, members stand closer than a stroke's width, and the strokes have
+    // merged into one solid band whose mean is 1 either way but at its edges.
+    if (crowd.others != ir::kNoValue) ink = b.min(b.add(ink, crowd.others), b.constF(1.0));
     // Weighted by `engaged` alone, not handed over by members per pixel as a phase family's
     // mean is: the hand-over keeps resolved members drawn as strokes, but where a family
     // cannot resolve its members itself (a strided scan) the strokes it draws are a subset of

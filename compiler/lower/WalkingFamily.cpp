@@ -3,6 +3,7 @@
 #include "compiler/ir/BuiltValue.h"
 #include "compiler/ir/Plane.h"
 #include "compiler/ir/Semantics.h"
+#include "compiler/lower/Prefilter.h"
 
 #include <array>
 #include <limits>
@@ -34,20 +35,27 @@ class Solver {
         // The cheapest method that is exact for these parameters (§7.5). The conditions
         // depend on layer parameters only, so each pixel of a layer takes the same branch.
         // Sweep, the baseline without a certificate, has no such dispatch.
+        // Under the mean filter every method also gives the members' ink besides the nearest
+        // (resolved(), a third value): the scan sums it, a closed form gives none.
+        auto closed = [&](Vals v) {
+            if (resolving()) v.push_back(c(0.0));
+            return v;
+        };
         auto polygonOrScan = [&] {
             if (!variant().polygonClosedForm) return scan();
             return b_.ifThenElse(
-                closedPolygon_, [&] { return translatedPolygon(); }, [&] { return scan(); });
+                closedPolygon_, [&] { return closed(translatedPolygon()); },
+                [&] { return scan(); });
         };
-        Vals found =
-            variant().solver == WalkingVariant::Solver::Sweep
-                ? sweep()
-                : b_.ifThenElse(
-                      still_, [&] { return concentric(); },
-                      [&] {
-                          return b_.ifThenElse(
-                              quadratic_, [&] { return translatedCircle(); }, polygonOrScan);
-                      });
+        Vals found = variant().solver == WalkingVariant::Solver::Sweep
+                         ? sweep()
+                         : b_.ifThenElse(
+                               still_, [&] { return closed(concentric()); },
+                               [&] {
+                                   return b_.ifThenElse(
+                                       quadratic_, [&] { return closed(translatedCircle()); },
+                                       polygonOrScan);
+                               });
         LayerFields out;
         // min(G, d) with the guard first: the IR's min keeps its first operand when the
         // second is NaN, so a radius that is NaN everywhere (a shape with no sides, say) draws
@@ -58,8 +66,10 @@ class Solver {
         out.aux0 = nLo_;
         out.aux1 = nHiRaw_;
         if (in_.flankGuard) out.sample = phaseSample(found[0], found[1]);
-        if (in_.crowd && variant().solver != WalkingVariant::Solver::Sweep)
+        if (resolving()) {
             out.crowd = crowd(found[1]);
+            out.crowd.others = found[2];
+        }
         return out;
     }
 
@@ -70,6 +80,10 @@ class Solver {
     ValueId ceil(ValueId v) { return b_.neg(b_.floor(b_.neg(v))); }
 
     const WalkingVariant& variant() const { return in_.variant; }
+    // The mean filter is drawn by a solver that estimates its crowd (not the sweep baseline).
+    bool resolving() const {
+        return in_.crowd && variant().solver != WalkingVariant::Solver::Sweep;
+    }
 
     ValueId radius(ValueId qx, ValueId qy) {
         countEvaluations(1);
@@ -414,14 +428,27 @@ class Solver {
                 });
         auto power = [&](int j) { return std::pair{powers[2 * j], powers[2 * j + 1]}; };
 
-        // Carried: iteration, n, best, argmin, Rot(-n theta) p, steps since the last anchor.
+        // Under the mean filter, where the scan visits every member (stride 1), it also sums
+        // each one's footprint mean (resolved(), below): the skip's bar is then raised to the
+        // reach of a member's mean, so that no member within it is skipped, and the early exit
+        // (the nearest member found fully inked) is not taken, as the members beside it still
+        // count. Strided, the crowd estimate draws the pixel, and the scan is as it was.
+        const bool summing = resolving();
+        ValueId exhaustive = summing ? eq(stride, c(1.0)) : ir::kNoValue;
+        ValueId reach = summing ? b_.select(exhaustive, memberReach(), c(0.0)) : ir::kNoValue;
+
+        // Carried: iteration, n, best, argmin, Rot(-n theta) p, steps since the last anchor;
+        // summing, the members' footprint means so far and the best member's.
         Vals init = {c(0.0), start, c(kFar), start, p0x, p0y, c(0.0)};
+        if (summing) init.insert(init.end(), {c(0.0), c(0.0)});
         Vals res = b_.loop(
             init,
             [&](std::span<const ValueId> v) {
                 ValueId going = both(b_.lt(v[0], c(in_.variant.budget)), b_.le(v[1], nHi));
                 if (!variant().acceptEarlyExit) return Vals{going};
-                return Vals{both(going, b_.gt(v[2], accept_))};
+                ValueId open = b_.gt(v[2], accept_);
+                if (summing) open = b_.emit(Op::Or, {open, exhaustive});
+                return Vals{both(going, open)};
             },
             [&](std::span<const ValueId> v) {
                 ValueId iter = v[0], n = v[1], best = v[2], argmin = v[3], tx = v[4], ty = v[5],
@@ -429,7 +456,13 @@ class Solver {
                 ValueId value = b_.abs(residualAt(n, tx, ty));
                 // min(best, G) before this member: ready before rho is, off the critical path.
                 ValueId bar = b_.min(best, guard_);
+                if (summing) bar = b_.max(bar, reach);
                 ValueId better = b_.lt(value, best);
+                Vals sums;
+                if (summing) {
+                    ValueId mean = memberMean(value);
+                    sums = {b_.add(v[7], mean), b_.select(better, mean, v[8])};
+                }
                 best = b_.select(better, value, best);
                 argmin = b_.select(better, n, argmin);
                 // No index within (value - min(best, G)) / Lambda of n can come under the guard
@@ -456,8 +489,9 @@ class Solver {
                 };
                 if (!carried) {
                     Vals turned = fresh();
-                    return Vals{
-                        b_.add(iter, c(1.0)), next, best, argmin, turned[0], turned[1], steps};
+                    Vals out{b_.add(iter, c(1.0)), next, best, argmin, turned[0], turned[1], steps};
+                    out.insert(out.end(), sums.begin(), sums.end());
+                    return out;
                 }
                 ValueId carry = both(b_.le(strides, c(double((1 << kCarriedPowers) - 1))),
                                      b_.lt(steps, c(kWalkReanchor)));
@@ -478,10 +512,37 @@ class Solver {
                         return Vals{ax, ay, b_.add(steps, c(1.0))};
                     },
                     fresh);
-                return Vals{
-                    b_.add(iter, c(1.0)), next, best, argmin, turned[0], turned[1], turned[2]};
+                Vals out{b_.add(iter, c(1.0)), next, best, argmin, turned[0], turned[1], turned[2]};
+                out.insert(out.end(), sums.begin(), sums.end());
+                return out;
             });
-        return {res[2], res[3]};
+        if (!summing) return {res[2], res[3]};
+        // The members beside the nearest: every member's mean less the nearest's (which the
+        // compose step draws across its own normal). Strided, none (the crowd's estimate).
+        ValueId others = b_.max(b_.sub(res[7], res[8]), c(0.0));
+        return {res[2], res[3], b_.select(exhaustive, others, c(0.0))};
+    }
+
+    // The footprint mean of one member's stroke as written (half-width t / 2, no floor) at
+    // residual `value` from the pixel's centre, for resolved(): distanceMeanInk over a box of
+    // the pixel's side (the member's own normal is not known inside the scan; the nearest
+    // member's is, and the compose step draws that one across it). In residual units, as
+    // the solver works: the band's antialias half-width is 0.7 pixel in them (strokeBand), so
+    // the pixel is a / 0.7, and the ratio of the stroke, the distance and the footprint is
+    // what the mean reads.
+    ValueId memberPixel() { return b_.div(in_.band.a, c(kAntialiasPixels)); }
+    ValueId memberHalf() { return b_.mul(in_.stroke, c(0.5)); }
+    ValueId memberMean(ValueId value) {
+        return distanceMeanInk(BuiltValue(b_, value), BuiltValue(b_, memberHalf()),
+                               BuiltValue(b_, memberPixel()), BuiltValue(b_, c(0.0)))
+            .id;
+    }
+    // Past t / 2 + s1 a member's mean is 0 (distanceMeanInk), s1 the box footprint's half-span
+    // (about 0.52 pixel). That is below the guard (h + a, with h >= t / 2 and a = 0.7 pixel),
+    // so Theorem 4's interval holds every member within it.
+    ValueId memberReach() {
+        BuiltValue zero(b_, c(0.0));
+        return b_.add(memberHalf(), trapezoid(BuiltValue(b_, memberPixel()), zero).s1.id);
     }
 
     // Sweep (§9.1), the baseline without a certificate: seed at the member whose radius

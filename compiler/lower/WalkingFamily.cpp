@@ -438,9 +438,10 @@ class Solver {
         ValueId reach = summing ? b_.select(exhaustive, memberReach(), c(0.0)) : ir::kNoValue;
 
         // Carried: iteration, n, best, argmin, Rot(-n theta) p, steps since the last anchor;
-        // summing, the members' footprint means so far and the best member's.
+        // summing, the members' union's footprint mean so far, the best member's mean, and
+        // the last member within reach and its signed residual (none yet: member -2).
         Vals init = {c(0.0), start, c(kFar), start, p0x, p0y, c(0.0)};
-        if (summing) init.insert(init.end(), {c(0.0), c(0.0)});
+        if (summing) init.insert(init.end(), {c(0.0), c(0.0), c(-2.0), c(0.0)});
         Vals res = b_.loop(
             init,
             [&](std::span<const ValueId> v) {
@@ -453,7 +454,8 @@ class Solver {
             [&](std::span<const ValueId> v) {
                 ValueId iter = v[0], n = v[1], best = v[2], argmin = v[3], tx = v[4], ty = v[5],
                         steps = v[6];
-                ValueId value = b_.abs(residualAt(n, tx, ty));
+                ValueId signedValue = residualAt(n, tx, ty);
+                ValueId value = b_.abs(signedValue);
                 // min(best, G) before this member: ready before rho is, off the critical path.
                 ValueId bar = b_.min(best, guard_);
                 if (summing) bar = b_.max(bar, reach);
@@ -461,7 +463,13 @@ class Solver {
                 Vals sums;
                 if (summing) {
                     ValueId mean = memberMean(value);
-                    sums = {b_.add(v[7], mean), b_.select(better, mean, v[8])};
+                    ValueId within = b_.lt(value, reach);
+                    ValueId after = both(within, eq(n, b_.add(v[9], c(1.0))));
+                    ValueId union_ =
+                        b_.sub(b_.add(v[7], mean),
+                               b_.select(after, overlapMean(v[10], signedValue), c(0.0)));
+                    sums = {union_, b_.select(better, mean, v[8]), b_.select(within, n, v[9]),
+                            b_.select(within, signedValue, v[10])};
                 }
                 best = b_.select(better, value, best);
                 argmin = b_.select(better, n, argmin);
@@ -534,6 +542,20 @@ class Solver {
     ValueId memberHalf() { return b_.mul(in_.stroke, c(0.5)); }
     ValueId memberMean(ValueId value) {
         return distanceMeanInk(BuiltValue(b_, value), BuiltValue(b_, memberHalf()),
+                               BuiltValue(b_, memberPixel()), BuiltValue(b_, c(0.0)))
+            .id;
+    }
+    // The footprint mean of the overlap of two members' strokes centred at residuals a and b
+    // (signed, along a common normal), for the union in scan(): [a - t/2, a + t/2] and
+    // [b - t/2, b + t/2] share the stroke of half-width max(t - |a - b|, 0) / 2 centred on
+    // (a + b) / 2. Strokes of one width sorted along the normal overlap only the next one's
+    // beyond what an earlier one's does, so their union's mean is the sum of their means less
+    // those of each one's overlap with the next (inclusion and exclusion, exact for parallel
+    // members; consecutive members within reach are taken as the next along the normal).
+    ValueId overlapMean(ValueId a, ValueId bv) {
+        ValueId overlap = b_.max(b_.sub(in_.stroke, b_.abs(b_.sub(a, bv))), c(0.0));
+        ValueId centre = b_.mul(b_.add(a, bv), c(0.5));
+        return distanceMeanInk(BuiltValue(b_, centre), BuiltValue(b_, b_.mul(overlap, c(0.5))),
                                BuiltValue(b_, memberPixel()), BuiltValue(b_, c(0.0)))
             .id;
     }

@@ -35,8 +35,9 @@ class Solver {
         // The cheapest method that is exact for these parameters (§7.5). The conditions
         // depend on layer parameters only, so each pixel of a layer takes the same branch.
         // Sweep, the baseline without a certificate, has no such dispatch.
-        // Under the mean filter every method also gives the members' ink besides the nearest
-        // (resolved(), a third value): the scan sums it, a closed form gives none.
+        // Under the mean filter every method also gives the ink of the members beside the
+        // nearest (CrowdEstimate::others, a third value): the scan gathers it, a closed form
+        // gives none.
         auto closed = [&](Vals v) {
             if (resolving()) v.push_back(c(0.0));
             return v;
@@ -428,11 +429,13 @@ class Solver {
                 });
         auto power = [&](int j) { return std::pair{powers[2 * j], powers[2 * j + 1]}; };
 
-        // Under the mean filter, where the scan visits every member (stride 1), it also sums
-        // each one's footprint mean (resolved(), below): the skip's bar is then raised to the
-        // reach of a member's mean, so that no member within it is skipped, and the early exit
-        // (the nearest member found fully inked) is not taken, as the members beside it still
-        // count. Strided, the crowd estimate draws the pixel, and the scan is as it was.
+        // Under the mean filter, where the scan visits every member (stride 1), it also gathers
+        // the footprint mean of the union of the members' strokes (memberMean, overlapMean),
+        // so that members closer than a pixel all count (docs/filtering.md): the skip's bar is
+        // then raised to the reach of a member's mean, so that no member within it is skipped,
+        // and the early exit (the nearest member found fully inked) waits for the union to
+        // fill the pixel, as the members beside it still count. Strided, the crowd estimate
+        // draws the pixel, and the scan is as it was.
         const bool summing = resolving();
         ValueId exhaustive = summing ? eq(stride, c(1.0)) : ir::kNoValue;
         ValueId reach = summing ? b_.select(exhaustive, memberReach(), c(0.0)) : ir::kNoValue;
@@ -447,8 +450,10 @@ class Solver {
             [&](std::span<const ValueId> v) {
                 ValueId going = both(b_.lt(v[0], c(in_.variant.budget)), b_.le(v[1], nHi));
                 if (!variant().acceptEarlyExit) return Vals{going};
+                // Summing, the nearest member fully inked ends the scan only once the union's
+                // mean fills the pixel too.
                 ValueId open = b_.gt(v[2], accept_);
-                if (summing) open = b_.emit(Op::Or, {open, exhaustive});
+                if (summing) open = b_.emit(Op::Or, {open, both(exhaustive, b_.lt(v[7], c(1.0)))});
                 return Vals{both(going, open)};
             },
             [&](std::span<const ValueId> v) {
@@ -462,14 +467,22 @@ class Solver {
                 ValueId better = b_.lt(value, best);
                 Vals sums;
                 if (summing) {
-                    ValueId mean = memberMean(value);
+                    // Past the reach a member's mean and its overlap's are exactly 0: only the
+                    // few members within it pay for them.
                     ValueId within = b_.lt(value, reach);
-                    ValueId after = both(within, eq(n, b_.add(v[9], c(1.0))));
-                    ValueId union_ =
-                        b_.sub(b_.add(v[7], mean),
-                               b_.select(after, overlapMean(v[10], signedValue), c(0.0)));
-                    sums = {union_, b_.select(better, mean, v[8]), b_.select(within, n, v[9]),
-                            b_.select(within, signedValue, v[10])};
+                    ValueId after = eq(n, b_.add(v[9], c(1.0)));
+                    Vals got = b_.ifThenElse(
+                        within,
+                        [&] {
+                            ValueId overlap =
+                                b_.select(after, overlapMean(v[10], signedValue), c(0.0));
+                            return Vals{memberMean(value), overlap};
+                        },
+                        [&] {
+                            return Vals{c(0.0), c(0.0)};
+                        });
+                    sums = {b_.sub(b_.add(v[7], got[0]), got[1]), b_.select(better, got[0], v[8]),
+                            b_.select(within, n, v[9]), b_.select(within, signedValue, v[10])};
                 }
                 best = b_.select(better, value, best);
                 argmin = b_.select(better, n, argmin);
@@ -525,14 +538,14 @@ class Solver {
                 return out;
             });
         if (!summing) return {res[2], res[3]};
-        // The members beside the nearest: every member's mean less the nearest's (which the
+        // The members beside the nearest: the union's mean less the nearest's own (which the
         // compose step draws across its own normal). Strided, none (the crowd's estimate).
         ValueId others = b_.max(b_.sub(res[7], res[8]), c(0.0));
         return {res[2], res[3], b_.select(exhaustive, others, c(0.0))};
     }
 
     // The footprint mean of one member's stroke as written (half-width t / 2, no floor) at
-    // residual `value` from the pixel's centre, for resolved(): distanceMeanInk over a box of
+    // residual `value` from the pixel's centre, for scan()'s union: distanceMeanInk over a box of
     // the pixel's side (the member's own normal is not known inside the scan; the nearest
     // member's is, and the compose step draws that one across it). In residual units, as
     // the solver works: the band's antialias half-width is 0.7 pixel in them (strokeBand), so

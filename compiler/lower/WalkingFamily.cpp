@@ -441,10 +441,11 @@ class Solver {
         ValueId reach = summing ? b_.select(exhaustive, memberReach(), c(0.0)) : ir::kNoValue;
 
         // Carried: iteration, n, best, argmin, Rot(-n theta) p, steps since the last anchor;
-        // summing, the members' union's footprint mean so far, the best member's mean, and
-        // the last member within reach and its signed residual (none yet: member -2).
+        // summing, the paper the closed runs leave (unionRun), the best member's mean, the last
+        // member within reach and its signed residual (none yet: member -2), and the open
+        // run's mean.
         Vals init = {c(0.0), start, c(kFar), start, p0x, p0y, c(0.0)};
-        if (summing) init.insert(init.end(), {c(0.0), c(0.0), c(-2.0), c(0.0)});
+        if (summing) init.insert(init.end(), {c(1.0), c(0.0), c(-2.0), c(0.0), c(0.0)});
         Vals res = b_.loop(
             init,
             [&](std::span<const ValueId> v) {
@@ -453,7 +454,9 @@ class Solver {
                 // Summing, the nearest member fully inked ends the scan only once the union's
                 // mean fills the pixel too.
                 ValueId open = b_.gt(v[2], accept_);
-                if (summing) open = b_.emit(Op::Or, {open, both(exhaustive, b_.lt(v[7], c(1.0)))});
+                if (summing)
+                    open = b_.emit(Op::Or,
+                                   {open, both(exhaustive, b_.gt(paperLeft(v[7], v[11]), c(0.0)))});
                 return Vals{both(going, open)};
             },
             [&](std::span<const ValueId> v) {
@@ -481,8 +484,12 @@ class Solver {
                         [&] {
                             return Vals{c(0.0), c(0.0)};
                         });
-                    sums = {b_.sub(b_.add(v[7], got[0]), got[1]), b_.select(better, got[0], v[8]),
-                            b_.select(within, n, v[9]), b_.select(within, signedValue, v[10])};
+                    // A member within reach but not next to the last closes the open run.
+                    ValueId opens = both(within, b_.emit(Op::Not, {after}));
+                    ValueId run = b_.select(after, b_.sub(b_.add(v[11], got[0]), got[1]), got[0]);
+                    sums = {b_.select(opens, paperLeft(v[7], v[11]), v[7]),
+                            b_.select(better, got[0], v[8]), b_.select(within, n, v[9]),
+                            b_.select(within, signedValue, v[10]), b_.select(within, run, v[11])};
                 }
                 best = b_.select(better, value, best);
                 argmin = b_.select(better, n, argmin);
@@ -540,7 +547,8 @@ class Solver {
         if (!summing) return {res[2], res[3]};
         // The members beside the nearest: the union's mean less the nearest's own (which the
         // compose step draws across its own normal). Strided, none (the crowd's estimate).
-        ValueId others = b_.max(b_.sub(res[7], res[8]), c(0.0));
+        ValueId all = b_.sub(c(1.0), paperLeft(res[7], res[11]));
+        ValueId others = b_.max(b_.sub(all, res[8]), c(0.0));
         return {res[2], res[3], b_.select(exhaustive, others, c(0.0))};
     }
 
@@ -557,6 +565,17 @@ class Solver {
         return distanceMeanInk(BuiltValue(b_, value), BuiltValue(b_, memberHalf()),
                                BuiltValue(b_, memberPixel()), BuiltValue(b_, c(0.0)))
             .id;
+    }
+    // The union of the members within reach, gathered in runs. Consecutive members (n, n + 1)
+    // lie side by side, nearly parallel (each is the last moved by one offset and turned by one
+    // turn): a run of them is one set of parallel strokes, whose union's mean is exact by
+    // inclusion and exclusion (overlapMean). Members far apart in index that both reach the
+    // pixel cross there at whatever angle the turns between them make, and their runs are
+    // laid over one another as independent inks: the paper left is the product of each
+    // run's 1 - mean, and the union 1 - that. `paper` is what the closed runs leave, `run`
+    // the open run's mean.
+    ValueId paperLeft(ValueId paper, ValueId run) {
+        return b_.mul(paper, b_.sub(c(1.0), b_.min(run, c(1.0))));
     }
     // The footprint mean of the overlap of two members' strokes centred at residuals a and b
     // (signed, along a common normal), for the union in scan(): [a - t/2, a + t/2] and

@@ -441,7 +441,7 @@ class Solver {
         ValueId reach = summing ? b_.select(exhaustive, memberReach(), c(0.0)) : ir::kNoValue;
 
         // Carried: iteration, n, best, argmin, Rot(-n theta) p, steps since the last anchor;
-        // summing, the paper the closed runs leave (unionRun), the best member's mean, the last
+        // summing, the paper the closed runs leave (paperLeft), the best member's mean, the last
         // member within reach and its signed residual (none yet: member -2), and the open
         // run's mean.
         Vals init = {c(0.0), start, c(kFar), start, p0x, p0y, c(0.0)};
@@ -468,6 +468,12 @@ class Solver {
                 ValueId bar = b_.min(best, guard_);
                 if (summing) bar = b_.max(bar, reach);
                 ValueId better = b_.lt(value, best);
+                // Summing, a member within h - a settles the nearest as the early exit would
+                // have (the first met, as the point rule draws it): the scan goes on for the
+                // union alone, and the index does not move between members whose residuals
+                // tie to rounding (as the JIT's single precision and the interpreter's double
+                // would break the tie apart).
+                if (summing) better = both(better, b_.gt(best, accept_));
                 Vals sums;
                 if (summing) {
                     // Past the reach a member's mean and its overlap's are exactly 0: only the

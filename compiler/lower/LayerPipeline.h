@@ -75,6 +75,11 @@ struct Footprint {
 // none.
 struct CrowdEstimate {
     ir::ValueId engaged = ir::kNoValue, mean = ir::kNoValue;
+    // Where the family does resolve its members (the walking scan within its budget), the
+    // pixel's mean ink of the union of the members' strokes within its reach less the nearest
+    // member's own: the compose step adds it to the nearest member's mean (crowdInk), so that
+    // members closer than a pixel all count. kNoValue: the family gives none.
+    ir::ValueId others = ir::kNoValue;
 };
 
 struct LayerFields {

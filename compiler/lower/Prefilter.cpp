@@ -107,6 +107,10 @@ ValueId meanInk(ir::Builder& b, const Footprint& footprint, ValueId distance, Va
 }
 
 ValueId crowdInk(ir::Builder& b, const CrowdEstimate& crowd, ValueId ink) {
+    // The members beside the nearest, where the family resolved them: the mean of their union
+    // with the nearest's stroke, less the nearest's own (WalkingFamily.cpp), added to the
+    // nearest's mean as drawn across its normal, up to a pixel full.
+    if (crowd.others != ir::kNoValue) ink = b.min(b.add(ink, crowd.others), b.constF(1.0));
     // Weighted by `engaged` alone, not handed over by members per pixel as a phase family's
     // mean is: the hand-over keeps resolved members drawn as strokes, but where a family
     // cannot resolve its members itself (a strided scan) the strokes it draws are a subset of

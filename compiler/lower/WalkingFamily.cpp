@@ -3,6 +3,7 @@
 #include "compiler/ir/BuiltValue.h"
 #include "compiler/ir/Plane.h"
 #include "compiler/ir/Semantics.h"
+#include "compiler/lower/Prefilter.h"
 
 #include <array>
 #include <limits>
@@ -34,20 +35,28 @@ class Solver {
         // The cheapest method that is exact for these parameters (§7.5). The conditions
         // depend on layer parameters only, so each pixel of a layer takes the same branch.
         // Sweep, the baseline without a certificate, has no such dispatch.
+        // Under the mean filter every method also gives the ink of the members beside the
+        // nearest (CrowdEstimate::others, a third value): the scan gathers it, a closed form
+        // gives none.
+        auto closed = [&](Vals v) {
+            if (resolving()) v.push_back(c(0.0));
+            return v;
+        };
         auto polygonOrScan = [&] {
             if (!variant().polygonClosedForm) return scan();
             return b_.ifThenElse(
-                closedPolygon_, [&] { return translatedPolygon(); }, [&] { return scan(); });
+                closedPolygon_, [&] { return closed(translatedPolygon()); },
+                [&] { return scan(); });
         };
-        Vals found =
-            variant().solver == WalkingVariant::Solver::Sweep
-                ? sweep()
-                : b_.ifThenElse(
-                      still_, [&] { return concentric(); },
-                      [&] {
-                          return b_.ifThenElse(
-                              quadratic_, [&] { return translatedCircle(); }, polygonOrScan);
-                      });
+        Vals found = variant().solver == WalkingVariant::Solver::Sweep
+                         ? sweep()
+                         : b_.ifThenElse(
+                               still_, [&] { return closed(concentric()); },
+                               [&] {
+                                   return b_.ifThenElse(
+                                       quadratic_, [&] { return closed(translatedCircle()); },
+                                       polygonOrScan);
+                               });
         LayerFields out;
         // min(G, d) with the guard first: the IR's min keeps its first operand when the
         // second is NaN, so a radius that is NaN everywhere (a shape with no sides, say) draws
@@ -58,8 +67,10 @@ class Solver {
         out.aux0 = nLo_;
         out.aux1 = nHiRaw_;
         if (in_.flankGuard) out.sample = phaseSample(found[0], found[1]);
-        if (in_.crowd && variant().solver != WalkingVariant::Solver::Sweep)
+        if (resolving()) {
             out.crowd = crowd(found[1]);
+            out.crowd.others = found[2];
+        }
         return out;
     }
 
@@ -70,6 +81,10 @@ class Solver {
     ValueId ceil(ValueId v) { return b_.neg(b_.floor(b_.neg(v))); }
 
     const WalkingVariant& variant() const { return in_.variant; }
+    // The mean filter is drawn by a solver that estimates its crowd (not the sweep baseline).
+    bool resolving() const {
+        return in_.crowd && variant().solver != WalkingVariant::Solver::Sweep;
+    }
 
     ValueId radius(ValueId qx, ValueId qy) {
         countEvaluations(1);
@@ -414,22 +429,74 @@ class Solver {
                 });
         auto power = [&](int j) { return std::pair{powers[2 * j], powers[2 * j + 1]}; };
 
-        // Carried: iteration, n, best, argmin, Rot(-n theta) p, steps since the last anchor.
+        // Under the mean filter, where the scan visits every member (stride 1), it also gathers
+        // the footprint mean of the union of the members' strokes (memberMean, overlapMean),
+        // so that members closer than a pixel all count (docs/filtering.md): the skip's bar is
+        // then raised to the reach of a member's mean, so that no member within it is skipped,
+        // and the early exit (the nearest member found fully inked) waits for the union to
+        // fill the pixel, as the members beside it still count. Strided, the crowd estimate
+        // draws the pixel, and the scan is as it was.
+        const bool summing = resolving();
+        ValueId exhaustive = summing ? eq(stride, c(1.0)) : ir::kNoValue;
+        ValueId reach = summing ? b_.select(exhaustive, memberReach(), c(0.0)) : ir::kNoValue;
+
+        // Carried: iteration, n, best, argmin, Rot(-n theta) p, steps since the last anchor;
+        // summing, the paper the closed runs leave (paperLeft), the best member's mean, the last
+        // member within reach and its signed residual (none yet: member -2), and the open
+        // run's mean.
         Vals init = {c(0.0), start, c(kFar), start, p0x, p0y, c(0.0)};
+        if (summing) init.insert(init.end(), {c(1.0), c(0.0), c(-2.0), c(0.0), c(0.0)});
         Vals res = b_.loop(
             init,
             [&](std::span<const ValueId> v) {
                 ValueId going = both(b_.lt(v[0], c(in_.variant.budget)), b_.le(v[1], nHi));
                 if (!variant().acceptEarlyExit) return Vals{going};
-                return Vals{both(going, b_.gt(v[2], accept_))};
+                // Summing, the nearest member fully inked ends the scan only once the union's
+                // mean fills the pixel too.
+                ValueId open = b_.gt(v[2], accept_);
+                if (summing)
+                    open = b_.emit(Op::Or,
+                                   {open, both(exhaustive, b_.gt(paperLeft(v[7], v[11]), c(0.0)))});
+                return Vals{both(going, open)};
             },
             [&](std::span<const ValueId> v) {
                 ValueId iter = v[0], n = v[1], best = v[2], argmin = v[3], tx = v[4], ty = v[5],
                         steps = v[6];
-                ValueId value = b_.abs(residualAt(n, tx, ty));
+                ValueId signedValue = residualAt(n, tx, ty);
+                ValueId value = b_.abs(signedValue);
                 // min(best, G) before this member: ready before rho is, off the critical path.
                 ValueId bar = b_.min(best, guard_);
+                if (summing) bar = b_.max(bar, reach);
                 ValueId better = b_.lt(value, best);
+                // Summing, a member within h - a settles the nearest as the early exit would
+                // have (the first met, as the point rule draws it): the scan goes on for the
+                // union alone, and the index does not move between members whose residuals
+                // tie to rounding (as the JIT's single precision and the interpreter's double
+                // would break the tie apart).
+                if (summing) better = both(better, b_.gt(best, accept_));
+                Vals sums;
+                if (summing) {
+                    // Past the reach a member's mean and its overlap's are exactly 0: only the
+                    // few members within it pay for them.
+                    ValueId within = b_.lt(value, reach);
+                    ValueId after = eq(n, b_.add(v[9], c(1.0)));
+                    Vals got = b_.ifThenElse(
+                        within,
+                        [&] {
+                            ValueId overlap =
+                                b_.select(after, overlapMean(v[10], signedValue), c(0.0));
+                            return Vals{memberMean(value), overlap};
+                        },
+                        [&] {
+                            return Vals{c(0.0), c(0.0)};
+                        });
+                    // A member within reach but not next to the last closes the open run.
+                    ValueId opens = both(within, b_.emit(Op::Not, {after}));
+                    ValueId run = b_.select(after, b_.sub(b_.add(v[11], got[0]), got[1]), got[0]);
+                    sums = {b_.select(opens, paperLeft(v[7], v[11]), v[7]),
+                            b_.select(better, got[0], v[8]), b_.select(within, n, v[9]),
+                            b_.select(within, signedValue, v[10]), b_.select(within, run, v[11])};
+                }
                 best = b_.select(better, value, best);
                 argmin = b_.select(better, n, argmin);
                 // No index within (value - min(best, G)) / Lambda of n can come under the guard
@@ -456,8 +523,9 @@ class Solver {
                 };
                 if (!carried) {
                     Vals turned = fresh();
-                    return Vals{
-                        b_.add(iter, c(1.0)), next, best, argmin, turned[0], turned[1], steps};
+                    Vals out{b_.add(iter, c(1.0)), next, best, argmin, turned[0], turned[1], steps};
+                    out.insert(out.end(), sums.begin(), sums.end());
+                    return out;
                 }
                 ValueId carry = both(b_.le(strides, c(double((1 << kCarriedPowers) - 1))),
                                      b_.lt(steps, c(kWalkReanchor)));
@@ -478,10 +546,63 @@ class Solver {
                         return Vals{ax, ay, b_.add(steps, c(1.0))};
                     },
                     fresh);
-                return Vals{
-                    b_.add(iter, c(1.0)), next, best, argmin, turned[0], turned[1], turned[2]};
+                Vals out{b_.add(iter, c(1.0)), next, best, argmin, turned[0], turned[1], turned[2]};
+                out.insert(out.end(), sums.begin(), sums.end());
+                return out;
             });
-        return {res[2], res[3]};
+        if (!summing) return {res[2], res[3]};
+        // The members beside the nearest: the union's mean less the nearest's own (which the
+        // compose step draws across its own normal). Strided, none (the crowd's estimate).
+        ValueId all = b_.sub(c(1.0), paperLeft(res[7], res[11]));
+        ValueId others = b_.max(b_.sub(all, res[8]), c(0.0));
+        return {res[2], res[3], b_.select(exhaustive, others, c(0.0))};
+    }
+
+    // The footprint mean of one member's stroke as written (half-width t / 2, no floor) at
+    // residual `value` from the pixel's centre, for scan()'s union: distanceMeanInk over a box of
+    // the pixel's side (the member's own normal is not known inside the scan; the nearest
+    // member's is, and the compose step draws that one across it). In residual units, as
+    // the solver works: the band's antialias half-width is 0.7 pixel in them (strokeBand), so
+    // the pixel is a / 0.7, and the ratio of the stroke, the distance and the footprint is
+    // what the mean reads.
+    ValueId memberPixel() { return b_.div(in_.band.a, c(kAntialiasPixels)); }
+    ValueId memberHalf() { return b_.mul(in_.stroke, c(0.5)); }
+    ValueId memberMean(ValueId value) {
+        return distanceMeanInk(BuiltValue(b_, value), BuiltValue(b_, memberHalf()),
+                               BuiltValue(b_, memberPixel()), BuiltValue(b_, c(0.0)))
+            .id;
+    }
+    // The union of the members within reach, gathered in runs. Consecutive members (n, n + 1)
+    // lie side by side, nearly parallel (each is the last moved by one offset and turned by one
+    // turn): a run of them is one set of parallel strokes, whose union's mean is exact by
+    // inclusion and exclusion (overlapMean). Members far apart in index that both reach the
+    // pixel cross there at whatever angle the turns between them make, and their runs are
+    // laid over one another as independent inks: the paper left is the product of each
+    // run's 1 - mean, and the union 1 - that. `paper` is what the closed runs leave, `run`
+    // the open run's mean.
+    ValueId paperLeft(ValueId paper, ValueId run) {
+        return b_.mul(paper, b_.sub(c(1.0), b_.min(run, c(1.0))));
+    }
+    // The footprint mean of the overlap of two members' strokes centred at residuals a and b
+    // (signed, along a common normal), for the union in scan(): [a - t/2, a + t/2] and
+    // [b - t/2, b + t/2] share the stroke of half-width max(t - |a - b|, 0) / 2 centred on
+    // (a + b) / 2. Strokes of one width sorted along the normal overlap only the next one's
+    // beyond what an earlier one's does, so their union's mean is the sum of their means less
+    // those of each one's overlap with the next (inclusion and exclusion, exact for parallel
+    // members; consecutive members within reach are taken as the next along the normal).
+    ValueId overlapMean(ValueId a, ValueId bv) {
+        ValueId overlap = b_.max(b_.sub(in_.stroke, b_.abs(b_.sub(a, bv))), c(0.0));
+        ValueId centre = b_.mul(b_.add(a, bv), c(0.5));
+        return distanceMeanInk(BuiltValue(b_, centre), BuiltValue(b_, b_.mul(overlap, c(0.5))),
+                               BuiltValue(b_, memberPixel()), BuiltValue(b_, c(0.0)))
+            .id;
+    }
+    // Past t / 2 + s1 a member's mean is 0 (distanceMeanInk), s1 the box footprint's half-span
+    // (about 0.52 pixel). That is below the guard (h + a, with h >= t / 2 and a = 0.7 pixel),
+    // so Theorem 4's interval holds every member within it.
+    ValueId memberReach() {
+        BuiltValue zero(b_, c(0.0));
+        return b_.add(memberHalf(), trapezoid(BuiltValue(b_, memberPixel()), zero).s1.id);
     }
 
     // Sweep (§9.1), the baseline without a certificate: seed at the member whose radius

@@ -80,11 +80,16 @@ TEST_CASE("filter: a turned camera turns the pixel's footprint with it") {
 TEST_CASE("filter: the JIT and the GPU draw the mean the interpreter draws") {
     auto interp = test::makeBackendOrSkip("interp");
     REQUIRE(interp);
-    // Lines at a slant over two scales, some resolved, some not, and the fine circles.
+    // Lines at a slant over two scales, some resolved, some not, the fine circles, and two
+    // resolved families nearly parallel in two colours (their strokes meet within pixels:
+    // lower/StrokePairs.h).
     const std::string scenes[] = {
         kFineCircles,
         "camera { zoom = 0.3 }\nlayer a { family = lines; spacing = 4; stroke = 0.5; "
         "rotation = 17deg }\nlayer b { family = circles; spacing = 9; stroke = 2 }\n",
+        "layer a { family = lines; spacing = 6; stroke = 1.6; rotation = 31deg }\n"
+        "layer b { family = lines; spacing = 6.3; stroke = 1.6; rotation = 33deg; "
+        "color = #a02020; opacity = 0.8 }\n",
     };
     for (const std::string& text : scenes) {
         auto program = test::compileOk(text);

@@ -75,6 +75,27 @@ double exactMean(const Setting& st, double x, double y, double pixel, int64_t lo
     return double(inked) / (k * k);
 }
 
+// Draws `text` on the interpreter, then on the JIT and the GPU (each skipped where it cannot
+// run), and holds each to the interpreter's picture: within 2/255 at 99% of pixels, a mean
+// difference under 1/255.
+void checkBackendsDrawAsInterpreter(const std::string& text) {
+    auto interp = test::makeBackendOrSkip("interp");
+    REQUIRE(interp);
+    auto program = test::compileOk(text);
+    const Image ref = test::renderScene(*program, *interp);
+    for (const char* name : {"jit", "vulkan"}) {
+        CAPTURE(name);
+        CAPTURE(text);
+        auto backend = test::makeBackendOrSkip(name);
+        if (!backend) continue;
+        test::ImageDiff d =
+            test::compareImages(ref, test::renderScene(*program, *backend), 2.0 / 255);
+        REPORT(name, ": within 2/255 ", d.fractionWithin(), ", mean |diff| ", d.meanAbs);
+        CHECK(d.fractionWithin() >= 0.99);
+        CHECK(d.meanAbs <= 1.0 / 255.0);
+    }
+}
+
 } // namespace
 
 TEST_CASE("walking crowd: the density drawn is the members' count where the scan strides") {
@@ -210,29 +231,13 @@ TEST_CASE("walking crowd: within the budget the mean is the exhaustive field's, 
 }
 
 TEST_CASE("walking crowd: the JIT and the GPU draw the crowd the interpreter draws") {
-    auto interp = test::makeBackendOrSkip("interp");
-    REQUIRE(interp);
     const std::string scenes[] = {
         "scene { size = (160, 120) }\nlayer { family = triangles; spacing = 10; "
         "offset = (-10, 0); turn = 0.5deg; stroke = 0.2 }\n",
         "scene { size = (160, 120) }\ncamera { zoom = 0.4 }\nlayer { family = circles; "
         "spacing = 8; offset = (7.8, 0); turn = 1deg; stroke = 0.3 }\n",
     };
-    for (const std::string& text : scenes) {
-        auto program = test::compileOk(text);
-        const Image ref = test::renderScene(*program, *interp);
-        for (const char* name : {"jit", "vulkan"}) {
-            CAPTURE(name);
-            CAPTURE(text);
-            auto backend = test::makeBackendOrSkip(name);
-            if (!backend) continue;
-            test::ImageDiff d =
-                test::compareImages(ref, test::renderScene(*program, *backend), 2.0 / 255);
-            REPORT(name, ": within 2/255 ", d.fractionWithin(), ", mean |diff| ", d.meanAbs);
-            CHECK(d.fractionWithin() >= 0.99);
-            CHECK(d.meanAbs <= 1.0 / 255.0);
-        }
-    }
+    for (const std::string& text : scenes) checkBackendsDrawAsInterpreter(text);
 }
 
 namespace {
@@ -309,20 +314,7 @@ TEST_CASE("walking crowd: members closer than a pixel within the budget all coun
 TEST_CASE("walking crowd: the JIT and the GPU draw the piled members the interpreter draws") {
     // The example's far side, where members pile closer than a pixel within the budget: the
     // union the scan gathers is the same IR on every backend.
-    auto interp = test::makeBackendOrSkip("interp");
-    REQUIRE(interp);
-    auto program = test::compileOk("scene { size = (160, 120) }\ncamera { center = (0, -200) "
+    checkBackendsDrawAsInterpreter("scene { size = (160, 120) }\ncamera { center = (0, -200) "
                                    "}\nlayer { family = triangles; spacing = 8; "
                                    "offset = (0, 7.4); turn = 0.5deg; stroke = 1.8 }\n");
-    const Image ref = test::renderScene(*program, *interp);
-    for (const char* name : {"jit", "vulkan"}) {
-        CAPTURE(name);
-        auto backend = test::makeBackendOrSkip(name);
-        if (!backend) continue;
-        test::ImageDiff d =
-            test::compareImages(ref, test::renderScene(*program, *backend), 2.0 / 255);
-        REPORT(name, ": within 2/255 ", d.fractionWithin(), ", mean |diff| ", d.meanAbs);
-        CHECK(d.fractionWithin() >= 0.99);
-        CHECK(d.meanAbs <= 1.0 / 255.0);
-    }
 }

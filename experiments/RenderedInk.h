@@ -6,6 +6,7 @@
 
 #include "runtime/output/Render.h"
 
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -19,6 +20,12 @@ namespace moire::exp {
 // 16 x 16 grid would give upright lines only 16, and alias with them).
 constexpr int kReferenceSamples = 256;
 
+// Sample j's place in its pixel, each coordinate in [0, 1).
+inline std::array<double, 2> referenceSample(int j) {
+    double v = j * 0.6180339887498949 + 0.5;
+    return {(j + 0.5) / kReferenceSamples, v - std::floor(v)};
+}
+
 // Each pixel's kReferenceSamples-sample mean of `inked(x, y)`, the exact field at a world
 // point. The camera puts the world origin at the frame's middle, a pixel 1 / zoom world units,
 // y up.
@@ -29,9 +36,7 @@ std::vector<double> boxReference(int width, int height, double zoom, Inked inked
         for (int px = 0; px < width; ++px) {
             int count = 0;
             for (int j = 0; j < kReferenceSamples; ++j) {
-                const double u = (j + 0.5) / kReferenceSamples;
-                double v = j * 0.6180339887498949 + 0.5;
-                v -= std::floor(v);
+                const auto [u, v] = referenceSample(j);
                 count += inked((px + u - 0.5 * width) / zoom, (0.5 * height - (py + v)) / zoom);
             }
             out[size_t(py) * width + px] = double(count) / kReferenceSamples;

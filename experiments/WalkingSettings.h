@@ -76,6 +76,7 @@ class WalkingKernel {
     std::array<double, 2> world(double pixelX, double pixelY) const;
     lower::StrokeBandT<double> band() const { return band_; }
     double guard() const { return guard_; }
+    double pixelSize() const { return pixel_; } // world units a pixel
 
   private:
     struct Impl;

@@ -30,33 +30,51 @@ double drift(const Walking& w) {
     return radius(w.facets, -w.offsetX, -w.offsetY);
 }
 
-Nearest nearest(const Walking& w, double px, double py, double guard, int64_t maxMembers) {
+namespace {
+
+// Every member n = 0, 1, 2, ... whose residual at p may be under `reach`, in order, each
+// given to `visit(n, |h_p(n)|)`; returns false when `maxMembers` cut the scan short.
+template <class Visit>
+bool scan(const Walking& w, double px, double py, double reach, int64_t maxMembers, Visit visit) {
     const double r = std::hypot(px, py);
     const double m = drift(w);
     const double s = w.spacing;
-    Nearest out;
-    out.distance = guard;
     for (int64_t n = 0;; ++n) {
         // Eq. 28 bounds the residual on both sides by lines in n: h(n) <= r + n m - n s - phase
-        // and h(n) >= n m - r - n s - phase. Once the upper line is below -guard (m < s) or
-        // the lower line above +guard (m > s), it stays there for every larger n. Each test
+        // and h(n) >= n m - r - n s - phase. Once the upper line is below -reach (m < s) or
+        // the lower line above +reach (m > s), it stays there for every larger n. Each test
         // is a proof only in its own direction: with m > s the upper line rises again (with
-        // phase > r it starts below -guard, and the scan used to stop at n = 0, missing the
+        // phase > r it starts below -reach, and the scan used to stop at n = 0, missing the
         // members that drift back over p), and with m < s the lower line falls.
-        double upper = r + n * (m - s) - w.phase;
-        double lower = n * (m - s) - r - w.phase;
-        if ((m <= s && upper < -guard) || (m >= s && lower > guard)) break;
-        if (n >= maxMembers) {
-            out.complete = false;
-            break;
-        }
-        double v = std::fabs(residual(w, px, py, n));
+        const double upper = r + n * (m - s) - w.phase;
+        const double lower = n * (m - s) - r - w.phase;
+        if ((m <= s && upper < -reach) || (m >= s && lower > reach)) return true;
+        if (n >= maxMembers) return false;
+        visit(n, std::fabs(residual(w, px, py, n)));
+    }
+}
+
+} // namespace
+
+Nearest nearest(const Walking& w, double px, double py, double guard, int64_t maxMembers) {
+    Nearest out;
+    out.distance = guard;
+    out.complete = scan(w, px, py, guard, maxMembers, [&](int64_t n, double v) {
         ++out.evaluations;
         if (v < out.distance) {
             out.distance = v;
             out.argmin = n;
         }
-    }
+    });
+    return out;
+}
+
+std::vector<int64_t> membersWithin(const Walking& w, double px, double py, double reach,
+                                   int64_t maxMembers) {
+    std::vector<int64_t> out;
+    scan(w, px, py, reach, maxMembers, [&](int64_t n, double v) {
+        if (v < reach) out.push_back(n);
+    });
     return out;
 }
 

@@ -6,6 +6,7 @@
 #pragma once
 
 #include <cstdint>
+#include <vector>
 
 namespace moire::reference {
 
@@ -34,6 +35,13 @@ struct Nearest {
 // The exhaustive scan, clamped at `guard`. Members beyond `maxMembers` are not looked at
 // (needed only at the marginal drift m = s, where the bound never closes).
 Nearest nearest(const Walking& w, double px, double py, double guard, int64_t maxMembers = 2000000);
+
+// Every member whose residual at p is under `reach`, in index order. The residual is
+// 1-Lipschitz in p (rho is a support-function radius), so the members that can come within
+// a stroke's half-width h of any point of a disc of radius R about p are those within
+// h + R of p: one scan serves all of a pixel's samples.
+std::vector<int64_t> membersWithin(const Walking& w, double px, double py, double reach,
+                                   int64_t maxMembers = 2000000);
 
 // The drift constant m = rho(-delta) (Eq. 29).
 double drift(const Walking& w);

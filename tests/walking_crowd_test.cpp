@@ -7,6 +7,8 @@
 #include "runtime/output/Render.h"
 #include "tests/support/WalkingHarness.h"
 
+#include <array>
+
 using namespace moire;
 using namespace moire::walktest;
 
@@ -45,20 +47,26 @@ Walker& walker(const Setting& st) {
 
 // The members of the solver's (capped) interval that pass within `reach` of (x, y), by the
 // exhaustive definition h_p(n) (Eq. 24), per 2 reach of residual: members per unit length
-// across their strokes, counted along each one's own normal. Members whose residuals lie within
-// `width` of one another ink as one and are counted once (sorted, a new one wherever the gap
-// to the last exceeds the width).
+// across their strokes, counted along each one's own normal. Members that ink as one are
+// counted once: those whose |h| lies within `width` of a member already counted, at (x, y) and
+// at two points a unit away across it (a line seen from its two sides, h against -h, is one
+// stroke; so are members whose strokes nearly coincide).
 double countedDensity(const Setting& st, double x, double y, double reach, int64_t lo,
                       double width) {
-    std::vector<double> near;
+    std::vector<std::array<double, 3>> kept;
     for (int64_t n = lo; n < lo + kSpanCap; ++n) {
         const double h = reference::residual(st.w, x, y, n);
-        if (std::fabs(h) < reach) near.push_back(h);
+        if (std::fabs(h) >= reach) continue;
+        const std::array<double, 3> key = {std::fabs(h),
+                                           std::fabs(reference::residual(st.w, x + 1, y, n)),
+                                           std::fabs(reference::residual(st.w, x, y + 1, n))};
+        const bool same = std::any_of(kept.begin(), kept.end(), [&](const auto& k) {
+            return std::fabs(k[0] - key[0]) <= width && std::fabs(k[1] - key[1]) <= width &&
+                   std::fabs(k[2] - key[2]) <= width;
+        });
+        if (!same) kept.push_back(key);
     }
-    std::sort(near.begin(), near.end());
-    int distinct = 0;
-    for (size_t i = 0; i < near.size(); ++i) distinct += i == 0 || near[i] - near[i - 1] > width;
-    return distinct / (2 * reach);
+    return kept.size() / (2 * reach);
 }
 
 // The pixel's box mean of the exact field (k x k samples, the stroke as written, no floor)

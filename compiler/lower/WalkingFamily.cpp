@@ -68,7 +68,7 @@ class Solver {
         out.aux1 = nHiRaw_;
         if (in_.flankGuard) out.sample = phaseSample(found[0], found[1]);
         if (resolving()) {
-            out.crowd = crowd(found[1]);
+            out.crowd = crowd();
             out.crowd.others = found[2];
         }
         return out;
@@ -717,7 +717,7 @@ class Solver {
     //    counted once (crowdCoincidence): the ink is their union, not their sum.
     // `engaged` is smoothstep(B / 2, B, span): 0 where the interval is well inside the budget,
     // 1 from where the scan strides, and 0 wherever the answer is a closed form (§7.5).
-    CrowdEstimate crowd(ValueId argmin) {
+    CrowdEstimate crowd() {
         ValueId nHi = b_.min(crowdHiRaw_, b_.add(crowdLo_, c(kWalkSpanCap - 1.0)));
         ValueId span = b_.add(b_.sub(nHi, crowdLo_), c(1.0));
         const double budget = variant().budget;
@@ -725,14 +725,14 @@ class Solver {
         if (variant().polygonClosedForm) exact = b_.emit(Op::Or, {exact, closedPolygon_});
         ValueId engaged = b_.select(exact, c(0.0), b_.smoothstep(c(0.5 * budget), c(budget), span));
         Vals got = b_.ifThenElse(
-            b_.gt(engaged, c(0.0)), [&] { return crowdDensity(argmin, span); },
+            b_.gt(engaged, c(0.0)), [&] { return crowdDensity(span); },
             [&] {
                 return Vals{c(0.0), c(0.0)};
             });
         return {engaged, got[1]}; // got[0], the density, is what the mean is made of
     }
     // The crowd's density and its mean ink.
-    Vals crowdDensity(ValueId argmin, ValueId span) {
+    Vals crowdDensity(ValueId span) {
         ValueId rr = b_.max(r_, b_.mul(s_, c(1e-6)));
         ValueId k = b_.sub(drift_, s_);
         ValueId end = b_.add(crowdLo_, span);
@@ -741,40 +741,100 @@ class Solver {
         // a period of the turn apart fall on one another (crowdCoincidence).
         ValueId far = b_.clamp(b_.div(b_.mul(rr, c(2.0)), b_.max(len_, c(1e-9))), crowdLo_, end);
         ValueId nearPart = arcsineDensity(crowdLo_, far, k, rr);
-        ValueId farPart =
-            b_.mul(arcsineDensity(far, end, k, rr), crowdCoincidence(far, end, k, rr));
+        ValueId farArcsine = arcsineDensity(far, end, k, rr);
+        ValueId farPart = b_.mul(farArcsine, crowdCoincidence(far, end, k, rr, 2.0));
         ValueId averaged = b_.add(nearPart, farPart);
-        // Few turns: 1 / |dh/dn| at the member found. The filter's evaluations are not the
-        // search's: the tally (the solver's cost in the experiments) leaves them out.
+        // Few turns: the crossings of h_p(n) = 0 in n (crossings, below). The filter's
+        // evaluations are not the search's: the tally (the solver's cost in the experiments)
+        // leaves them out.
+        ValueId width = b_.max(in_.stroke, c(1e-9));
         counting_ = false;
-        ValueId n = b_.floor(b_.denan(b_.min(argmin, c(kFarIndex)), c(0.0)));
-        residual0_ = residual(n);
-        ValueId slope = b_.abs(b_.sub(residual(b_.add(n, c(1.0))), residual0_));
+        const Vals few = crossings(crowdLo_, b_.sub(end, c(1.0)), width);
         counting_ = true;
-        ValueId local = b_.div(c(1.0), b_.max(slope, b_.mul(s_, c(1e-6))));
-        // Only where the member found is a crossing: h moves by `slope` a member, so between
-        // the scan's strides (span / B members apart) a zero lies within half a stride's move
-        // of the member found, plus the stroke's band. Farther, the members pass the point by
-        // (a convex h's minimum, say) and there is no crowd to draw.
-        ValueId stride = b_.max(c(1.0), b_.div(span, c(variant().budget)));
-        ValueId reach =
-            b_.add(b_.mul(b_.mul(stride, slope), c(0.5)), b_.add(in_.band.h, in_.band.a));
-        ValueId crossing = b_.le(b_.abs(residual0_), reach);
-        local = b_.select(both(b_.lt(argmin, c(kFarIndex)), crossing), local, c(0.0));
         ValueId turns = b_.div(b_.mul(b_.abs(in_.turn), span), c(2.0 * std::numbers::pi));
         ValueId many = b_.smoothstep(c(0.5), c(2.0), turns);
-        ValueId density = b_.denan(b_.mix(local, averaged, many), c(0.0));
-        // The ink. One crossing (few turns): an even comb, min(1, width x density). Many
-        // turns: the cosine crosses the member's level twice a turn, so the members form two
-        // branches, each a comb of nearly even members (the phases n theta of a run of members
-        // are nearly evenly spread: the three-gap theorem), laid over one another
-        // independently; their union inks 1 - (1 - x)^2 = x (2 - x), x = min(1, h density)
-        // the ink of one comb.
-        ValueId width = b_.max(in_.stroke, c(1e-9));
-        ValueId single = b_.min(c(1.0), b_.mul(width, density));
+        ValueId density = b_.denan(b_.mix(few[0], averaged, many), c(0.0));
+        // The ink. Many turns: the cosine crosses the member's level twice a turn, so the
+        // members form two branches, each a comb of nearly even members (the phases n theta of
+        // a run of members are nearly evenly spread: the three-gap theorem), laid over one
+        // another independently; their union inks 1 - (1 - x)^2 = x (2 - x), x = min(1, h
+        // density) the ink of one comb.
         ValueId comb = b_.min(c(1.0), b_.mul(b_.mul(width, c(0.5)), averaged));
         ValueId twice = b_.mul(comb, b_.sub(c(2.0), comb));
-        return {density, b_.denan(b_.mix(single, twice, many), c(0.0))};
+        // The mirror: where the far members' line offsets c(n) = n (m - s) - phase all stay
+        // within the stroke of 0 (the marginal drift at a zero phase), each far member is a
+        // line through the origin, and member n + j with j theta = pi (mod 2 pi) draws member
+        // n's line again, seen from the other side (h changes sign, |h| does not). The two
+        // branches are then one set of lines, at angles n theta (mod pi): one comb, not two
+        // independent ones. Its distinct lines are counted by the coincidence of the turn
+        // modulo a half turn, each line crossing once: ink min(1, width x density_pi). The
+        // near members (n ||delta|| < 2 r) stay two independent combs, laid over it.
+        ValueId cFar = b_.max(b_.abs(b_.sub(b_.mul(far, k), in_.phase)),
+                              b_.abs(b_.sub(b_.mul(end, k), in_.phase)));
+        ValueId mirror =
+            b_.sub(c(1.0), b_.smoothstep(b_.mul(width, c(0.5)), width, b_.mul(cFar, c(2.0))));
+        // Polygons only: a circle's member and its mirror bend to opposite sides of their
+        // common tangent at the origin, and counting them as one stroke drew the circles of
+        // walking_mean's strided band further from their exact ink (measured), not nearer.
+        mirror = b_.select(round_, c(0.0), mirror);
+        Vals mirrored = b_.ifThenElse(
+            b_.gt(mirror, c(0.0)),
+            [&] {
+                ValueId nearComb = b_.min(c(1.0), b_.mul(b_.mul(width, c(0.5)), nearPart));
+                ValueId lines = b_.min(
+                    c(1.0),
+                    b_.mul(width, b_.mul(farArcsine, crowdCoincidence(far, end, k, rr, 1.0))));
+                ValueId blank = b_.mul(b_.mul(b_.sub(c(1.0), nearComb), b_.sub(c(1.0), nearComb)),
+                                       b_.sub(c(1.0), lines));
+                return Vals{b_.mix(twice, b_.sub(c(1.0), blank), mirror)};
+            },
+            [&] { return Vals{twice}; });
+        return {density, b_.denan(b_.mix(few[1], mirrored[0], many), c(0.0))};
+    }
+    // Few turns: where theta = 0, h_p(n) is convex in n (rho, a convex function, along an
+    // affine path, less a linear term), and nearly so over less than a turn, so it crosses
+    // zero at most twice: where p enters the members (h falling) and where it leaves them (h
+    // rising), on facets of different directions. Each crossing is a comb of members 1 / |dh/dn|
+    // apart in residual, inking min(1, width / |dh/dn|) of the footprint, and the two combs are
+    // laid over one another independently. Both are found by bisection over [lo, hi]: the
+    // lowest member first (the first n with h(n + 1) >= h(n)), then the sign change on each
+    // side of it; on a convex h each predicate is monotone. The scan's own member is not used:
+    // strided, it may be neither crossing. Returns {density, ink}.
+    Vals crossings(ValueId lo, ValueId hi, ValueId width) {
+        ValueId low = firstWhere(lo, hi, [&](ValueId n) {
+            return b_.emit(Op::Ge, {residual(b_.add(n, c(1.0))), residual(n)});
+        });
+        ValueId hLow = residual(low);
+        ValueId enters = firstWhere(lo, low, [&](ValueId n) { return b_.lt(residual(n), c(0.0)); });
+        ValueId leaves = firstWhere(low, hi, [&](ValueId n) {
+            return b_.emit(Op::Ge, {residual(n), c(0.0)});
+        });
+        ValueId inside = b_.lt(hLow, c(0.0));
+        // Each crossing lies between z - 1 and z; one at lo or past hi is outside the interval.
+        auto comb = [&](ValueId z, ValueId found) {
+            ValueId slope = b_.abs(b_.sub(residual(z), residual(b_.sub(z, c(1.0)))));
+            ValueId d =
+                b_.select(found, b_.div(c(1.0), b_.max(slope, b_.mul(s_, c(1e-6)))), c(0.0));
+            return std::pair{d, b_.min(c(1.0), b_.mul(width, d))};
+        };
+        auto [d1, x1] = comb(enters, both(inside, b_.gt(enters, lo)));
+        auto [d2, x2] = comb(leaves, both(inside, b_.emit(Op::Ge, {residual(leaves), c(0.0)})));
+        ValueId blank = b_.mul(b_.sub(c(1.0), x1), b_.sub(c(1.0), x2));
+        return Vals{b_.add(d1, d2), b_.sub(c(1.0), blank)};
+    }
+    // The first n in [lo, hi] where `holds` (monotone: false, then true), or hi where it never
+    // does: bisection, one evaluation a step, log2(hi - lo) steps.
+    template <class Holds>
+    ValueId firstWhere(ValueId lo, ValueId hi, Holds holds) {
+        Vals res = b_.loop(
+            {lo, b_.max(lo, hi)},
+            [&](std::span<const ValueId> v) { return Vals{b_.lt(v[0], v[1])}; },
+            [&](std::span<const ValueId> v) {
+                ValueId mid = b_.floor(b_.mul(b_.add(v[0], v[1]), c(0.5)));
+                ValueId yes = holds(mid);
+                return Vals{b_.select(yes, v[0], b_.add(mid, c(1.0))), b_.select(yes, mid, v[1])};
+            });
+        return res[0];
     }
     // (1 / pi) integral over [na, nb] of dn / sqrt(r^2 - c(n)^2), c(n) = n k - phase, as
     // (nb - na) / (pi r) x (asin x_b - asin x_a) / (x_b - x_a), x = c / r; the quotient's limit
@@ -808,13 +868,21 @@ class Solver {
     // so chain members a period q apart differ by dev + C / n^2, C = r^2 q / (2 ||delta||), and
     // they are distinct up to n_c = sqrt(C / (width - dev)). Over the far run [a, b] the distinct
     // strokes are then (n_c - a) + (dev / width)(b - n_c) + (C / width)(1 / n_c - 1 / b).
-    ValueId crowdCoincidence(ValueId a, ValueId b, ValueId k, ValueId r) {
+    //
+    // `turns`: the period of the turn, in half turns: 2 (a member's stroke comes back after a
+    // full turn), or 1 (the mirror, a line through the origin comes back after half a turn).
+    ValueId crowdCoincidence(ValueId a, ValueId b, ValueId k, ValueId r, double turns) {
         ValueId count = b_.sub(b, a);
         ValueId width = b_.max(in_.stroke, c(1e-9));
-        ValueId x = b_.div(b_.abs(in_.turn), c(2.0 * std::numbers::pi)); // in [0, 1/2]
+        const double period = turns * std::numbers::pi;
+        ValueId x = b_.div(b_.abs(in_.turn), c(period));
+        if (turns < 2) { // fold into [0, 1/2]: x and 1 - x have the same denominators
+            x = b_.sub(x, b_.floor(x));
+            x = b_.min(x, b_.sub(c(1.0), x));
+        }
         auto deviation = [&](ValueId p, ValueId q) {
-            return b_.add(b_.abs(b_.mul(q, k)), b_.mul(b_.mul(r, c(2.0 * std::numbers::pi)),
-                                                       b_.abs(b_.sub(b_.mul(q, x), p))));
+            return b_.add(b_.abs(b_.mul(q, k)),
+                          b_.mul(b_.mul(r, c(period)), b_.abs(b_.sub(b_.mul(q, x), p))));
         };
         auto found = [&](ValueId q, ValueId dev) {
             return both(b_.le(q, count), b_.lt(dev, width));
@@ -910,7 +978,6 @@ class Solver {
     ValueId nLo_, nHiRaw_;
     ValueId crowdLo_, crowdHiRaw_; // the interval of the pattern's own guard (setUp)
     bool counting_ = true;         // the radius's evaluations go to the tally (countEvaluations)
-    ValueId residual0_ = ir::kNoValue; // the crowd estimate's h at the member found
     // Jumps of up to 2^kCarriedPowers - 1 strides keep the rotation. Most skips are short:
     // on the walking examples 7 and 15 measured alike, 63 slower (a deeper product).
     static constexpr int kCarriedPowers = 3;

@@ -738,29 +738,26 @@ class Solver {
         ValueId end = b_.add(crowdLo_, span);
         // Many turns: the arcsine average, its near field (n ||delta|| < 2 r, where the first
         // order above is rough but every member is its own) and its far field, where members
-        // a period of the turn apart fall on one another (crowdCoincidence).
+        // a period of the turn apart fall on one another (crowdCoincidence). The near field's
+        // first kNearCounted members are counted one by one (countedCrossings), the rest of it
+        // averaged. The filter's evaluations are not the search's: the tally (the solver's
+        // cost in the experiments) leaves them out.
         ValueId far = b_.clamp(b_.div(b_.mul(rr, c(2.0)), b_.max(len_, c(1e-9))), crowdLo_, end);
-        ValueId nearPart = arcsineDensity(crowdLo_, far, k, rr);
-        ValueId farArcsine = arcsineDensity(far, end, k, rr);
-        ValueId farPart = b_.mul(farArcsine, crowdCoincidence(far, end, k, rr, 2.0));
-        ValueId averaged = b_.add(nearPart, farPart);
-        // Few turns: the crossings of h_p(n) = 0 in n (crossings, below). The filter's
-        // evaluations are not the search's: the tally (the solver's cost in the experiments)
-        // leaves them out.
         ValueId width = b_.max(in_.stroke, c(1e-9));
         counting_ = false;
+        ValueId counted = b_.min(far, b_.add(crowdLo_, c(kNearCounted)));
+        ValueId nearPart =
+            b_.add(countedCrossings(crowdLo_, counted), arcsineDensity(counted, far, k, rr));
+        // Few turns: the crossings of h_p(n) = 0 in n (crossings, below).
         const Vals few = crossings(crowdLo_, b_.sub(end, c(1.0)), width);
         counting_ = true;
+        ValueId farArcsine = arcsineDensity(far, end, k, rr);
+        ValueId farShare = crowdCoincidence(far, end, k, rr, 2.0);
+        ValueId averaged = b_.add(nearPart, b_.mul(farArcsine, farShare));
         ValueId turns = b_.div(b_.mul(b_.abs(in_.turn), span), c(2.0 * std::numbers::pi));
         ValueId many = b_.smoothstep(c(0.5), c(2.0), turns);
         ValueId density = b_.denan(b_.mix(few[0], averaged, many), c(0.0));
-        // The ink. Many turns: the cosine crosses the member's level twice a turn, so the
-        // members form two branches, each a comb of nearly even members (the phases n theta of
-        // a run of members are nearly evenly spread: the three-gap theorem), laid over one
-        // another independently; their union inks 1 - (1 - x)^2 = x (2 - x), x = min(1, h
-        // density) the ink of one comb.
-        ValueId comb = b_.min(c(1.0), b_.mul(b_.mul(width, c(0.5)), averaged));
-        ValueId twice = b_.mul(comb, b_.sub(c(2.0), comb));
+        ValueId twice = branchesInk(width, averaged, farShare, rr);
         // The mirror: where the far members' line offsets c(n) = n (m - s) - phase all stay
         // within the stroke of 0 (the marginal drift at a zero phase), each far member is a
         // line through the origin, and member n + j with j theta = pi (mod 2 pi) draws member
@@ -822,6 +819,25 @@ class Solver {
         ValueId blank = b_.mul(b_.sub(c(1.0), x1), b_.sub(c(1.0), x2));
         return Vals{b_.add(d1, d2), b_.sub(c(1.0), blank)};
     }
+    // The coarea sum over members one by one: sum of 1 / |h(n + 1) - h(n)| over the n in
+    // [lo, hi) where h changes sign (each a crossing between two members, exact where h is
+    // linear over one member), for the near field, where the first order is rough.
+    ValueId countedCrossings(ValueId lo, ValueId hi) {
+        Vals res = b_.loop(
+            {lo, residual(lo), c(0.0)},
+            [&](std::span<const ValueId> v) { return Vals{b_.lt(v[0], hi)}; },
+            [&](std::span<const ValueId> v) {
+                ValueId next = b_.add(v[0], c(1.0));
+                ValueId h = residual(next);
+                // A sign change, 0 counted with the positives: a zero product would miss the
+                // crossing of a member whose residual is exactly 0 (a point on its facet).
+                ValueId cross = b_.emit(Op::Ne, {b_.select(b_.lt(v[1], c(0.0)), c(1.0), c(0.0)),
+                                                 b_.select(b_.lt(h, c(0.0)), c(1.0), c(0.0))});
+                ValueId step = b_.max(b_.abs(b_.sub(h, v[1])), b_.mul(s_, c(1e-6)));
+                return Vals{next, h, b_.add(v[2], b_.select(cross, b_.div(c(1.0), step), c(0.0)))};
+            });
+        return res[2];
+    }
     // The first n in [lo, hi] where `holds` (monotone: false, then true), or hi where it never
     // does: bisection, one evaluation a step, log2(hi - lo) steps.
     template <class Holds>
@@ -835,6 +851,31 @@ class Solver {
                 return Vals{b_.select(yes, v[0], b_.add(mid, c(1.0))), b_.select(yes, mid, v[1])};
             });
         return res[0];
+    }
+    // The ink of many turns' members, `density` of them per unit of residual. The cosine
+    // crosses the member's level twice a turn, so the members form two branches, and each
+    // branch crosses a pixel in passages, one a turn. Within a passage consecutive members
+    // step about |theta| r apart in residual, nearly evenly (the phases n theta of a run of
+    // members are nearly evenly spread: the three-gap theorem), so a passage is a comb inking
+    // x_p = min(1, width / (|theta| r)) of what it crosses. Passages a turn apart land wherever
+    // the drift has moved them, as if independently: with E = width x density the summed
+    // coverage and E / x_p passages, the union inks 1 - (1 - x_p)^(E / x_p) (1 - exp(-E) for
+    // thin combs). Where a period of the turn brings the passages back onto one another (the
+    // far run's share of distinct members, `share`, under 1), they are one comb a branch
+    // instead, the two laid over one another: 1 - (1 - x)^2, x = min(1, E / 2); weighted by
+    // the share of coincident members. With two passages or fewer the two forms agree.
+    ValueId branchesInk(ValueId width, ValueId density, ValueId share, ValueId r) {
+        ValueId coverage = b_.mul(width, density);
+        ValueId comb = b_.min(c(1.0), b_.mul(coverage, c(0.5)));
+        ValueId twice = b_.mul(comb, b_.sub(c(2.0), comb));
+        ValueId perPassage =
+            b_.min(c(1.0), b_.div(width, b_.max(b_.mul(b_.abs(in_.turn), r), c(1e-9))));
+        ValueId passages = b_.div(coverage, b_.max(perPassage, c(1e-9)));
+        ValueId left = b_.max(b_.sub(c(1.0), perPassage), c(1e-9));
+        ValueId scattered =
+            b_.sub(c(1.0), b_.emit(Op::Exp, {b_.mul(passages, b_.emit(Op::Log, {left}))}));
+        return b_.select(b_.gt(passages, c(2.0)), b_.mix(scattered, twice, b_.sub(c(1.0), share)),
+                         twice);
     }
     // (1 / pi) integral over [na, nb] of dn / sqrt(r^2 - c(n)^2), c(n) = n k - phase, as
     // (nb - na) / (pi r) x (asin x_b - asin x_a) / (x_b - x_a), x = c / r; the quotient's limit
@@ -984,6 +1025,8 @@ class Solver {
     // Convergents of theta / 2 pi the crowd estimate looks through for a period of the turn:
     // their denominators at least double every two steps, so 24 reach past the span cap.
     static constexpr double kCrowdConvergents = 24;
+    // Near members counted one by one (countedCrossings); beyond, the arcsine average.
+    static constexpr double kNearCounted = 256;
     std::array<std::pair<ValueId, ValueId>, kCarriedPowers> turnPowers_;
 };
 

@@ -712,9 +712,10 @@ class Solver {
     //    of the cosine cross nowhere). As m -> s the quotient tends to 1 / sqrt(1 - x^2):
     //    every member of the (capped) interval crosses, each with 1 / (pi sqrt(r^2 - phase^2)).
     //    With m far from s it tends to 1 / |m - s|: one member a |m - s| of residual.
-    //    The first order holds where n ||delta|| >> r; nearer (n ||delta|| < 2 r) it is kept as
-    //    it is, and beyond, members a period of the turn apart that fall on one another are
-    //    counted once (crowdCoincidence): the ink is their union, not their sum.
+    //    The first order holds where n ||delta|| >> r. Nearer (n ||delta|| < 2 r) the first
+    //    kNearCounted members are counted one by one (countedCrossings), the rest kept as it
+    //    is; beyond, members a period of the turn apart that fall on one another are counted
+    //    once (crowdCoincidence): the ink is their union, not their sum (branchesInk).
     // `engaged` is smoothstep(B / 2, B, span): 0 where the interval is well inside the budget,
     // 1 from where the scan strides, and 0 wherever the answer is a closed form (§7.5).
     CrowdEstimate crowd() {

@@ -87,10 +87,7 @@ void Compose::meetStrokes(const LayerInk& ink, ValueId cov, const Ink& under) {
             add = {b_.add(add.r, b_.mul(t, l.pending.r)), b_.add(add.g, b_.mul(t, l.pending.g)),
                    b_.add(add.b, b_.mul(t, l.pending.b)), b_.add(add.a, b_.mul(t, l.pending.a))};
         }
-        ValueId one = b_.constF(1.0);
-        ValueId a = b_.clamp(b_.add(acc_.a, add.a), zero_, one);
-        auto channel = [&](ValueId c, ValueId d) { return b_.clamp(b_.add(c, d), zero_, a); };
-        acc_ = {channel(acc_.r, add.r), channel(acc_.g, add.g), channel(acc_.b, add.b), a};
+        acc_ = addCorrection(b_, acc_, add, b_.constF(1.0));
     }
     // Every layer laid scales what the strokes beneath it still add by what it leaves showing.
     ValueId keep = b_.sub(b_.constF(1.0), cov);

@@ -178,14 +178,8 @@ Ink fineUnion(ir::Builder& b, const Ink& under, const Ink& independent,
                             b.sub(swept.mean.r, swept.pivot.r), b.sub(swept.mean.g, swept.pivot.g),
                             b.sub(swept.mean.b, swept.pivot.b), b.sub(swept.mean.a, swept.pivot.a)};
                     }
-                    auto add = [&](ValueId ind, ValueId c) { return b.add(ind, b.mul(weight, c)); };
-                    ValueId a = b.clamp(add(independent.a, corr.a), b.constF(0.0), b.constF(1.0));
-                    auto channel = [&](ValueId ind, ValueId c) {
-                        return b.clamp(add(ind, c), b.constF(0.0), a);
-                    };
-                    return std::vector<ValueId>{channel(independent.r, corr.r),
-                                                channel(independent.g, corr.g),
-                                                channel(independent.b, corr.b), a};
+                    const Ink out = addCorrection(b, independent, corr, weight);
+                    return std::vector<ValueId>{out.r, out.g, out.b, out.a};
                 },
                 [&] {
                     return std::vector<ValueId>{independent.r, independent.g, independent.b,

@@ -133,6 +133,15 @@ Ink inkOver(ir::Builder& b, const Ink& acc, ValueId r, ValueId g, ValueId bl, Va
     return {over(acc.r, r), over(acc.g, g), over(acc.b, bl), over(acc.a, b.constF(1.0))};
 }
 
+Ink addCorrection(ir::Builder& b, const Ink& acc, const Ink& d, ValueId scale) {
+    // A correction may push a sum of means past what ink can be: alpha is held to [0, 1] and
+    // each premultiplied channel to [0, alpha], so the colour stays one the paper can show.
+    auto add = [&](ValueId c, ValueId dc) { return b.add(c, b.mul(scale, dc)); };
+    ValueId a = b.clamp(add(acc.a, d.a), b.constF(0.0), b.constF(1.0));
+    auto channel = [&](ValueId c, ValueId dc) { return b.clamp(add(c, dc), b.constF(0.0), a); };
+    return {channel(acc.r, d.r), channel(acc.g, d.g), channel(acc.b, d.b), a};
+}
+
 Ink unpremultiply(ir::Builder& b, const Ink& acc) {
     ValueId inv = b.div(b.constF(1.0), b.max(acc.a, b.constF(ir::kTiny)));
     ValueId any = b.gt(acc.a, b.constF(0.0));

@@ -164,6 +164,10 @@ Ink paper(ir::Builder& b, ir::ValueId r, ir::ValueId g, ir::ValueId bl, ir::Valu
 // Lays ink of colour (r, g, bl) with coverage `cov` over `acc` (the running mix of §3.4).
 Ink inkOver(ir::Builder& b, const Ink& acc, ir::ValueId r, ir::ValueId g, ir::ValueId bl,
             ir::ValueId cov);
+// acc + scale x d, a correction to the running mix in premultiplied form (the covariance of
+// strokes that meet, the correlation of a fine union), held to ink that can be: alpha in
+// [0, 1], each channel in [0, alpha].
+Ink addCorrection(ir::Builder& b, const Ink& acc, const Ink& d, ir::ValueId scale);
 // Straight (unpremultiplied) colour and alpha of the result.
 Ink unpremultiply(ir::Builder& b, const Ink& acc);
 

@@ -750,13 +750,16 @@ class Solver {
         ValueId nearPart =
             b_.add(countedCrossings(crowdLo_, counted), arcsineDensity(counted, far, k, rr));
         // Few turns: the crossings of h_p(n) = 0 in n (crossings, below).
-        const Vals few = crossings(crowdLo_, b_.sub(end, c(1.0)), width);
+        // With no turn h is convex and its two crossings are found exactly; turned, sampled.
+        const Vals few = b_.ifThenElse(
+            eq(in_.turn, c(0.0)), [&] { return crossings(crowdLo_, b_.sub(end, c(1.0)), width); },
+            [&] { return sampledCrossings(crowdLo_, b_.sub(end, c(1.0)), width); });
         counting_ = true;
         ValueId farArcsine = arcsineDensity(far, end, k, rr);
         ValueId farShare = crowdCoincidence(far, end, k, rr, 2.0);
         ValueId averaged = b_.add(nearPart, b_.mul(farArcsine, farShare));
         ValueId turns = b_.div(b_.mul(b_.abs(in_.turn), span), c(2.0 * std::numbers::pi));
-        ValueId many = b_.smoothstep(c(0.5), c(2.0), turns);
+        ValueId many = b_.smoothstep(c(kFewTurns), c(2.0 * kFewTurns), turns);
         ValueId density = b_.denan(b_.mix(few[0], averaged, many), c(0.0));
         ValueId twice = branchesInk(width, averaged, farShare, rr);
         // The mirror: where the far members' line offsets c(n) = n (m - s) - phase all stay
@@ -819,6 +822,43 @@ class Solver {
         auto [d2, x2] = comb(leaves, both(inside, b_.emit(Op::Ge, {residual(leaves), c(0.0)})));
         ValueId blank = b_.mul(b_.sub(c(1.0), x1), b_.sub(c(1.0), x2));
         return Vals{b_.add(d1, d2), b_.sub(c(1.0), blank)};
+    }
+    // Few turns of any shape: where the members turn, h_p(n) is no longer convex in n, but
+    // over a few turns it crosses zero a few times, twice a turn at most for the far members.
+    // Sampled at kCrossingSamples members evenly over [lo, hi], each sign change between two
+    // samples is refined by bisection to the two members it falls between, and each crossing
+    // is a comb as in crossings(): density 1 / |dh/dn|, ink min(1, width / |dh/dn|), the combs
+    // laid over one another independently. A dip below zero narrower than the samples'
+    // spacing is missed (the convex case, no turn, is crossings()'s). Returns {density, ink}.
+    Vals sampledCrossings(ValueId lo, ValueId hi, ValueId width) {
+        ValueId step = b_.div(b_.sub(hi, lo), c(kCrossingSamples));
+        auto negative = [&](ValueId h) { return b_.select(b_.lt(h, c(0.0)), c(1.0), c(0.0)); };
+        Vals res = b_.loop(
+            {c(1.0), lo, residual(lo), c(0.0), c(1.0)},
+            [&](std::span<const ValueId> v) {
+                return Vals{both(b_.le(v[0], c(kCrossingSamples)), b_.lt(v[1], hi))};
+            },
+            [&](std::span<const ValueId> v) {
+                ValueId n = b_.min(hi, b_.floor(b_.add(lo, b_.mul(v[0], step))));
+                n = b_.max(n, b_.add(v[1], c(1.0)));
+                ValueId h = residual(n);
+                ValueId side = negative(h);
+                Vals got = b_.ifThenElse(
+                    b_.emit(Op::Ne, {negative(v[2]), side}),
+                    [&] {
+                        ValueId z = firstWhere(b_.add(v[1], c(1.0)), n, [&](ValueId m) {
+                            return eq(negative(residual(m)), side);
+                        });
+                        ValueId slope = b_.abs(b_.sub(residual(z), residual(b_.sub(z, c(1.0)))));
+                        ValueId d = b_.div(c(1.0), b_.max(slope, b_.mul(s_, c(1e-6))));
+                        return Vals{d, b_.sub(c(1.0), b_.min(c(1.0), b_.mul(width, d)))};
+                    },
+                    [&] {
+                        return Vals{c(0.0), c(1.0)};
+                    });
+                return Vals{b_.add(v[0], c(1.0)), n, h, b_.add(v[3], got[0]), b_.mul(v[4], got[1])};
+            });
+        return Vals{res[3], b_.sub(c(1.0), res[4])};
     }
     // The coarea sum over members one by one: sum of 1 / |h(n + 1) - h(n)| over the n in
     // [lo, hi) where h changes sign (each a crossing between two members, exact where h is
@@ -1028,6 +1068,10 @@ class Solver {
     static constexpr double kCrowdConvergents = 24;
     // Near members counted one by one (countedCrossings); beyond, the arcsine average.
     static constexpr double kNearCounted = 256;
+    // Few turns: h sampled at this many members over the interval (sampledCrossings), and the
+    // arcsine average taking over from kFewTurns to twice as many turns.
+    static constexpr double kCrossingSamples = 64;
+    static constexpr double kFewTurns = 4;
     std::array<std::pair<ValueId, ValueId>, kCarriedPowers> turnPowers_;
 };
 

@@ -748,14 +748,15 @@ class Solver {
         counting_ = false;
         ValueId counted = b_.min(far, b_.add(crowdLo_, c(kNearCounted)));
         ValueId nearPart =
-            b_.add(countedCrossings(crowdLo_, counted), arcsineDensity(counted, far, k, rr));
+            b_.add(countedCrossings(crowdLo_, counted),
+                   b_.add(arcsineDensity(counted, far, k, rr), vertexChange(counted, far, k, rr)));
         // Few turns: the crossings of h_p(n) = 0 in n (crossings, below).
         // With no turn h is convex and its two crossings are found exactly; turned, sampled.
         const Vals few = b_.ifThenElse(
             eq(in_.turn, c(0.0)), [&] { return crossings(crowdLo_, b_.sub(end, c(1.0)), width); },
             [&] { return sampledCrossings(crowdLo_, b_.sub(end, c(1.0)), width); });
         counting_ = true;
-        ValueId farArcsine = arcsineDensity(far, end, k, rr);
+        ValueId farArcsine = b_.add(arcsineDensity(far, end, k, rr), vertexChange(far, end, k, rr));
         ValueId farShare = crowdCoincidence(far, end, k, rr, 2.0);
         ValueId averaged = b_.add(nearPart, b_.mul(farArcsine, farShare));
         ValueId turns = b_.div(b_.mul(b_.abs(in_.turn), span), c(2.0 * std::numbers::pi));
@@ -922,18 +923,46 @@ class Solver {
     // (nb - na) / (pi r) x (asin x_b - asin x_a) / (x_b - x_a), x = c / r; the quotient's limit
     // 1 / sqrt(1 - x^2) where x_b - x_a is too small to divide by (k -> 0). 0 where nb <= na.
     ValueId arcsineDensity(ValueId na, ValueId nb, ValueId k, ValueId r) {
+        return arcsineDensity(na, nb, k, r, c(-1.0), c(1.0));
+    }
+    // The same, counting only the members whose x lies in [lo, hi] (within [-1, 1]).
+    ValueId arcsineDensity(ValueId na, ValueId nb, ValueId k, ValueId r, ValueId lo, ValueId hi) {
         ValueId xa = b_.div(b_.sub(b_.mul(na, k), in_.phase), r);
         ValueId xb = b_.div(b_.sub(b_.mul(nb, k), in_.phase), r);
         ValueId dx = b_.sub(xb, xa);
         ValueId mid = b_.mul(b_.add(xa, xb), c(0.5));
         ValueId limit = b_.select(
-            b_.lt(b_.abs(mid), c(1.0)),
+            both(both(b_.lt(b_.abs(mid), c(1.0)), b_.emit(Op::Ge, {mid, lo})), b_.le(mid, hi)),
             b_.div(c(1.0), b_.sqrt(b_.max(b_.sub(c(1.0), b_.mul(mid, mid)), c(1e-12)))), c(0.0));
-        ValueId quotient = b_.div(b_.sub(b_.emit(Op::Asin, {xb}), b_.emit(Op::Asin, {xa})),
-                                  b_.select(eq(dx, c(0.0)), c(1.0), dx));
+        auto asinIn = [&](ValueId x) { return b_.emit(Op::Asin, {b_.clamp(x, lo, hi)}); };
+        ValueId quotient =
+            b_.div(b_.sub(asinIn(xb), asinIn(xa)), b_.select(eq(dx, c(0.0)), c(1.0), dx));
         ValueId arcsine = b_.select(b_.lt(b_.abs(dx), c(1e-4)), limit, quotient);
         ValueId count = b_.max(b_.sub(nb, na), c(0.0));
         return b_.div(b_.mul(count, arcsine), b_.mul(c(std::numbers::pi), r));
+    }
+    // A polygon whose drift points at a vertex: far out, rho(-n delta + v) takes the larger of
+    // the two facets' projections, so h_p(n) = c(n) + r cos(||phi| - beta|), beta = pi / N the
+    // half angle between their normals, not c(n) + r cos(phi). As phi runs over a turn, a level
+    // L of that is crossed 4 times where L > r cos beta (two peaks), twice down to -r cos beta,
+    // and never below: against the one cosine's 2 crossings of every level in (-r, r), the
+    // arcsine average gains the band x = c / r < -cos beta once more and loses x > cos beta.
+    // Off the vertex the second facet's peak stands n Delta lower (Delta = m minus its
+    // projection of -delta), and once n Delta passes the peak's height above the valley
+    // between them, r (1 - cos beta), the one cosine holds again: the change is tapered by
+    // that at the run's first member. Circles: none.
+    ValueId vertexChange(ValueId na, ValueId nb, ValueId k, ValueId r) {
+        ValueId beta = b_.emit(Op::Acos, {kappa_});
+        ValueId len = b_.max(len_, c(1e-9));
+        ValueId off = b_.emit(Op::Acos, {b_.clamp(b_.div(drift_, len), c(-1.0), c(1.0))});
+        ValueId second = b_.mul(len, b_.cos(b_.sub(b_.mul(beta, c(2.0)), off)));
+        ValueId delta = b_.max(b_.sub(drift_, second), c(0.0));
+        ValueId height = b_.max(b_.mul(r, b_.sub(c(1.0), kappa_)), c(1e-9));
+        ValueId taper = b_.clamp(b_.sub(c(1.0), b_.div(b_.mul(b_.max(na, c(0.0)), delta), height)),
+                                 c(0.0), c(1.0));
+        ValueId gained = arcsineDensity(na, nb, k, r, c(-1.0), b_.neg(kappa_));
+        ValueId lost = arcsineDensity(na, nb, k, r, kappa_, c(1.0));
+        return b_.select(round_, c(0.0), b_.mul(taper, b_.sub(gained, lost)));
     }
     // The share of `count` far members that are distinct strokes. Member n + q lies within
     // dev(q) = |q k| + r |q theta - 2 pi p| of member n (the cosine moves by at most r times
@@ -1071,7 +1100,7 @@ class Solver {
     // Few turns: h sampled at this many members over the interval (sampledCrossings), and the
     // arcsine average taking over from kFewTurns to twice as many turns.
     static constexpr double kCrossingSamples = 64;
-    static constexpr double kFewTurns = 4;
+    static constexpr double kFewTurns = 2;
     std::array<std::pair<ValueId, ValueId>, kCarriedPowers> turnPowers_;
 };
 

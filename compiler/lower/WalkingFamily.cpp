@@ -697,9 +697,10 @@ class Solver {
     //
     // That sum is read two ways, mixed by how many full turns the interval's members make
     // (|theta| x span / 2 pi):
-    //  - Few turns (no turn: a translated polygon faster than its spacing): the zero the scan
-    //    found is the crossing, and its 1 / |dh/dn| is read by a difference of h at the member
-    //    found and the next, which is exact where h is linear over one member.
+    //  - Few turns (no turn: a translated polygon faster than its spacing): every zero of h
+    //    over the interval, found by bisection (crossings, sampledCrossings), each with its
+    //    1 / |dh/dn| read by a difference of h across it, exact where h is linear over one
+    //    member.
     //  - Many turns: far out (n ||delta|| >> r) the pulled-back point is -n delta plus a point
     //    circling at radius r, so rho(q_n) = n m + u . Rot(-n theta) p to first order (u the
     //    unit normal of the shape at -delta, m = rho(-delta)), and

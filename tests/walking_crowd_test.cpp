@@ -160,9 +160,9 @@ TEST_CASE("walking crowd: the filtered ink is the pixel's exact mean where the s
     // there the crowd's even grey is only nearer the exact mean than point sampling's thinned
     // lines (docs/filtering.md). Then three of walking_mean's strided polygons, within 0.05:
     // a translated square faster than its spacing (no turn, the two crossings of a convex h),
-    // a hexagon drifting towards a vertex (two facets' far crossings), and a hexagon whose
-    // interval turns about once (the sampled crossings). The estimate that read one crossing
-    // and one cosine drew them 0.15, 0.09 and 0.06 from their exact ink.
+    // a hexagon drifting towards a vertex (two facets' far crossings), and a triangle whose
+    // interval turns under once (the sampled crossings). In walking_mean, the estimate that
+    // read one crossing and one cosine drew them 0.15, 0.09 and 0.08 from their exact ink.
     struct Case {
         Setting st;
         double zoom, tolerance; // tolerance < 0: nearer than point sampling only

@@ -714,9 +714,10 @@ class Solver {
     //    every member of the (capped) interval crosses, each with 1 / (pi sqrt(r^2 - phase^2)).
     //    With m far from s it tends to 1 / |m - s|: one member a |m - s| of residual.
     //    The first order holds where n ||delta|| >> r. Nearer (n ||delta|| < 2 r) the first
-    //    kNearCounted members are counted one by one (countedCrossings), the rest kept as it
-    //    is; beyond, members a period of the turn apart that fall on one another are counted
-    //    once (crowdCoincidence): the ink is their union, not their sum (branchesInk).
+    //    kNearCounted members are counted one by one (countedCrossings), the rest averaged over
+    //    the phase with the whole residual (phaseAveraged); beyond, members a period of the turn
+    //    apart that fall on one another are counted once (crowdCoincidence): the ink is their
+    //    union, not their sum (branchesInk).
     // `engaged` is smoothstep(B / 2, B, span): 0 where the interval is well inside the budget,
     // 1 from where the scan strides, and 0 wherever the answer is a closed form (§7.5).
     CrowdEstimate crowd() {
@@ -741,9 +742,9 @@ class Solver {
         // Many turns: the arcsine average, its near field (n ||delta|| < 2 r, where the first
         // order above is rough but every member is its own) and its far field, where members
         // a period of the turn apart fall on one another (crowdCoincidence). The near field's
-        // first kNearCounted members are counted one by one (countedCrossings), the rest of it
-        // averaged. The filter's evaluations are not the search's: the tally (the solver's
-        // cost in the experiments) leaves them out.
+        // first kNearCounted members are counted one by one, the rest of it averaged over the
+        // phase (nearDensity). The filter's evaluations are not the search's: the tally (the
+        // solver's cost in the experiments) leaves them out.
         ValueId far = b_.clamp(b_.div(b_.mul(rr, c(2.0)), b_.max(len_, c(1e-9))), crowdLo_, end);
         ValueId width = b_.max(in_.stroke, c(1e-9));
         counting_ = false;
@@ -806,6 +807,25 @@ class Solver {
             [&] { return Vals{twice}; });
         return {density, b_.denan(b_.mix(few[1], mirrored[0], many), c(0.0))};
     }
+    // 1 where h < 0, else 0: a sign read with 0 among the positives, so that a residual of
+    // exactly 0 (a point on a facet) still makes a sign change with a negative neighbour (a
+    // zero product missed that crossing and drew a light line along the facet).
+    ValueId negative(ValueId h) { return b_.select(b_.lt(h, c(0.0)), c(1.0), c(0.0)); }
+    ValueId changesSign(ValueId h0, ValueId h1) {
+        return b_.emit(Op::Ne, {negative(h0), negative(h1)});
+    }
+    // 1 / |dh|, the members (or turns) per unit of residual across a crossing; held finite
+    // where h is flat.
+    ValueId perResidual(ValueId dh) {
+        return b_.div(c(1.0), b_.max(b_.abs(dh), b_.mul(s_, c(1e-6))));
+    }
+    // The comb of the crossing between members z - 1 and z, where `found`: density
+    // 1 / |h(z) - h(z - 1)| and ink min(1, width x density); nothing elsewhere.
+    std::pair<ValueId, ValueId> crossingComb(ValueId z, ValueId found, ValueId width) {
+        ValueId d =
+            b_.select(found, perResidual(b_.sub(residual(z), residual(b_.sub(z, c(1.0))))), c(0.0));
+        return {d, b_.min(c(1.0), b_.mul(width, d))};
+    }
     // Few turns: where theta = 0, h_p(n) is convex in n (rho, a convex function, along an
     // affine path, less a linear term), and nearly so over less than a turn, so it crosses
     // zero at most twice: where p enters the members (h falling) and where it leaves them (h
@@ -826,14 +846,9 @@ class Solver {
         });
         ValueId inside = b_.lt(hLow, c(0.0));
         // Each crossing lies between z - 1 and z; one at lo or past hi is outside the interval.
-        auto comb = [&](ValueId z, ValueId found) {
-            ValueId slope = b_.abs(b_.sub(residual(z), residual(b_.sub(z, c(1.0)))));
-            ValueId d =
-                b_.select(found, b_.div(c(1.0), b_.max(slope, b_.mul(s_, c(1e-6)))), c(0.0));
-            return std::pair{d, b_.min(c(1.0), b_.mul(width, d))};
-        };
-        auto [d1, x1] = comb(enters, both(inside, b_.gt(enters, lo)));
-        auto [d2, x2] = comb(leaves, both(inside, b_.emit(Op::Ge, {residual(leaves), c(0.0)})));
+        auto [d1, x1] = crossingComb(enters, both(inside, b_.gt(enters, lo)), width);
+        auto [d2, x2] =
+            crossingComb(leaves, both(inside, b_.emit(Op::Ge, {residual(leaves), c(0.0)})), width);
         ValueId blank = b_.mul(b_.sub(c(1.0), x1), b_.sub(c(1.0), x2));
         return Vals{b_.add(d1, d2), b_.sub(c(1.0), blank)};
     }
@@ -846,7 +861,6 @@ class Solver {
     // spacing is missed (the convex case, no turn, is crossings()'s). Returns {density, ink}.
     Vals sampledCrossings(ValueId lo, ValueId hi, ValueId width) {
         ValueId step = b_.div(b_.sub(hi, lo), c(kCrossingSamples));
-        auto negative = [&](ValueId h) { return b_.select(b_.lt(h, c(0.0)), c(1.0), c(0.0)); };
         Vals res = b_.loop(
             {c(1.0), lo, residual(lo), c(0.0), c(1.0)},
             [&](std::span<const ValueId> v) {
@@ -857,15 +871,15 @@ class Solver {
                 n = b_.max(n, b_.add(v[1], c(1.0)));
                 ValueId h = residual(n);
                 ValueId side = negative(h);
+                ValueId cross = changesSign(v[2], h);
                 Vals got = b_.ifThenElse(
-                    b_.emit(Op::Ne, {negative(v[2]), side}),
+                    cross,
                     [&] {
                         ValueId z = firstWhere(b_.add(v[1], c(1.0)), n, [&](ValueId m) {
                             return eq(negative(residual(m)), side);
                         });
-                        ValueId slope = b_.abs(b_.sub(residual(z), residual(b_.sub(z, c(1.0)))));
-                        ValueId d = b_.div(c(1.0), b_.max(slope, b_.mul(s_, c(1e-6))));
-                        return Vals{d, b_.sub(c(1.0), b_.min(c(1.0), b_.mul(width, d)))};
+                        auto [d, x] = crossingComb(z, cross, width);
+                        return Vals{d, b_.sub(c(1.0), x)};
                     },
                     [&] {
                         return Vals{c(0.0), c(1.0)};
@@ -903,12 +917,9 @@ class Solver {
                     [&](std::span<const ValueId> u) { return Vals{b_.le(u[0], c(kPhaseAngles))}; },
                     [&](std::span<const ValueId> u) {
                         ValueId h = at(b_.mul(u[0], c(angle)));
-                        ValueId cross =
-                            b_.emit(Op::Ne, {b_.select(b_.lt(u[1], c(0.0)), c(1.0), c(0.0)),
-                                             b_.select(b_.lt(h, c(0.0)), c(1.0), c(0.0))});
-                        ValueId step = b_.max(b_.abs(b_.sub(h, u[1])), b_.mul(s_, c(1e-6)));
-                        ValueId add =
-                            b_.select(cross, b_.div(c(1.0), b_.mul(step, c(kPhaseAngles))), c(0.0));
+                        ValueId add = b_.select(
+                            changesSign(u[1], h),
+                            b_.div(perResidual(b_.sub(h, u[1])), c(kPhaseAngles)), c(0.0));
                         return Vals{b_.add(u[0], c(1.0)), h, b_.add(u[2], add)};
                     });
                 return Vals{b_.add(v[0], c(1.0)), b_.add(v[1], b_.mul(turn[2], dn))};
@@ -926,16 +937,12 @@ class Solver {
             [&](std::span<const ValueId> v) {
                 ValueId next = b_.add(v[0], c(1.0));
                 ValueId h = residual(next);
-                // A sign change, 0 counted with the positives: a zero product would miss the
-                // crossing of a member whose residual is exactly 0 (a point on its facet).
-                ValueId cross = b_.emit(Op::Ne, {b_.select(b_.lt(v[1], c(0.0)), c(1.0), c(0.0)),
-                                                 b_.select(b_.lt(h, c(0.0)), c(1.0), c(0.0))});
-                ValueId step = b_.max(b_.abs(b_.sub(h, v[1])), b_.mul(s_, c(1e-6)));
                 ValueId weight = b_.select(
                     b_.gt(fade, c(0.0)),
                     b_.clamp(b_.div(b_.sub(hi, next), b_.max(fade, c(1.0))), c(0.0), c(1.0)),
                     c(1.0));
-                ValueId add = b_.select(cross, b_.div(weight, step), c(0.0));
+                ValueId add = b_.select(changesSign(v[1], h),
+                                        b_.mul(weight, perResidual(b_.sub(h, v[1]))), c(0.0));
                 return Vals{next, h, b_.add(v[2], add)};
             });
         return res[2];
@@ -1165,7 +1172,7 @@ class Solver {
     // Convergents of theta / 2 pi the crowd estimate looks through for a period of the turn:
     // their denominators at least double every two steps, so 24 reach past the span cap.
     static constexpr double kCrowdConvergents = 24;
-    // Near members counted one by one (countedCrossings); beyond, the arcsine average.
+    // Near members counted one by one (countedCrossings); beyond, the phase average.
     static constexpr double kNearCounted = 256;
     // The rest of the near field: members and angles of its phase average (phaseAveraged).
     static constexpr double kPhaseNodes = 12;

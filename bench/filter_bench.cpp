@@ -46,6 +46,11 @@ std::vector<Scene> filterScenes() {
     out.push_back({"walking past budget", "walking_budget.moire",
                    "layer a { family = triangles; spacing = 6; stroke = 1; offset = (6, 0); "
                    "turn = 0.5deg }\n"});
+    // The same past its budget at a turn of a short period, 10 degrees a member (36 members a
+    // full turn): the crowd is drawn chain by chain.
+    out.push_back({"walking, 10 deg turn", "walking_period.moire",
+                   "layer a { family = hexagons; spacing = 8; stroke = 1.5; offset = (8, 0); "
+                   "turn = 10deg }\ncamera { zoom = 0.4 }\n"});
     return out;
 }
 

@@ -168,6 +168,9 @@ int main(int argc, char** argv) {
     Tally paper, pointExact, meanExact;
     double meanAbs = 0, pointAbs = 0;
     for (const WalkSetting& s : sample) {
+        // MOIRE_WALKING_MEAN_TURN=10: only the settings at that turn (in degrees) are measured.
+        const char* only = std::getenv("MOIRE_WALKING_MEAN_TURN");
+        if (only && s.turnDeg != std::atof(only)) continue;
         k.set(s);
         double point = 0, mean = 0, raised = 0, exact = 0;
         for (int j = 0; j < measured; ++j) {

@@ -3,7 +3,9 @@
 #include "compiler/ir/BuiltValue.h"
 #include "compiler/ir/Plane.h"
 #include "compiler/ir/Semantics.h"
+#include "compiler/lower/Bisection.h"
 #include "compiler/lower/Prefilter.h"
+#include "compiler/lower/WalkingChains.h"
 
 #include <array>
 #include <limits>
@@ -567,8 +569,10 @@ class Solver {
     // what the mean reads.
     ValueId memberPixel() { return b_.div(in_.band.a, c(kAntialiasPixels)); }
     ValueId memberHalf() { return b_.mul(in_.stroke, c(0.5)); }
-    ValueId memberMean(ValueId value) {
-        return distanceMeanInk(BuiltValue(b_, value), BuiltValue(b_, memberHalf()),
+    ValueId memberMean(ValueId value) { return bandMean(value, memberHalf()); }
+    // The footprint mean of a band of residuals `half` either side of `centre`.
+    ValueId bandMean(ValueId centre, ValueId half) {
+        return distanceMeanInk(BuiltValue(b_, centre), BuiltValue(b_, half),
                                BuiltValue(b_, memberPixel()), BuiltValue(b_, c(0.0)))
             .id;
     }
@@ -686,7 +690,9 @@ class Solver {
     // families past the budget"): where the interval is wider than the budget the scan strides
     // and misses members, so the ink it draws is too light; the compose step then hands it over
     // to the crowd's mean ink (`mean`, from `density`, members per unit of residual across the
-    // stroke, below), by `engaged`.
+    // stroke, below), by `engaged`. Where the turn has a short period (no turn included), the
+    // crowd is not estimated but drawn, member by member, chain by chain (chains(),
+    // WalkingChains.h); what follows is the estimate for every other turn.
     //
     // Why members per unit of residual is what the ink needs: member n inks the points where
     // |h_p(n)| < h. Over a footprint, a member crossing it with |grad_p h| = g covers a band
@@ -697,10 +703,9 @@ class Solver {
     //
     // That sum is read two ways, mixed by how many full turns the interval's members make
     // (|theta| x span / 2 pi):
-    //  - Few turns (no turn: a translated polygon faster than its spacing): every zero of h
-    //    over the interval, found by bisection (crossings, sampledCrossings), each with its
-    //    1 / |dh/dn| read by a difference of h across it, exact where h is linear over one
-    //    member.
+    //  - Few turns: every zero of h over the interval, found by sampling and bisection
+    //    (sampledCrossings), each with its 1 / |dh/dn| read by a difference of h across it,
+    //    exact where h is linear over one member.
     //  - Many turns: far out (n ||delta|| >> r) the pulled-back point is -n delta plus a point
     //    circling at radius r, so rho(q_n) = n m + u . Rot(-n theta) p to first order (u the
     //    unit normal of the shape at -delta, m = rho(-delta)), and
@@ -728,11 +733,37 @@ class Solver {
         if (variant().polygonClosedForm) exact = b_.emit(Op::Or, {exact, closedPolygon_});
         ValueId engaged = b_.select(exact, c(0.0), b_.smoothstep(c(0.5 * budget), c(budget), span));
         Vals got = b_.ifThenElse(
-            b_.gt(engaged, c(0.0)), [&] { return crowdDensity(span); },
+            b_.gt(engaged, c(0.0)),
+            [&] {
+                TurnPeriod period = turnPeriod(b_, in_.turn);
+                return b_.ifThenElse(
+                    b_.gt(period.q, c(0.0)),
+                    [&] {
+                        return Vals{c(0.0), chains(period, b_.add(crowdLo_, span))};
+                    },
+                    [&] { return crowdDensity(span); });
+            },
             [&] {
                 return Vals{c(0.0), c(0.0)};
             });
         return {engaged, got[1]}; // got[0], the density, is what the mean is made of
+    }
+    // A turn of a short period (no turn included), drawn member by member, chain by chain
+    // (WalkingChains.h), over the members [crowdLo_, end). Not counted in the tally.
+    ValueId chains(const TurnPeriod& period, ValueId end) {
+        ChainInputs in;
+        in.turn = in_.turn;
+        in.stroke = in_.stroke;
+        in.lo = crowdLo_;
+        in.end = end;
+        in.reach = memberReach();
+        in.residual = [&](ValueId n, ValueId x, ValueId y) { return residualAt(n, x, y); };
+        in.unturn = [&](ValueId angle) { return unturn(angle); };
+        in.bandMean = [&](ValueId centre, ValueId half) { return bandMean(centre, half); };
+        counting_ = false;
+        ValueId ink = chainInk(b_, in, period);
+        counting_ = true;
+        return ink;
     }
     // The crowd's density and its mean ink.
     Vals crowdDensity(ValueId span) {
@@ -750,11 +781,9 @@ class Solver {
         counting_ = false;
         ValueId counted = b_.min(far, b_.add(crowdLo_, c(kNearCounted)));
         ValueId nearPart = nearDensity(crowdLo_, counted, far);
-        // Few turns: the crossings of h_p(n) = 0 in n (crossings, below).
-        // With no turn h is convex and its two crossings are found exactly; turned, sampled.
-        const Vals few = b_.ifThenElse(
-            eq(in_.turn, c(0.0)), [&] { return crossings(crowdLo_, b_.sub(end, c(1.0)), width); },
-            [&] { return sampledCrossings(crowdLo_, b_.sub(end, c(1.0)), width); });
+        // Few turns: the crossings of h_p(n) = 0 in n, sampled (sampledCrossings). No turn at
+        // all is a period of one member, drawn as one chain (chains()), not here.
+        const Vals few = sampledCrossings(crowdLo_, b_.sub(end, c(1.0)), width);
         counting_ = true;
         ValueId farArcsine = b_.add(arcsineDensity(far, end, k, rr), vertexChange(far, end, k, rr));
         ValueId farShare = crowdCoincidence(far, end, k, rr, 2.0);
@@ -826,39 +855,14 @@ class Solver {
             b_.select(found, perResidual(b_.sub(residual(z), residual(b_.sub(z, c(1.0))))), c(0.0));
         return {d, b_.min(c(1.0), b_.mul(width, d))};
     }
-    // Few turns: where theta = 0, h_p(n) is convex in n (rho, a convex function, along an
-    // affine path, less a linear term), and nearly so over less than a turn, so it crosses
-    // zero at most twice: where p enters the members (h falling) and where it leaves them (h
-    // rising), on facets of different directions. Each crossing is a comb of members 1 / |dh/dn|
-    // apart in residual, inking min(1, width / |dh/dn|) of the footprint, and the two combs are
-    // laid over one another independently. Both are found by bisection over [lo, hi]: the
-    // lowest member first (the first n with h(n + 1) >= h(n)), then the sign change on each
-    // side of it; on a convex h each predicate is monotone. The scan's own member is not used:
-    // strided, it may be neither crossing. Returns {density, ink}.
-    Vals crossings(ValueId lo, ValueId hi, ValueId width) {
-        ValueId low = firstWhere(lo, hi, [&](ValueId n) {
-            return b_.emit(Op::Ge, {residual(b_.add(n, c(1.0))), residual(n)});
-        });
-        ValueId hLow = residual(low);
-        ValueId enters = firstWhere(lo, low, [&](ValueId n) { return b_.lt(residual(n), c(0.0)); });
-        ValueId leaves = firstWhere(low, hi, [&](ValueId n) {
-            return b_.emit(Op::Ge, {residual(n), c(0.0)});
-        });
-        ValueId inside = b_.lt(hLow, c(0.0));
-        // Each crossing lies between z - 1 and z; one at lo or past hi is outside the interval.
-        auto [d1, x1] = crossingComb(enters, both(inside, b_.gt(enters, lo)), width);
-        auto [d2, x2] =
-            crossingComb(leaves, both(inside, b_.emit(Op::Ge, {residual(leaves), c(0.0)})), width);
-        ValueId blank = b_.mul(b_.sub(c(1.0), x1), b_.sub(c(1.0), x2));
-        return Vals{b_.add(d1, d2), b_.sub(c(1.0), blank)};
-    }
-    // Few turns of any shape: where the members turn, h_p(n) is no longer convex in n, but
-    // over a few turns it crosses zero a few times, twice a turn at most for the far members.
-    // Sampled at kCrossingSamples members evenly over [lo, hi], each sign change between two
-    // samples is refined by bisection to the two members it falls between, and each crossing
-    // is a comb as in crossings(): density 1 / |dh/dn|, ink min(1, width / |dh/dn|), the combs
-    // laid over one another independently. A dip below zero narrower than the samples'
-    // spacing is missed (the convex case, no turn, is crossings()'s). Returns {density, ink}.
+    // Few turns: where the members turn, h_p(n) is not convex in n (with no turn it is, and
+    // chains() draws it), but over a few turns it crosses zero a few times, twice a turn at
+    // most for the far members. Sampled at kCrossingSamples members evenly over [lo, hi], each
+    // sign change between two samples is refined by bisection to the two members it falls
+    // between, and each crossing is a comb of members 1 / |dh/dn| apart in residual
+    // (crossingComb): it inks min(1, width / |dh/dn|) of the footprint, and the combs are laid
+    // over one another independently. A dip below zero narrower than the samples' spacing is
+    // missed. Returns {density, ink}.
     Vals sampledCrossings(ValueId lo, ValueId hi, ValueId width) {
         ValueId step = b_.div(b_.sub(hi, lo), c(kCrossingSamples));
         Vals res = b_.loop(
@@ -875,7 +879,7 @@ class Solver {
                 Vals got = b_.ifThenElse(
                     cross,
                     [&] {
-                        ValueId z = firstWhere(b_.add(v[1], c(1.0)), n, [&](ValueId m) {
+                        ValueId z = firstWhere(b_, b_.add(v[1], c(1.0)), n, [&](ValueId m) {
                             return eq(negative(residual(m)), side);
                         });
                         auto [d, x] = crossingComb(z, cross, width);
@@ -956,20 +960,6 @@ class Solver {
         ValueId fade = b_.select(seam, c(kSeamFade), c(0.0));
         ValueId from = b_.select(seam, b_.max(lo, b_.sub(hi, c(0.5 * kSeamFade))), b);
         return b_.add(countedCrossings(lo, hi, fade), phaseAveraged(from, b));
-    }
-    // The first n in [lo, hi] where `holds` (monotone: false, then true), or hi where it never
-    // does: bisection, one evaluation a step, log2(hi - lo) steps.
-    template <class Holds>
-    ValueId firstWhere(ValueId lo, ValueId hi, Holds holds) {
-        Vals res = b_.loop(
-            {lo, b_.max(lo, hi)},
-            [&](std::span<const ValueId> v) { return Vals{b_.lt(v[0], v[1])}; },
-            [&](std::span<const ValueId> v) {
-                ValueId mid = b_.floor(b_.mul(b_.add(v[0], v[1]), c(0.5)));
-                ValueId yes = holds(mid);
-                return Vals{b_.select(yes, v[0], b_.add(mid, c(1.0))), b_.select(yes, mid, v[1])};
-            });
-        return res[0];
     }
     // The ink of many turns' members, `density` of them per unit of residual. The cosine
     // crosses the member's level twice a turn, so the members form two branches, and each

@@ -763,7 +763,8 @@ class Solver {
         counting_ = false;
         ValueId ink = chainInk(b_, in, period);
         counting_ = true;
-        return ink;
+        // A NaN radius (see run()) draws nothing here either.
+        return b_.denan(ink, c(0.0));
     }
     // The crowd's density and its mean ink.
     Vals crowdDensity(ValueId span) {

@@ -328,12 +328,12 @@ TEST_CASE("walking crowd: the JIT and the GPU draw the crowd the interpreter dra
     // A turn of a short period, drawn chain by chain, each far member's stroke where single
     // precision puts it: at n s ~ 1e5 the residual of the last members is rounded to about
     // 0.05 world units (the pixel is 2.5), so the far lines move by up to 5/255 of ink and
-    // their piles of members widen by as much. Measured on the JIT: 99% of pixels within
-    // 11/255, a mean difference of 1.4/255.
+    // their piles of members widen by as much. Measured on the JIT and lavapipe: every pixel
+    // within 16/255, 99% within 10/255, a mean difference of 1.2/255.
     checkBackendsDrawAsInterpreter(
         "scene { size = (96, 64) }\ncamera { zoom = 0.4 }\nlayer { family = hexagons; "
         "spacing = 8; offset = (8, 0); turn = 10deg; stroke = 1.5 }\n",
-        Bar{16.0 / 255, 0.99, 2.0 / 255});
+        Bar{12.0 / 255, 0.99, 2.0 / 255});
 }
 
 namespace {

@@ -176,7 +176,7 @@ class Chains {
                     firstWhere(b_, first, past, [&](ValueId i) { return b_.lt(h(i), reach); });
                 ValueId fb = firstWhere(b_, first, past,
                                         [&](ValueId i) { return b_.lt(h(i), b_.neg(reach)); });
-                ValueId falling = runUnion(fa, fb, h);
+                ValueId falling = runUnion(fa, fb, h, false);
                 // Rising: past the lowest, taken from the lowest where the run starts next to
                 // it (the two runs share its stroke, counted once).
                 ValueId ra = firstWhere(b_, past, after,
@@ -186,7 +186,7 @@ class Chains {
                 });
                 ValueId fromLow = eq(ra, past);
                 ValueId rising =
-                    b_.max(b_.sub(runUnion(b_.select(fromLow, low, ra), rb, h),
+                    b_.max(b_.sub(runUnion(b_.select(fromLow, low, ra), rb, h, true),
                                   b_.select(fromLow, memberMean(b_.abs(hLow)), c(0.0))),
                            c(0.0));
                 return Vals{
@@ -206,53 +206,71 @@ class Chains {
         return {cs, sn};
     }
     // The footprint mean of the union of the strokes of members [a, b) of a run sorted along
-    // their normal (residuals hOf(i), monotone in i). Up to kChainRun members, exact: each
-    // stroke's mean less that of its overlap with the next (inclusion and exclusion, exact
-    // for strokes of one width sorted along a line). More: the run is read at kChainRun + 1
-    // members, and between two of them the k members spread over the residual they span, d:
-    // a comb inking min(1, k t / |d|) of that band; plus the outer halves of the end members'
-    // strokes. Exact where the members overlap (a solid band) and on average where they
-    // stand apart.
+    // their normal (residuals hOf(i), monotone in i), by inclusion and exclusion: each
+    // stroke's mean less that of its overlap with the next, exact for strokes of one width
+    // sorted along a line (sumStrokes). A run of more than kChainRun members is split where
+    // its steps fall under the stroke's width: on a convex h the steps shrink monotonically
+    // towards the chain's lowest member (towards b on the falling run, towards a on the
+    // rising one, `fromEnd`), so past that member every stroke overlaps the next and their
+    // union is one band, from the first of them to the last widened by half a stroke; the
+    // members before it stand a stroke or more apart and are summed one by one (or, past
+    // kChainRun of them, taken as an even comb). A pile of hundreds of members on a flat facet
+    // after a few far apart is then exact, where reading the run at evenly spread members
+    // laid the few and the pile as one comb, solid across the gap.
     template <class HOf>
-    ValueId runUnion(ValueId a, ValueId b, HOf hOf) {
+    ValueId runUnion(ValueId a, ValueId b, HOf hOf, bool fromEnd) {
         ValueId count = b_.sub(b, a);
+        // The member `o` steps from the end where the steps are widest.
+        ValueId last = b_.sub(b, c(1.0));
+        auto at = [&](ValueId o) { return fromEnd ? b_.sub(last, o) : b_.add(a, o); };
         return b_.ifThenElse(
-            b_.le(count, c(kChainRun)),
-            [&] {
-                Vals res = b_.loop(
-                    {a, c(0.0), c(0.0)},
-                    [&](std::span<const ValueId> v) { return Vals{b_.lt(v[0], b)}; },
-                    [&](std::span<const ValueId> v) {
-                        ValueId hv = hOf(v[0]);
-                        ValueId overlap = b_.select(b_.gt(v[0], a), overlapMean(v[1], hv), c(0.0));
-                        ValueId add = b_.sub(memberMean(b_.abs(hv)), overlap);
-                        return Vals{b_.add(v[0], c(1.0)), hv, b_.add(v[2], add)};
-                    });
-                return Vals{res[2]};
-            },
+            b_.le(count, c(kChainRun)), [&] { return Vals{sumStrokes(c(0.0), count, at, hOf)}; },
             [&] {
                 ValueId width = b_.max(in_->stroke, c(1e-9));
-                ValueId quarter = b_.mul(width, c(0.25));
-                ValueId h0 = hOf(a), h1 = hOf(b_.sub(b, c(1.0)));
-                ValueId dir = b_.select(b_.lt(h1, h0), c(-1.0), c(1.0));
-                ValueId caps = b_.add(bandMean(b_.sub(h0, b_.mul(dir, quarter)), quarter),
-                                      bandMean(b_.add(h1, b_.mul(dir, quarter)), quarter));
-                ValueId stepSize = b_.div(b_.sub(count, c(1.0)), c(kChainRun));
-                Vals res = b_.loop(
-                    {c(1.0), a, h0, caps},
-                    [&](std::span<const ValueId> v) { return Vals{b_.le(v[0], c(kChainRun))}; },
-                    [&](std::span<const ValueId> v) {
-                        ValueId i = b_.add(a, b_.floor(b_.mul(v[0], stepSize)));
-                        ValueId hv = hOf(i);
-                        ValueId span = b_.abs(b_.sub(hv, v[2]));
-                        ValueId fill = b_.min(
-                            c(1.0), b_.div(b_.mul(width, b_.sub(i, v[1])), b_.max(span, c(1e-12))));
-                        ValueId band =
-                            bandMean(b_.mul(b_.add(hv, v[2]), c(0.5)), b_.mul(span, c(0.5)));
-                        return Vals{b_.add(v[0], c(1.0)), i, hv, b_.add(v[3], b_.mul(fill, band))};
-                    });
-                return Vals{res[3]};
+                ValueId half = b_.mul(width, c(0.5));
+                ValueId solid = firstWhere(b_, c(0.0), b_.sub(count, c(1.0)), [&](ValueId o) {
+                    ValueId next = hOf(at(b_.add(o, c(1.0))));
+                    return b_.lt(b_.abs(b_.sub(next, hOf(at(o)))), width);
+                });
+                ValueId spread = b_.ifThenElse(
+                    b_.le(solid, c(kChainRun)),
+                    [&] { return Vals{sumStrokes(c(0.0), solid, at, hOf)}; },
+                    [&] {
+                        ValueId h0 = hOf(at(c(0.0))), h1 = hOf(at(b_.sub(solid, c(1.0))));
+                        ValueId span = b_.add(b_.abs(b_.sub(h1, h0)), width);
+                        ValueId fill = b_.min(c(1.0), b_.div(b_.mul(width, solid), span));
+                        return Vals{b_.mul(fill, intervalMean(b_.sub(b_.min(h0, h1), half),
+                                                              b_.add(b_.max(h0, h1), half)))};
+                    })[0];
+                ValueId hs = hOf(at(solid)), he = hOf(at(b_.sub(count, c(1.0))));
+                ValueId lo = b_.sub(b_.min(hs, he), half), hi = b_.add(b_.max(hs, he), half);
+                ValueId hp = hOf(at(b_.max(b_.sub(solid, c(1.0)), c(0.0))));
+                ValueId overlap = b_.select(
+                    b_.gt(solid, c(0.0)),
+                    intervalMean(b_.max(lo, b_.sub(hp, half)), b_.min(hi, b_.add(hp, half))),
+                    c(0.0));
+                return Vals{b_.sub(b_.add(spread, intervalMean(lo, hi)), overlap)};
             })[0];
+    }
+    // The strokes of the members `at(o)`, o in [from, to), sorted along their normal: each
+    // one's mean less that of its overlap with the one before.
+    template <class At, class HOf>
+    ValueId sumStrokes(ValueId from, ValueId to, At at, HOf hOf) {
+        Vals res = b_.loop(
+            {from, c(0.0), c(0.0)},
+            [&](std::span<const ValueId> v) { return Vals{b_.lt(v[0], to)}; },
+            [&](std::span<const ValueId> v) {
+                ValueId hv = hOf(at(v[0]));
+                ValueId overlap = b_.select(b_.gt(v[0], from), overlapMean(v[1], hv), c(0.0));
+                ValueId add = b_.sub(memberMean(b_.abs(hv)), overlap);
+                return Vals{b_.add(v[0], c(1.0)), hv, b_.add(v[2], add)};
+            });
+        return res[2];
+    }
+    // The footprint mean of the band of residuals [lo, hi] (nothing where hi <= lo).
+    ValueId intervalMean(ValueId lo, ValueId hi) {
+        return bandMean(b_.mul(b_.add(lo, hi), c(0.5)),
+                        b_.mul(b_.max(b_.sub(hi, lo), c(0.0)), c(0.5)));
     }
 
   private:

@@ -4,10 +4,10 @@
 //   build/bin/moire_filter_bench [--size WxH] [--repeat N] [--interp] [--vulkan] [scene ...]
 //
 // For each scene (some examples, and the cases the filter is for: fine circles, a fine pair
-// whose beat is coarse, a walking family past its budget), the scene is compiled twice, with
-// `filter = point` and with `filter = mean` (CompileOptions::filter), and each kernel renders
-// the same frame on the JIT; the fastest of --repeat renders is kept (other work on the
-// machine can only add time). The ratio mean / point is the filter's cost on that scene.
+// whose beat is coarse, walking families past their budget and in closed form), the scene is
+// compiled twice, with `filter = point` and with `filter = mean` (CompileOptions::filter), and each
+// kernel renders the same frame on the JIT; the fastest of --repeat renders is kept (other work on
+// the machine can only add time). The ratio mean / point is the filter's cost on that scene.
 // --interp adds the reference interpreter (one render each: it is slow), --vulkan the GPU
 // where a device is present.
 #include "bench/BenchScenes.h"
@@ -51,6 +51,14 @@ std::vector<Scene> filterScenes() {
     out.push_back({"walking, 10 deg turn", "walking_period.moire",
                    "layer a { family = hexagons; spacing = 8; stroke = 1.5; offset = (8, 0); "
                    "turn = 10deg }\ncamera { zoom = 0.4 }\n"});
+    // Walking families the solver answers in closed form (no turn): circles whose members
+    // stand pixels apart (the mean pays the neighbours' test alone), and finer ones, one or
+    // two members a pixel (every member within reach drawn as a chain).
+    out.push_back({"walking closed form", "walking_closed.moire",
+                   "layer a { family = circles; spacing = 8; stroke = 1.5; offset = (3, 1) }\n"});
+    out.push_back({"walking closed, fine", "walking_closed_fine.moire",
+                   "layer a { family = circles; spacing = 1.6; stroke = 0.3; offset = (0.6, 0.2) "
+                   "}\n"});
     return out;
 }
 

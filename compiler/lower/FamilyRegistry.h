@@ -46,6 +46,9 @@ struct FamilyInputs {
     // The mean filter is drawn: a family that can estimate its crowd of members where it cannot
     // resolve them gives it (LayerFields::crowd).
     bool crowd = false;
+    // With crowd: the camera's turn, which takes the world's axes to the pixel's sides (the
+    // pixel's footprint across a member's normal, Prefilter.h: onPixelSides).
+    ir::ValueId cosTurn = ir::kNoValue, sinTurn = ir::kNoValue;
     // For the families that evaluate their phase elsewhere than at the pixel (walking).
     PhaseFn phaseAt;
     ir::ValueId facets = ir::kNoValue; // a shape's side count (0: a circle), for walking

@@ -113,6 +113,8 @@ FamilyInputs LayerLowering::inputs(const sema::CheckedLayer& layer, const LayerF
     in.walking = ctx_.options.walking;
     in.sweeps = ctx_.options.view && sema::viewSweeps(*ctx_.options.view);
     in.crowd = ctx_.options.filter == sema::FilterMode::Mean;
+    in.cosTurn = ctx_.cosTurn;
+    in.sinTurn = ctx_.sinTurn;
     in.layerProp = [this, &layer](std::string_view name) { return ctx_.layerProp(layer, name); };
     return in;
 }

@@ -10,6 +10,7 @@
 #include <array>
 #include <limits>
 #include <numbers>
+#include <optional>
 #include <tuple>
 #include <utility>
 
@@ -70,7 +71,7 @@ class Solver {
         out.aux1 = nHiRaw_;
         if (in_.flankGuard) out.sample = phaseSample(found[0], found[1]);
         if (resolving()) {
-            out.crowd = crowd();
+            out.crowd = crowd(found[1], out.gradX, out.gradY);
             out.crowd.others = found[2];
         }
         return out;
@@ -570,10 +571,30 @@ class Solver {
     ValueId memberPixel() { return b_.div(in_.band.a, c(kAntialiasPixels)); }
     ValueId memberHalf() { return b_.mul(in_.stroke, c(0.5)); }
     ValueId memberMean(ValueId value) { return bandMean(value, memberHalf()); }
+    // The square pixel's extents across a member's normal, in residual units: the spans of its
+    // two sides along the normal (distanceMeanInk's `along` and `across`).
+    struct Across {
+        ValueId along, across;
+    };
+    // A box of the pixel's side facing the member, where its normal is not known.
+    Across facing() { return {memberPixel(), c(0.0)}; }
+    // Across the normal the index gradient (gradX, gradY) gives, turned into the pixel's sides
+    // as the compose step turns it (onPixelSides); the box where it is not given or vanishes.
+    Across across(ValueId gradX, ValueId gradY) {
+        if (gradX == ir::kNoValue || gradY == ir::kNoValue) return facing();
+        PixelSides g =
+            onPixelSides(b_, gradX, gradY, PixelFootprint{ir::kNoValue, in_.cosTurn, in_.sinTurn});
+        ValueId length = b_.hypot(g.u, g.v);
+        ValueId some = b_.gt(length, c(0.0)); // false on NaN too
+        ValueId scale = b_.div(memberPixel(), b_.max(length, c(1e-30)));
+        return {b_.select(some, b_.mul(b_.abs(g.u), scale), memberPixel()),
+                b_.select(some, b_.mul(b_.abs(g.v), scale), c(0.0))};
+    }
     // The footprint mean of a band of residuals `half` either side of `centre`.
-    ValueId bandMean(ValueId centre, ValueId half) {
+    ValueId bandMean(ValueId centre, ValueId half) { return bandMean(centre, half, facing()); }
+    ValueId bandMean(ValueId centre, ValueId half, const Across& foot) {
         return distanceMeanInk(BuiltValue(b_, centre), BuiltValue(b_, half),
-                               BuiltValue(b_, memberPixel()), BuiltValue(b_, c(0.0)))
+                               BuiltValue(b_, foot.along), BuiltValue(b_, foot.across))
             .id;
     }
     // The union of the members within reach, gathered in runs. Consecutive members (n, n + 1)
@@ -604,9 +625,10 @@ class Solver {
     // Past t / 2 + s1 a member's mean is 0 (distanceMeanInk), s1 the box footprint's half-span
     // (about 0.52 pixel). That is below the guard (h + a, with h >= t / 2 and a = 0.7 pixel),
     // so Theorem 4's interval holds every member within it.
-    ValueId memberReach() {
-        BuiltValue zero(b_, c(0.0));
-        return b_.add(memberHalf(), trapezoid(BuiltValue(b_, memberPixel()), zero).s1.id);
+    ValueId memberReach() { return memberReach(facing()); }
+    ValueId memberReach(const Across& foot) {
+        return b_.add(memberHalf(),
+                      trapezoid(BuiltValue(b_, foot.along), BuiltValue(b_, foot.across)).s1.id);
     }
 
     // Sweep (§9.1), the baseline without a certificate: seed at the member whose radius
@@ -724,42 +746,105 @@ class Solver {
     //    apart that fall on one another are counted once (crowdCoincidence): the ink is their
     //    union, not their sum (branchesInk).
     // `engaged` is smoothstep(B / 2, B, span): 0 where the interval is well inside the budget,
-    // 1 from where the scan strides, and 0 wherever the answer is a closed form (§7.5).
-    CrowdEstimate crowd() {
+    // 1 from where the scan strides. Where the answer is a closed form (§7.5), which finds the
+    // nearest member alone, it is how near the nearest's neighbours come (closedCrowding), and
+    // the members are drawn as one chain: those closed forms do not turn the shape (or turn a
+    // circle, which is the same), so the family is a translated shape, a period of one member.
+    // `argmin` is the solver's nearest member, (gradX, gradY) its index gradient (the nearest
+    // member's normal; kNoValue where the index is not computed).
+    CrowdEstimate crowd(ValueId argmin, ValueId gradX, ValueId gradY) {
         ValueId nHi = b_.min(crowdHiRaw_, b_.add(crowdLo_, c(kWalkSpanCap - 1.0)));
         ValueId span = b_.add(b_.sub(nHi, crowdLo_), c(1.0));
+        ValueId end = b_.add(crowdLo_, span);
         const double budget = variant().budget;
         ValueId exact = b_.emit(Op::Or, {still_, quadratic_});
         if (variant().polygonClosedForm) exact = b_.emit(Op::Or, {exact, closedPolygon_});
-        ValueId engaged = b_.select(exact, c(0.0), b_.smoothstep(c(0.5 * budget), c(budget), span));
+        const Across foot = across(gradX, gradY);
+        ValueId engaged = b_.ifThenElse(
+            exact, [&] { return Vals{closedCrowding(argmin, foot)}; },
+            [&] { return Vals{b_.smoothstep(c(0.5 * budget), c(budget), span)}; })[0];
         Vals got = b_.ifThenElse(
             b_.gt(engaged, c(0.0)),
             [&] {
-                TurnPeriod period = turnPeriod(b_, in_.turn);
                 return b_.ifThenElse(
-                    b_.gt(period.q, c(0.0)),
+                    exact,
                     [&] {
-                        return Vals{c(0.0), chains(period, b_.add(crowdLo_, span))};
+                        // The members of the capped interval nearest the answer: the window
+                        // of the span cap centred on it.
+                        TurnPeriod none{c(1.0), c(0.0), c(0.0)};
+                        ValueId n = b_.denan(b_.min(argmin, c(kFarIndex)), c(0.0));
+                        ValueId from =
+                            b_.clamp(b_.sub(n, c(0.5 * kWalkSpanCap)), crowdLo_,
+                                     b_.max(crowdLo_, b_.sub(crowdHiRaw_, c(kWalkSpanCap - 1.0))));
+                        ValueId to =
+                            b_.min(b_.add(from, c(kWalkSpanCap)), b_.add(crowdHiRaw_, c(1.0)));
+                        return Vals{c(0.0), chains(none, from, to, foot)};
                     },
-                    [&] { return crowdDensity(span); });
+                    [&] {
+                        TurnPeriod period = turnPeriod(b_, in_.turn);
+                        return b_.ifThenElse(
+                            b_.gt(period.q, c(0.0)),
+                            [&] {
+                                return Vals{c(0.0), chains(period, crowdLo_, end)};
+                            },
+                            [&] { return crowdDensity(span); });
+                    });
             },
             [&] {
                 return Vals{c(0.0), c(0.0)};
             });
         return {engaged, got[1]}; // got[0], the density, is what the mean is made of
     }
+    // How far a closed form's answer (the nearest member, whose stroke the compose step draws
+    // across its own normal) is to be handed over to the chain's union of every member within
+    // reach: 1 where a neighbour of the nearest member, n - 1 or n + 1, comes within reach of
+    // the footprint, 0 from half a pixel beyond, smoothly between. Where no neighbour reaches,
+    // the nearest member's stroke is all the ink there is but where the residual has a second
+    // zero far in index (a translated circle faster than its spacing crosses itself): members
+    // crossing within one pixel there count once, as they do where the members are resolved.
+    // The two answers agree where the hand-over starts, to the footprint's shape.
+    // Not handed over where single precision cannot place the members: on the marginal drift's
+    // flat tail (the far members stand at one residual, at indices past any window) and where
+    // the residual's terms, about n (s + ||delta||), pass kFloatReach pixels: next to the
+    // marginal drift members are packed 2e-4 apart, and a float residual's differences between
+    // them break the convexity the chain's bisection reads (at 2^16 pixels the JIT's picture
+    // was 0.5 of ink off the interpreter's at 0.5% of the pixels). There the nearest member's
+    // stroke is drawn alone, as the point rule's search finds it.
+    ValueId closedCrowding(ValueId argmin, const Across& foot) {
+        counting_ = false;
+        ValueId n = b_.denan(b_.min(argmin, c(kFarIndex)), c(0.0));
+        ValueId after = b_.abs(residual(b_.add(n, c(1.0))));
+        ValueId before = b_.abs(residual(member(b_.sub(n, c(1.0)))));
+        counting_ = true;
+        ValueId first = eq(n, c(0.0));
+        ValueId tail = b_.emit(Op::Ge, {n, c(kFarIndex)});
+        ValueId next = b_.select(first, after, b_.min(before, after));
+        next = b_.denan(b_.select(tail, c(kFar), next), c(kFar));
+        ValueId pixel = memberPixel();
+        ValueId from = b_.add(memberReach(foot), b_.mul(pixel, c(0.25)));
+        ValueId near =
+            b_.sub(c(1.0), b_.smoothstep(from, b_.add(from, b_.mul(pixel, c(0.5))), next));
+        ValueId size = b_.mul(b_.add(n, c(1.0)), b_.add(s_, len_));
+        ValueId resolved = b_.sub(c(1.0), b_.smoothstep(b_.mul(pixel, c(kFloatReach)),
+                                                        b_.mul(pixel, c(2.0 * kFloatReach)), size));
+        return b_.mul(near, resolved);
+    }
     // A turn of a short period (no turn included), drawn member by member, chain by chain
-    // (WalkingChains.h), over the members [crowdLo_, end). Not counted in the tally.
-    ValueId chains(const TurnPeriod& period, ValueId end) {
+    // (WalkingChains.h), over the members [lo, end). Not counted in the tally.
+    // The footprint is a box of the pixel's side facing each member, unless `foot` gives the
+    // square's extents across the members' common normal.
+    ValueId chains(const TurnPeriod& period, ValueId lo, ValueId end,
+                   std::optional<Across> foot = {}) {
+        const Across box = foot ? *foot : facing();
         ChainInputs in;
         in.turn = in_.turn;
         in.stroke = in_.stroke;
-        in.lo = crowdLo_;
+        in.lo = lo;
         in.end = end;
-        in.reach = memberReach();
+        in.reach = memberReach(box);
         in.residual = [&](ValueId n, ValueId x, ValueId y) { return residualAt(n, x, y); };
         in.unturn = [&](ValueId angle) { return unturn(angle); };
-        in.bandMean = [&](ValueId centre, ValueId half) { return bandMean(centre, half); };
+        in.bandMean = [&](ValueId centre, ValueId half) { return bandMean(centre, half, box); };
         counting_ = false;
         ValueId ink = chainInk(b_, in, period);
         counting_ = true;
@@ -1170,6 +1255,9 @@ class Solver {
     static constexpr double kPhaseAngles = 24;
     // Members over which the counted crossings hand over to the phase average (nearDensity).
     static constexpr double kSeamFade = 16;
+    // The size of a closed form's residual terms, in pixels, up to which its crowd is drawn
+    // (closedCrowding): 2^12.
+    static constexpr double kFloatReach = 4096;
     // Few turns: h sampled at this many members over the interval (sampledCrossings), and the
     // arcsine average taking over from kFewTurns to twice as many turns.
     static constexpr double kCrossingSamples = 64;
@@ -1223,6 +1311,8 @@ LayerFields walkingLayerFields(ir::Builder& b, const FamilyInputs& fam) {
     if (fam.crowd) {
         in.stroke = fam.layerProp("stroke")[0];
         if (slope != ir::kNoValue) in.stroke = b.mul(in.stroke, slope);
+        in.cosTurn = fam.cosTurn;
+        in.sinTurn = fam.sinTurn;
     }
     in.variant = fam.walking;
     in.flankGuard = fam.sweeps;

@@ -33,6 +33,9 @@ struct WalkingInputs {
     // mean filter.
     bool crowd = false;
     ir::ValueId stroke = ir::kNoValue; // with crowd: the stroke's width as written (residual units)
+    // With crowd: the camera's turn (FamilyInputs::cosTurn), for the pixel's footprint across
+    // a member's normal.
+    ir::ValueId cosTurn = ir::kNoValue, sinTurn = ir::kNoValue;
     WalkingVariant variant = {};
 };
 

@@ -71,7 +71,7 @@ class Solver {
         out.aux1 = nHiRaw_;
         if (in_.flankGuard) out.sample = phaseSample(found[0], found[1]);
         if (resolving()) {
-            out.crowd = crowd(found[1], out.gradX, out.gradY);
+            out.crowd = crowd(found[0], found[1], out.gradX, out.gradY);
             out.crowd.others = found[2];
         }
         return out;
@@ -750,9 +750,9 @@ class Solver {
     // nearest member alone, it is how near the nearest's neighbours come (closedCrowding), and
     // the members are drawn as one chain: those closed forms do not turn the shape (or turn a
     // circle, which is the same), so the family is a translated shape, a period of one member.
-    // `argmin` is the solver's nearest member, (gradX, gradY) its index gradient (the nearest
-    // member's normal; kNoValue where the index is not computed).
-    CrowdEstimate crowd(ValueId argmin, ValueId gradX, ValueId gradY) {
+    // `nearest` and `argmin` are the solver's answer (|h_p| and the member), (gradX, gradY) its
+    // index gradient (the nearest member's normal; kNoValue where the index is not computed).
+    CrowdEstimate crowd(ValueId nearest, ValueId argmin, ValueId gradX, ValueId gradY) {
         ValueId nHi = b_.min(crowdHiRaw_, b_.add(crowdLo_, c(kWalkSpanCap - 1.0)));
         ValueId span = b_.add(b_.sub(nHi, crowdLo_), c(1.0));
         ValueId end = b_.add(crowdLo_, span);
@@ -769,15 +769,8 @@ class Solver {
                 return b_.ifThenElse(
                     exact,
                     [&] {
-                        // The members of the capped interval nearest the answer: the window
-                        // of the span cap centred on it.
                         TurnPeriod none{c(1.0), c(0.0), c(0.0)};
-                        ValueId n = b_.denan(b_.min(argmin, c(kFarIndex)), c(0.0));
-                        ValueId from =
-                            b_.clamp(b_.sub(n, c(0.5 * kWalkSpanCap)), crowdLo_,
-                                     b_.max(crowdLo_, b_.sub(crowdHiRaw_, c(kWalkSpanCap - 1.0))));
-                        ValueId to =
-                            b_.min(b_.add(from, c(kWalkSpanCap)), b_.add(crowdHiRaw_, c(1.0)));
+                        auto [from, to] = closedWindow(nearest, argmin, foot);
                         return Vals{c(0.0), chains(none, from, to, foot)};
                     },
                     [&] {
@@ -794,6 +787,28 @@ class Solver {
                 return Vals{c(0.0), c(0.0)};
             });
         return {engaged, got[1]}; // got[0], the density, is what the mean is made of
+    }
+    // The members [from, to) a closed form's chain draws: those about the nearest member n
+    // that can reach the footprint. Where the drift m is under the spacing, h_p falls by at
+    // least s - m a member (dh/dn = grad rho . (-delta) - s <= rho(-delta) - s, rho a support
+    // function), so a member k from n is at least |k| (s - m) - |h_p(n)| from the pixel, and
+    // none past (reach + |h_p(n)|) / (s - m) members reaches it: the bisections then take a few
+    // steps. Elsewhere (a circle faster than its spacing, whose second zero can lie anywhere
+    // along the interval; the marginal drift) the window of the span cap centred on n, within
+    // Theorem 4's interval.
+    std::pair<ValueId, ValueId> closedWindow(ValueId nearest, ValueId argmin, const Across& foot) {
+        ValueId n = b_.denan(b_.min(argmin, c(kFarIndex)), c(0.0));
+        ValueId gap = b_.sub(s_, drift_);
+        ValueId far = b_.denan(b_.add(memberReach(foot), b_.min(nearest, c(kFar))), c(kFar));
+        ValueId within = b_.add(b_.floor(b_.div(far, b_.max(gap, c(1e-30)))), c(1.0));
+        ValueId half = b_.select(b_.gt(gap, c(kWalkMarginal)),
+                                 b_.min(within, c(0.5 * kWalkSpanCap)), c(0.5 * kWalkSpanCap));
+        // n - half .. n + half, moved within the interval where it reaches past an end.
+        ValueId size = b_.add(b_.mul(half, c(2.0)), c(1.0));
+        ValueId from = b_.clamp(b_.sub(n, half), crowdLo_,
+                                b_.max(crowdLo_, b_.sub(b_.add(crowdHiRaw_, c(1.0)), size)));
+        ValueId to = b_.min(b_.add(from, size), b_.add(crowdHiRaw_, c(1.0)));
+        return {from, to};
     }
     // How far a closed form's answer (the nearest member, whose stroke the compose step draws
     // across its own normal) is to be handed over to the chain's union of every member within

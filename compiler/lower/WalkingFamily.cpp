@@ -10,7 +10,6 @@
 #include <array>
 #include <limits>
 #include <numbers>
-#include <optional>
 #include <tuple>
 #include <utility>
 
@@ -622,9 +621,10 @@ class Solver {
                                BuiltValue(b_, memberPixel()), BuiltValue(b_, c(0.0)))
             .id;
     }
-    // Past t / 2 + s1 a member's mean is 0 (distanceMeanInk), s1 the box footprint's half-span
-    // (about 0.52 pixel). That is below the guard (h + a, with h >= t / 2 and a = 0.7 pixel),
-    // so Theorem 4's interval holds every member within it.
+    // Past t / 2 + s1 a member's mean is 0 (distanceMeanInk), s1 the footprint's half-span
+    // (about 0.52 pixel for the box, 0.71 at most for the square across a diagonal). That is
+    // below the guard (h + a, with h >= max(t / 2, 1.15 pixel) and a = 0.7 pixel), so Theorem
+    // 4's interval holds every member within it.
     ValueId memberReach() { return memberReach(facing()); }
     ValueId memberReach(const Across& foot) {
         return b_.add(memberHalf(),
@@ -766,22 +766,26 @@ class Solver {
         Vals got = b_.ifThenElse(
             b_.gt(engaged, c(0.0)),
             [&] {
+                // One chain drawing serves both (each instance is a large piece of every
+                // backend's code): a closed form's window about its answer, with a period of
+                // one member and the footprint across its normal, or the interval's first
+                // members with the turn's period, each facing its own box.
+                TurnPeriod turned = turnPeriod(b_, in_.turn);
+                auto [from, to] = closedWindow(nearest, argmin, foot);
+                auto pick = [&](ValueId closed, ValueId strided) {
+                    return b_.select(exact, closed, strided);
+                };
+                TurnPeriod period{pick(c(1.0), turned.q), pick(c(0.0), turned.p),
+                                  pick(c(0.0), turned.drift)};
+                const Across box = facing();
+                Across footprint{pick(foot.along, box.along), pick(foot.across, box.across)};
                 return b_.ifThenElse(
-                    exact,
+                    b_.gt(period.q, c(0.0)),
                     [&] {
-                        TurnPeriod none{c(1.0), c(0.0), c(0.0)};
-                        auto [from, to] = closedWindow(nearest, argmin, foot);
-                        return Vals{c(0.0), chains(none, from, to, foot)};
+                        return Vals{c(0.0),
+                                    chains(period, pick(from, crowdLo_), pick(to, end), footprint)};
                     },
-                    [&] {
-                        TurnPeriod period = turnPeriod(b_, in_.turn);
-                        return b_.ifThenElse(
-                            b_.gt(period.q, c(0.0)),
-                            [&] {
-                                return Vals{c(0.0), chains(period, crowdLo_, end)};
-                            },
-                            [&] { return crowdDensity(span); });
-                    });
+                    [&] { return crowdDensity(span); });
             },
             [&] {
                 return Vals{c(0.0), c(0.0)};
@@ -846,20 +850,18 @@ class Solver {
     }
     // A turn of a short period (no turn included), drawn member by member, chain by chain
     // (WalkingChains.h), over the members [lo, end). Not counted in the tally.
-    // The footprint is a box of the pixel's side facing each member, unless `foot` gives the
-    // square's extents across the members' common normal.
-    ValueId chains(const TurnPeriod& period, ValueId lo, ValueId end,
-                   std::optional<Across> foot = {}) {
-        const Across box = foot ? *foot : facing();
+    // `foot` is the footprint across the members' normal (a box facing each, `facing()`, where
+    // they turn).
+    ValueId chains(const TurnPeriod& period, ValueId lo, ValueId end, const Across& foot) {
         ChainInputs in;
         in.turn = in_.turn;
         in.stroke = in_.stroke;
         in.lo = lo;
         in.end = end;
-        in.reach = memberReach(box);
+        in.reach = memberReach(foot);
         in.residual = [&](ValueId n, ValueId x, ValueId y) { return residualAt(n, x, y); };
         in.unturn = [&](ValueId angle) { return unturn(angle); };
-        in.bandMean = [&](ValueId centre, ValueId half) { return bandMean(centre, half, box); };
+        in.bandMean = [&](ValueId centre, ValueId half) { return bandMean(centre, half, foot); };
         counting_ = false;
         ValueId ink = chainInk(b_, in, period);
         counting_ = true;

@@ -64,6 +64,14 @@ MemberNormal memberNormal(ir::Builder& b, ValueId distance, ValueId gradX, Value
     return {g.u, g.v, ofDistance};
 }
 
+NormalExtents extentsAcross(ir::Builder& b, ValueId u, ValueId v, ValueId side) {
+    ValueId length = b.hypot(u, v);
+    ValueId some = b.gt(length, b.constF(0.0)); // false on NaN too
+    ValueId scale = b.div(side, b.max(length, b.constF(1e-30)));
+    return {b.select(some, b.mul(b.abs(u), scale), side),
+            b.select(some, b.mul(b.abs(v), scale), b.constF(0.0))};
+}
+
 ValueId distanceInk(ir::Builder& b, ValueId distance, ValueId halfWidth, ValueId gradX,
                     ValueId gradY, const PixelFootprint& pixel) {
     // The nearest member's normal (memberNormal): its components along the pixel's sides,
@@ -72,11 +80,8 @@ ValueId distanceInk(ir::Builder& b, ValueId distance, ValueId halfWidth, ValueId
     ValueId along = pixel.size, across = b.constF(0.0);
     MemberNormal n = memberNormal(b, distance, gradX, gradY, pixel);
     if (n.u != ir::kNoValue) {
-        ValueId length = b.hypot(n.u, n.v);
-        ValueId some = b.gt(length, b.constF(0.0)); // false on NaN too
-        ValueId scale = b.div(pixel.size, b.max(length, b.constF(1e-30)));
-        along = b.select(some, b.mul(b.abs(n.u), scale), pixel.size);
-        across = b.select(some, b.mul(b.abs(n.v), scale), across);
+        NormalExtents e = extentsAcross(b, n.u, n.v, pixel.size);
+        along = e.along, across = e.across;
     }
     return distanceMeanInk(ir::BuiltValue(b, distance), ir::BuiltValue(b, halfWidth),
                            ir::BuiltValue(b, along), ir::BuiltValue(b, across))

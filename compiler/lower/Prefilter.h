@@ -207,6 +207,15 @@ struct MemberNormal {
 MemberNormal memberNormal(ir::Builder& b, ir::ValueId distance, ir::ValueId gradX,
                           ir::ValueId gradY, const PixelFootprint& pixel);
 
+// The square pixel of side `side` seen across a normal given along the pixel's sides (u, v),
+// not normalised: the spans of its two sides along the normal (distanceMeanInk's `along` and
+// `across`), |u| side / |(u, v)| and |v| side / |(u, v)|; a box of the pixel's side (side, 0)
+// where the normal vanishes or is NaN.
+struct NormalExtents {
+    ir::ValueId along, across;
+};
+NormalExtents extentsAcross(ir::Builder& b, ir::ValueId u, ir::ValueId v, ir::ValueId side);
+
 // The ink (before opacity) a family without a footprint (walking families, lattices, morphs,
 // the pencil, distance families) draws under the mean filter: distanceMeanInk of its nearest
 // member at `distance` (world units), across that member's normal: the distance's own gradient

@@ -150,6 +150,8 @@ class Solver {
         argmin = b_.select(better, n, argmin);
     }
     ValueId member(ValueId n) { return b_.max(n, c(0.0)); } // members start at n = 0
+    // The solver's argmin as a member's index: at most the flat tail's kFarIndex, 0 for NaN.
+    ValueId answerIndex(ValueId argmin) { return b_.denan(b_.min(argmin, c(kFarIndex)), c(0.0)); }
     // The turn Rot(a) Rot(b), given both as a cosine and a sine.
     std::pair<ValueId, ValueId> compose(std::pair<ValueId, ValueId> a,
                                         std::pair<ValueId, ValueId> b) {
@@ -583,11 +585,8 @@ class Solver {
         if (gradX == ir::kNoValue || gradY == ir::kNoValue) return facing();
         PixelSides g =
             onPixelSides(b_, gradX, gradY, PixelFootprint{ir::kNoValue, in_.cosTurn, in_.sinTurn});
-        ValueId length = b_.hypot(g.u, g.v);
-        ValueId some = b_.gt(length, c(0.0)); // false on NaN too
-        ValueId scale = b_.div(memberPixel(), b_.max(length, c(1e-30)));
-        return {b_.select(some, b_.mul(b_.abs(g.u), scale), memberPixel()),
-                b_.select(some, b_.mul(b_.abs(g.v), scale), c(0.0))};
+        NormalExtents e = extentsAcross(b_, g.u, g.v, memberPixel());
+        return {e.along, e.across};
     }
     // The footprint mean of a band of residuals `half` either side of `centre`.
     ValueId bandMean(ValueId centre, ValueId half) { return bandMean(centre, half, facing()); }
@@ -695,7 +694,7 @@ class Solver {
     // increase. Member -1 does not exist. A solve saturated at the guard found no member
     // within a pitch: its floor keeps the taps from inventing ink where nothing can slide in.
     PhaseSample phaseSample(ValueId distance, ValueId argmin) {
-        ValueId n = b_.denan(b_.min(argmin, c(kFarIndex)), c(0.0));
+        ValueId n = answerIndex(argmin);
         PhaseSample out;
         out.z = b_.neg(residual(n));
         out.up = b_.neg(residual(b_.add(n, c(1.0))));
@@ -801,7 +800,7 @@ class Solver {
     // along the interval; the marginal drift) the window of the span cap centred on n, within
     // Theorem 4's interval.
     std::pair<ValueId, ValueId> closedWindow(ValueId nearest, ValueId argmin, const Across& foot) {
-        ValueId n = b_.denan(b_.min(argmin, c(kFarIndex)), c(0.0));
+        ValueId n = answerIndex(argmin);
         ValueId gap = b_.sub(s_, drift_);
         ValueId far = b_.denan(b_.add(memberReach(foot), b_.min(nearest, c(kFar))), c(kFar));
         ValueId within = b_.add(b_.floor(b_.div(far, b_.max(gap, c(1e-30)))), c(1.0));
@@ -831,7 +830,7 @@ class Solver {
     // stroke is drawn alone, as the point rule's search finds it.
     ValueId closedCrowding(ValueId argmin, const Across& foot) {
         counting_ = false;
-        ValueId n = b_.denan(b_.min(argmin, c(kFarIndex)), c(0.0));
+        ValueId n = answerIndex(argmin);
         ValueId after = b_.abs(residual(b_.add(n, c(1.0))));
         ValueId before = b_.abs(residual(member(b_.sub(n, c(1.0)))));
         counting_ = true;
@@ -1227,7 +1226,7 @@ class Solver {
     // the fraction falls back (no crossing towards the neighbour, or clamped to one member),
     // the gradient is that fallback's own, as AD of the selects gives it.
     void searchedIndex(ValueId argmin, LayerFields& out) {
-        ValueId n = b_.floor(b_.denan(b_.min(argmin, c(kFarIndex)), c(0.0)));
+        ValueId n = b_.floor(answerIndex(argmin));
         ValueId h0 = residual(n);
         ValueId outside = b_.emit(Op::Ge, {h0, c(0.0)});
         ValueId neighbour = member(b_.select(outside, b_.add(n, c(1.0)), b_.sub(n, c(1.0))));

@@ -46,6 +46,11 @@ std::vector<Scene> filterScenes() {
     out.push_back({"walking past budget", "walking_budget.moire",
                    "layer a { family = triangles; spacing = 6; stroke = 1; offset = (6, 0); "
                    "turn = 0.5deg }\n"});
+    // The same at the marginal drift (offset against the facet it faces): its period of 720
+    // is past the chains drawn one by one, and the chains that reach each pixel are picked.
+    out.push_back({"walking, chains picked", "walking_picked.moire",
+                   "layer a { family = triangles; spacing = 8; stroke = 2; offset = (-8, 0); "
+                   "turn = 0.5deg }\n"});
     // The same past its budget at a turn of a short period, 10 degrees a member (36 members a
     // full turn): the crowd is drawn chain by chain.
     out.push_back({"walking, 10 deg turn", "walking_period.moire",

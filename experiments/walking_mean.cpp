@@ -232,6 +232,10 @@ int main(int argc, char** argv) {
                 point += px.point, mean += px.mean, exact += px.exact;
                 pointOff += std::fabs(px.point - px.exact) > 8.0 / 255;
                 meanOff += std::fabs(px.mean - px.exact) > 8.0 / 255;
+                if (std::getenv("MOIRE_WALKING_MEAN_VERBOSE") &&
+                    std::fabs(px.mean - px.exact) > 8.0 / 255)
+                    std::printf("  off at (%g, %g): point %.3f mean %.3f exact %.3f span %g\n", x,
+                                y, px.point, px.mean, px.exact, px.span);
             }
         const double n = double(cols) * rows;
         printRow(fmt::format("{}: ink point, mean, exact", c.name), "0.22 / - / 0.95 (tri.)",

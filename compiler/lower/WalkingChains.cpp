@@ -3,6 +3,7 @@
 #include "compiler/ir/BuiltValue.h"
 #include "compiler/ir/Plane.h"
 #include "compiler/lower/Bisection.h"
+#include "compiler/lower/ChainSelection.h"
 #include "compiler/lower/WalkingFamily.h"
 
 #include <numbers>
@@ -22,7 +23,7 @@ namespace {
 // A residual no member reaches: larger than any reach, finite in single precision.
 constexpr double kFar = 1e30;
 // Convergents of theta / 2 pi looked through for the period: their denominators at least
-// double every two steps, so 24 reach far past kMaxChains.
+// double every two steps, so 24 reach past kMaxSelected.
 constexpr double kPeriodConvergents = 24;
 // A run of up to this many members within reach is summed member by member (runUnion).
 constexpr double kChainRun = 12;
@@ -40,7 +41,8 @@ constexpr double kChainRun = 12;
 // The period is the first convergent denominator q of |theta| / 2 pi whose remainder
 // e = q theta - 2 pi p (a turn of the chain a member) turns no chain of the capped
 // interval by more than kChainDrift: each member is read at its own angle j theta + i e,
-// and over so small a turn h_j stays convex to first order. 0 where no such q <= kMaxChains.
+// and over so small a turn h_j stays convex to first order. 0 where no such q <= kMaxSelected.
+// Past kMaxChains the chains are not all drawn: ChainSelection.h picks those that reach.
 class Chains {
   public:
     Chains(ir::Builder& b, const ChainInputs* in) : b_(b), in_(in) {}
@@ -50,18 +52,19 @@ class Chains {
         ValueId x = b_.div(b_.abs(turnAngle), c(turn));
         auto fits = [&](ValueId p, ValueId q) {
             ValueId within = b_.mul(q, c(kChainDrift / (turn * kWalkSpanCap)));
-            return both(b_.le(q, c(kMaxChains)), b_.le(b_.abs(b_.sub(b_.mul(q, x), p)), within));
+            return both(b_.le(q, c(kMaxSelected)), b_.le(b_.abs(b_.sub(b_.mul(q, x), p)), within));
         };
         ValueId nearest = b_.round(x); // q = 1: p whole turns
         ValueId whole = b_.floor(x);
         ValueId first = fits(nearest, c(1.0));
-        // Carried: step, fract, p, q, the previous p and q, found q (0: none), its p.
+        // Carried: step, fract, p, q, the previous p and q, found q (0: none), its p, and the
+        // q before it (p q' - p' q = +-1 for consecutive convergents: p's inverse is +-q').
         Vals res = b_.loop(
             {c(0.0), b_.sub(x, whole), whole, c(1.0), c(1.0), c(0.0),
-             b_.select(first, c(1.0), c(0.0)), nearest},
+             b_.select(first, c(1.0), c(0.0)), nearest, c(0.0)},
             [&](std::span<const ValueId> v) {
                 return Vals{both(both(b_.lt(v[0], c(kPeriodConvergents)), b_.gt(v[1], c(1e-12))),
-                                 both(eq(v[6], c(0.0)), b_.le(v[3], c(kMaxChains))))};
+                                 both(eq(v[6], c(0.0)), b_.le(v[3], c(kMaxSelected))))};
             },
             [&](std::span<const ValueId> v) {
                 ValueId y = b_.div(c(1.0), v[1]);
@@ -69,12 +72,22 @@ class Chains {
                 ValueId p = b_.add(b_.mul(a, v[2]), v[4]);
                 ValueId q = b_.add(b_.mul(a, v[3]), v[5]);
                 ValueId hit = fits(p, q);
-                return Vals{b_.add(v[0], c(1.0)),      b_.sub(y, a),           p, q, v[2], v[3],
-                            b_.select(hit, q, c(0.0)), b_.select(hit, p, v[7])};
+                return Vals{b_.add(v[0], c(1.0)),
+                            b_.sub(y, a),
+                            p,
+                            q,
+                            v[2],
+                            v[3],
+                            b_.select(hit, q, c(0.0)),
+                            b_.select(hit, p, v[7]),
+                            b_.select(hit, v[3], v[8])};
             });
         ValueId sign = b_.select(b_.lt(turnAngle, c(0.0)), c(-1.0), c(1.0));
         ValueId drift = b_.sub(b_.mul(res[6], turnAngle), b_.mul(sign, b_.mul(res[7], c(turn))));
-        return {res[6], res[7], drift};
+        ValueId q = b_.max(res[6], c(1.0));
+        ValueId pq = wholeMod(b_, b_.mul(wholeMod(b_, res[7], q), res[8]), q);
+        ValueId inverse = wholeMod(b_, b_.select(eq(pq, c(1.0)), res[8], b_.neg(res[8])), q);
+        return {res[6], res[7], drift, inverse};
     }
 
     // The crowd drawn chain by chain (above): the chains laid over one another as independent
@@ -85,25 +98,62 @@ class Chains {
     // curvature leaves, for circles), and that overlap is ink both chains hold: laid
     // independently it would be counted twice. With that shared stroke m, the pair's union is
     // 1 - (1 - A)(1 - B) / (1 - m). The chains are visited in the order 0, q/2, 1, 1 + q/2, ...
-    // so that a pair is met in two consecutive steps. Returns the ink.
-    ValueId draw(const TurnPeriod& per) {
+    // so that a pair is met in two consecutive steps.
+    // Where `picked`, only the chains of the two windows are visited (ChainSelection.h), each
+    // with its mirror, the second window's chains that the first's (or their mirrors) already
+    // drew left out; the near members [lo, split) are then laid over them one by one. Returns
+    // the ink.
+    ValueId draw(const TurnPeriod& per, ValueId picked, const ChainWindows& win) {
         ValueId q = per.q;
         ValueId halfQ = b_.mul(q, c(0.5));
         ValueId halfP = b_.mul(per.p, c(0.5));
         ValueId mirror =
             both(eq(halfQ, b_.floor(halfQ)), b_.emit(Op::Ne, {halfP, b_.floor(halfP)}));
-        // Carried: step, the paper left, the pending chain's ink and its last member's residual.
+        ValueId steps = b_.select(picked, c(4.0 * kSelectSlots), q);
+        auto inWindow = [&](int w, ValueId k) {
+            return b_.lt(wholeMod(b_, b_.sub(k, win.from[w]), q), win.count[w]);
+        };
+        // Every chain drawn: the windows' and, where paired, their mirrors'.
+        auto drawnChain = [&](ValueId k) {
+            ValueId mk = wholeMod(b_, b_.add(k, halfQ), q);
+            ValueId own = b_.emit(Op::Or, {inWindow(0, k), inWindow(1, k)});
+            return b_.emit(
+                Op::Or, {own, both(mirror, b_.emit(Op::Or, {inWindow(0, mk), inWindow(1, mk)}))});
+        };
+        ValueId nearBlank = nearPaper(per, drawnChain);
+        auto inFirst = [&](ValueId k) { return inWindow(0, k); };
+        // Carried: step, the paper left, the pending chain's ink, its last member's residual
+        // and its band; picked: the band of the window's last pair drawn and each window's sum.
         Vals res = b_.loop(
-            {c(0.0), c(1.0), c(0.0), c(kFar)},
-            [&](std::span<const ValueId> v) { return Vals{b_.lt(v[0], q)}; },
+            {c(0.0), c(1.0), c(0.0), c(kFar), c(kFar), c(-kFar), c(kFar), c(-kFar), c(0.0), c(0.0)},
+            [&](std::span<const ValueId> v) { return Vals{b_.lt(v[0], steps)}; },
             [&](std::span<const ValueId> v) {
                 ValueId t = v[0];
                 ValueId pairStep = b_.floor(b_.mul(t, c(0.5)));
                 ValueId second = b_.emit(Op::Ne, {pairStep, b_.mul(t, c(0.5))});
                 ValueId j =
                     b_.select(mirror, b_.add(pairStep, b_.select(second, halfQ, c(0.0))), t);
-                auto [ink, tail] = chain(j, q, per.drift);
-                ValueId shared = overlapMean(v[3], b_.neg(tail));
+                // Picked: pair step `pairStep` is the window's slot d; its chain sits at turn k.
+                ValueId later = b_.emit(Op::Ge, {pairStep, c(kSelectSlots)});
+                ValueId d = b_.sub(pairStep, b_.select(later, c(kSelectSlots), c(0.0)));
+                ValueId k = wholeMod(b_, b_.add(b_.select(later, win.from[1], win.from[0]), d), q);
+                ValueId jk = wholeMod(b_, b_.mul(k, per.inverse), q);
+                jk = b_.select(second, wholeMod(b_, b_.add(jk, halfQ), q), jk);
+                ValueId drawn = b_.emit(
+                    Op::Or, {inFirst(k), both(mirror, inFirst(wholeMod(b_, b_.add(k, halfQ), q)))});
+                ValueId take = both(b_.lt(d, b_.select(later, win.count[1], win.count[0])),
+                                    b_.emit(Op::Or, {mirror, b_.emit(Op::Not, {second})}));
+                take = both(take, b_.emit(Op::Not, {both(later, drawn)}));
+                j = b_.select(picked, jk, j);
+                ValueId active = b_.emit(Op::Or, {b_.emit(Op::Not, {picked}), take});
+                // A window's chains are nearly one line at the pixel: across its normal.
+                along_ =
+                    b_.select(picked, b_.select(later, win.along[1], win.along[0]), in_->along);
+                across_ =
+                    b_.select(picked, b_.select(later, win.across[1], win.across[0]), in_->across);
+                ChainInk got = chain(j, q, per.drift, active);
+                ValueId ink = got.ink;
+                ValueId shared = overlapMean(v[3], b_.neg(got.tail));
                 ValueId kept = b_.max(b_.sub(c(1.0), shared), c(1e-6));
                 ValueId pairBlank = b_.div(b_.mul(b_.sub(c(1.0), v[2]), b_.sub(c(1.0), ink)), kept);
                 pairBlank = b_.clamp(pairBlank, c(0.0), b_.sub(c(1.0), b_.max(v[2], ink)));
@@ -111,12 +161,67 @@ class Chains {
                 ValueId opens = both(mirror, b_.emit(Op::Not, {second}));
                 ValueId paper = b_.select(
                     opens, v[1], b_.mul(v[1], b_.select(closes, pairBlank, b_.sub(c(1.0), ink))));
-                return Vals{b_.add(t, c(1.0)), paper, ink, tail};
+                // Picked: the chains of a window are nearly parallel lines sorted along its
+                // normal (by turn), and the strokes of neighbouring chains lie side by side:
+                // laid as independent inks they leave paper between them that is not there
+                // (a solid fan of lines drawn at 0.9). So a window's pairs are summed, each less
+                // its overlap with the last pair drawn, as runUnion sums a run's strokes. A
+                // mirror's band is its own residuals turned over (its normal is the other way).
+                ValueId pairInk = b_.select(closes, b_.sub(c(1.0), pairBlank), ink);
+                ValueId lo = b_.select(closes, b_.min(v[4], b_.neg(got.hi)), got.lo);
+                ValueId hi = b_.select(closes, b_.max(v[5], b_.neg(got.lo)), got.hi);
+                ValueId firstSlot = eq(d, c(0.0));
+                ValueId prevLo = b_.select(firstSlot, c(kFar), v[6]);
+                ValueId prevHi = b_.select(firstSlot, c(-kFar), v[7]);
+                ValueId overlap = intervalMean(b_.max(prevLo, lo), b_.min(prevHi, hi));
+                ValueId some = b_.lt(lo, hi);
+                ValueId add = b_.select(some, b_.max(b_.sub(pairInk, overlap), c(0.0)), c(0.0));
+                ValueId pairDone = b_.emit(Op::Not, {opens});
+                add = b_.select(pairDone, add, c(0.0));
+                ValueId keep = both(pairDone, some);
+                return Vals{b_.add(t, c(1.0)),
+                            paper,
+                            ink,
+                            got.tail,
+                            got.lo,
+                            got.hi,
+                            b_.select(keep, lo, prevLo),
+                            b_.select(keep, hi, prevHi),
+                            b_.add(v[8], b_.select(later, c(0.0), add)),
+                            b_.add(v[9], b_.select(later, add, c(0.0)))};
             });
-        return b_.sub(c(1.0), res[1]);
+        ValueId windows =
+            b_.mul(b_.sub(c(1.0), b_.min(res[8], c(1.0))), b_.sub(c(1.0), b_.min(res[9], c(1.0))));
+        return b_.sub(c(1.0), b_.mul(b_.select(picked, windows, res[1]), nearBlank));
     }
-    // Chain j's ink over the footprint, and its last member's signed residual.
-    std::pair<ValueId, ValueId> chain(ValueId j, ValueId q, ValueId drift) {
+    // The paper the near members [lo, split) leave, each laid as an independent ink: they stand
+    // at every turn and cross the pixel at their own angles. A member of a chain that is drawn
+    // is left to its chain (from its first member on): near the far form's start such a member
+    // can be the same line as its chain's far members, and laid apart it was counted twice.
+    template <class Drawn>
+    ValueId nearPaper(const TurnPeriod& per, Drawn drawnChain) {
+        along_ = in_->along;
+        across_ = in_->across;
+        ValueId pm = wholeMod(b_, per.p, per.q);
+        Vals res = b_.loop(
+            {in_->lo, c(1.0)},
+            [&](std::span<const ValueId> v) { return Vals{b_.lt(v[0], in_->split)}; },
+            [&](std::span<const ValueId> v) {
+                ValueId k = wholeMod(b_, b_.mul(wholeMod(b_, v[0], per.q), pm), per.q);
+                auto [x, y] = in_->unturn(b_.mul(v[0], in_->turn));
+                ValueId h = b_.abs(in_->residual(v[0], x, y));
+                ValueId near = both(b_.lt(h, in_->reach), b_.emit(Op::Not, {drawnChain(k)}));
+                ValueId ink = b_.select(near, memberMean(h), c(0.0));
+                return Vals{b_.add(v[0], c(1.0)), b_.mul(v[1], b_.sub(c(1.0), ink))};
+            });
+        return b_.denan(res[1], c(1.0));
+    }
+    // Chain j's ink over the footprint, its last member's signed residual, and the band of
+    // residuals its strokes within reach cover (lo > hi: none). Nothing where not `active`.
+    struct ChainInk {
+        ValueId ink, tail, lo, hi;
+    };
+    ChainInk chain(ValueId j, ValueId q, ValueId drift, ValueId active) {
         ValueId first = b_.max(ceil(b_.div(b_.sub(in_->lo, j), q)), c(0.0));
         ValueId after = b_.add(b_.floor(b_.div(b_.sub(b_.sub(in_->end, c(1.0)), j), q)), c(1.0));
         // The chain's first member turned by j theta + first e, with a cosine and a sine; the
@@ -129,7 +234,7 @@ class Chains {
             return in_->residual(b_.add(j, b_.mul(q, i)), turned.x.id, turned.y.id);
         };
         Vals got = b_.ifThenElse(
-            b_.lt(first, after),
+            both(active, b_.lt(first, after)),
             [&] {
                 ValueId last = b_.sub(after, c(1.0));
                 ValueId reach = in_->reach;
@@ -147,20 +252,23 @@ class Chains {
                               b_.select(b_.le(g1, c(0.0)), hLast,
                                         b_.add(hFirst, b_.mul(g0, b_.sub(meet, first)))));
                 below = b_.select(b_.lt(b_.sub(last, first), c(2.0)), c(-kFar), below);
-                ValueId ink = b_.ifThenElse(
-                    b_.lt(below, reach), [&] { return Vals{runs(first, last, h)}; },
-                    [&] { return Vals{c(0.0)}; })[0];
-                return Vals{ink, hLast};
+                Vals ink = b_.ifThenElse(
+                    b_.lt(below, reach), [&] { return runs(first, last, h); },
+                    [&] {
+                        return Vals{c(0.0), c(kFar), c(-kFar)};
+                    });
+                return Vals{ink[0], hLast, ink[1], ink[2]};
             },
             [&] {
-                return Vals{c(0.0), c(kFar)};
+                return Vals{c(0.0), c(kFar), c(kFar), c(-kFar)};
             });
-        return {got[0], got[1]};
+        return {got[0], got[1], got[2], got[3]};
     }
     // The ink of chain [first, last] (residuals h(i), convex in i) where some member may be
-    // within reach: the runs of members within reach on either side of the lowest member.
+    // within reach: the runs of members within reach on either side of the lowest member;
+    // with the band of residuals their strokes cover (lo > hi where no member reaches).
     template <class H>
-    ValueId runs(ValueId first, ValueId last, H h) {
+    Vals runs(ValueId first, ValueId last, H h) {
         ValueId reach = in_->reach;
         ValueId after = b_.add(last, c(1.0));
         ValueId low = firstWhere(b_, first, last, [&](ValueId i) {
@@ -189,10 +297,24 @@ class Chains {
                     b_.max(b_.sub(runUnion(b_.select(fromLow, low, ra), rb, h, true),
                                   b_.select(fromLow, memberMean(b_.abs(hLow)), c(0.0))),
                            c(0.0));
-                return Vals{
-                    b_.sub(c(1.0), b_.mul(b_.sub(c(1.0), falling), b_.sub(c(1.0), rising)))};
+                // The band: a run's members fall (rise) in residual along it, so its ends are
+                // its first and last members'.
+                ValueId half = b_.mul(in_->stroke, c(0.5));
+                ValueId someFalling = b_.lt(fa, fb);
+                ValueId someRising = b_.lt(b_.select(fromLow, low, ra), rb);
+                ValueId fallLo = h(b_.max(b_.sub(fb, c(1.0)), fa)), fallHi = h(fa);
+                ValueId riseLo = h(b_.select(fromLow, low, ra));
+                ValueId riseHi = h(b_.max(b_.sub(rb, c(1.0)), b_.select(fromLow, low, ra)));
+                ValueId lo = b_.min(b_.select(someFalling, fallLo, c(kFar)),
+                                    b_.select(someRising, riseLo, c(kFar)));
+                ValueId hi = b_.max(b_.select(someFalling, fallHi, c(-kFar)),
+                                    b_.select(someRising, riseHi, c(-kFar)));
+                return Vals{b_.sub(c(1.0), b_.mul(b_.sub(c(1.0), falling), b_.sub(c(1.0), rising))),
+                            b_.sub(lo, half), b_.add(hi, half)};
             },
-            [&] { return Vals{c(0.0)}; })[0];
+            [&] {
+                return Vals{c(0.0), c(kFar), c(-kFar)};
+            });
     }
     // cos a and sin a for |a| <= kChainDrift, by their Taylor series to a^6 and a^7: within
     // 1e-13 there, where a cosine and a sine would be two calls per member.
@@ -278,7 +400,9 @@ class Chains {
     ValueId both(ValueId a, ValueId b) { return b_.emit(Op::And, {a, b}); }
     ValueId eq(ValueId a, ValueId b) { return b_.emit(Op::Eq, {a, b}); }
     ValueId ceil(ValueId v) { return b_.neg(b_.floor(b_.neg(v))); }
-    ValueId bandMean(ValueId centre, ValueId half) { return in_->bandMean(centre, half); }
+    ValueId bandMean(ValueId centre, ValueId half) {
+        return in_->bandMean(centre, half, along_, across_);
+    }
     // One member's stroke (half-width t / 2) at residual `value`.
     ValueId memberMean(ValueId value) { return bandMean(value, b_.mul(in_->stroke, c(0.5))); }
     // The overlap of the strokes centred at residuals a and b (signed, along a common normal):
@@ -290,6 +414,8 @@ class Chains {
 
     ir::Builder& b_;
     const ChainInputs* in_; // null for the period alone
+    // The footprint the strokes being summed are drawn with.
+    ValueId along_ = ir::kNoValue, across_ = ir::kNoValue;
 };
 
 } // namespace
@@ -298,8 +424,9 @@ TurnPeriod turnPeriod(ir::Builder& b, ValueId turn) {
     return Chains(b, nullptr).period(turn);
 }
 
-ValueId chainInk(ir::Builder& b, const ChainInputs& in, const TurnPeriod& period) {
-    return Chains(b, &in).draw(period);
+ValueId chainInk(ir::Builder& b, const ChainInputs& in, const TurnPeriod& period, ValueId picked,
+                 const ChainWindows& windows) {
+    return Chains(b, &in).draw(period, picked, windows);
 }
 
 } // namespace moire::lower

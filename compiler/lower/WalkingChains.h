@@ -16,11 +16,16 @@ namespace moire::lower {
 // The period of a turn, found in the kernel: the first convergent denominator q of
 // |turn| / 2 pi (p its numerator) whose remainder drift = q turn - 2 pi p turns no chain of the
 // capped interval by more than kChainDrift radians; q = 0 where there is none up to
-// kMaxChains.
+// kMaxSelected; `inverse` is p's inverse modulo q (the chain j whose members stand at turn
+// 2 pi k / q is k inverse mod q).
 struct TurnPeriod {
-    ir::ValueId q, p, drift;
+    ir::ValueId q, p, drift, inverse;
 };
+// Chains drawn one by one, every chain of the period.
 constexpr double kMaxChains = 72;
+// Past kMaxChains, the period for which the chains that reach the pixel are picked
+// (ChainSelection.h): k inverse stays a whole number a float holds (q^2 < 2^24).
+constexpr double kMaxSelected = 2048;
 constexpr double kChainDrift = 0.05;
 TurnPeriod turnPeriod(ir::Builder& b, ir::ValueId turn);
 
@@ -28,17 +33,29 @@ struct ChainInputs {
     ir::ValueId turn;    // theta
     ir::ValueId stroke;  // the stroke's width as written, in residual units
     ir::ValueId lo, end; // the members [lo, end) are drawn
-    ir::ValueId reach;   // past this |residual| a member's stroke misses the footprint
+    // Where the chains are picked: the near members [lo, split) are drawn one by one and the
+    // chains from split on; split = lo otherwise.
+    ir::ValueId split;
+    ir::ValueId reach; // past this |residual| a member's stroke misses the footprint
     // h_p(n), given Rot(-n theta) p: the point turned back by member n's own turn.
     std::function<ir::ValueId(ir::ValueId n, ir::ValueId turnedX, ir::ValueId turnedY)> residual;
     // Rot(-angle) p.
     std::function<std::pair<ir::ValueId, ir::ValueId>(ir::ValueId angle)> unturn;
-    // The footprint mean of the band of residuals `half` either side of `centre`.
-    std::function<ir::ValueId(ir::ValueId centre, ir::ValueId half)> bandMean;
+    // The footprint mean of the band of residuals `half` either side of `centre`, the pixel's
+    // extents across the band's normal being (along, across) (distanceMeanInk).
+    std::function<ir::ValueId(ir::ValueId centre, ir::ValueId half, ir::ValueId along,
+                              ir::ValueId across)>
+        bandMean;
+    // The footprint every chain is drawn with, but for picked windows (ChainWindows).
+    ir::ValueId along, across;
 };
 
+struct ChainWindows;
+
 // The footprint mean of the union of every member's stroke in [lo, end), for a period found
-// (period.q > 0).
-ir::ValueId chainInk(ir::Builder& b, const ChainInputs& in, const TurnPeriod& period);
+// (period.q > 0): every chain of it, or where `picked` (a bool), the near members [lo, split)
+// one by one and the chains of `windows` alone (ChainSelection.h).
+ir::ValueId chainInk(ir::Builder& b, const ChainInputs& in, const TurnPeriod& period,
+                     ir::ValueId picked, const ChainWindows& windows);
 
 } // namespace moire::lower

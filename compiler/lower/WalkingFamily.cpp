@@ -4,6 +4,7 @@
 #include "compiler/ir/Plane.h"
 #include "compiler/ir/Semantics.h"
 #include "compiler/lower/Bisection.h"
+#include "compiler/lower/ChainSelection.h"
 #include "compiler/lower/Prefilter.h"
 #include "compiler/lower/WalkingChains.h"
 
@@ -775,16 +776,49 @@ class Solver {
                     return b_.select(exact, closed, strided);
                 };
                 TurnPeriod period{pick(c(1.0), turned.q), pick(c(0.0), turned.p),
-                                  pick(c(0.0), turned.drift)};
+                                  pick(c(0.0), turned.drift), pick(c(0.0), turned.inverse)};
                 const Across box = facing();
                 Across footprint{pick(foot.along, box.along), pick(foot.across, box.across)};
-                return b_.ifThenElse(
-                    b_.gt(period.q, c(0.0)),
+                // Every chain where the period is short; past it, a polygon's chains that
+                // reach the pixel (ChainSelection.h), where its near members are few.
+                ValueId all = both(b_.gt(period.q, c(0.0)), b_.le(period.q, c(kMaxChains)));
+                // Picked only at the marginal drift with a turn that returns exactly (within
+                // a twentieth of a pixel over the interval): there every far member of a chain
+                // is one stroke, so each chain is drawn up to two periods past `split` (later
+                // members add nothing), which keeps its residuals where single precision still
+                // tells them apart (at n = 2^16 their ulp is a tenth of a thin stroke).
+                ValueId split = farMembersFrom(end);
+                ValueId marginal = b_.le(b_.abs(b_.sub(drift_, s_)), c(kWalkMarginal));
+                ValueId turnsBack =
+                    b_.le(b_.mul(b_.abs(b_.div(period.drift, b_.max(period.q, c(1.0)))),
+                                 b_.mul(span, r_)),
+                          b_.mul(memberPixel(), c(0.05)));
+                ValueId picked = both(both(b_.emit(Op::Not, {exact}), b_.emit(Op::Not, {round_})),
+                                      both(b_.gt(period.q, c(kMaxChains)),
+                                           b_.le(b_.sub(split, crowdLo_), c(kNearDrawn))));
+                picked = both(picked, both(marginal, turnsBack));
+                ValueId pickedEnd = b_.min(end, b_.add(split, b_.mul(period.q, c(2.0))));
+                Vals drawn = b_.ifThenElse(
+                    b_.emit(Op::Or, {all, picked}),
                     [&] {
-                        return Vals{c(0.0),
-                                    chains(period, pick(from, crowdLo_), pick(to, end), footprint)};
+                        ValueId lo = pick(from, crowdLo_);
+                        return chains(period, lo, b_.select(all, pick(to, end), pickedEnd),
+                                      footprint, b_.emit(Op::Not, {all}),
+                                      b_.select(all, lo, split));
                     },
-                    [&] { return crowdDensity(span); });
+                    [&] {
+                        return Vals{c(0.0), c(0.0)};
+                    });
+                ValueId weight = b_.select(all, c(1.0), drawn[1]);
+                return b_.ifThenElse(
+                    b_.lt(weight, c(1.0)),
+                    [&] {
+                        Vals estimate = crowdDensity(span);
+                        return Vals{estimate[0], b_.mix(estimate[1], drawn[0], weight)};
+                    },
+                    [&] {
+                        return Vals{c(0.0), drawn[0]};
+                    });
             },
             [&] {
                 return Vals{c(0.0), c(0.0)};
@@ -850,22 +884,79 @@ class Solver {
     // A turn of a short period (no turn included), drawn member by member, chain by chain
     // (WalkingChains.h), over the members [lo, end). Not counted in the tally.
     // `foot` is the footprint across the members' normal (a box facing each, `facing()`, where
-    // they turn).
-    ValueId chains(const TurnPeriod& period, ValueId lo, ValueId end, const Across& foot) {
+    // they turn). Where `picked`, a long period: the chains that reach the pixel alone, from
+    // `split` on, and the near members before it one by one (ChainSelection.h).
+    // Returns the ink and how far the picked chains hold (1 where every chain is drawn).
+    Vals chains(const TurnPeriod& period, ValueId lo, ValueId end, const Across& foot,
+                ValueId picked, ValueId split) {
         ChainInputs in;
         in.turn = in_.turn;
         in.stroke = in_.stroke;
         in.lo = lo;
         in.end = end;
-        in.reach = memberReach(foot);
+        in.split = split;
+        // Picked windows are drawn across their own normal: the reach of a square pixel's
+        // diagonal bounds every footprint's.
+        in.reach = b_.select(picked, b_.add(memberHalf(), b_.mul(memberPixel(), c(kHalfDiagonal))),
+                             memberReach(foot));
         in.residual = [&](ValueId n, ValueId x, ValueId y) { return residualAt(n, x, y); };
         in.unturn = [&](ValueId angle) { return unturn(angle); };
-        in.bandMean = [&](ValueId centre, ValueId half) { return bandMean(centre, half, foot); };
+        in.bandMean = [&](ValueId centre, ValueId half, ValueId along, ValueId across) {
+            return bandMean(centre, half, Across{along, across});
+        };
+        in.along = foot.along;
+        in.across = foot.across;
         counting_ = false;
-        ValueId ink = chainInk(b_, in, period);
+        Vals windows = b_.ifThenElse(
+            picked,
+            [&] {
+                ChainWindows w = selectChains(b_, in, period);
+                Vals out{w.weight, w.from[0], w.count[0], w.from[1], w.count[1]};
+                for (int k = 0; k < 2; ++k) {
+                    // The normal in the point's frame, taken to the pixel's (the chain rule
+                    // through the layer's frame), then across the pixel's sides.
+                    auto [gx, gy] = toPixelFrame(w.normalX[k], w.normalY[k]);
+                    Across a = across(gx, gy);
+                    out.push_back(a.along);
+                    out.push_back(a.across);
+                }
+                return out;
+            },
+            [&] {
+                return Vals{c(1.0),     c(0.0),      c(0.0),     c(0.0),     c(0.0),
+                            foot.along, foot.across, foot.along, foot.across};
+            });
+        ChainWindows win;
+        win.weight = windows[0];
+        win.from[0] = windows[1], win.count[0] = windows[2];
+        win.from[1] = windows[3], win.count[1] = windows[4];
+        win.along[0] = windows[5], win.across[0] = windows[6];
+        win.along[1] = windows[7], win.across[1] = windows[8];
+        ValueId ink = b_.ifThenElse(
+            b_.gt(win.weight, c(0.0)), [&] { return Vals{chainInk(b_, in, period, picked, win)}; },
+            [&] { return Vals{c(0.0)}; })[0];
         counting_ = true;
         // A NaN radius (see run()) draws nothing here either.
-        return b_.denan(ink, c(0.0));
+        return {b_.denan(ink, c(0.0)), win.weight};
+    }
+    // A gradient in the frame of the point p, (x, y), as one in the pixel's (the independent
+    // variables'): J^T (x, y), J the Jacobian of p, so that a layer's own turn is kept.
+    std::pair<ValueId, ValueId> toPixelFrame(ValueId x, ValueId y) {
+        ValueId gx = b_.add(b_.mul(x, b_.emit(Op::DerivX, {in_.px})),
+                            b_.mul(y, b_.emit(Op::DerivX, {in_.py})));
+        ValueId gy = b_.add(b_.mul(x, b_.emit(Op::DerivY, {in_.px})),
+                            b_.mul(y, b_.emit(Op::DerivY, {in_.py})));
+        return {gx, gy};
+    }
+    // The first member whose residual at the pixel is its far form (ChainSelection.h): past
+    // n ||delta|| sin(pi / N) = r, the pulled-back point stays within the facet (or the two at
+    // a vertex) that faces -delta, and the residual over a turn is that facet's line moved by
+    // n (m - s) alone; kFarForm times that, within [crowdLo_, end].
+    ValueId farMembersFrom(ValueId end) {
+        ValueId sinHalf = b_.sqrt(b_.sub(c(1.0), b_.mul(kappa_, kappa_)));
+        ValueId n = b_.div(b_.mul(r_, c(kFarForm)), b_.max(b_.mul(len_, sinHalf), c(1e-9)));
+        n = b_.neg(b_.floor(b_.neg(b_.min(n, c(kFar)))));
+        return b_.clamp(b_.denan(n, end), crowdLo_, end);
     }
     // The crowd's density and its mean ink.
     Vals crowdDensity(ValueId span) {
@@ -1266,6 +1357,12 @@ class Solver {
     static constexpr double kCrowdConvergents = 24;
     // Near members counted one by one (countedCrossings); beyond, the phase average.
     static constexpr double kNearCounted = 256;
+    // Picked chains (ChainSelection.h): the near members drawn one by one, at most, and how
+    // far past n ||delta|| sin(pi / N) = r the far members are taken to start.
+    static constexpr double kNearDrawn = 256;
+    static constexpr double kFarForm = 1.5;
+    // Half a square's diagonal over its side: the farthest its footprint reaches.
+    static constexpr double kHalfDiagonal = 0.7072;
     // The rest of the near field: members and angles of its phase average (phaseAveraged).
     static constexpr double kPhaseNodes = 12;
     static constexpr double kPhaseAngles = 24;

@@ -11,7 +11,8 @@ using ir::ValueId;
 
 bool joinsFineUnion(const Footprint& footprint, const PhaseSample& sample) {
     return footprint.grad != ir::kNoValue && footprint.gradX != ir::kNoValue &&
-           sample.z != ir::kNoValue && !sample.lattice && !sample.morph;
+           footprint.edge == ir::kNoValue && sample.z != ir::kNoValue && !sample.lattice &&
+           !sample.morph;
 }
 
 namespace {

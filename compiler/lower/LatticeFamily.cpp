@@ -24,6 +24,7 @@
 #include "compiler/lower/LatticeFamily.h"
 
 #include "compiler/diag/Diagnostics.h"
+#include "compiler/lower/LatticeCrowd.h"
 
 #include <cmath>
 #include <numbers>
@@ -325,7 +326,23 @@ FamilyBuilder latticeBuilder(LatticeKind kind) {
     return [kind](ir::Builder& b, const FamilyInputs& in) {
         MOIRE_CHECK(in.params.size() == 2, "a lattice takes (scale, edges)");
         const LayerFrame& at = in.at;
-        return latticeFields(b, kind, {at.qx, at.qy, at.spacing, in.params[0], in.params[1][0]});
+        LayerFields out =
+            latticeFields(b, kind, {at.qx, at.qy, at.spacing, in.params[0], in.params[1][0]});
+        // Under the mean filter, where its members crowd, the share of the plane they cover
+        // (LatticeCrowd.h). Not where a field is encoded: it moves the members by its own
+        // gradient, which the closed form does not know.
+        if (in.crowd && in.enc.field == ir::kNoValue) {
+            const std::vector<ValueId>& scale = in.params[0];
+            LatticeCrowdInputs crowd;
+            crowd.spacing = at.spacing;
+            crowd.sx = scale[0];
+            crowd.sy = scale.size() == 2 ? scale[1] : scale[0];
+            crowd.stroke = in.layerProp("stroke")[0];
+            crowd.pixel = b.div(in.band.a, b.constF(kAntialiasPixels));
+            crowd.drawEdges = b.emit(ir::Op::Ne, {in.params[1][0], b.constF(0.0)});
+            out.crowd = latticeCrowd(b, kind, crowd);
+        }
+        return out;
     };
 }
 

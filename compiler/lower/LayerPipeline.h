@@ -58,16 +58,24 @@ struct MorphSample {
 // What the mean filter reads of a phase family (Prefilter.h): its fractional index, whose
 // members sit at the integers and run locally evenly, the index gradient's length per world
 // unit and its components, and the first member where the family starts at one. Set by
-// phaseFamilyFields only: a family whose members are not that (walking, lattices, morphs, distance
-// families) leaves it unset and is point-sampled under either filter.
+// phaseFamilyFields and by the pencil (its winding index, with Footprint::edge): a family whose
+// members are not that (walking, lattices, morphs, distance families) leaves it unset and is
+// drawn from its distance.
 struct Footprint {
     ir::ValueId index = ir::kNoValue, grad = ir::kNoValue;
     ir::ValueId gradX = ir::kNoValue, gradY = ir::kNoValue; // the gradient's components
     std::optional<int> first;
+    // The world distance from the point to a region the members do not enter (the pencil's
+    // open disc), where the periodic sum would count them: where the footprint reaches it,
+    // the nearest member's distance mean, as below a first member. kNoValue: none. A family
+    // with one is not a phase family to the fine union or the stroke pairs, which read the
+    // index alone; they take it as a distance family whose members may crowd.
+    ir::ValueId edge = ir::kNoValue;
 };
 
 // A family's own estimate of the ink its members lay where it cannot resolve them itself (the
-// walking solver past its search budget, which strides over the members): `mean`, the pixel's
+// walking solver past its search budget, which strides over the members; a lattice whose
+// cells are finer than the pixel, LatticeCrowd.h): `mean`, the pixel's
 // mean ink of the stroke as written over the crowd (WalkingFamily.cpp derives it from the
 // members' density), and `engaged` in [0, 1], how far it is to be trusted over the drawn
 // stroke (0 where the search was exhaustive). Under the mean filter the compose step hands the

@@ -10,6 +10,11 @@ namespace moire::lower {
 using ir::Op;
 using ir::ValueId;
 
+namespace {
+// An edge no pixel reaches: the pencil without a disc.
+constexpr double kNoDisc = 1e30;
+} // namespace
+
 LayerFields pencilFields(ir::Builder& b, ValueId qx, ValueId qy, ValueId lines, ValueId start) {
     // Whole lines only: a fraction would leave a seam at theta = pi.
     ValueId n = b.max(b.constF(1.0), b.round(lines));
@@ -33,6 +38,14 @@ LayerFields pencilFields(ir::Builder& b, ValueId qx, ValueId qy, ValueId lines, 
     ValueId grad = b.max(b.hypot(out.gradX, out.gradY), b.constF(ir::kTiny));
     out.sample = phaseSample(b, smooth, b.round(smooth), grad, std::nullopt);
     out.sample.floor = hole;
+    // Under the mean filter the lines are averaged by their winding index, as a phase family's
+    // members are: it is linear across a pixel but at the centre, and it counts every line the
+    // pixel holds where they crowd towards the centre (the nearest line alone there drew the
+    // fan's core light). The line through a point at angle a from it is r |sin a| away and
+    // r a along the index's step, the same to second order where a stroke is. Where the
+    // pixel reaches the open disc, which no line enters, the nearest line's distance.
+    out.footprint = Footprint{smooth, grad, out.gradX, out.gradY, std::nullopt};
+    out.footprint.edge = b.select(b.gt(start, b.constF(0.0)), b.sub(r, start), b.constF(kNoDisc));
     return out;
 }
 

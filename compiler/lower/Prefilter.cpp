@@ -97,11 +97,20 @@ ValueId meanInk(ir::Builder& b, const Footprint& footprint, ValueId distance, Va
     ValueId mean = squareMeanInk(ir::BuiltValue(b, footprint.index), ir::BuiltValue(b, along),
                                  ir::BuiltValue(b, across), ir::BuiltValue(b, w))
                        .id;
-    if (!footprint.first) return mean;
-    // Where the footprint reaches below the first member (half the square's diagonal extent
-    // along the index), the nearest member's distance mean.
-    ValueId reach = b.mul(b.add(along, across), b.constF(0.5));
-    ValueId below = b.lt(b.sub(footprint.index, reach), b.constF(*footprint.first - 0.5));
+    if (!footprint.first && footprint.edge == ir::kNoValue) return mean;
+    ValueId below = b.constB(false);
+    if (footprint.first) {
+        // Where the footprint reaches below the first member (half the square's diagonal
+        // extent along the index), the nearest member's distance mean.
+        ValueId reach = b.mul(b.add(along, across), b.constF(0.5));
+        below = b.lt(b.sub(footprint.index, reach), b.constF(*footprint.first - 0.5));
+    }
+    if (footprint.edge != ir::kNoValue) {
+        // Where it reaches the region the members do not enter (within half the pixel's
+        // diagonal and the stroke), the same.
+        ValueId reach = b.add(b.mul(pixel.size, b.constF(0.7072)), halfWidth);
+        below = b.emit(ir::Op::Or, {below, b.lt(footprint.edge, reach)});
+    }
     return b.ifThenElse(
         below,
         [&] {

@@ -8,7 +8,8 @@ std::optional<StrokeAcross> strokeAcross(ir::Builder& b, const LayerFields& fiel
                                          ValueId halfWidth, const PixelFootprint& pixel) {
     ValueId zero = b.constF(0.0), one = b.constF(1.0);
     ValueId nu, nv, s, weight = one;
-    if (fields.footprint.grad != ir::kNoValue && fields.footprint.gradX != ir::kNoValue) {
+    if (fields.footprint.grad != ir::kNoValue && fields.footprint.gradX != ir::kNoValue &&
+        fields.footprint.edge == ir::kNoValue) {
         // A phase family: members at the integers of the index, which grows along its
         // gradient g by |g| a world unit, so the pixel's centre stands residual / |g| past
         // the nearest member along g.
@@ -51,6 +52,13 @@ std::optional<StrokeAcross> strokeAcross(ir::Builder& b, const LayerFields& fiel
             s = b.select(b.lt(residual, zero), b.sub(zero, s), s);
         }
         weight = b.select(some, one, zero);
+        if (fields.footprint.grad != ir::kNoValue) {
+            // A family averaged by its index but read here by its distance (Footprint::edge):
+            // where its members crowd, the nearest alone is not the pixel's ink either.
+            ValueId members = b.mul(fields.footprint.grad, pixel.size);
+            weight = b.mul(weight, b.sub(one, b.smoothstep(b.constF(kCrowdFrom),
+                                                           b.constF(kCrowdFull), members)));
+        }
     }
     if (fields.crowd.engaged != ir::kNoValue)
         weight = b.mul(weight, b.sub(one, b.clamp(fields.crowd.engaged, zero, one)));

@@ -782,17 +782,21 @@ class Solver {
                 // Every chain where the period is short; past it, a polygon's chains that
                 // reach the pixel (ChainSelection.h), where its near members are few.
                 ValueId all = both(b_.gt(period.q, c(0.0)), b_.le(period.q, c(kMaxChains)));
-                // Picked only at the marginal drift with a turn that returns exactly (within
-                // a twentieth of a pixel over the interval): there every far member of a chain
-                // is one stroke, so each chain is drawn up to two periods past `split` (later
-                // members add nothing), which keeps its residuals where single precision still
-                // tells them apart (at n = 2^16 their ulp is a tenth of a thin stroke).
+                // Picked only at the marginal drift with a turn that returns (its members a
+                // period apart within a quarter of a pixel over the interval): there every far
+                // member of a chain is one stroke, so each chain is drawn up to two periods
+                // past `split` (later members add nothing), which keeps its residuals where
+                // single precision still tells them apart (at n = 2^16 their ulp is a tenth of
+                // a thin stroke). A quarter of a pixel, not less: a float's remainder of a
+                // turn that returns exactly is about 1e-6 (q ulps of the turn), which moves the
+                // members of the span cap 9e-5 r pixels at q = 720, and the JIT must pick where
+                // the interpreter does out to the corners of a 4K frame.
                 ValueId split = farMembersFrom(end);
                 ValueId marginal = b_.le(b_.abs(b_.sub(drift_, s_)), c(kWalkMarginal));
                 ValueId turnsBack =
                     b_.le(b_.mul(b_.abs(b_.div(period.drift, b_.max(period.q, c(1.0)))),
                                  b_.mul(span, r_)),
-                          b_.mul(memberPixel(), c(0.05)));
+                          b_.mul(memberPixel(), c(0.25)));
                 ValueId picked = both(both(b_.emit(Op::Not, {exact}), b_.emit(Op::Not, {round_})),
                                       both(b_.gt(period.q, c(kMaxChains)),
                                            b_.le(b_.sub(split, crowdLo_), c(kNearDrawn))));

@@ -291,10 +291,10 @@ TEST_CASE("filter: a pencil's crowded core reads its mean ink, counted by its wi
 }
 
 // Lattices finer than the pixels: the three kinds, points and edges, one of each stretched,
-// their rows 0.45 to 0.65 pixel apart. A lattice gives the distance to its nearest point or
-// edge alone, and counted by it the pixel held one member's ink; the share of the plane the
-// strokes cover (LatticeCrowd.cpp) is what the exact field's samples read: within 5% of its
-// ink, and 0.05 RMSE.
+// their rows 0.45 to 0.65 pixel apart, and two lattices of edges about a cell a pixel. A lattice
+// gives the distance to its nearest point or edge alone, and counted by it the pixel held one
+// member's ink; the share of the plane the strokes cover (LatticeCrowd.cpp) is what the exact
+// field's samples read: within 5% of its ink, and 0.05 RMSE.
 TEST_CASE("filter: lattices finer than the pixels read their mean ink") {
     auto backend = test::makeBackendOrSkip("jit");
     if (!backend) backend = test::makeBackendOrSkip("interp");
@@ -306,6 +306,10 @@ TEST_CASE("filter: lattices finer than the pixels read their mean ink") {
         "family = triangle_lattice; spacing = 0.7; stroke = 0.06; edges = 1",
         "family = hex_lattice; spacing = 0.4; stroke = 0.15; scale = (1.2, 1)",
         "family = hex_lattice; spacing = 0.5; stroke = 0.06; edges = 1",
+        // The square's and the triangle's edges are whole lines, averaged as phase families
+        // at every scale: about a cell a pixel, and turned.
+        "family = square_lattice; spacing = 1.1; stroke = 0.2; edges = 1; rotation = 20deg",
+        "family = triangle_lattice; spacing = 1.3; stroke = 0.15; edges = 1; scale = (1.2, 1)",
     };
     for (const char* layer : kLayers) {
         CAPTURE(layer);

@@ -1,10 +1,12 @@
 #include "compiler/lower/LatticeCrowd.h"
 
+#include "compiler/ir/Semantics.h"
 #include "compiler/lower/Prefilter.h"
 
 #include <array>
 #include <cmath>
 #include <numbers>
+#include <vector>
 
 namespace moire::lower {
 
@@ -82,6 +84,27 @@ CrowdEstimate latticeCrowd(ir::Builder& b, LatticeKind kind, const LatticeCrowdI
         blank = b.mul(blank, b.sub(c(1.0), share));
     }
     ValueId edges = b.sub(c(1.0), blank);
+    if (kind != LatticeKind::Hex && in.genU != ir::kNoValue) {
+        // Whole lines: the edges u, v in Z (and u + v for the triangle lattice), each a phase
+        // family averaged over the square pixel as phaseFamilyFields' are (meanInk).
+        struct Family {
+            ValueId index, gx, gy;
+        };
+        std::vector<Family> lines{{in.genU, in.genUX, in.genUY}, {in.genV, in.genVX, in.genVY}};
+        if (kind == LatticeKind::Triangle)
+            lines.push_back(
+                {b.add(in.genU, in.genV), b.add(in.genUX, in.genVX), b.add(in.genUY, in.genVY)});
+        const PixelFootprint pixel{in.pixel, in.cosTurn, in.sinTurn};
+        ValueId half = b.mul(t, c(0.5));
+        ValueId paper = c(1.0);
+        for (const Family& f : lines) {
+            Footprint fp{f.index, b.max(b.hypot(f.gx, f.gy), c(ir::kTiny)), f.gx, f.gy,
+                         std::nullopt};
+            paper = b.mul(paper, b.sub(c(1.0), meanInk(b, fp, ir::kNoValue, half, pixel)));
+        }
+        edges = b.sub(c(1.0), paper);
+        out.engaged = b.select(in.drawEdges, c(1.0), out.engaged);
+    }
     out.mean = b.min(b.select(in.drawEdges, edges, dots), c(1.0));
     return out;
 }

@@ -340,6 +340,10 @@ FamilyBuilder latticeBuilder(LatticeKind kind) {
             crowd.stroke = in.layerProp("stroke")[0];
             crowd.pixel = b.div(in.band.a, b.constF(kAntialiasPixels));
             crowd.drawEdges = b.emit(ir::Op::Ne, {in.params[1][0], b.constF(0.0)});
+            crowd.genU = out.genU, crowd.genUX = out.genUX, crowd.genUY = out.genUY;
+            crowd.genV = out.genV, crowd.genVX = out.genVX, crowd.genVY = out.genVY;
+            crowd.cosTurn = in.cosTurn;
+            crowd.sinTurn = in.sinTurn;
             out.crowd = latticeCrowd(b, kind, crowd);
         }
         return out;

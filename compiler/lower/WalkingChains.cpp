@@ -110,18 +110,16 @@ class Chains {
         ValueId mirror =
             both(eq(halfQ, b_.floor(halfQ)), b_.emit(Op::Ne, {halfP, b_.floor(halfP)}));
         ValueId steps = b_.select(picked, c(4.0 * kSelectSlots), q);
-        auto inWindow = [&](int w, ValueId k) {
-            return b_.lt(wholeMod(b_, b_.sub(k, win.from[w]), q), win.count[w]);
+        // Whether window w's chains, or where paired their mirrors, hold the chain at turn k.
+        auto heldBy = [&](int w, ValueId k) {
+            auto in = [&](ValueId at) {
+                return b_.lt(wholeMod(b_, b_.sub(at, win.from[w]), q), win.count[w]);
+            };
+            return b_.emit(Op::Or, {in(k), both(mirror, in(wholeMod(b_, b_.add(k, halfQ), q)))});
         };
-        // Every chain drawn: the windows' and, where paired, their mirrors'.
-        auto drawnChain = [&](ValueId k) {
-            ValueId mk = wholeMod(b_, b_.add(k, halfQ), q);
-            ValueId own = b_.emit(Op::Or, {inWindow(0, k), inWindow(1, k)});
-            return b_.emit(
-                Op::Or, {own, both(mirror, b_.emit(Op::Or, {inWindow(0, mk), inWindow(1, mk)}))});
-        };
-        ValueId nearBlank = nearPaper(per, drawnChain);
-        auto inFirst = [&](ValueId k) { return inWindow(0, k); };
+        ValueId nearBlank = nearPaper(per, [&](ValueId k) {
+            return b_.emit(Op::Or, {heldBy(0, k), heldBy(1, k)});
+        });
         // Carried: step, the paper left, the pending chain's ink, its last member's residual
         // and its band; picked: the band of the window's last pair drawn and each window's sum.
         Vals res = b_.loop(
@@ -139,8 +137,7 @@ class Chains {
                 ValueId k = wholeMod(b_, b_.add(b_.select(later, win.from[1], win.from[0]), d), q);
                 ValueId jk = wholeMod(b_, b_.mul(k, per.inverse), q);
                 jk = b_.select(second, wholeMod(b_, b_.add(jk, halfQ), q), jk);
-                ValueId drawn = b_.emit(
-                    Op::Or, {inFirst(k), both(mirror, inFirst(wholeMod(b_, b_.add(k, halfQ), q)))});
+                ValueId drawn = heldBy(0, k);
                 ValueId take = both(b_.lt(d, b_.select(later, win.count[1], win.count[0])),
                                     b_.emit(Op::Or, {mirror, b_.emit(Op::Not, {second})}));
                 take = both(take, b_.emit(Op::Not, {both(later, drawn)}));

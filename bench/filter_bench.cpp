@@ -41,6 +41,16 @@ std::vector<Scene> filterScenes() {
                    "layer a { family = lines; spacing = 0.6; stroke = 0.15 }\n"
                    "layer b { family = lines; spacing = 0.62; stroke = 0.15; "
                    "rotation = 1.5deg }\n"});
+    // Two square lattices of edges 0.6 apart, one turned 4 degrees: every line finer than a
+    // pixel, each beating with the other grid's (FineUnion.h, strands); and a resolved
+    // triangle lattice under lines, whose lines meet as strokes (StrokePairs.h).
+    out.push_back({"two fine grids", "lattice_pair.moire",
+                   "layer a { family = square_lattice; spacing = 0.6; stroke = 0.12; edges = 1 }\n"
+                   "layer b { family = square_lattice; spacing = 0.6; stroke = 0.12; edges = 1; "
+                   "rotation = 4deg }\n"});
+    out.push_back({"triangle grid, resolved", "lattice_resolved.moire",
+                   "layer a { family = triangle_lattice; spacing = 8; stroke = 1.5; edges = 1 }\n"
+                   "layer b { family = lines; spacing = 6; stroke = 1; rotation = 5deg }\n"});
     // A walking family whose drift equals its spacing, turned half a degree a member: the
     // solver's interval is wider than its budget over most of the frame.
     out.push_back({"walking past budget", "walking_budget.moire",

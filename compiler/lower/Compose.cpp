@@ -32,22 +32,50 @@ void Compose::layer(const LayerInk& ink) {
                           ink.fields.gradY, ink.pixel);
     if (ink.pixel.size != ir::kNoValue && ink.fields.crowd.mean != ir::kNoValue)
         stroke = crowdInk(b_, ink.fields.crowd, stroke);
+    // A lattice's edges are whole lines laid as independent inks: where they cross within
+    // the pixel, their overlap (StrokePairs.h, strandCrossings).
+    std::vector<StrokeAcross> strands;
+    if (ink.pixel.size != ir::kNoValue && joinsAsStrands(ink.fields.crowd)) {
+        strands = strandStrokes(b_, ink.fields.crowd, ink.halfWidth, ink.pixel);
+        if (strands.size() == ink.fields.crowd.strands.size())
+            stroke =
+                b_.clamp(b_.add(stroke, strandCrossings(b_, strands, ink.fields.crowd.strandMeans)),
+                         zero_, b_.constF(1.0));
+        else
+            strands.clear();
+    }
     ValueId cov = inkCoverage(b_, stroke, ink.opacity, ink.color[3]);
     // Under the mean filter, consecutive phase families form a run whose union is taken
     // together (FineUnion.h); any other layer ends the run before it is laid.
+    const bool filtered = ink.pixel.size != ir::kNoValue;
+    const bool lattice = filtered && joinsAsStrands(ink.fields.crowd);
     const bool fine =
-        ink.pixel.size != ir::kNoValue && joinsFineUnion(ink.fields.footprint, ink.fields.sample);
-    if (!fine) closeRun();
+        lattice || (filtered && joinsFineUnion(ink.fields.footprint, ink.fields.sample));
+    // A run with a lattice is a pair: its correlation is its strands' (FineUnion.h), which the
+    // sweep of a longer run does not know.
+    const bool anyLattice =
+        std::any_of(run_.begin(), run_.end(), [](const FineLayer& l) { return l.lattice(); });
+    if (!fine || (run_.size() >= 2 && (lattice || anyLattice))) closeRun();
     if (fine && run_.empty()) runUnder_ = acc_;
     const Ink under = acc_;
     acc_ = inkOver(b_, acc_, ink.color[0], ink.color[1], ink.color[2], cov);
-    if (ink.pixel.size != ir::kNoValue) meetStrokes(ink, cov, under);
+    if (ink.pixel.size != ir::kNoValue) meetStrokes(ink, cov, under, strands);
     if (fine) {
         // No antialias band of the pattern's: the sweep averages the pixel, and its taps' own
         // band (Envelope.h, kTapBand) is the only one the stroke's edge needs.
-        run_.push_back({EnvelopeLayer{ink.fields.sample, ink.halfWidth, zero_, ink.color,
-                                      ink.opacity, ink.spacing, ink.fields.gradX, ink.fields.gradY},
-                        ink.fields.footprint});
+        FineLayer l{EnvelopeLayer{ink.fields.sample, ink.halfWidth, zero_, ink.color, ink.opacity,
+                                  ink.spacing, ink.fields.gradX, ink.fields.gradY},
+                    ink.fields.footprint,
+                    {},
+                    ir::kNoValue};
+        if (lattice) {
+            for (size_t i = 0; i < ink.fields.crowd.strands.size(); ++i)
+                l.strands.push_back({ink.fields.crowd.strands[i], ink.fields.crowd.strandMeans[i]});
+            l.strandsOn = ink.fields.crowd.strandsOn;
+        } else {
+            l.strands.push_back({ink.fields.footprint, stroke});
+        }
+        run_.push_back(l);
         runPixel_ = ink.pixel;
     }
     fields_.push_back(ink.fields);
@@ -67,26 +95,47 @@ void Compose::layer(const LayerInk& ink) {
     sweep_.push_back(l);
 }
 
-// The most layers beneath a layer whose strokes are met with its own: each pair costs a
-// covariance at every pixel, and a stroke far down the stack is mostly covered over.
+// The most strokes beneath a layer that are met with its own (a layer's nearest member, and
+// each of a lattice's lines): each pair costs a covariance at every pixel, and a stroke far
+// down the stack is mostly covered over.
 constexpr size_t kMostStrokesMet = 6;
 
-void Compose::meetStrokes(const LayerInk& ink, ValueId cov, const Ink& under) {
-    std::optional<StrokeAcross> stroke = strokeAcross(b_, ink.fields, ink.halfWidth, ink.pixel);
+void Compose::meetStrokes(const LayerInk& ink, ValueId cov, const Ink& under,
+                          const std::vector<StrokeAcross>& strands) {
+    // The layer's strokes: its nearest member's, and a lattice's lines (strandStrokes), each
+    // of which meets a later stroke with the share of the pixel its other lines leave
+    // (the union's derivative in that line's ink, 1 - m_j over the others).
+    struct Mine {
+        StrokeAcross stroke;
+        ValueId share;
+    };
+    std::vector<Mine> mine;
+    if (std::optional<StrokeAcross> s = strokeAcross(b_, ink.fields, ink.halfWidth, ink.pixel))
+        mine.push_back({*s, b_.constF(1.0)});
+    for (size_t i = 0; i < strands.size(); ++i) {
+        ValueId share = b_.constF(1.0);
+        for (size_t j = 0; j < strands.size(); ++j)
+            if (j != i)
+                share = b_.mul(share, b_.sub(b_.constF(1.0), ink.fields.crowd.strandMeans[j]));
+        mine.push_back({strands[i], share});
+    }
     // k_j: the layer's coverage per unit of its ink.
     ValueId k = inkCoverage(b_, b_.constF(1.0), ink.opacity, ink.color[3]);
-    if (stroke && !laid_.empty()) {
+    if (!mine.empty() && !laid_.empty()) {
         Ink add{zero_, zero_, zero_, zero_};
-        for (const Laid& l : laid_) {
-            // Behind a branch: most pixels meet one stroke or none.
-            ValueId meet = b_.emit(Op::And, {l.stroke.touches, stroke->touches});
-            ValueId cov = b_.ifThenElse(
-                meet, [&] { return std::vector<ValueId>{strokeCovariance(b_, l.stroke, *stroke)}; },
-                [&] { return std::vector<ValueId>{zero_}; })[0];
-            ValueId t = b_.mul(k, cov);
-            add = {b_.add(add.r, b_.mul(t, l.pending.r)), b_.add(add.g, b_.mul(t, l.pending.g)),
-                   b_.add(add.b, b_.mul(t, l.pending.b)), b_.add(add.a, b_.mul(t, l.pending.a))};
-        }
+        for (const Laid& l : laid_)
+            for (const Mine& m : mine) {
+                // Behind a branch: most pixels meet one stroke or none.
+                ValueId meet = b_.emit(Op::And, {l.stroke.touches, m.stroke.touches});
+                ValueId cov = b_.ifThenElse(
+                    meet,
+                    [&] { return std::vector<ValueId>{strokeCovariance(b_, l.stroke, m.stroke)}; },
+                    [&] { return std::vector<ValueId>{zero_}; })[0];
+                ValueId t = b_.mul(b_.mul(k, m.share), cov);
+                add = {b_.add(add.r, b_.mul(t, l.pending.r)), b_.add(add.g, b_.mul(t, l.pending.g)),
+                       b_.add(add.b, b_.mul(t, l.pending.b)),
+                       b_.add(add.a, b_.mul(t, l.pending.a))};
+            }
         acc_ = addCorrection(b_, acc_, add, b_.constF(1.0));
     }
     // Every layer laid scales what the strokes beneath it still add by what it leaves showing.
@@ -94,14 +143,15 @@ void Compose::meetStrokes(const LayerInk& ink, ValueId cov, const Ink& under) {
     for (Laid& l : laid_)
         l.pending = {b_.mul(l.pending.r, keep), b_.mul(l.pending.g, keep),
                      b_.mul(l.pending.b, keep), b_.mul(l.pending.a, keep)};
-    if (!stroke) return;
-    if (laid_.size() == kMostStrokesMet) laid_.erase(laid_.begin());
-    auto pending = [&](ValueId beneath, ValueId colour) {
-        return b_.mul(k, b_.sub(beneath, colour));
-    };
-    laid_.push_back({*stroke,
-                     {pending(under.r, ink.color[0]), pending(under.g, ink.color[1]),
-                      pending(under.b, ink.color[2]), pending(under.a, b_.constF(1.0))}});
+    for (const Mine& m : mine) {
+        if (laid_.size() == kMostStrokesMet) laid_.erase(laid_.begin());
+        auto pending = [&](ValueId beneath, ValueId colour) {
+            return b_.mul(b_.mul(k, m.share), b_.sub(beneath, colour));
+        };
+        laid_.push_back({m.stroke,
+                         {pending(under.r, ink.color[0]), pending(under.g, ink.color[1]),
+                          pending(under.b, ink.color[2]), pending(under.a, b_.constF(1.0))}});
+    }
 }
 
 void Compose::closeRun() {

@@ -57,7 +57,9 @@ class Compose {
     void closeRun(); // takes the union of the run of fine layers laid so far (FineUnion.h)
     // Under the mean filter, adds the covariance of the layer's nearest stroke with those laid
     // before it (StrokePairs.h); `cov` is its coverage, `under` the ink it was laid over.
-    void meetStrokes(const LayerInk& ink, ir::ValueId cov, const Ink& under);
+    // A lattice's lines are met as strokes of their own (`strands`, StrokePairs.h).
+    void meetStrokes(const LayerInk& ink, ir::ValueId cov, const Ink& under,
+                     const std::vector<StrokeAcross>& strands);
 
     ir::Builder& b_;
     ViewMode mode_;

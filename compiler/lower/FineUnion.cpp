@@ -15,6 +15,10 @@ bool joinsFineUnion(const Footprint& footprint, const PhaseSample& sample) {
            !sample.morph;
 }
 
+bool joinsAsStrands(const CrowdEstimate& crowd) {
+    return !crowd.strands.empty() && crowd.strandsOn != ir::kNoValue;
+}
+
 namespace {
 
 // footprintTransfer of an index whose gradient has components (u, v) along the pixel's sides.
@@ -107,6 +111,131 @@ Ink pairCorrelation(ir::Builder& b, const Ink& under, const std::vector<FineLaye
             b.mul(scale, b.sub(under.b, k[2])), b.mul(scale, b.sub(under.a, one))};
 }
 
+// The correlation of a pair with a lattice, by its strands. Each layer's ink is the union of
+// its strands laid as independent, c = 1 - prod(1 - x_i) (x_i a strand's periodic stroke; a
+// phase family is one strand). Lines of different directions are independent over a fine
+// pixel, but a line of the first layer and the second's line nearly parallel to it are not:
+// their strokes beat, as a pair of phase families does (pairCorrelation). So each strand x of
+// the first layer is paired with the strand y of the second, and the sense s = +-1, whose
+// beat D = s f_x - f_y runs slowest (the least |s grad f_x - grad f_y|), and their
+// covariance over the pixel is the pair's closed form, cov_xy = weight (E - a b) with the
+// pair's weight 1 - T_x T_y / T_D. With the pairs independent of one another,
+//   E[(1 - c1)(1 - c2)] = prod_all (1 - m) prod_pairs (1 + cov_xy / ((1 - m_x)(1 - m_y)))
+// (m the strands' footprint means), so the layers' covariance is prod_all (1 - m) times
+// (prod_pairs (1 + ratio) - 1), and it enters the composite as a pair's does:
+// k1 k2 cov (P - K1). Exact where each line has one partner and the lines of one layer cross
+// (the square lattice's); for the triangle lattice's three, which meet at its points, as its
+// own mean, to first order. A strand the greedy choice leaves unpaired counts its mean alone.
+Ink strandCorrelation(ir::Builder& b, const Ink& under, const FineLayer& l1, const FineLayer& l2,
+                      const PixelFootprint& pixel) {
+    const ValueId zero = b.constF(0.0), one = b.constF(1.0);
+    auto value = [&](ValueId v) { return ir::BuiltValue(b, v); };
+    // A strand as the pair reads it: its gradient along the pixel's sides, its transfer, how
+    // far it is past resolved, and its half-width in index units.
+    struct Seen {
+        const Strand* strand;
+        PixelSides g;
+        ValueId transfer, unresolved, half;
+    };
+    auto seen = [&](const FineLayer& l) {
+        std::vector<Seen> out;
+        for (const Strand& s : l.strands) {
+            const PixelSides g = onPixelSides(b, s.footprint.gradX, s.footprint.gradY, pixel);
+            out.push_back({&s, g, transfer(b, g, pixel), unresolved(b, s.footprint, pixel),
+                           b.mul(l.sweep.halfWidth, s.footprint.grad)});
+        }
+        return out;
+    };
+    const std::vector<Seen> first = seen(l1), second = seen(l2);
+    auto duty = [&](ValueId half) { return b.clamp(b.mul(b.constF(2.0), half), zero, one); };
+    ValueId blank = one, factor = one;
+    for (const std::vector<Seen>* s : {&first, &second})
+        for (const Seen& x : *s) blank = b.mul(blank, b.sub(one, x.strand->mean));
+    for (const Seen& x : first) {
+        // The partner: carried through selects, the candidates tried in turn.
+        ValueId rate = b.constF(1e30), sense = one, du = zero, dv = zero;
+        ValueId index = zero, tr = zero, un = zero, half = zero, mean = zero, past = one;
+        for (const Seen& y : second)
+            for (double s : {1.0, -1.0}) {
+                ValueId cu = b.sub(b.mul(b.constF(s), x.g.u), y.g.u);
+                ValueId cv = b.sub(b.mul(b.constF(s), x.g.v), y.g.v);
+                ValueId r = b.add(b.mul(cu, cu), b.mul(cv, cv));
+                ValueId better = b.lt(r, rate);
+                auto pick = [&](ValueId mine, ValueId held) {
+                    return b.select(better, mine, held);
+                };
+                ValueId yPast = one;
+                if (y.strand->footprint.first)
+                    yPast = b.clamp(b.sub(y.strand->footprint.index,
+                                          b.constF(*y.strand->footprint.first + 0.5)),
+                                    zero, one);
+                rate = pick(r, rate);
+                sense = pick(b.constF(s), sense);
+                du = pick(cu, du);
+                dv = pick(cv, dv);
+                index = pick(y.strand->footprint.index, index);
+                tr = pick(y.transfer, tr);
+                un = pick(y.unresolved, un);
+                half = pick(y.half, half);
+                mean = pick(y.strand->mean, mean);
+                past = pick(yPast, past);
+            }
+        ValueId along = b.mul(b.abs(du), pixel.size), across = b.mul(b.abs(dv), pixel.size);
+        ValueId e =
+            sweptOverlap(value(x.strand->footprint.index), value(index), value(one), value(sense),
+                         value(x.half), value(half), value(along), value(across))
+                .id;
+        ValueId beat = footprintTransfer(value(along), value(across)).id;
+        ValueId weight =
+            b.mul(b.min(x.unresolved, un),
+                  b.clamp(b.sub(one, b.div(b.mul(x.transfer, tr), b.max(beat, b.constF(1e-6)))),
+                          zero, one));
+        if (x.strand->footprint.first)
+            past = b.mul(past, b.clamp(b.sub(x.strand->footprint.index,
+                                             b.constF(*x.strand->footprint.first + 0.5)),
+                                       zero, one));
+        ValueId cov = b.mul(b.mul(weight, past), b.sub(e, b.mul(duty(x.half), duty(half))));
+        ValueId pair = b.mul(b.sub(one, x.strand->mean), b.sub(one, mean));
+        ValueId ratio = b.max(b.div(cov, b.max(pair, b.constF(1e-12))), b.constF(-1.0));
+        factor = b.mul(factor, b.add(one, b.denan(ratio, zero)));
+    }
+    auto strength = [&](const EnvelopeLayer& l) {
+        return b.mul(b.clamp(l.opacity, zero, one), b.clamp(l.color[3], zero, one));
+    };
+    ValueId scale =
+        b.mul(b.mul(strength(l1.sweep), strength(l2.sweep)), b.mul(blank, b.sub(factor, one)));
+    for (const FineLayer* l : {&l1, &l2})
+        if (l->lattice()) scale = b.select(l->strandsOn, scale, zero);
+    scale = b.denan(scale, zero);
+    const Vals& k = l1.sweep.color;
+    return {b.mul(scale, b.sub(under.r, k[0])), b.mul(scale, b.sub(under.g, k[1])),
+            b.mul(scale, b.sub(under.b, k[2])), b.mul(scale, b.sub(under.a, one))};
+}
+
+// A pair with a lattice: its strands' correlation (strandCorrelation), computed behind a
+// branch where a strand of each layer is past resolved.
+Ink strandUnion(ir::Builder& b, const Ink& under, const Ink& independent,
+                const std::vector<FineLayer>& run, const PixelFootprint& pixel) {
+    ValueId engaged = b.constF(1.0);
+    for (const FineLayer& l : run) {
+        ValueId most = b.constF(0.0);
+        for (const Strand& s : l.strands) most = b.max(most, unresolved(b, s.footprint, pixel));
+        if (l.lattice()) most = b.select(l.strandsOn, most, b.constF(0.0));
+        engaged = b.min(engaged, most);
+    }
+    std::vector<ValueId> out = b.ifThenElse(
+        b.gt(engaged, b.constF(0.0)),
+        [&] {
+            const Ink corr = strandCorrelation(b, under, run[0], run[1], pixel);
+            const Ink sum = addCorrection(b, independent, corr, b.constF(1.0));
+            return std::vector<ValueId>{sum.r, sum.g, sum.b, sum.a};
+        },
+        [&] {
+            return std::vector<ValueId>{independent.r, independent.g, independent.b, independent.a};
+        });
+    return {out[0], out[1], out[2], out[3]};
+}
+
 } // namespace
 
 // The weight of the correlation. For two layers of inks c1(f1), c2(f2), take their
@@ -131,6 +260,7 @@ Ink pairCorrelation(ir::Builder& b, const Ink& under, const std::vector<FineLaye
 Ink fineUnion(ir::Builder& b, const Ink& under, const Ink& independent,
               const std::vector<FineLayer>& run, const PixelFootprint& pixel) {
     if (run.size() < 2) return independent;
+    if (run[0].lattice() || run[1].lattice()) return strandUnion(b, under, independent, run, pixel);
     std::vector<EnvelopeLayer> layers;
     for (const FineLayer& l : run) layers.push_back(l.sweep);
     ValueId engaged = b.constF(1.0);

@@ -25,16 +25,30 @@ namespace moire::lower {
 // Taps of the sweep (Envelope.h's M) for the union: the envelope view's default.
 constexpr double kUnionTaps = 24;
 
+// A family of whole lines within a layer, as the mean filter measures it (its index, gradient
+// and first member) with its footprint mean: a phase family is one; a square or triangle
+// lattice's edges are two or three (CrowdEstimate::strands), whose union is the layer's ink.
+struct Strand {
+    Footprint footprint;
+    ir::ValueId mean;
+};
+
 // One layer of a run of fine layers: as the envelope sweeps it, and as the mean filter
-// measures it (its index gradient, its first member).
+// measures it (its strands; `footprint` a phase family's own). `strandsOn` is where a
+// lattice's strands are its ink (it draws its edges), kNoValue for a phase family.
 struct FineLayer {
     EnvelopeLayer sweep;
     Footprint footprint;
+    std::vector<Strand> strands;
+    ir::ValueId strandsOn = ir::kNoValue;
+    bool lattice() const { return strandsOn != ir::kNoValue; }
 };
 
 // Whether a layer can join a run: a phase family with a footprint and a one-index phase
-// sample (lattices, morphs, walking and distance families are laid over on their own).
+// sample, or a lattice whose edges are whole lines (CrowdEstimate::strands); morphs, walking
+// and distance families, the honeycomb and lattice points are laid over on their own.
 bool joinsFineUnion(const Footprint& footprint, const PhaseSample& sample);
+bool joinsAsStrands(const CrowdEstimate& crowd);
 
 // The transfer of a pixel's footprint to the fundamental of a periodic ink whose index spans
 // `along` and `across` units over the pixel's two sides: the square pixel's mean of
@@ -136,7 +150,9 @@ T sweptOverlap(T f1, T f2, T p, T q, T w1, T w2, T along, T across) {
 // layers' inks laid over it one by one (the union of their means). Returns the pixel with the
 // run's correlation added where the footprint leaves it (a run of one layer: `independent`),
 // a pair's in closed form, a longer run's by the sweep (chosen by the run's length here, not
-// per pixel).
+// per pixel). A run with a lattice is a pair (the compose step closes it at two), whose
+// correlation is its strands' (FineUnion.cpp, strandCorrelation): each line of the first
+// layer beats with the second's line whose beat is slowest at the pixel, in closed form.
 // Computed behind a branch: a pixel where fewer than two of the run's layers are past the
 // unresolved threshold (kCrowdFrom) pays a handful of instructions.
 Ink fineUnion(ir::Builder& b, const Ink& under, const Ink& independent,

@@ -100,9 +100,32 @@ CrowdEstimate latticeCrowd(ir::Builder& b, LatticeKind kind, const LatticeCrowdI
         for (const Family& f : lines) {
             Footprint fp{f.index, b.max(b.hypot(f.gx, f.gy), c(ir::kTiny)), f.gx, f.gy,
                          std::nullopt};
-            paper = b.mul(paper, b.sub(c(1.0), meanInk(b, fp, ir::kNoValue, half, pixel)));
+            ValueId mean = meanInk(b, fp, ir::kNoValue, half, pixel);
+            paper = b.mul(paper, b.sub(c(1.0), mean));
+            out.strands.push_back(fp);
+            out.strandMeans.push_back(mean);
         }
+        out.strandsOn = in.drawEdges;
         edges = b.sub(c(1.0), paper);
+        if (kind == LatticeKind::Triangle) {
+            // The triangle lattice's three lines meet at its points, where laid as independent
+            // they count the strokes' overlaps as if spread over the plane: light by up to a
+            // few percent. Past resolved, the exact share is a closed form: the paper left is
+            // each triangle shrunk by t/2 from its sides, (1 - t / (2 r))^2 of it, r its
+            // inradius (2 area / perimeter); the independent union's share in that limit is
+            // 1 - prod(1 - t |grad f_i|). Their difference is added as the points crowd (the
+            // hand-over `engaged` above), where the resolved strokes' own means are exact
+            // but at the points.
+            ValueId e1 = b.mul(s, sx);
+            ValueId e2 = b.mul(s, b.hypot(b.mul(c(0.5), sx), b.mul(c(kSqrt3 / 2), sy)));
+            ValueId inradius = b.div(b.mul(b.mul(s, s), b.mul(b.mul(sx, sy), c(kSqrt3 / 2))),
+                                     b.add(e1, b.mul(c(2.0), e2)));
+            ValueId left = b.max(b.sub(c(1.0), b.div(t, b.mul(c(2.0), inradius))), c(0.0));
+            ValueId spread = c(1.0);
+            for (const Family& f : lines)
+                spread = b.mul(spread, b.sub(c(1.0), b.min(b.mul(t, b.hypot(f.gx, f.gy)), c(1.0))));
+            edges = b.add(edges, b.mul(out.engaged, b.sub(spread, b.mul(left, left))));
+        }
         out.engaged = b.select(in.drawEdges, c(1.0), out.engaged);
     }
     out.mean = b.min(b.select(in.drawEdges, edges, dots), c(1.0));

@@ -11,6 +11,7 @@
 #include <functional>
 #include <memory>
 #include <optional>
+#include <vector>
 
 namespace moire::lower {
 
@@ -88,6 +89,14 @@ struct CrowdEstimate {
     // member's own: the compose step adds it to the nearest member's mean (crowdInk), so that
     // members closer than a pixel all count. kNoValue: the family gives none.
     ir::ValueId others = ir::kNoValue;
+    // Where `mean` is the union of whole lines laid as independent inks (a square or triangle
+    // lattice's edges, LatticeCrowd.h), those lines: each a phase family's footprint with its
+    // footprint mean, which the union of fine layers and the stroke pairs correlate with
+    // another layer's lines (FineUnion.h, StrokePairs.h). `strandsOn` is where the layer draws
+    // them (its edges, not its points). Empty elsewhere.
+    std::vector<Footprint> strands;
+    std::vector<ir::ValueId> strandMeans;
+    ir::ValueId strandsOn = ir::kNoValue;
 };
 
 struct LayerFields {

@@ -79,4 +79,48 @@ ValueId strokeCovariance(ir::Builder& b, const StrokeAcross& first, const Stroke
     return b.denan(b.mul(cov, b.mul(first.weight, second.weight)), b.constF(0.0));
 }
 
+std::vector<StrokeAcross> strandStrokes(ir::Builder& b, const CrowdEstimate& crowd,
+                                        ValueId halfWidth, const PixelFootprint& pixel) {
+    std::vector<StrokeAcross> out;
+    if (crowd.strandsOn == ir::kNoValue) return out;
+    for (const Footprint& f : crowd.strands) {
+        LayerFields line;
+        line.footprint = f;
+        std::optional<StrokeAcross> s = strokeAcross(b, line, halfWidth, pixel);
+        if (!s) continue;
+        s->weight = b.select(crowd.strandsOn, s->weight, b.constF(0.0));
+        s->touches = b.emit(ir::Op::And, {s->touches, crowd.strandsOn});
+        out.push_back(*s);
+    }
+    return out;
+}
+
+ValueId strandCrossings(ir::Builder& b, const std::vector<StrokeAcross>& strokes,
+                        const std::vector<ValueId>& means) {
+    ValueId zero = b.constF(0.0);
+    if (strokes.size() != 3) return zero;
+    ValueId covs = zero, least = b.constF(1.0), thinnest = b.constF(1.0);
+    for (size_t i = 0; i < strokes.size(); ++i) {
+        thinnest = b.min(thinnest, means[i]);
+        for (size_t j = i + 1; j < strokes.size(); ++j) {
+            // Behind a branch: most pixels meet one line or none.
+            ValueId meet = b.emit(ir::Op::And, {strokes[i].touches, strokes[j].touches});
+            ValueId cov = b.ifThenElse(
+                meet,
+                [&] { return std::vector<ValueId>{strokeCovariance(b, strokes[i], strokes[j])}; },
+                [&] { return std::vector<ValueId>{zero}; })[0];
+            covs = b.add(covs, cov);
+            least = b.min(least, b.add(cov, b.mul(means[i], means[j])));
+        }
+    }
+    // E[x_1 x_2 x_3]: the least pair's E[x_i x_j], three quarters of it where the strokes are
+    // thin against the pixel (the hexagon in the rhombus) rising to all of it where the pixel
+    // lies within every stroke (the thinnest mean 1).
+    ValueId triple =
+        b.mul(b.max(least, zero), b.add(b.constF(0.75), b.mul(b.constF(0.25), thinnest)));
+    ValueId resolved = b.min(b.min(strokes[0].weight, strokes[1].weight), strokes[2].weight);
+    ValueId all = b.mul(b.mul(means[0], means[1]), means[2]);
+    return b.denan(b.sub(b.mul(resolved, b.sub(triple, all)), covs), zero);
+}
+
 } // namespace moire::lower

@@ -26,6 +26,7 @@
 #include <algorithm>
 #include <cmath>
 #include <optional>
+#include <vector>
 
 namespace moire::lower {
 
@@ -125,5 +126,25 @@ std::optional<StrokeAcross> strokeAcross(ir::Builder& b, const LayerFields& fiel
 // stripCovariance of two layers' strokes, times both their weights (not checked for
 // `touches`: the caller branches on it).
 ir::ValueId strokeCovariance(ir::Builder& b, const StrokeAcross& first, const StrokeAcross& second);
+
+// A lattice's strands (CrowdEstimate::strands: its edges' whole lines, each a phase family)
+// as strokes: each the nearest line of its family, held to weight 0 where the lattice draws
+// its points. Empty for any other layer.
+std::vector<StrokeAcross> strandStrokes(ir::Builder& b, const CrowdEstimate& crowd,
+                                        ir::ValueId halfWidth, const PixelFootprint& pixel);
+
+// What the union of the triangle lattice's three lines laid as independent inks (its
+// footprint mean, 1 - prod(1 - m_i)) misses where they cross within the pixel, to be added
+// to it: by inclusion and exclusion the union is sum m_i - sum E[x_i x_j] + E[x_1 x_2 x_3],
+// and the independent product reads E[x_i x_j] as m_i m_j and E[x_1 x_2 x_3] as m_1 m_2 m_3,
+// so the difference is -sum cov_ij (strokeCovariance of the nearest lines) plus
+// E[x_1 x_2 x_3] - m_1 m_2 m_3, where the lines are resolved (the least of the strokes'
+// weights; past it LatticeCrowd.cpp's closed form). The three lines all cross at the
+// lattice's points, and three strokes of one width at 60 degrees share a hexagon three
+// quarters of each pair's rhombus: E[x_1 x_2 x_3] is taken from the least pair's E[x_i x_j].
+// 0 for the square lattice's two lines, which cross at right angles: over a pixel facing them
+// they are independent, and the strip covariance's box (above) was further off than none.
+ir::ValueId strandCrossings(ir::Builder& b, const std::vector<StrokeAcross>& strokes,
+                            const std::vector<ir::ValueId>& means);
 
 } // namespace moire::lower

@@ -827,7 +827,10 @@ class Solver {
             [&] {
                 return Vals{c(0.0), c(0.0)};
             });
-        return {engaged, got[1]}; // got[0], the density, is what the mean is made of
+        CrowdEstimate out; // got[0], the density, is what the mean is made of
+        out.engaged = engaged;
+        out.mean = got[1];
+        return out;
     }
     // The members [from, to) a closed form's chain draws: those about the nearest member n
     // that can reach the footprint. Where the drift m is under the spacing, h_p falls by at

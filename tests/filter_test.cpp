@@ -106,6 +106,11 @@ TEST_CASE("filter: the JIT and the GPU draw the mean the interpreter draws") {
         "layer a { family = triangle_lattice; spacing = 5; stroke = 1.2; edges = 1; rotation = "
         "7deg }\n"
         "layer b { family = lines; spacing = 4; stroke = 0.8; opacity = 0.7 }\n",
+        // Dots about a pixel wide, as discs over the pixel (LatticeCrowd.h): the honeycomb's
+        // nearest, and a square lattice's nine.
+        "layer a { family = hex_lattice; spacing = 2.3; stroke = 0.84 }\n"
+        "layer b { family = square_lattice; spacing = 1.6; stroke = 0.9; rotation = 10deg; "
+        "color = #a02020; opacity = 0.8 }\n",
     };
     for (const std::string& text : scenes) {
         auto program = test::compileOk(text);
@@ -466,5 +471,35 @@ TEST_CASE("filter: a lattice's lines that cross within a pixel read the exact fi
         const InkAgainst d = latticeAgainstExact(layers, *backend, spread);
         CHECK(d.rmse <= 0.02);
         CHECK(std::abs(d.ink - d.exact) <= 0.01 * d.exact);
+    }
+}
+
+// Dots about a pixel wide, short of crowding (rows 1.4 to 4 pixels apart): drawn from the
+// nearest point's distance as a stroke across its normal, a dot narrower than the pixel
+// covered the band that stroke would; the nearest dot over the pixel (LatticeCrowd.h,
+// discInSquare) is its own area.
+TEST_CASE("filter: dots about a pixel wide read their exact ink") {
+    auto backend = test::makeBackendOrSkip("jit");
+    if (!backend) backend = test::makeBackendOrSkip("interp");
+    REQUIRE(backend);
+    const char* kLattices[] = {
+        "layer a { family = hex_lattice; spacing = 2.3; stroke = 0.84 }\n",
+        "layer a { family = square_lattice; spacing = 2; stroke = 0.8; rotation = 10deg }\n",
+        "layer a { family = triangle_lattice; spacing = 3; stroke = 1.5 }\n",
+        "layer a { family = hex_lattice; spacing = 4; stroke = 2.5; scale = (1.2, 1) }\n",
+        "layer a { family = square_lattice; spacing = 1.6; stroke = 1 }\n",
+        "layer a { family = square_lattice; spacing = 8; stroke = 5 }\n",
+        "layer a { family = square_lattice; spacing = 1.2; stroke = 0.4 }\n",
+        "layer a { family = triangle_lattice; spacing = 1.1; stroke = 0.35; rotation = 15deg }\n",
+        "layer a { family = hex_lattice; spacing = 1.5; stroke = 0.4 }\n",
+        "layer a { family = hex_lattice; spacing = 1.4; stroke = 0.9; rotation = 20deg }\n",
+        "layer a { family = hex_lattice; spacing = 1; stroke = 0.5; scale = (1, 1.3) }\n",
+    };
+    for (const char* layers : kLattices) {
+        CAPTURE(layers);
+        double spread = 0.0;
+        const InkAgainst d = latticeAgainstExact(layers, *backend, spread);
+        CHECK(d.rmse <= 0.02);
+        CHECK(std::abs(d.ink - d.exact) <= 0.03 * d.exact);
     }
 }

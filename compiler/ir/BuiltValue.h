@@ -60,6 +60,9 @@ inline BuiltValue cos(BuiltValue x) {
 inline BuiltValue sin(BuiltValue x) {
     return {*x.b, x.b->sin(x.id)};
 }
+inline BuiltValue asin(BuiltValue x) {
+    return {*x.b, x.b->emit(Op::Asin, {x.id})};
+}
 inline BuiltValue operator*(double x, BuiltValue y) {
     return y.constant(x) * y;
 }

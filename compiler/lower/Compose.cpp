@@ -28,6 +28,8 @@ void Compose::layer(const LayerInk& ink) {
         ink.pixel.size == ir::kNoValue ? strokeInk(b_, ink.fields.distance, ink.band)
         : ink.fields.footprint.grad != ir::kNoValue
             ? meanInk(b_, ink.fields.footprint, ink.fields.distance, ink.halfWidth, ink.pixel)
+        : ink.fields.crowd.nearest != ir::kNoValue
+            ? ink.fields.crowd.nearest
             : distanceInk(b_, ink.fields.distance, ink.halfWidth, ink.fields.gradX,
                           ink.fields.gradY, ink.pixel);
     if (ink.pixel.size != ir::kNoValue && ink.fields.crowd.mean != ir::kNoValue)

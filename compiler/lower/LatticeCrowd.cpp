@@ -1,5 +1,6 @@
 #include "compiler/lower/LatticeCrowd.h"
 
+#include "compiler/ir/BuiltValue.h"
 #include "compiler/ir/Semantics.h"
 #include "compiler/lower/Prefilter.h"
 
@@ -16,6 +17,7 @@ namespace {
 
 constexpr double kSqrt3 = std::numbers::sqrt3;
 constexpr double kPi = std::numbers::pi;
+constexpr double kHalfDiagonal = 0.7072; // the pixel's, in pixels (a hair over sqrt2 / 2)
 
 // Each kind as the unstretched lattice (u, with spacing s) sees it: the unit normals of the
 // families of lines its edges lie on (or, for the points, its rows), their spacing over s,
@@ -48,6 +50,103 @@ Geometry geometryOf(LatticeKind kind) {
                 2.0, {{{0, 1}, {-kSqrt3 / 2, 0.5}, {kSqrt3 / 2, 0.5}}}};
     }
     return {};
+}
+
+// The dots' mean over the pixel where the lattice draws its points (LatticeCrowdInputs, t the
+// stroke): the nearest dot, whose centre stands `distance` back along the distance's gradient
+// (a point's distance grows radially from it), and its neighbours, each a disc over the
+// pixel in pixel units (discInSquare). Where the gradient is not known (the pixel's centre on
+// the point) the dot is centred on the pixel. Sets `engaged` for the points' hand-over to the
+// cells' share.
+ValueId dotsInPixel(ir::Builder& b, LatticeKind kind, const LatticeCrowdInputs& in, ValueId t,
+                    ValueId& engaged) {
+    auto c = [&](double v) { return b.constF(v); };
+    auto value = [&](ValueId v) { return ir::BuiltValue(b, v); };
+    const PixelFootprint pixel{in.pixel, in.cosTurn, in.sinTurn};
+    ValueId gx = b.emit(ir::Op::DerivX, {in.distance});
+    ValueId gy = b.emit(ir::Op::DerivY, {in.distance});
+    const PixelSides g = onPixelSides(b, gx, gy, pixel);
+    ValueId back = b.div(b.neg(in.distance), in.pixel);
+    ValueId cu = b.denan(b.mul(back, g.u), c(0.0)), cv = b.denan(b.mul(back, g.v), c(0.0));
+    ValueId r = b.div(b.mul(t, c(0.5)), in.pixel);
+    ValueId dot = discInSquare(value(cu), value(cv), value(r)).id;
+    if (in.genU == ir::kNoValue) return dot;
+    // The neighbours, as steps (du, dv) of the generators: the square lattice's eight within
+    // a diagonal step, the triangle lattice's twelve within sqrt3 steps (its first two
+    // shells), and the honeycomb's six corners of its own kind sqrt3 s away (the hexagons'
+    // centres' steps) and three of the other kind s away. The corners of one kind stand at
+    // (1/3, 1/3) of the centres' cell, the other kind's at (2/3, 2/3), so u + v at the
+    // nearest corner tells which it is, and the other kind's three stand +-(1/3, 1/3),
+    // +-(-2/3, 1/3), +-(1/3, -2/3) from it. In every kind the next ring out is two of the
+    // nearest neighbours' distance away.
+    struct Step {
+        double du, dv;
+        bool flips; // the honeycomb's other kind: taken with the nearest corner's sign
+    };
+    std::vector<Step> steps;
+    if (kind == LatticeKind::Square) {
+        for (int i = -1; i <= 1; ++i)
+            for (int j = -1; j <= 1; ++j)
+                if (i != 0 || j != 0) steps.push_back({double(i), double(j), false});
+    } else {
+        for (auto [i, j] : {std::pair{1, 0}, {0, 1}, {1, -1}})
+            for (int sign : {1, -1}) steps.push_back({double(sign * i), double(sign * j), false});
+        if (kind == LatticeKind::Triangle) {
+            for (auto [i, j] : {std::pair{1, 1}, {2, -1}, {1, -2}})
+                for (int sign : {1, -1})
+                    steps.push_back({double(sign * i), double(sign * j), false});
+        } else {
+            for (auto [i, j] : {std::pair{1.0, 1.0}, {-2.0, 1.0}, {1.0, -2.0}})
+                steps.push_back({i / 3.0, j / 3.0, true});
+        }
+    }
+    // The generators' steps in the world, the columns of the inverse of their gradients,
+    // along the pixel's sides in pixels.
+    ValueId det = b.sub(b.mul(in.genUX, in.genVY), b.mul(in.genUY, in.genVX));
+    const PixelSides e1 = onPixelSides(b, b.div(in.genVY, det), b.div(b.neg(in.genVX), det), pixel);
+    const PixelSides e2 = onPixelSides(b, b.div(b.neg(in.genUY), det), b.div(in.genUX, det), pixel);
+    const ValueId e1u = b.div(e1.u, in.pixel), e1v = b.div(e1.v, in.pixel);
+    const ValueId e2u = b.div(e2.u, in.pixel), e2v = b.div(e2.v, in.pixel);
+    ValueId sign = c(1.0);
+    if (kind == LatticeKind::Hex) {
+        // u + v at the nearest corner: at the pixel's, less the gradients along the way back.
+        ValueId backX = b.mul(b.neg(in.distance), gx), backY = b.mul(b.neg(in.distance), gy);
+        ValueId at = b.add(b.add(in.genU, in.genV), b.add(b.mul(b.add(in.genUX, in.genVX), backX),
+                                                          b.mul(b.add(in.genUY, in.genVY), backY)));
+        sign = b.select(b.gt(b.emit(ir::Op::Fract, {at}), c(0.5)), c(1.0), c(-1.0));
+    }
+    std::vector<std::pair<ValueId, ValueId>> offsets;
+    ValueId shortest = c(1e30);
+    for (const Step& st : steps) {
+        ValueId du = st.flips ? b.mul(sign, c(st.du)) : c(st.du);
+        ValueId dv = st.flips ? b.mul(sign, c(st.dv)) : c(st.dv);
+        ValueId ou = b.add(b.mul(du, e1u), b.mul(dv, e2u));
+        ValueId ov = b.add(b.mul(du, e1v), b.mul(dv, e2v));
+        offsets.push_back({ou, ov});
+        shortest = b.min(shortest, b.hypot(ou, ov));
+    }
+    // The dots counted are every dot that reaches the pixel while the next ring stands beyond
+    // a dot's radius and half the pixel's diagonal: the points hand over to the cells' share
+    // as that ring comes within reach, from (r + 0.71) / step = 1.6 to 2 (step the nearest
+    // neighbours' distance), where the rows of a lattice of thin dots are already about half
+    // a pixel apart (in place of the rows' 1.33 to 1 pixel).
+    ValueId ring = b.div(b.add(r, c(kHalfDiagonal)), b.max(shortest, c(1e-9)));
+    ValueId pointsEngaged = b.smoothstep(c(1.6), c(2.0), ring);
+    engaged = b.select(in.drawEdges, engaged, b.denan(pointsEngaged, c(1.0)));
+    // Behind a branch: only where a neighbour's dot can reach the pixel and the dots are not
+    // handed over whole.
+    ValueId reach = b.emit(ir::Op::And, {b.lt(shortest, b.add(b.mul(r, c(2.0)), c(1.5))),
+                                         b.lt(pointsEngaged, c(1.0))});
+    return b.ifThenElse(
+        reach,
+        [&] {
+            ValueId sum = dot;
+            for (const auto& [ou, ov] : offsets)
+                sum = b.add(sum,
+                            discInSquare(value(b.add(cu, ou)), value(b.add(cv, ov)), value(r)).id);
+            return std::vector<ValueId>{b.denan(b.min(sum, c(1.0)), dot)};
+        },
+        [&] { return std::vector<ValueId>{dot}; })[0];
 }
 
 } // namespace
@@ -129,6 +228,14 @@ CrowdEstimate latticeCrowd(ir::Builder& b, LatticeKind kind, const LatticeCrowdI
         out.engaged = b.select(in.drawEdges, c(1.0), out.engaged);
     }
     out.mean = b.min(b.select(in.drawEdges, edges, dots), c(1.0));
+    if (in.distance != ir::kNoValue) {
+        ValueId dot = dotsInPixel(b, kind, in, t, out.engaged);
+        out.nearest =
+            b.select(in.drawEdges,
+                     distanceInk(b, in.distance, b.mul(t, c(0.5)), ir::kNoValue, ir::kNoValue,
+                                 PixelFootprint{in.pixel, in.cosTurn, in.sinTurn}),
+                     dot);
+    }
     return out;
 }
 

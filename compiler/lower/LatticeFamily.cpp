@@ -344,6 +344,7 @@ FamilyBuilder latticeBuilder(LatticeKind kind) {
             crowd.genV = out.genV, crowd.genVX = out.genVX, crowd.genVY = out.genVY;
             crowd.cosTurn = in.cosTurn;
             crowd.sinTurn = in.sinTurn;
+            crowd.distance = out.distance;
             out.crowd = latticeCrowd(b, kind, crowd);
         }
         return out;

@@ -97,6 +97,10 @@ struct CrowdEstimate {
     std::vector<Footprint> strands;
     std::vector<ir::ValueId> strandMeans;
     ir::ValueId strandsOn = ir::kNoValue;
+    // The nearest member's mean ink over the pixel where the family knows its shape better
+    // than a stroke across its normal (a lattice's dot, LatticeCrowd.h): the compose step
+    // takes it in place of the distance form. kNoValue: the distance form.
+    ir::ValueId nearest = ir::kNoValue;
 };
 
 struct LayerFields {

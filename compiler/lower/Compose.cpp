@@ -23,17 +23,11 @@ void Compose::layer(const LayerInk& ink) {
     // The pattern is drawn in every view (the split shows it; elsewhere what is not used
     // is removed as dead code).
     // Under the mean filter (pixel set) the stroke as written averaged over the pixel: by its
-    // index where the family gives one to average along, else from its distance.
-    ValueId stroke =
-        ink.pixel.size == ir::kNoValue ? strokeInk(b_, ink.fields.distance, ink.band)
-        : ink.fields.footprint.grad != ir::kNoValue
-            ? meanInk(b_, ink.fields.footprint, ink.fields.distance, ink.halfWidth, ink.pixel)
-        : ink.fields.crowd.nearest != ir::kNoValue
-            ? ink.fields.crowd.nearest
-            : distanceInk(b_, ink.fields.distance, ink.halfWidth, ink.fields.gradX,
-                          ink.fields.gradY, ink.pixel);
-    if (ink.pixel.size != ir::kNoValue && ink.fields.crowd.mean != ir::kNoValue)
-        stroke = crowdInk(b_, ink.fields.crowd, stroke);
+    // index where the family gives one to average along, else from its distance, and handed
+    // over to the family's crowd where it estimates one (layerMeanInk).
+    ValueId stroke = ink.pixel.size == ir::kNoValue
+                         ? strokeInk(b_, ink.fields.distance, ink.band)
+                         : layerMeanInk(b_, ink.fields, ink.halfWidth, ink.pixel);
     // A lattice's edges are whole lines laid as independent inks: where they cross within
     // the pixel, their overlap (StrokePairs.h, strandCrossings).
     std::vector<StrokeAcross> strands;

@@ -170,19 +170,53 @@ CrowdEstimate latticeCrowd(ir::Builder& b, LatticeKind kind, const LatticeCrowdI
     CrowdEstimate out;
     out.engaged = b.smoothstep(c(kCrowdFrom), c(kCrowdFull), members);
     ValueId area = b.mul(b.mul(b.mul(s, s), c(g.cellArea)), b.mul(sx, sy)); // a cell, world
-    // Points: a disc of radius t / 2 about each, pi t^2 / 4 a point, the discs apart.
-    ValueId dots = b.div(b.mul(c(g.points * kPi / 4.0), b.mul(t, t)), area);
-    // Edges: a stroke t wide along each edge a cell owns, less what the strokes meeting at a
-    // corner share, counted by laying the edge directions over one another as independent
-    // (exact for the square's two perpendicular families, first order at three).
-    ValueId blank = c(1.0);
+    // The share of the plane strokes `width` wide cover where the cells crowd, a closed form
+    // of the lattice's geometry. Points: a disc of radius width / 2 about each, pi width^2 / 4
+    // a point, the discs apart. Edges: a stroke along each edge a cell owns, width |S e| s over
+    // the cell's area for each direction (a family of lines width |grad f| of the plane),
+    // less what the strokes meeting at a corner share, counted by laying the directions over
+    // one another as independent (exact for the square's two perpendicular families); for
+    // the triangle lattice, whose three lines all meet at its points, exactly: the paper left
+    // is each triangle shrunk by width / 2 from its sides, (1 - width / (2 r))^2 of it, r its
+    // inradius (2 area / perimeter).
+    std::vector<ValueId> lengths;
     for (int k = 0; k < g.families; ++k) {
         const auto [ex, ey] = g.edges[k];
-        ValueId length = b.mul(s, b.hypot(b.mul(c(ex), sx), b.mul(c(ey), sy)));
-        ValueId share = b.min(b.div(b.mul(t, length), area), c(1.0));
-        blank = b.mul(blank, b.sub(c(1.0), share));
+        lengths.push_back(b.mul(s, b.hypot(b.mul(c(ex), sx), b.mul(c(ey), sy))));
     }
-    ValueId edges = b.sub(c(1.0), blank);
+    ValueId inradius = ir::kNoValue;
+    if (kind == LatticeKind::Triangle) {
+        ValueId e1 = b.mul(s, sx);
+        ValueId e2 = b.mul(s, b.hypot(b.mul(c(0.5), sx), b.mul(c(kSqrt3 / 2), sy)));
+        inradius = b.div(b.mul(b.mul(s, s), b.mul(b.mul(sx, sy), c(kSqrt3 / 2))),
+                         b.add(e1, b.mul(c(2.0), e2)));
+    }
+    const double points = g.points;
+    auto independentEdges = [lengths, area](ir::Builder& bb, ValueId width) {
+        ValueId blank = bb.constF(1.0);
+        for (ValueId length : lengths) {
+            ValueId share = bb.min(bb.div(bb.mul(width, length), area), bb.constF(1.0));
+            blank = bb.mul(blank, bb.sub(bb.constF(1.0), share));
+        }
+        return bb.sub(bb.constF(1.0), blank);
+    };
+    auto exactEdges = [independentEdges, inradius](ir::Builder& bb, ValueId width) {
+        if (inradius == ir::kNoValue) return independentEdges(bb, width);
+        ValueId left =
+            bb.max(bb.sub(bb.constF(1.0), bb.div(width, bb.mul(bb.constF(2.0), inradius))),
+                   bb.constF(0.0));
+        return bb.sub(bb.constF(1.0), bb.mul(left, left));
+    };
+    auto dotShare = [points, area](ir::Builder& bb, ValueId width) {
+        return bb.div(bb.mul(bb.constF(points * kPi / 4.0), bb.mul(width, width)), area);
+    };
+    out.share = [exactEdges, dotShare, drawEdges = in.drawEdges](ir::Builder& bb, ValueId half) {
+        ValueId width = bb.mul(bb.max(half, bb.constF(0.0)), bb.constF(2.0));
+        return bb.min(bb.select(drawEdges, exactEdges(bb, width), dotShare(bb, width)),
+                      bb.constF(1.0));
+    };
+    ValueId dots = dotShare(b, t);
+    ValueId edges = independentEdges(b, t);
     if (kind != LatticeKind::Hex && in.genU != ir::kNoValue) {
         // Whole lines: the edges u, v in Z (and u + v for the triangle lattice), each a phase
         // family averaged over the square pixel as phaseFamilyFields' are (meanInk).
@@ -209,21 +243,11 @@ CrowdEstimate latticeCrowd(ir::Builder& b, LatticeKind kind, const LatticeCrowdI
         if (kind == LatticeKind::Triangle) {
             // The triangle lattice's three lines meet at its points, where laid as independent
             // they count the strokes' overlaps as if spread over the plane: light by up to a
-            // few percent. Past resolved, the exact share is a closed form: the paper left is
-            // each triangle shrunk by t/2 from its sides, (1 - t / (2 r))^2 of it, r its
-            // inradius (2 area / perimeter); the independent union's share in that limit is
-            // 1 - prod(1 - t |grad f_i|). Their difference is added as the points crowd (the
-            // hand-over `engaged` above), where the resolved strokes' own means are exact
-            // but at the points.
-            ValueId e1 = b.mul(s, sx);
-            ValueId e2 = b.mul(s, b.hypot(b.mul(c(0.5), sx), b.mul(c(kSqrt3 / 2), sy)));
-            ValueId inradius = b.div(b.mul(b.mul(s, s), b.mul(b.mul(sx, sy), c(kSqrt3 / 2))),
-                                     b.add(e1, b.mul(c(2.0), e2)));
-            ValueId left = b.max(b.sub(c(1.0), b.div(t, b.mul(c(2.0), inradius))), c(0.0));
-            ValueId spread = c(1.0);
-            for (const Family& f : lines)
-                spread = b.mul(spread, b.sub(c(1.0), b.min(b.mul(t, b.hypot(f.gx, f.gy)), c(1.0))));
-            edges = b.add(edges, b.mul(out.engaged, b.sub(spread, b.mul(left, left))));
+            // few percent. Past resolved the exact share above stands in for the independent
+            // union's, added as the points crowd (the hand-over `engaged` above), where the
+            // resolved strokes' own means are exact but at the points.
+            edges =
+                b.add(edges, b.mul(out.engaged, b.sub(exactEdges(b, t), independentEdges(b, t))));
         }
         out.engaged = b.select(in.drawEdges, c(1.0), out.engaged);
     }

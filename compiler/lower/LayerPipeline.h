@@ -101,6 +101,11 @@ struct CrowdEstimate {
     // than a stroke across its normal (a lattice's dot, LatticeCrowd.h): the compose step
     // takes it in place of the distance form. kNoValue: the distance form.
     ir::ValueId nearest = ir::kNoValue;
+    // The share of the plane within `halfWidth` of a member where the members crowd: the
+    // distribution of the distance to the nearest member over a pixel that holds many, which
+    // a morph across kinds reads to blend two families' distances (MorphFamily.cpp). Empty
+    // where the family gives none.
+    std::function<ir::ValueId(ir::Builder&, ir::ValueId halfWidth)> share;
 };
 
 struct LayerFields {

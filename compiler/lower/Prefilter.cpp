@@ -132,4 +132,16 @@ ValueId crowdInk(ir::Builder& b, const CrowdEstimate& crowd, ValueId ink) {
     return b.mix(ink, crowd.mean, crowd.engaged);
 }
 
+ValueId layerMeanInk(ir::Builder& b, const LayerFields& fields, ValueId halfWidth,
+                     const PixelFootprint& pixel) {
+    ValueId ink =
+        fields.footprint.grad != ir::kNoValue
+            ? meanInk(b, fields.footprint, fields.distance, halfWidth, pixel)
+        : fields.crowd.nearest != ir::kNoValue
+            ? fields.crowd.nearest
+            : distanceInk(b, fields.distance, halfWidth, fields.gradX, fields.gradY, pixel);
+    if (fields.crowd.mean != ir::kNoValue) ink = crowdInk(b, fields.crowd, ink);
+    return ink;
+}
+
 } // namespace moire::lower

@@ -230,4 +230,11 @@ ir::ValueId distanceInk(ir::Builder& b, ir::ValueId distance, ir::ValueId halfWi
 // picture to keep: see the .cpp). Called under the mean filter only.
 ir::ValueId crowdInk(ir::Builder& b, const CrowdEstimate& crowd, ir::ValueId ink);
 
+// A layer's ink (before opacity) under the mean filter, as the compose step lays it: a
+// family with a footprint by its index (meanInk), one that measures its nearest member itself
+// by that (CrowdEstimate::nearest), any other from its distance (distanceInk); then handed
+// over to its crowd where it estimates one (crowdInk).
+ir::ValueId layerMeanInk(ir::Builder& b, const LayerFields& fields, ir::ValueId halfWidth,
+                         const PixelFootprint& pixel);
+
 } // namespace moire::lower

@@ -51,6 +51,18 @@ std::vector<Scene> filterScenes() {
     out.push_back({"triangle grid, resolved", "lattice_resolved.moire",
                    "layer a { family = triangle_lattice; spacing = 8; stroke = 1.5; edges = 1 }\n"
                    "layer b { family = lines; spacing = 6; stroke = 1; rotation = 5deg }\n"});
+    // A morph across kinds: a square grid of edges to circles, 0.6 apart (crowded: the
+    // families' distributions of distance) and 7 apart (resolved: the blend sampled over the
+    // pixel). The frame is the change's start; the kernel does the same work at every point
+    // of the change.
+    for (const char* spacing : {"0.6", "7"})
+        out.push_back(
+            {std::string("morph across kinds, ") + spacing,
+             std::string("morph_kinds_") + spacing + ".moire",
+             std::string("timing change { period = 2 }\nlayer a { family = "
+                         "morph(change, square_lattice, circles); edges = 1; spacing = ") +
+                 spacing + "; stroke = " + (spacing[0] == '0' ? "0.12" : "1.5") +
+                 "; morph_time = 1 }\n"});
     // A walking family whose drift equals its spacing, turned half a degree a member: the
     // solver's interval is wider than its budget over most of the frame.
     out.push_back({"walking past budget", "walking_budget.moire",

@@ -6,6 +6,7 @@
 
 #include <array>
 #include <cmath>
+#include <functional>
 #include <numbers>
 #include <vector>
 
@@ -69,8 +70,14 @@ ValueId dotsInPixel(ir::Builder& b, LatticeKind kind, const LatticeCrowdInputs& 
     ValueId back = b.div(b.neg(in.distance), in.pixel);
     ValueId cu = b.denan(b.mul(back, g.u), c(0.0)), cv = b.denan(b.mul(back, g.v), c(0.0));
     ValueId r = b.div(b.mul(t, c(0.5)), in.pixel);
-    ValueId dot = discInSquare(value(cu), value(cv), value(r)).id;
-    if (in.genU == ir::kNoValue) return dot;
+    // The discs are measured behind a branch on the lattice drawing its points (a uniform).
+    auto nearestDot = [&] { return discInSquare(value(cu), value(cv), value(r)).id; };
+    auto points = [&](const std::function<ValueId()>& dots) {
+        return b.ifThenElse(
+            in.drawEdges, [&] { return std::vector<ValueId>{c(0.0)}; },
+            [&] { return std::vector<ValueId>{dots()}; })[0];
+    };
+    if (in.genU == ir::kNoValue) return points(nearestDot);
     // The neighbours, as steps (du, dv) of the generators: the square lattice's eight within
     // a diagonal step, the triangle lattice's twelve within sqrt3 steps (its first two
     // shells), and the honeycomb's six corners of its own kind sqrt3 s away (the hexagons'
@@ -137,16 +144,19 @@ ValueId dotsInPixel(ir::Builder& b, LatticeKind kind, const LatticeCrowdInputs& 
     // handed over whole.
     ValueId reach = b.emit(ir::Op::And, {b.lt(shortest, b.add(b.mul(r, c(2.0)), c(1.5))),
                                          b.lt(pointsEngaged, c(1.0))});
-    return b.ifThenElse(
-        reach,
-        [&] {
-            ValueId sum = dot;
-            for (const auto& [ou, ov] : offsets)
-                sum = b.add(sum,
-                            discInSquare(value(b.add(cu, ou)), value(b.add(cv, ov)), value(r)).id);
-            return std::vector<ValueId>{b.denan(b.min(sum, c(1.0)), dot)};
-        },
-        [&] { return std::vector<ValueId>{dot}; })[0];
+    return points([&] {
+        ValueId dot = nearestDot();
+        return b.ifThenElse(
+            reach,
+            [&] {
+                ValueId sum = dot;
+                for (const auto& [ou, ov] : offsets)
+                    sum = b.add(
+                        sum, discInSquare(value(b.add(cu, ou)), value(b.add(cv, ov)), value(r)).id);
+                return std::vector<ValueId>{b.denan(b.min(sum, c(1.0)), dot)};
+            },
+            [&] { return std::vector<ValueId>{dot}; })[0];
+    });
 }
 
 } // namespace

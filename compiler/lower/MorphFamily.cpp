@@ -121,12 +121,13 @@ ValueId sampledBlend(ir::Builder& b, const std::vector<LayerFields>& fields, Val
 // own share. Handed over to by members per pixel (kCrowdFrom to kCrowdFull), a family's own
 // where it has an index gradient, else by the layer's spacing, mixed as the morph mixes the
 // families: where members are resolved the blend's strokes travel from one shape to the
-// other, and the distance form draws them. Unset where a family gives no share (a walking
-// family, one given by its distance).
+// other, and `nearest` samples them over the pixel (sampledBlend). Unset where a family gives
+// no share (a walking family, one given by its distance): the distance form then draws the
+// blend.
 constexpr int kMorphTaps = 8;
 CrowdEstimate blendedCrowd(SceneContext& ctx, const sema::CheckedLayer& layer,
                            const StrokeBand& band, const std::vector<LayerFields>& fields,
-                           ValueId k, ValueId next, ValueId w,
+                           ValueId distance, ValueId k, ValueId next, ValueId w,
                            const std::function<ValueId(ValueId, const Vals&)>& pick) {
     ir::Builder& b = ctx.b;
     auto c = [&](double v) { return b.constF(v); };
@@ -174,22 +175,37 @@ CrowdEstimate blendedCrowd(SceneContext& ctx, const sema::CheckedLayer& layer,
         }
         return sum;
     };
-    ValueId first = b.le(w, c(0.5));
-    ValueId mean = b.select(first, chance(k, next, b.sub(c(1.0), w)), chance(next, k, w));
-    // At either end of a change the morph is one family, whose own mean over the pixel
-    // (layerMeanInk) is exact where its crowded share is the plane's average: each family's
-    // difference from its share enters with its weight in the blend.
-    const PixelFootprint pixel{pixelSize, ctx.cosTurn, ctx.sinTurn};
-    Vals own;
-    for (size_t i = 0; i < fields.size(); ++i)
-        own.push_back(b.sub(layerMeanInk(b, fields[i], half, pixel), shares[i](b, half)));
-    mean = b.add(mean, b.mix(pick(k, own), pick(next, own), w));
     CrowdEstimate out;
-    out.mean = b.clamp(b.denan(mean, c(0.0)), c(0.0), c(1.0));
     out.engaged = b.mix(pick(k, crowded), pick(next, crowded), w);
-    out.nearest = sampledBlend(
-        b, fields, w, half, pixel, [&](ValueId which, const Vals& v) { return pick(which, v); }, k,
-        next);
+    const PixelFootprint pixel{pixelSize, ctx.cosTurn, ctx.sinTurn};
+    // Each form behind a branch: the crowded where the hand-over takes any of it, the sampled
+    // where it leaves any.
+    out.mean = b.ifThenElse(
+        b.gt(out.engaged, c(0.0)),
+        [&] {
+            ValueId first = b.le(w, c(0.5));
+            ValueId mean = b.select(first, chance(k, next, b.sub(c(1.0), w)), chance(next, k, w));
+            // At either end of a change the morph is one family, whose own mean over the
+            // pixel (layerMeanInk) is exact where its crowded share is the plane's average:
+            // each family's difference from its share enters with its weight in the blend.
+            Vals own;
+            for (size_t i = 0; i < fields.size(); ++i)
+                own.push_back(b.sub(layerMeanInk(b, fields[i], half, pixel), shares[i](b, half)));
+            mean = b.add(mean, b.mix(pick(k, own), pick(next, own), w));
+            return Vals{b.clamp(b.denan(mean, c(0.0)), c(0.0), c(1.0))};
+        },
+        [&] { return Vals{c(0.0)}; })[0];
+    out.nearest = b.ifThenElse(
+        b.lt(out.engaged, c(1.0)),
+        [&] {
+            ValueId v = sampledBlend(
+                b, fields, w, half, pixel,
+                [&](ValueId which, const Vals& vals) { return pick(which, vals); }, k, next);
+            if (v == ir::kNoValue)
+                v = distanceInk(b, distance, half, ir::kNoValue, ir::kNoValue, pixel);
+            return Vals{v};
+        },
+        [&] { return Vals{c(0.0)}; })[0];
     return out;
 }
 
@@ -303,7 +319,7 @@ LayerFields morphFields(LayerLowering& layers, const sema::CheckedLayer& layer,
     LayerFields out;
     out.distance = blend(distances);
     if (ctx.options.filter == sema::FilterMode::Mean)
-        out.crowd = blendedCrowd(ctx, layer, band, fields, k, next, w, pick);
+        out.crowd = blendedCrowd(ctx, layer, band, fields, out.distance, k, next, w, pick);
     out.index = pick(b.select(b.lt(w, b.constF(0.5)), k, next), indices);
     // The views that sweep advance each member in its own parameter and blend the advanced
     // distances as the pattern blends them (Envelope.cpp); a member without a sample (a

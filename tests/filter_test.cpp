@@ -438,6 +438,14 @@ TEST_CASE("filter: two lattices finer than the pixels show their beat") {
          "layer b { family = square_lattice; spacing = 6.2; stroke = 1.5; edges = 1; rotation = "
          "5deg }\n",
          0.05},
+        // A faint fine grid under two fine line families whose beat is coarse: the lines' beat
+        // is correlated by the second pair of the run (Compose.cpp hands the pair's last layer
+        // on).
+        {"layer g { family = square_lattice; spacing = 0.45; stroke = 0.05; edges = 1; opacity = "
+         "0.4 }\n"
+         "layer a { family = lines; spacing = 0.5; stroke = 0.15 }\n"
+         "layer b { family = lines; spacing = 0.525; stroke = 0.15 }\n",
+         0.25},
     };
     for (const Case& c : kPairs) {
         CAPTURE(c.layers);

@@ -48,12 +48,23 @@ void Compose::layer(const LayerInk& ink) {
     const bool fine =
         lattice || (filtered && joinsFineUnion(ink.fields.footprint, ink.fields.sample));
     // A run with a lattice is a pair: its correlation is its strands' (FineUnion.h), which the
-    // sweep of a longer run does not know.
+    // sweep of a longer run does not know. Closed at two, it hands its last layer on to the
+    // next run, so that every two consecutive fine layers are correlated (a lattice under two
+    // fine phase families leaves their beat to the second pair).
     const bool anyLattice =
         std::any_of(run_.begin(), run_.end(), [](const FineLayer& l) { return l.lattice(); });
-    if (!fine || (run_.size() >= 2 && (lattice || anyLattice))) closeRun();
+    if (!fine) {
+        closeRun();
+    } else if (run_.size() >= 2 && (lattice || anyLattice)) {
+        const FineLayer last = run_.back();
+        const Ink beneathLast = lastUnder_;
+        closeRun();
+        run_.push_back(last);
+        runUnder_ = beneathLast;
+    }
     if (fine && run_.empty()) runUnder_ = acc_;
     const Ink under = acc_;
+    if (fine) lastUnder_ = under;
     acc_ = inkOver(b_, acc_, ink.color[0], ink.color[1], ink.color[2], cov);
     if (ink.pixel.size != ir::kNoValue) meetStrokes(ink, cov, under, strands);
     if (fine) {

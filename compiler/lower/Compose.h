@@ -75,6 +75,7 @@ class Compose {
     // beneath them, and the pixel (FineUnion.h).
     std::vector<FineLayer> run_;
     Ink runUnder_{};
+    Ink lastUnder_{}; // the ink beneath the run's last layer, which a closed pair hands on
     PixelFootprint runPixel_;
     // Under the mean filter, the layers laid whose nearest stroke is known, each with what its
     // covariance with a later layer's stroke adds to the pixel per unit of that layer's

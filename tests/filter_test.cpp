@@ -395,6 +395,16 @@ InkAgainst latticeAgainstExact(const std::string& layers, Backend& backend, doub
     return d;
 }
 
+// One lattice against the exact field: within `rmse`, and its ink within `inkShare` of the
+// exact ink.
+void checkLatticeAgainstExact(const char* layers, Backend& backend, double rmse, double inkShare) {
+    CAPTURE(layers);
+    double spread = 0.0;
+    const InkAgainst d = latticeAgainstExact(layers, backend, spread);
+    CHECK(d.rmse <= rmse);
+    CHECK(std::abs(d.ink - d.exact) <= inkShare * d.exact);
+}
+
 // Two lattices of edges whose lines are finer than the pixels and whose beat is not: a square
 // lattice turned 3 degrees on another (the beat 0.5 / (2 sin 1.5deg) = 9.5 pixels), two
 // triangle lattices 4 degrees apart, square lattices of pitches 0.5 and 0.53 (a beat of 8.8
@@ -473,13 +483,7 @@ TEST_CASE("filter: a lattice's lines that cross within a pixel read the exact fi
         "layer a { family = square_lattice; spacing = 5; stroke = 1.2; edges = 1; rotation = "
         "25deg }\n",
     };
-    for (const char* layers : kLattices) {
-        CAPTURE(layers);
-        double spread = 0.0;
-        const InkAgainst d = latticeAgainstExact(layers, *backend, spread);
-        CHECK(d.rmse <= 0.02);
-        CHECK(std::abs(d.ink - d.exact) <= 0.01 * d.exact);
-    }
+    for (const char* layers : kLattices) checkLatticeAgainstExact(layers, *backend, 0.02, 0.01);
 }
 
 // Dots about a pixel wide, short of crowding (rows 1.4 to 4 pixels apart): drawn from the
@@ -503,13 +507,7 @@ TEST_CASE("filter: dots about a pixel wide read their exact ink") {
         "layer a { family = hex_lattice; spacing = 1.4; stroke = 0.9; rotation = 20deg }\n",
         "layer a { family = hex_lattice; spacing = 1; stroke = 0.5; scale = (1, 1.3) }\n",
     };
-    for (const char* layers : kLattices) {
-        CAPTURE(layers);
-        double spread = 0.0;
-        const InkAgainst d = latticeAgainstExact(layers, *backend, spread);
-        CHECK(d.rmse <= 0.02);
-        CHECK(std::abs(d.ink - d.exact) <= 0.03 * d.exact);
-    }
+    for (const char* layers : kLattices) checkLatticeAgainstExact(layers, *backend, 0.02, 0.03);
 }
 
 // A morph of families of different kinds interpolates their distances, D = (1 - w) d1 + w d2,

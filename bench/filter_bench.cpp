@@ -48,6 +48,16 @@ std::vector<Scene> filterScenes() {
                    "layer a { family = square_lattice; spacing = 0.6; stroke = 0.12; edges = 1 }\n"
                    "layer b { family = square_lattice; spacing = 0.6; stroke = 0.12; edges = 1; "
                    "rotation = 4deg }\n"});
+    // Two honeycombs' dots beating (LatticeUnion.h): their overlap sampled over the pixel.
+    out.push_back({"two fine dot screens", "dot_screens.moire",
+                   "layer a { family = hex_lattice; spacing = 0.35; stroke = 0.2 }\n"
+                   "layer b { family = hex_lattice; spacing = 0.35; stroke = 0.2; "
+                   "rotation = 3deg }\n"});
+    // Two honeycombs' edges beating (LatticeUnion.h): their cells' overlap over the pixel.
+    out.push_back({"two fine honeycombs", "honeycomb_pair.moire",
+                   "layer a { family = hex_lattice; spacing = 0.35; stroke = 0.1; edges = 1 }\n"
+                   "layer b { family = hex_lattice; spacing = 0.35; stroke = 0.1; edges = 1; "
+                   "rotation = 3deg }\n"});
     out.push_back({"triangle grid, resolved", "lattice_resolved.moire",
                    "layer a { family = triangle_lattice; spacing = 8; stroke = 1.5; edges = 1 }\n"
                    "layer b { family = lines; spacing = 6; stroke = 1; rotation = 5deg }\n"});

@@ -63,6 +63,9 @@ inline BuiltValue sin(BuiltValue x) {
 inline BuiltValue asin(BuiltValue x) {
     return {*x.b, x.b->emit(Op::Asin, {x.id})};
 }
+inline BuiltValue sqrt(BuiltValue x) {
+    return {*x.b, x.b->sqrt(x.id)};
+}
 inline BuiltValue operator*(double x, BuiltValue y) {
     return y.constant(x) * y;
 }

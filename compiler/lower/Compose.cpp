@@ -32,19 +32,19 @@ void Compose::layer(const LayerInk& ink) {
     // the pixel, their overlap (StrokePairs.h, strandCrossings).
     std::vector<StrokeAcross> strands;
     if (ink.pixel.size != ir::kNoValue && joinsAsStrands(ink.fields.crowd)) {
+        // Each strand is a phase family's footprint, whose stroke across is always known.
         strands = strandStrokes(b_, ink.fields.crowd, ink.halfWidth, ink.pixel);
-        if (strands.size() == ink.fields.crowd.strands.size())
-            stroke =
-                b_.clamp(b_.add(stroke, strandCrossings(b_, strands, ink.fields.crowd.strandMeans)),
-                         zero_, b_.constF(1.0));
-        else
-            strands.clear();
+        MOIRE_CHECK(strands.size() == ink.fields.crowd.strands.size(),
+                    "a lattice's strands are phase footprints");
+        stroke =
+            b_.clamp(b_.add(stroke, strandCrossings(b_, strands, ink.fields.crowd.strandMeans)),
+                     zero_, b_.constF(1.0));
     }
     ValueId cov = inkCoverage(b_, stroke, ink.opacity, ink.color[3]);
     // Under the mean filter, consecutive phase families form a run whose union is taken
     // together (FineUnion.h); any other layer ends the run before it is laid.
     const bool filtered = ink.pixel.size != ir::kNoValue;
-    const bool lattice = filtered && joinsAsStrands(ink.fields.crowd);
+    const bool lattice = filtered && joinsAsLattice(ink.fields.crowd);
     const bool fine =
         lattice || (filtered && joinsFineUnion(ink.fields.footprint, ink.fields.sample));
     // A run with a lattice is a pair: its correlation is its strands' (FineUnion.h), which the
@@ -74,11 +74,14 @@ void Compose::layer(const LayerInk& ink) {
                                   ink.spacing, ink.fields.gradX, ink.fields.gradY},
                     ink.fields.footprint,
                     {},
-                    ir::kNoValue};
+                    ir::kNoValue,
+                    std::nullopt,
+                    stroke};
         if (lattice) {
             for (size_t i = 0; i < ink.fields.crowd.strands.size(); ++i)
                 l.strands.push_back({ink.fields.crowd.strands[i], ink.fields.crowd.strandMeans[i]});
             l.strandsOn = ink.fields.crowd.strandsOn;
+            l.shape = ink.fields.crowd.shape;
         } else {
             l.strands.push_back({ink.fields.footprint, stroke});
         }

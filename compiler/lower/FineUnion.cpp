@@ -1,8 +1,10 @@
 #include "compiler/lower/FineUnion.h"
 
 #include "compiler/ir/BuiltValue.h"
+#include "compiler/lower/LatticeUnion.h"
 
 #include <algorithm>
+#include <functional>
 
 namespace moire::lower {
 
@@ -19,18 +21,16 @@ bool joinsAsStrands(const CrowdEstimate& crowd) {
     return !crowd.strands.empty() && crowd.strandsOn != ir::kNoValue;
 }
 
-namespace {
+bool joinsAsLattice(const CrowdEstimate& crowd) {
+    return joinsAsStrands(crowd) || crowd.shape.has_value();
+}
 
-// footprintTransfer of an index whose gradient has components (u, v) along the pixel's sides.
 ValueId transfer(ir::Builder& b, const PixelSides& g, const PixelFootprint& pixel) {
     ir::BuiltValue along(b, b.mul(b.abs(g.u), pixel.size));
     ir::BuiltValue across(b, b.mul(b.abs(g.v), pixel.size));
     return footprintTransfer(along, across).id;
 }
 
-// How far a layer's members are past being resolved: smoothstep(kCrowdFrom, kCrowdFull, nu),
-// nu = |grad index| x pixel, and 0 where its footprint reaches below a first member (as
-// meanInk, which draws such a pixel from its distance).
 ValueId unresolved(ir::Builder& b, const Footprint& f, const PixelFootprint& pixel) {
     ValueId nu = b.mul(f.grad, pixel.size);
     ValueId weight = b.smoothstep(b.constF(kCrowdFrom), b.constF(kCrowdFull), nu);
@@ -38,6 +38,13 @@ ValueId unresolved(ir::Builder& b, const Footprint& f, const PixelFootprint& pix
     ValueId lowest = b.sub(f.index, b.mul(nu, b.constF(0.5)));
     return b.select(b.lt(lowest, b.constF(*f.first - 0.5)), b.constF(0.0), weight);
 }
+
+ValueId pastFirst(ir::Builder& b, const Footprint& f) {
+    if (!f.first) return b.constF(1.0);
+    return b.clamp(b.sub(f.index, b.constF(*f.first + 0.5)), b.constF(0.0), b.constF(1.0));
+}
+
+namespace {
 
 // A pair's correlation in closed form: the sweep's mean less its pivot, for two layers whose
 // strokes are boxes in their index. Over the sweep layer i covers c_i = k_i A_i (k_i its
@@ -100,11 +107,7 @@ Ink pairCorrelation(ir::Builder& b, const Ink& under, const std::vector<FineLaye
     };
     ValueId scale =
         b.mul(b.mul(strength(l1.sweep), strength(l2.sweep)), b.sub(e, b.mul(duty(w1), duty(w2))));
-    for (const FineLayer* l : {&l1, &l2})
-        if (l->footprint.first) {
-            ValueId past = b.sub(l->footprint.index, b.constF(*l->footprint.first + 0.5));
-            scale = b.mul(scale, b.clamp(past, zero, one));
-        }
+    for (const FineLayer* l : {&l1, &l2}) scale = b.mul(scale, pastFirst(b, l->footprint));
     scale = b.denan(scale, zero);
     const Vals& k = l1.sweep.color;
     return {b.mul(scale, b.sub(under.r, k[0])), b.mul(scale, b.sub(under.g, k[1])),
@@ -129,6 +132,7 @@ Ink pairCorrelation(ir::Builder& b, const Ink& under, const std::vector<FineLaye
 Ink strandCorrelation(ir::Builder& b, const Ink& under, const FineLayer& l1, const FineLayer& l2,
                       const PixelFootprint& pixel) {
     const ValueId zero = b.constF(0.0), one = b.constF(1.0);
+    if (l1.strands.empty() || l2.strands.empty()) return {zero, zero, zero, zero}; // the honeycomb
     auto value = [&](ValueId v) { return ir::BuiltValue(b, v); };
     // A strand as the pair reads it: its gradient along the pixel's sides, its transfer, how
     // far it is past resolved, and its half-width in index units.
@@ -164,11 +168,7 @@ Ink strandCorrelation(ir::Builder& b, const Ink& under, const FineLayer& l1, con
                 auto pick = [&](ValueId mine, ValueId held) {
                     return b.select(better, mine, held);
                 };
-                ValueId yPast = one;
-                if (y.strand->footprint.first)
-                    yPast = b.clamp(b.sub(y.strand->footprint.index,
-                                          b.constF(*y.strand->footprint.first + 0.5)),
-                                    zero, one);
+                ValueId yPast = pastFirst(b, y.strand->footprint);
                 rate = pick(r, rate);
                 sense = pick(b.constF(s), sense);
                 du = pick(cu, du);
@@ -190,10 +190,7 @@ Ink strandCorrelation(ir::Builder& b, const Ink& under, const FineLayer& l1, con
             b.mul(b.min(x.unresolved, un),
                   b.clamp(b.sub(one, b.div(b.mul(x.transfer, tr), b.max(beat, b.constF(1e-6)))),
                           zero, one));
-        if (x.strand->footprint.first)
-            past = b.mul(past, b.clamp(b.sub(x.strand->footprint.index,
-                                             b.constF(*x.strand->footprint.first + 0.5)),
-                                       zero, one));
+        past = b.mul(past, pastFirst(b, x.strand->footprint));
         ValueId cov = b.mul(b.mul(weight, past), b.sub(e, b.mul(duty(x.half), duty(half))));
         ValueId pair = b.mul(b.sub(one, x.strand->mean), b.sub(one, mean));
         ValueId ratio = b.max(b.div(cov, b.max(pair, b.constF(1e-12))), b.constF(-1.0));
@@ -205,34 +202,66 @@ Ink strandCorrelation(ir::Builder& b, const Ink& under, const FineLayer& l1, con
     ValueId scale =
         b.mul(b.mul(strength(l1.sweep), strength(l2.sweep)), b.mul(blank, b.sub(factor, one)));
     for (const FineLayer* l : {&l1, &l2})
-        if (l->lattice()) scale = b.select(l->strandsOn, scale, zero);
+        if (l->strandsOn != ir::kNoValue) scale = b.select(l->strandsOn, scale, zero);
     scale = b.denan(scale, zero);
     const Vals& k = l1.sweep.color;
     return {b.mul(scale, b.sub(under.r, k[0])), b.mul(scale, b.sub(under.g, k[1])),
             b.mul(scale, b.sub(under.b, k[2])), b.mul(scale, b.sub(under.a, one))};
 }
 
-// A pair with a lattice: its strands' correlation (strandCorrelation), computed behind a
-// branch where a strand of each layer is past resolved.
+// A pair with a lattice: its strands' correlation (strandCorrelation), or where both layers
+// draw dots, the two screens' (LatticeUnion.h), computed behind a branch where a strand or the
+// dots of each layer are past resolved.
 Ink strandUnion(ir::Builder& b, const Ink& under, const Ink& independent,
                 const std::vector<FineLayer>& run, const PixelFootprint& pixel) {
+    const ValueId zero = b.constF(0.0);
     ValueId engaged = b.constF(1.0);
     for (const FineLayer& l : run) {
-        ValueId most = b.constF(0.0);
+        ValueId most = zero;
         for (const Strand& s : l.strands) most = b.max(most, unresolved(b, s.footprint, pixel));
-        if (l.lattice()) most = b.select(l.strandsOn, most, b.constF(0.0));
+        if (l.strandsOn != ir::kNoValue)
+            most = b.select(l.strandsOn, most, zero);
+        else if (l.lattice())
+            most = zero;
+        if (l.shape) {
+            // Its dots, and its edges where its cells are laid on another's (cellCorrelation).
+            const ValueId crowded = dotsCrowded(b, *l.shape, pixel);
+            most = b.max(most,
+                         l.shape->cells.empty() ? b.select(l.shape->dots, crowded, zero) : crowded);
+        }
         engaged = b.min(engaged, most);
     }
-    std::vector<ValueId> out = b.ifThenElse(
-        b.gt(engaged, b.constF(0.0)),
-        [&] {
-            const Ink corr = strandCorrelation(b, under, run[0], run[1], pixel);
-            const Ink sum = addCorrection(b, independent, corr, b.constF(1.0));
-            return std::vector<ValueId>{sum.r, sum.g, sum.b, sum.a};
-        },
-        [&] {
-            return std::vector<ValueId>{independent.r, independent.g, independent.b, independent.a};
-        });
+    auto ink = [&](const Ink& corr) {
+        const Ink sum = addCorrection(b, independent, corr, b.constF(1.0));
+        return std::vector<ValueId>{sum.r, sum.g, sum.b, sum.a};
+    };
+    // Which layer draws dots is a uniform (the lattice's `edges`): one correlation is built
+    // per pixel, by branches on it. Both: the two screens' (LatticeUnion.h); one: the screen's
+    // with the other's lines; neither: two lattices of one kind by their cells, else the
+    // strands'.
+    auto byDots = [&] {
+        const bool cells = run[0].shape && run[1].shape && sameCells(*run[0].shape, *run[1].shape);
+        auto strands = [&] {
+            if (cells) return ink(cellCorrelation(b, under, run[0], run[1], pixel));
+            return ink(strandCorrelation(b, under, run[0], run[1], pixel));
+        };
+        auto onlyOne = [&](bool first, const std::function<std::vector<ValueId>()>& otherwise) {
+            const FineLayer& dots = first ? run[0] : run[1];
+            if (!dots.shape) return otherwise();
+            return b.ifThenElse(
+                dots.shape->dots,
+                [&] { return ink(dotLineCorrelation(b, under, run[0], run[1], first, pixel)); },
+                otherwise);
+        };
+        auto mixed = [&] { return onlyOne(true, [&] { return onlyOne(false, strands); }); };
+        if (!run[0].shape || !run[1].shape) return mixed();
+        return b.ifThenElse(
+            b.emit(Op::And, {run[0].shape->dots, run[1].shape->dots}),
+            [&] { return ink(dotCorrelation(b, under, run[0], run[1], pixel)); }, mixed);
+    };
+    std::vector<ValueId> out = b.ifThenElse(b.gt(engaged, zero), byDots, [&] {
+        return std::vector<ValueId>{independent.r, independent.g, independent.b, independent.a};
+    });
     return {out[0], out[1], out[2], out[3]};
 }
 

@@ -18,6 +18,7 @@
 #include "compiler/lower/LayerPipeline.h"
 #include "compiler/lower/Prefilter.h"
 
+#include <optional>
 #include <vector>
 
 namespace moire::lower {
@@ -35,13 +36,17 @@ struct Strand {
 
 // One layer of a run of fine layers: as the envelope sweeps it, and as the mean filter
 // measures it (its strands; `footprint` a phase family's own). `strandsOn` is where a
-// lattice's strands are its ink (it draws its edges), kNoValue for a phase family.
+// lattice's strands are its ink (it draws its edges), kNoValue for a phase family and the
+// honeycomb; `shape` a lattice's (its dots or cells: LatticeUnion.h), `laid` the ink
+// the pixel lays of it.
 struct FineLayer {
     EnvelopeLayer sweep;
     Footprint footprint;
     std::vector<Strand> strands;
     ir::ValueId strandsOn = ir::kNoValue;
-    bool lattice() const { return strandsOn != ir::kNoValue; }
+    std::optional<CrowdEstimate::LatticeShape> shape;
+    ir::ValueId laid = ir::kNoValue; // the layer's own mean ink over the pixel, as laid
+    bool lattice() const { return strandsOn != ir::kNoValue || shape.has_value(); }
 };
 
 // Whether a layer can join a run: a phase family with a footprint and a one-index phase
@@ -49,6 +54,22 @@ struct FineLayer {
 // and distance families, the honeycomb and lattice points are laid over on their own.
 bool joinsFineUnion(const Footprint& footprint, const PhaseSample& sample);
 bool joinsAsStrands(const CrowdEstimate& crowd);
+// Whether a layer joins a run as a lattice: by its strands, or by its points (LatticeUnion.h).
+bool joinsAsLattice(const CrowdEstimate& crowd);
+
+// footprintTransfer (below) of an index whose gradient has components (u, v) along the
+// pixel's sides.
+ir::ValueId transfer(ir::Builder& b, const PixelSides& g, const PixelFootprint& pixel);
+
+// How far a family's members are past being resolved: smoothstep(kCrowdFrom, kCrowdFull, nu),
+// nu = |grad index| x pixel, and 0 where its footprint reaches below a first member (as
+// meanInk, which draws such a pixel from its distance).
+ir::ValueId unresolved(ir::Builder& b, const Footprint& f, const PixelFootprint& pixel);
+
+// A family that starts at a member has no members below it, which a periodic stroke counts:
+// within one member past the first a correlation is faded out, 0 to 1 (1 for a family with no
+// first member).
+ir::ValueId pastFirst(ir::Builder& b, const Footprint& f);
 
 // The transfer of a pixel's footprint to the fundamental of a periodic ink whose index spans
 // `along` and `across` units over the pixel's two sides: the square pixel's mean of

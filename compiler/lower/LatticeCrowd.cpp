@@ -262,6 +262,40 @@ CrowdEstimate latticeCrowd(ir::Builder& b, LatticeKind kind, const LatticeCrowdI
         out.engaged = b.select(in.drawEdges, c(1.0), out.engaged);
     }
     out.mean = b.min(b.select(in.drawEdges, edges, dots), c(1.0));
+    if (in.genU != ir::kNoValue) {
+        // The lattice's shape for the union of two lattices (LatticeUnion.h). The
+        // triangle lattice's generators and the honeycomb's centres' are 60 degrees apart, so
+        // their reciprocal vectors are 120 degrees apart and their sum is as short; the
+        // honeycomb's corners stand at a third and two thirds of its centres' cell.
+        CrowdEstimate::LatticeShape p;
+        p.u = in.genU, p.ux = in.genUX, p.uy = in.genUY;
+        p.v = in.genV, p.vx = in.genVX, p.vy = in.genVY;
+        p.sites = {{{0.0, 0.0}}};
+        p.shortest = {{{1, 0}}, {{0, 1}}};
+        p.radius = b.mul(t, c(0.5));
+        p.dots = b.emit(ir::Op::Not, {in.drawEdges});
+        if (kind != LatticeKind::Square) p.shortest.push_back({1, 1});
+        if (kind == LatticeKind::Triangle) {
+            // A rhombic cell's two triangles: (0, 0), (1, 0), (0, 1), where v >= 0, u >= 0 and
+            // u + v <= 1, and (1, 0), (0, 1), (1, 1), the same lines' other sides at 1, 1
+            // and 1. The first has area 1/2 with b summing to 1.
+            p.normals = {{{0.0, -1.0}, {-1.0, 0.0}, {1.0, 1.0}}};
+            p.kappa = 0.5;
+            p.cells = {{std::array<double, 3>{0.0, 0.0, 1.0}, std::nullopt},
+                       {std::nullopt, std::array<double, 3>{1.0, 1.0, -1.0}}};
+        } else if (kind == LatticeKind::Hex) {
+            // The hexagon about a centre, its corners at +-(1/3, 1/3), +-(-1/3, 2/3) and
+            // +-(2/3, -1/3): |u + 2v| <= 1, |2u + v| <= 1 and |u - v| <= 1. Of area 1 (a
+            // cell), which is 6 kappa: the triangle with b = (1, 1, 1) has area 9 kappa.
+            p.normals = {{{1.0, 2.0}, {-2.0, -1.0}, {1.0, -1.0}}};
+            p.kappa = 1.0 / 6.0;
+            p.cells = {
+                {std::array<double, 3>{1.0, 1.0, 1.0}, std::array<double, 3>{1.0, 1.0, 1.0}}};
+        }
+        if (kind == LatticeKind::Hex)
+            p.sites = {{{1.0 / 3.0, 1.0 / 3.0}}, {{2.0 / 3.0, 2.0 / 3.0}}};
+        out.shape = p;
+    }
     if (in.distance != ir::kNoValue) {
         ValueId dot = dotsInPixel(b, kind, in, t, out.engaged);
         out.nearest =

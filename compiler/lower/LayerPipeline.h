@@ -8,6 +8,7 @@
 #include "compiler/ir/Builder.h"
 
 #include <algorithm>
+#include <array>
 #include <functional>
 #include <memory>
 #include <optional>
@@ -106,6 +107,31 @@ struct CrowdEstimate {
     // a morph across kinds reads to blend two families' distances (MorphFamily.cpp). Empty
     // where the family gives none.
     std::function<ir::ValueId(ir::Builder&, ir::ValueId halfWidth)> share;
+    // A lattice's shape as the union of fine layers reads it, to correlate two lattices by
+    // their dots or cells (LatticeUnion.h): set on every lattice whose generators are
+    // known.
+    struct LatticeShape {
+        // The generators, whose whole values offset by each of `sites` are the points, with
+        // their gradients per world unit.
+        ir::ValueId u, ux, uy, v, vx, vy;
+        std::vector<std::array<double, 2>> sites;
+        // The shortest vectors of the reciprocal lattice, as (m, n): m grad u + n grad v, each
+        // up to its sign (the rows of points that stand closest together).
+        std::vector<std::array<int, 2>> shortest;
+        ir::ValueId radius; // half the stroke: a dot's radius, an edge's half-width (world)
+        ir::ValueId dots;   // a bool: the lattice draws its points, else its edges
+        // The paper its edges leave, one cell of the generators' lattice: regions bounded on
+        // three directions of lines, m_i . (u, v) <= upper_i and -m_i . (u, v) <= lower_i
+        // (either set of bounds absent: unbounded that way), the normals m_i summing to 0
+        // (LatticeUnion.h, cellArea). Empty for the square lattice, whose strands stand for it.
+        std::array<std::array<double, 2>, 3> normals{};
+        double kappa = 0.0; // the area of {m_i . (u, v) <= b_i} over (b_1 + b_2 + b_3)^2
+        struct Cell {
+            std::optional<std::array<double, 3>> upper, lower;
+        };
+        std::vector<Cell> cells;
+    };
+    std::optional<LatticeShape> shape;
 };
 
 struct LayerFields {

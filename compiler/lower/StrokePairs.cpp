@@ -1,5 +1,7 @@
 #include "compiler/lower/StrokePairs.h"
 
+#include "compiler/lower/LatticeUnion.h"
+
 namespace moire::lower {
 
 using ir::ValueId;
@@ -62,6 +64,11 @@ std::optional<StrokeAcross> strokeAcross(ir::Builder& b, const LayerFields& fiel
     }
     if (fields.crowd.engaged != ir::kNoValue)
         weight = b.mul(weight, b.sub(one, b.clamp(fields.crowd.engaged, zero, one)));
+    // A lattice's dots in rows a pixel apart or closer: each dot over the pixel is still
+    // counted exactly (LatticeCrowd.cpp), but the nearest is not the pixel's ink, and two such
+    // screens are correlated as screens (LatticeUnion.h).
+    if (const auto& p = fields.crowd.shape)
+        weight = b.mul(weight, b.select(p->dots, b.sub(one, dotsCrowded(b, *p, pixel)), one));
     ValueId h = b.div(halfWidth, pixel.size);
     ValueId touches =
         b.emit(ir::Op::And, {b.gt(weight, zero), b.lt(b.abs(s), b.add(h, b.constF(0.7072)))});

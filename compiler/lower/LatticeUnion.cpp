@@ -1,0 +1,414 @@
+#include "compiler/lower/LatticeUnion.h"
+
+#include <map>
+#include <numbers>
+#include <utility>
+
+namespace moire::lower {
+
+using ir::ValueId;
+
+namespace {
+
+// A screen's row of dots as a phase with its gradient, sign (m u + n v) for a short row vector
+// (m, n), and the phase each of its sites stands at past the whole numbers, sign (m s_u +
+// n s_v).
+struct Row {
+    ValueId phase, gx, gy;
+    std::vector<ValueId> shifts;
+};
+
+// Both senses of each of a screen's shortest row vectors.
+std::vector<Row> screenRows(ir::Builder& b, const CrowdEstimate::LatticeShape& p) {
+    std::vector<Row> rows;
+    for (const auto& [m, n] : p.shortest)
+        for (double sign : {1.0, -1.0}) {
+            auto combine = [&](ValueId u, ValueId v) {
+                return b.mul(b.constF(sign), b.add(b.mul(b.constF(m), u), b.mul(b.constF(n), v)));
+            };
+            Row r{combine(p.u, p.v), combine(p.ux, p.vx), combine(p.uy, p.vy), {}};
+            for (const auto& site : p.sites)
+                r.shifts.push_back(b.constF(sign * (m * site[0] + n * site[1])));
+            rows.push_back(r);
+        }
+    return rows;
+}
+
+// The row whose gradient is nearest (gx, gy), carried through selects.
+Row nearestRow(ir::Builder& b, const std::vector<Row>& rows, ValueId gx, ValueId gy) {
+    ValueId best = b.constF(1e30);
+    Row out = rows.front();
+    for (const Row& r : rows) {
+        ValueId dx = b.sub(gx, r.gx), dy = b.sub(gy, r.gy);
+        ValueId apart = b.add(b.mul(dx, dx), b.mul(dy, dy));
+        ValueId nearer = b.lt(apart, best);
+        best = b.select(nearer, apart, best);
+        out.phase = b.select(nearer, r.phase, out.phase);
+        out.gx = b.select(nearer, r.gx, out.gx);
+        out.gy = b.select(nearer, r.gy, out.gy);
+        for (size_t k = 0; k < out.shifts.size(); ++k)
+            out.shifts[k] = b.select(nearer, r.shifts[k], out.shifts[k]);
+    }
+    return out;
+}
+
+// A screen's cells a world area: |det(grad u, grad v)|.
+ValueId cellsPerArea(ir::Builder& b, const CrowdEstimate::LatticeShape& p) {
+    return b.abs(b.sub(b.mul(p.ux, p.vy), b.mul(p.uy, p.vx)));
+}
+
+// A screen's share of the plane, its sites' dots over its cell.
+ValueId screenShare(ir::Builder& b, const CrowdEstimate::LatticeShape& p) {
+    ValueId disc =
+        b.mul(b.constF(std::numbers::pi * double(p.sites.size())), b.mul(p.radius, p.radius));
+    return b.min(b.mul(disc, cellsPerArea(b, p)), b.constF(1.0));
+}
+
+// A layer's coverage per unit of its ink.
+ValueId strength(ir::Builder& b, const EnvelopeLayer& l) {
+    const ValueId zero = b.constF(0.0), one = b.constF(1.0);
+    return b.mul(b.clamp(l.opacity, zero, one), b.clamp(l.color[3], zero, one));
+}
+
+// The pair's covariance `cov` as the composite takes it: k1 k2 cov (P - K1), P the ink
+// beneath the pair and K1 the lower layer's colour (FineUnion.cpp, pairCorrelation).
+Ink correction(ir::Builder& b, const Ink& under, const FineLayer& l1, const FineLayer& l2,
+               ValueId cov) {
+    ValueId scale =
+        b.denan(b.mul(b.mul(strength(b, l1.sweep), strength(b, l2.sweep)), cov), b.constF(0.0));
+    const Vals& k = l1.sweep.color;
+    return {b.mul(scale, b.sub(under.r, k[0])), b.mul(scale, b.sub(under.g, k[1])),
+            b.mul(scale, b.sub(under.b, k[2])), b.mul(scale, b.sub(under.a, b.constF(1.0)))};
+}
+
+// The offsets at which the pair is sampled over the pixel: kDotPairTaps^2 points, in pixels
+// along its sides.
+std::vector<std::pair<double, double>> taps() {
+    std::vector<std::pair<double, double>> out;
+    for (int i = 0; i < kDotPairTaps; ++i)
+        for (int j = 0; j < kDotPairTaps; ++j)
+            out.push_back({(i + 0.5) / kDotPairTaps - 0.5, (j + 0.5) / kDotPairTaps - 0.5});
+    return out;
+}
+
+// A phase `d` at a tap (a, e) of the pixel, its gradient g along the pixel's sides.
+ValueId atTap(ir::Builder& b, ValueId d, const PixelSides& g, const PixelFootprint& pixel, double a,
+              double e) {
+    return b.add(d, b.mul(pixel.size, b.add(b.mul(g.u, b.constF(a)), b.mul(g.v, b.constF(e)))));
+}
+
+// The second lattice as the first moved, about the pixel: each of the first's generators
+// (u1, v1) matched with the second's row nearest it (f_u, f_v). The beat is the offset
+// u1 - f_u, v1 - f_v, whose gradients along the pixel's sides (gu, gv) step it over the pixel
+// and weigh it (its transfer); rho = sqrt |det(grad u1, grad v1) / det(grad f_u, grad f_v)| is
+// the second's pitch over the first's.
+struct Matched {
+    const CrowdEstimate::LatticeShape* p1 = nullptr;
+    Row fu{}, fv{};
+    PixelSides gu{}, gv{};
+    ValueId rho = ir::kNoValue;
+};
+Matched match(ir::Builder& b, const CrowdEstimate::LatticeShape& p1,
+              const CrowdEstimate::LatticeShape& p2, const PixelFootprint& pixel) {
+    const std::vector<Row> rows = screenRows(b, p2);
+    Matched m;
+    m.p1 = &p1;
+    m.fu = nearestRow(b, rows, p1.ux, p1.uy);
+    m.fv = nearestRow(b, rows, p1.vx, p1.vy);
+    m.gu = onPixelSides(b, b.sub(p1.ux, m.fu.gx), b.sub(p1.uy, m.fu.gy), pixel);
+    m.gv = onPixelSides(b, b.sub(p1.vx, m.fv.gx), b.sub(p1.vy, m.fv.gy), pixel);
+    const ValueId d1 = b.sub(b.mul(p1.ux, p1.vy), b.mul(p1.uy, p1.vx));
+    const ValueId d2 = b.sub(b.mul(m.fu.gx, m.fv.gy), b.mul(m.fu.gy, m.fv.gx));
+    m.rho = b.sqrt(b.div(b.abs(d1), b.max(b.abs(d2), b.constF(1e-30))));
+    return m;
+}
+
+// At a tap of the pixel: the offset by which the second lattice stands moved on the first,
+// in the first's cells, (u1 - f_u, v1 - f_v) at the tap less its nearest whole step. It runs
+// with the beat, slowly and smoothly, where the nearest points of the two lattices jump from
+// cell to cell.
+std::array<ValueId, 2> offsetAt(ir::Builder& b, const Matched& m, const PixelFootprint& pixel,
+                                double a, double e) {
+    auto residual = [&](ValueId x) { return b.sub(x, b.round(x)); };
+    return {residual(atTap(b, b.sub(m.p1->u, m.fu.phase), m.gu, pixel, a, e)),
+            residual(atTap(b, b.sub(m.p1->v, m.fv.phase), m.gv, pixel, a, e))};
+}
+
+} // namespace
+
+ValueId dotsCrowded(ir::Builder& b, const CrowdEstimate::LatticeShape& p,
+                    const PixelFootprint& pixel) {
+    ValueId rows = b.min(b.hypot(p.ux, p.uy), b.hypot(p.vx, p.vy));
+    return b.smoothstep(b.constF(kCrowdFrom), b.constF(kCrowdFull), b.mul(rows, pixel.size));
+}
+
+// Over a pixel that holds many dots of each screen, the first screen's generators (u1, v1)
+// and the second's matched rows (f_u, f_v) advance together: the second screen is the first
+// moved by delta = (u1 - f_u, v1 - f_v) of the first's cells, and delta runs with the beat,
+// grad delta = (grad u1 - grad f_u, grad v1 - grad f_v), slowly where the rows match. At a
+// given delta the mean of the product of the two screens over the plane is the overlap of
+// a dot of each, once a cell:
+//   E(delta) = n sum_{i, j} sum_corners lens(|delta + s_j - s_i - corner|)
+// with s the sites of each screen, the corners those of the first's cell that the offset
+// falls in (the nearest two of them: a dot of the other screen at the third reaches the dot
+// only where the dots nearly touch their own neighbours), and n the pairs a world area,
+// sqrt(|det1 det2|) (det the generators' determinant, cells a world area): where the
+// pitches differ, either screen's count of cells alone is off by as much. It is sampled at
+// kDotPairTaps^2 points of the pixel, delta stepped along the pixel's sides. The weight is
+// the least of the two screens' crowding (dotsCrowded) times the beat's transfer over the
+// pixel (footprintTransfer of its faster row): 1 where a pixel spans little of a beat, 0
+// where it spans a whole one and the even grey of the union of the means stands. Where the
+// rows do not match (other kinds, a turn near the screens' half symmetry) the beat is fast
+// and the weight is 0.
+Ink dotCorrelation(ir::Builder& b, const Ink& under, const FineLayer& l1, const FineLayer& l2,
+                   const PixelFootprint& pixel) {
+    const CrowdEstimate::LatticeShape& p1 = *l1.shape;
+    const CrowdEstimate::LatticeShape& p2 = *l2.shape;
+    auto c = [&](double v) { return b.constF(v); };
+    const ValueId zero = c(0.0), one = c(1.0);
+    auto value = [&](ValueId v) { return ir::BuiltValue(b, v); };
+    const Matched m = match(b, p1, p2, pixel);
+    // The first screen's steps in the world: the columns of the inverse of its gradients.
+    const ValueId det = b.sub(b.mul(p1.ux, p1.vy), b.mul(p1.uy, p1.vx));
+    const ValueId e1x = b.div(p1.vy, det), e1y = b.div(b.neg(p1.vx), det);
+    const ValueId e2x = b.div(b.neg(p1.uy), det), e2y = b.div(p1.ux, det);
+    // The sites' differences, s_j - s_i, each with the number of pairs that share it.
+    std::map<std::pair<double, double>, int> differences;
+    for (const auto& si : p1.sites)
+        for (const auto& sj : p2.sites) ++differences[{sj[0] - si[0], sj[1] - si[1]}];
+    ValueId sum = zero;
+    for (const auto& [a, e] : taps()) {
+        const auto [tu, tv] = offsetAt(b, m, pixel, a, e);
+        for (const auto& [offset, pairs] : differences) {
+            ValueId qu = b.add(tu, c(offset.first)), qv = b.add(tv, c(offset.second));
+            qu = b.sub(qu, b.floor(qu));
+            qv = b.sub(qv, b.floor(qv));
+            // The two nearest of the cell's corners: a third reaches the dot only where the
+            // dots nearly touch their own neighbours.
+            ValueId nearest = c(1e30), next = c(1e30);
+            for (int cu : {0, 1})
+                for (int cv : {0, 1}) {
+                    ValueId ou = b.sub(qu, c(cu)), ov = b.sub(qv, c(cv));
+                    ValueId x = b.add(b.mul(ou, e1x), b.mul(ov, e2x));
+                    ValueId y = b.add(b.mul(ou, e1y), b.mul(ov, e2y));
+                    ValueId d = b.hypot(x, y);
+                    next = b.min(next, b.max(nearest, d));
+                    nearest = b.min(nearest, d);
+                }
+            for (ValueId d : {nearest, next}) {
+                ValueId lens = lensArea(value(d), value(p1.radius), value(p2.radius)).id;
+                sum = b.add(sum, b.mul(c(pairs), lens));
+            }
+        }
+    }
+    // Pairs per world area: a cell of either screen holds one, so where their pitches differ
+    // the two counts differ by as much; the geometric mean of the two.
+    const ValueId pairs = b.sqrt(b.mul(cellsPerArea(b, p1), cellsPerArea(b, p2)));
+    const ValueId e = b.mul(b.mul(sum, pairs), c(1.0 / double(taps().size())));
+    const PixelSides &gu = m.gu, &gv = m.gv;
+    // The beat's resolution: the transfer of its faster row over the pixel.
+    const ValueId beat = b.min(transfer(b, gu, pixel), transfer(b, gv, pixel));
+    const ValueId weight = b.mul(b.min(dotsCrowded(b, p1, pixel), dotsCrowded(b, p2, pixel)),
+                                 b.clamp(beat, zero, one));
+    // E is the plane's mean; a pixel that holds a few dots of each holds its own share of
+    // the pairs that overlap, E m1 / a1 as the first screen's dots read it and E m2 / a2 as
+    // the second's: their geometric mean, E where the dots crowd (m = a).
+    const ValueId a1 = screenShare(b, p1), a2 = screenShare(b, p2);
+    const ValueId held = b.sqrt(b.div(b.mul(l1.laid, l2.laid), b.max(b.mul(a1, a2), c(1e-12))));
+    const ValueId own = b.mul(l1.laid, l2.laid);
+    ValueId cov = b.mul(weight, b.sub(b.mul(e, held), own));
+    cov = b.select(b.emit(ir::Op::And, {p1.dots, p2.dots}), cov, zero);
+    return correction(b, under, l1, l2, cov);
+}
+
+// A line x of the lines' layer (index f, gradient grad f, a period L = 1 / |grad f| in the
+// world) and the screen's row nearest its direction (phase phi, nearest as dotCorrelation
+// matches them) advance together over the pixel: a dot at a site whose row phase stands s past
+// the whole numbers has its centre delta + s periods from the nearest line, delta = f - phi,
+// which runs with the beat. Each dot is inked by the lines as much as it lies within their
+// strokes, the disc within the strip of half-width h about each of the three nearest lines
+// (discInStrip), so the mean of the product of the screen and the lines over the plane is
+//   E(delta) = cells x sum over sites of sum_{n = -1, 0, 1} discInStrip((wrap(delta + s) + n) L, h,
+//   r)
+// sampled at kDotPairTaps^2 points of the pixel. Its weight is the least of the screen's
+// crowding and the line's (unresolved, FineUnion.cpp) times the beat's transfer; the pixel's
+// own share of the overlap is E sqrt(m_d m_x / (a d_x)) as for two screens (d_x the line's duty
+// 2 h / L). The lines of a lattice of edges each beat so, taken as independent of one another
+// as strandCorrelation takes them: blank paper prod(1 - m)(1 - m_d) times prod over the lines of
+// (1 + cov_x / ((1 - m_x)(1 - m_d))).
+Ink dotLineCorrelation(ir::Builder& b, const Ink& under, const FineLayer& l1, const FineLayer& l2,
+                       bool dotsFirst, const PixelFootprint& pixel) {
+    const FineLayer& dots = dotsFirst ? l1 : l2;
+    const FineLayer& lines = dotsFirst ? l2 : l1;
+    const CrowdEstimate::LatticeShape& p = *dots.shape;
+    auto c = [&](double v) { return b.constF(v); };
+    const ValueId zero = c(0.0), one = c(1.0);
+    if (lines.strands.empty()) return {zero, zero, zero, zero}; // the honeycomb's edges
+    auto value = [&](ValueId v) { return ir::BuiltValue(b, v); };
+    const std::vector<Row> rows = screenRows(b, p);
+    const ValueId cells = cellsPerArea(b, p), share = screenShare(b, p);
+    const ValueId crowded = dotsCrowded(b, p, pixel);
+    const ValueId half = b.max(lines.sweep.halfWidth, zero);
+    const ValueId md = dots.laid;
+    ValueId blank = b.sub(one, md), factor = one;
+    for (const Strand& x : lines.strands) {
+        const Footprint& f = x.footprint;
+        const Row row = nearestRow(b, rows, f.gradX, f.gradY);
+        const PixelSides g = onPixelSides(b, b.sub(f.gradX, row.gx), b.sub(f.gradY, row.gy), pixel);
+        const PixelSides gf = onPixelSides(b, f.gradX, f.gradY, pixel);
+        const PixelSides gr = onPixelSides(b, row.gx, row.gy, pixel);
+        const ValueId period = b.div(one, b.max(f.grad, c(1e-12)));
+        // The lines' phase per unit of the row's, across them: 1 where the periods match.
+        const ValueId perRow =
+            b.div(b.add(b.mul(f.gradX, row.gx), b.mul(f.gradY, row.gy)),
+                  b.max(b.add(b.mul(row.gx, row.gx), b.mul(row.gy, row.gy)), c(1e-24)));
+        ValueId sum = zero;
+        for (const auto& [a, e] : taps()) {
+            const ValueId phase = atTap(b, f.index, gf, pixel, a, e);
+            const ValueId rowPhase = atTap(b, row.phase, gr, pixel, a, e);
+            for (ValueId shift : row.shifts) {
+                // The row of dots of this site nearest the tap, and the lines' phase at it.
+                ValueId past = b.sub(rowPhase, shift);
+                past = b.sub(past, b.round(past));
+                ValueId atDot = b.sub(phase, b.mul(perRow, past));
+                ValueId centre = b.mul(b.wrap(atDot, one), period);
+                for (double n : {-1.0, 0.0, 1.0}) {
+                    ValueId at = b.add(centre, b.mul(c(n), period));
+                    sum = b.add(sum, discInStrip(value(at), value(half), value(p.radius)).id);
+                }
+            }
+        }
+        const ValueId e = b.mul(b.mul(sum, cells), c(1.0 / double(taps().size())));
+        const ValueId duty = b.clamp(b.mul(c(2.0), b.mul(half, f.grad)), zero, one);
+        const ValueId weight =
+            b.mul(b.mul(b.min(crowded, unresolved(b, f, pixel)), pastFirst(b, f)),
+                  b.clamp(transfer(b, g, pixel), zero, one));
+        const ValueId held = b.sqrt(b.div(b.mul(md, x.mean), b.max(b.mul(share, duty), c(1e-12))));
+        const ValueId cov = b.mul(weight, b.sub(b.mul(e, held), b.mul(md, x.mean)));
+        const ValueId paper = b.mul(b.sub(one, x.mean), b.sub(one, md));
+        const ValueId ratio = b.max(b.div(cov, b.max(paper, c(1e-12))), c(-1.0));
+        blank = b.mul(blank, b.sub(one, x.mean));
+        factor = b.mul(factor, b.add(one, b.denan(ratio, zero)));
+    }
+    ValueId cov = b.mul(blank, b.sub(factor, one));
+    cov = b.select(p.dots, cov, zero);
+    if (lines.strandsOn != ir::kNoValue) cov = b.select(lines.strandsOn, cov, zero);
+    return correction(b, under, l1, l2, cov);
+}
+
+bool sameCells(const CrowdEstimate::LatticeShape& a, const CrowdEstimate::LatticeShape& b) {
+    if (a.cells.empty() || a.cells.size() != b.cells.size() || a.normals != b.normals) return false;
+    for (size_t i = 0; i < a.cells.size(); ++i)
+        if (a.cells[i].upper != b.cells[i].upper || a.cells[i].lower != b.cells[i].lower)
+            return false;
+    return true;
+}
+
+// Each lattice's ink is its edges' strokes, 1 - I with I the paper they leave: its cells,
+// each side moved in by the stroke's half-width h (world), which moves the bound b_i of a
+// side with normal m_i (in the generators' coordinates) by h |m_i J| (J the generators'
+// gradients: m_i J is the side's normal in the world, of that length). The two layers' inks
+// then have the covariance of their papers, E[I1 I2] - i1 i2 (i the papers' shares). With the
+// second lattice the first moved by the offset t (offsetAt) and its cells scaled by rho
+// = sqrt(|det1 / det2|) (its pitch over the first's, det the generators' determinant), the
+// mean of I1 I2 over the plane is the overlap of the first's cells with the second's moved
+// by t and by the whole steps about it, cellArea of the least bounds of the two, over a cell:
+//   E[I1 I2](t) = rho^-2 sum over the cells a, b of sum_{n in {-1, 0, 1}^2} area(a, b + t + n)
+// (rho^-2: where the pitches differ the second's cells are as many fewer; its mean over t is
+// then i1 i2). Sampled at kDotPairTaps^2 points of the pixel and weighted as two dot screens
+// are (dotCorrelation), by the least crowding and the beat's transfer.
+Ink cellCorrelation(ir::Builder& b, const Ink& under, const FineLayer& l1, const FineLayer& l2,
+                    const PixelFootprint& pixel) {
+    const CrowdEstimate::LatticeShape& p1 = *l1.shape;
+    const CrowdEstimate::LatticeShape& p2 = *l2.shape;
+    auto c = [&](double v) { return b.constF(v); };
+    const ValueId zero = c(0.0), one = c(1.0);
+    using Bounds = std::array<ir::BuiltValue, 3>;
+    auto value = [&](ValueId v) { return ir::BuiltValue(b, v); };
+    const Matched m = match(b, p1, p2, pixel);
+    // The sides' normals in the world, their lengths, and the second lattice's scale.
+    std::array<ValueId, 3> length{};
+    for (int i = 0; i < 3; ++i) {
+        const auto [m, n] = p1.normals[i];
+        length[i] = b.hypot(b.add(b.mul(c(m), p1.ux), b.mul(c(n), p1.vx)),
+                            b.add(b.mul(c(m), p1.uy), b.mul(c(n), p1.vy)));
+    }
+    const ValueId rho = m.rho;
+    // A cell's bounds, scaled and moved in by the stroke.
+    auto inset = [&](const std::array<double, 3>& bound, ValueId scale, ValueId half) {
+        Bounds out{value(zero), value(zero), value(zero)};
+        for (int i = 0; i < 3; ++i)
+            out[i] = value(b.sub(b.mul(scale, c(bound[i])), b.mul(half, length[i])));
+        return out;
+    };
+    struct Inset {
+        std::optional<Bounds> upper, lower;
+    };
+    auto insets = [&](const CrowdEstimate::LatticeShape& p, ValueId scale) {
+        std::vector<Inset> out;
+        const ValueId half = b.max(p.radius, zero);
+        for (const auto& cell : p.cells) {
+            Inset in;
+            if (cell.upper) in.upper = inset(*cell.upper, scale, half);
+            if (cell.lower) in.lower = inset(*cell.lower, scale, half);
+            out.push_back(in);
+        }
+        return out;
+    };
+    const std::vector<Inset> first = insets(p1, one), second = insets(p2, rho);
+    // The area of a region of bounds on one side or both.
+    auto area = [&](const Inset& r) {
+        if (r.upper) return cellArea(*r.upper, r.lower, p1.kappa).id;
+        return cellArea(*r.lower, std::optional<Bounds>{}, p1.kappa).id;
+    };
+    auto least = [&](const std::optional<Bounds>& x, const std::optional<Bounds>& y) {
+        if (!x) return y;
+        if (!y) return x;
+        return std::optional<Bounds>{
+            Bounds{min((*x)[0], (*y)[0]), min((*x)[1], (*y)[1]), min((*x)[2], (*y)[2])}};
+    };
+    std::vector<std::array<ValueId, 2>> steps;
+    for (int iu = -1; iu <= 1; ++iu)
+        for (int iv = -1; iv <= 1; ++iv) steps.push_back({c(iu), c(iv)});
+    ValueId sum = zero;
+    for (const auto& [a, e] : taps()) {
+        const auto [tu, tv] = offsetAt(b, m, pixel, a, e);
+        for (const auto& step : steps) {
+            const ValueId su = b.add(tu, step[0]), sv = b.add(tv, step[1]);
+            std::array<ir::BuiltValue, 3> along{value(zero), value(zero), value(zero)};
+            for (int i = 0; i < 3; ++i)
+                along[i] =
+                    value(b.add(b.mul(c(p1.normals[i][0]), su), b.mul(c(p1.normals[i][1]), sv)));
+            for (const Inset& x : first)
+                for (const Inset& y : second) {
+                    // The second's cell moved by s: its upper bounds grow by m . s, its
+                    // lower ones shrink.
+                    Inset moved;
+                    if (y.upper)
+                        moved.upper = Bounds{(*y.upper)[0] + along[0], (*y.upper)[1] + along[1],
+                                             (*y.upper)[2] + along[2]};
+                    if (y.lower)
+                        moved.lower = Bounds{(*y.lower)[0] - along[0], (*y.lower)[1] - along[1],
+                                             (*y.lower)[2] - along[2]};
+                    sum = b.add(sum,
+                                area({least(x.upper, moved.upper), least(x.lower, moved.lower)}));
+                }
+        }
+    }
+    const ValueId e = b.div(b.mul(sum, c(1.0 / double(taps().size()))), b.mul(rho, rho));
+    ValueId i1 = zero, i2 = zero;
+    for (const Inset& x : first) i1 = b.add(i1, area(x));
+    for (const Inset& y : second) i2 = b.add(i2, area(y));
+    i2 = b.div(i2, b.mul(rho, rho));
+    const PixelSides &gu = m.gu, &gv = m.gv;
+    const ValueId beat = b.min(transfer(b, gu, pixel), transfer(b, gv, pixel));
+    const ValueId weight = b.mul(b.min(dotsCrowded(b, p1, pixel), dotsCrowded(b, p2, pixel)),
+                                 b.clamp(beat, zero, one));
+    ValueId cov = b.mul(weight, b.sub(e, b.mul(i1, i2)));
+    const ValueId edges =
+        b.emit(ir::Op::And, {b.emit(ir::Op::Not, {p1.dots}), b.emit(ir::Op::Not, {p2.dots})});
+    cov = b.select(edges, cov, zero);
+    return correction(b, under, l1, l2, cov);
+}
+
+} // namespace moire::lower

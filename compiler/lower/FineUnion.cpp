@@ -209,9 +209,9 @@ Ink strandCorrelation(ir::Builder& b, const Ink& under, const FineLayer& l1, con
             b.mul(scale, b.sub(under.b, k[2])), b.mul(scale, b.sub(under.a, one))};
 }
 
-// A pair with a lattice: its strands' correlation (strandCorrelation), or where both layers
-// draw dots, the two screens' (LatticeUnion.h), computed behind a branch where a strand or the
-// dots of each layer are past resolved.
+// A pair with a lattice: its strands' correlation (strandCorrelation), or its shape's
+// (LatticeUnion.h: two dot screens, a screen with lines, two lattices of one kind by their
+// cells), computed behind a branch where each layer's strands, dots or cells are past resolved.
 Ink strandUnion(ir::Builder& b, const Ink& under, const Ink& independent,
                 const std::vector<FineLayer>& run, const PixelFootprint& pixel) {
     const ValueId zero = b.constF(0.0);

@@ -50,11 +50,12 @@ struct FineLayer {
 };
 
 // Whether a layer can join a run: a phase family with a footprint and a one-index phase
-// sample, or a lattice whose edges are whole lines (CrowdEstimate::strands); morphs, walking
-// and distance families, the honeycomb and lattice points are laid over on their own.
+// sample, or a lattice (joinsAsLattice); morphs, walking and distance families are laid over
+// on their own. A lattice joins by its strands, the whole lines of its edges
+// (CrowdEstimate::strands: the square and triangle lattices'), or by its shape, its dots or
+// cells (CrowdEstimate::shape, LatticeUnion.h: every lattice whose generators are known).
 bool joinsFineUnion(const Footprint& footprint, const PhaseSample& sample);
 bool joinsAsStrands(const CrowdEstimate& crowd);
-// Whether a layer joins a run as a lattice: by its strands, or by its points (LatticeUnion.h).
 bool joinsAsLattice(const CrowdEstimate& crowd);
 
 // footprintTransfer (below) of an index whose gradient has components (u, v) along the
@@ -172,8 +173,10 @@ T sweptOverlap(T f1, T f2, T p, T q, T w1, T w2, T along, T across) {
 // run's correlation added where the footprint leaves it (a run of one layer: `independent`),
 // a pair's in closed form, a longer run's by the sweep (chosen by the run's length here, not
 // per pixel). A run with a lattice is a pair (the compose step closes it at two), whose
-// correlation is its strands' (FineUnion.cpp, strandCorrelation): each line of the first
-// layer beats with the second's line whose beat is slowest at the pixel, in closed form.
+// correlation is its strands' (FineUnion.cpp, strandCorrelation: each line of the first layer
+// beats with the second's line whose beat is slowest at the pixel, in closed form), or its
+// shape's (LatticeUnion.h): two dot screens, a screen with the other layer's lines, two
+// lattices of edges of one kind by their cells; which, by branches on the lattices' `edges`.
 // Computed behind a branch: a pixel where fewer than two of the run's layers are past the
 // unresolved threshold (kCrowdFrom) pays a handful of instructions.
 Ink fineUnion(ir::Builder& b, const Ink& under, const Ink& independent,

@@ -58,6 +58,11 @@ std::vector<Scene> filterScenes() {
                    "layer a { family = hex_lattice; spacing = 0.35; stroke = 0.1; edges = 1 }\n"
                    "layer b { family = hex_lattice; spacing = 0.35; stroke = 0.1; edges = 1; "
                    "rotation = 3deg }\n"});
+    // A honeycomb's edges about a cell a pixel: the paper its strokes leave over the pixel,
+    // the hexagon about the pixel's centre and its six neighbours (HoneycombInPixel.h).
+    out.push_back({"honeycomb about a pixel", "honeycomb_pixel.moire",
+                   "layer a { family = hex_lattice; spacing = 1; stroke = 0.2; edges = 1; "
+                   "rotation = 7deg }\n"});
     out.push_back({"triangle grid, resolved", "lattice_resolved.moire",
                    "layer a { family = triangle_lattice; spacing = 8; stroke = 1.5; edges = 1 }\n"
                    "layer b { family = lines; spacing = 6; stroke = 1; rotation = 5deg }\n"});

@@ -2,12 +2,14 @@
 
 #include "compiler/ir/BuiltValue.h"
 #include "compiler/ir/Semantics.h"
+#include "compiler/lower/HoneycombInPixel.h"
 #include "compiler/lower/Prefilter.h"
 
 #include <array>
 #include <cmath>
 #include <functional>
 #include <numbers>
+#include <optional>
 #include <vector>
 
 namespace moire::lower {
@@ -159,6 +161,84 @@ ValueId dotsInPixel(ir::Builder& b, LatticeKind kind, const LatticeCrowdInputs& 
     });
 }
 
+// The honeycomb's sides' |grad(m_k . (u, v))| (HoneycombInPixel.h's m_k), m_k . (u, v) 1 on
+// the side: a side moved in by h moves its bound by h times it.
+std::array<ValueId, 3> hexSideRates(ir::Builder& b, const LatticeCrowdInputs& in) {
+    std::array<ValueId, 3> out{};
+    for (size_t k = 0; k < 3; ++k) {
+        const auto [m, n] = kHexNormals[k];
+        out[k] = b.hypot(b.add(b.mul(b.constF(m), in.genUX), b.mul(b.constF(n), in.genVX)),
+                         b.add(b.mul(b.constF(m), in.genUY), b.mul(b.constF(n), in.genVY)));
+    }
+    return out;
+}
+
+// The shrunk hexagon's bounds for strokes of half-width `half`.
+std::array<ir::BuiltValue, 3> hexBounds(ir::Builder& b, const std::array<ValueId, 3>& rates,
+                                        ValueId half) {
+    const ValueId h = b.max(half, b.constF(0.0));
+    std::array<ir::BuiltValue, 3> out{ir::BuiltValue(b, h), ir::BuiltValue(b, h),
+                                      ir::BuiltValue(b, h)};
+    for (size_t k = 0; k < 3; ++k) out[k] = {b, b.sub(b.constF(1.0), b.mul(h, rates[k]))};
+    return out;
+}
+
+// The honeycomb's edges' share of the plane, exactly: 1 less the shrunk hexagon's area in
+// (u, v), where the whole hexagon is 1 (a cell).
+ValueId hexEdgeShare(ir::Builder& b, const std::array<ValueId, 3>& rates, ValueId half) {
+    const auto c = insetHexagon(hexBounds(b, rates, half));
+    ir::BuiltValue area(b, b.constF(0.0));
+    for (size_t k = 0; k < 6; ++k)
+        area = area + (c[k][0] * c[(k + 1) % 6][1] - c[(k + 1) % 6][0] * c[k][1]) * 0.5;
+    return b.clamp(b.sub(b.constF(1.0), area.id), b.constF(0.0), b.constF(1.0));
+}
+
+// A honeycomb's edges over the pixel: 1 less the paper its strokes leave there
+// (HoneycombInPixel.h), from the hexagon about the pixel's centre and its neighbours where
+// they hold the pixel, with the next ring where that takes it (kOneRingRows, by a branch);
+// handed over to the edges' share of the plane (`engaged`) in the last kHexHandOver rows a
+// pixel before kTwoRingsRows. Behind a branch: only where the pixel reaches a stroke (the
+// nearest edge within half its diagonal) and is not handed over whole; elsewhere the
+// distance form.
+constexpr double kHexHandOver = 0.4;
+ValueId hexEdgesInPixel(ir::Builder& b, const LatticeCrowdInputs& in, ValueId half,
+                        const std::array<ValueId, 3>& rates, ValueId members, ValueId& engaged) {
+    auto c = [&](double v) { return b.constF(v); };
+    auto value = [&](ValueId v) { return ir::BuiltValue(b, v); };
+    const PixelFootprint pixel{in.pixel, in.cosTurn, in.sinTurn};
+    const ValueId handed = b.smoothstep(c(kTwoRingsRows - kHexHandOver), c(kTwoRingsRows), members);
+    engaged = b.select(in.drawEdges, handed, engaged);
+    const ValueId reach = b.add(half, b.mul(in.pixel, c(kHalfDiagonal)));
+    const ValueId inside =
+        b.emit(ir::Op::And, {b.emit(ir::Op::And, {in.drawEdges, b.lt(in.distance, reach)}),
+                             b.lt(handed, c(1.0))});
+    // The paper over the pixel from `rings` rings of hexagons about its centre.
+    auto paper = [&](int rings) {
+        // The generators' steps in the world (the inverse of their gradients), along the
+        // pixel's sides in pixels.
+        ValueId det = b.sub(b.mul(in.genUX, in.genVY), b.mul(in.genUY, in.genVX));
+        const PixelSides e1 =
+            onPixelSides(b, b.div(in.genVY, det), b.div(b.neg(in.genVX), det), pixel);
+        const PixelSides e2 =
+            onPixelSides(b, b.div(b.neg(in.genUY), det), b.div(in.genUX, det), pixel);
+        auto inPixels = [&](ValueId x) { return value(b.div(x, in.pixel)); };
+        const ir::BuiltValue left = honeycombPaperInSquare(
+            value(in.genU), value(in.genV), inPixels(e1.u), inPixels(e1.v), inPixels(e2.u),
+            inPixels(e2.v), hexBounds(b, rates, half), rings);
+        return std::vector<ValueId>{b.denan(b.sub(c(1.0), left.id), c(0.0))};
+    };
+    return b.ifThenElse(
+        inside,
+        [&] {
+            return b.ifThenElse(
+                b.lt(members, c(kOneRingRows)), [&] { return paper(1); }, [&] { return paper(2); });
+        },
+        [&] {
+            return std::vector<ValueId>{
+                distanceInk(b, in.distance, half, ir::kNoValue, ir::kNoValue, pixel)};
+        })[0];
+}
+
 } // namespace
 
 CrowdEstimate latticeCrowd(ir::Builder& b, LatticeKind kind, const LatticeCrowdInputs& in) {
@@ -220,13 +300,20 @@ CrowdEstimate latticeCrowd(ir::Builder& b, LatticeKind kind, const LatticeCrowdI
     auto dotShare = [points, area](ir::Builder& bb, ValueId width) {
         return bb.div(bb.mul(bb.constF(points * kPi / 4.0), bb.mul(width, width)), area);
     };
-    out.share = [exactEdges, dotShare, drawEdges = in.drawEdges](ir::Builder& bb, ValueId half) {
+    // The honeycomb's edges leave each hexagon shrunk from its sides, whose area is exact
+    // (HoneycombInPixel.h): laid as independent, its three directions' strokes, which meet
+    // at its corners, were counted light by up to 5% of their ink.
+    std::optional<std::array<ValueId, 3>> hexRates;
+    if (kind == LatticeKind::Hex && in.genU != ir::kNoValue) hexRates = hexSideRates(b, in);
+    out.share = [exactEdges, dotShare, hexRates, drawEdges = in.drawEdges](ir::Builder& bb,
+                                                                           ValueId half) {
         ValueId width = bb.mul(bb.max(half, bb.constF(0.0)), bb.constF(2.0));
-        return bb.min(bb.select(drawEdges, exactEdges(bb, width), dotShare(bb, width)),
-                      bb.constF(1.0));
+        ValueId edges = hexRates ? hexEdgeShare(bb, *hexRates, half) : exactEdges(bb, width);
+        return bb.min(bb.select(drawEdges, edges, dotShare(bb, width)), bb.constF(1.0));
     };
     ValueId dots = dotShare(b, t);
-    ValueId edges = independentEdges(b, t);
+    ValueId edges =
+        hexRates ? hexEdgeShare(b, *hexRates, b.mul(t, c(0.5))) : independentEdges(b, t);
     if (kind != LatticeKind::Hex && in.genU != ir::kNoValue) {
         // Whole lines: the edges u, v in Z (and u + v for the triangle lattice), each a phase
         // family averaged over the square pixel as phaseFamilyFields' are (meanInk).
@@ -298,11 +385,14 @@ CrowdEstimate latticeCrowd(ir::Builder& b, LatticeKind kind, const LatticeCrowdI
     }
     if (in.distance != ir::kNoValue) {
         ValueId dot = dotsInPixel(b, kind, in, t, out.engaged);
-        out.nearest =
-            b.select(in.drawEdges,
-                     distanceInk(b, in.distance, b.mul(t, c(0.5)), ir::kNoValue, ir::kNoValue,
-                                 PixelFootprint{in.pixel, in.cosTurn, in.sinTurn}),
-                     dot);
+        const ValueId half = b.mul(t, c(0.5));
+        ValueId edge = hexRates ? hexEdgesInPixel(b, in, half, *hexRates, members, out.engaged)
+                                : distanceInk(b, in.distance, half, ir::kNoValue, ir::kNoValue,
+                                              PixelFootprint{in.pixel, in.cosTurn, in.sinTurn});
+        out.nearest = b.select(in.drawEdges, edge, dot);
+        if (hexRates)
+            out.strokesCrowded = b.select(
+                in.drawEdges, b.smoothstep(c(kCrowdFrom), c(kCrowdFull), members), out.engaged);
     }
     return out;
 }

@@ -85,6 +85,12 @@ struct Footprint {
 // none.
 struct CrowdEstimate {
     ir::ValueId engaged = ir::kNoValue, mean = ir::kNoValue;
+    // How far the nearest member's stroke has stopped standing for the layer's strokes where
+    // they meet another layer's (StrokePairs.h), where that is not `engaged`: a honeycomb's
+    // edges are measured over the pixel whole up to several rows a pixel, but its nearest
+    // stroke is one of the strokes a pixel holds once its rows are a pixel apart. kNoValue:
+    // `engaged`.
+    ir::ValueId strokesCrowded = ir::kNoValue;
     // Where the family does resolve its members (the walking scan within its budget), the
     // pixel's mean ink of the union of the members' strokes within its reach less the nearest
     // member's own: the compose step adds it to the nearest member's mean (crowdInk), so that

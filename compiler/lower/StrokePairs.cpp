@@ -62,8 +62,10 @@ std::optional<StrokeAcross> strokeAcross(ir::Builder& b, const LayerFields& fiel
                                                            b.constF(kCrowdFull), members)));
         }
     }
-    if (fields.crowd.engaged != ir::kNoValue)
-        weight = b.mul(weight, b.sub(one, b.clamp(fields.crowd.engaged, zero, one)));
+    const ValueId crowded = fields.crowd.strokesCrowded != ir::kNoValue
+                                ? fields.crowd.strokesCrowded
+                                : fields.crowd.engaged;
+    if (crowded != ir::kNoValue) weight = b.mul(weight, b.sub(one, b.clamp(crowded, zero, one)));
     // A lattice's dots in rows a pixel apart or closer: each dot over the pixel is still
     // counted exactly (LatticeCrowd.cpp), but the nearest is not the pixel's ink, and two such
     // screens are correlated as screens (LatticeUnion.h).

@@ -44,6 +44,19 @@ ValueId pastFirst(ir::Builder& b, const Footprint& f) {
     return b.clamp(b.sub(f.index, b.constF(*f.first + 0.5)), b.constF(0.0), b.constF(1.0));
 }
 
+Ink pairCorrection(ir::Builder& b, const Ink& under, const FineLayer& l1, const FineLayer& l2,
+                   ValueId cov) {
+    const ValueId one = b.constF(1.0);
+    auto strength = [&](const EnvelopeLayer& l) {
+        return inkCoverage(b, one, l.opacity, l.color[3]);
+    };
+    ValueId scale =
+        b.denan(b.mul(b.mul(strength(l1.sweep), strength(l2.sweep)), cov), b.constF(0.0));
+    const Vals& k = l1.sweep.color;
+    return {b.mul(scale, b.sub(under.r, k[0])), b.mul(scale, b.sub(under.g, k[1])),
+            b.mul(scale, b.sub(under.b, k[2])), b.mul(scale, b.sub(under.a, one))};
+}
+
 namespace {
 
 // A pair's correlation in closed form: the sweep's mean less its pivot, for two layers whose
@@ -102,16 +115,9 @@ Ink pairCorrelation(ir::Builder& b, const Ink& under, const std::vector<FineLaye
             [&] { return std::vector<ValueId>{e}; })[0];
     }
     auto duty = [&](ValueId half) { return b.clamp(b.mul(b.constF(2.0), half), zero, one); };
-    auto strength = [&](const EnvelopeLayer& l) {
-        return b.mul(b.clamp(l.opacity, zero, one), b.clamp(l.color[3], zero, one));
-    };
-    ValueId scale =
-        b.mul(b.mul(strength(l1.sweep), strength(l2.sweep)), b.sub(e, b.mul(duty(w1), duty(w2))));
-    for (const FineLayer* l : {&l1, &l2}) scale = b.mul(scale, pastFirst(b, l->footprint));
-    scale = b.denan(scale, zero);
-    const Vals& k = l1.sweep.color;
-    return {b.mul(scale, b.sub(under.r, k[0])), b.mul(scale, b.sub(under.g, k[1])),
-            b.mul(scale, b.sub(under.b, k[2])), b.mul(scale, b.sub(under.a, one))};
+    ValueId cov = b.sub(e, b.mul(duty(w1), duty(w2)));
+    for (const FineLayer* l : {&l1, &l2}) cov = b.mul(cov, pastFirst(b, l->footprint));
+    return pairCorrection(b, under, l1, l2, cov);
 }
 
 // The correlation of a pair with a lattice, by its strands. Each layer's ink is the union of
@@ -196,17 +202,10 @@ Ink strandCorrelation(ir::Builder& b, const Ink& under, const FineLayer& l1, con
         ValueId ratio = b.max(b.div(cov, b.max(pair, b.constF(1e-12))), b.constF(-1.0));
         factor = b.mul(factor, b.add(one, b.denan(ratio, zero)));
     }
-    auto strength = [&](const EnvelopeLayer& l) {
-        return b.mul(b.clamp(l.opacity, zero, one), b.clamp(l.color[3], zero, one));
-    };
-    ValueId scale =
-        b.mul(b.mul(strength(l1.sweep), strength(l2.sweep)), b.mul(blank, b.sub(factor, one)));
+    ValueId cov = b.mul(blank, b.sub(factor, one));
     for (const FineLayer* l : {&l1, &l2})
-        if (l->strandsOn != ir::kNoValue) scale = b.select(l->strandsOn, scale, zero);
-    scale = b.denan(scale, zero);
-    const Vals& k = l1.sweep.color;
-    return {b.mul(scale, b.sub(under.r, k[0])), b.mul(scale, b.sub(under.g, k[1])),
-            b.mul(scale, b.sub(under.b, k[2])), b.mul(scale, b.sub(under.a, one))};
+        if (l->strandsOn != ir::kNoValue) cov = b.select(l->strandsOn, cov, zero);
+    return pairCorrection(b, under, l1, l2, cov);
 }
 
 // A pair with a lattice: its strands' correlation (strandCorrelation), or its shape's

@@ -72,6 +72,14 @@ ir::ValueId unresolved(ir::Builder& b, const Footprint& f, const PixelFootprint&
 // first member).
 ir::ValueId pastFirst(ir::Builder& b, const Footprint& f);
 
+// A pair's covariance `cov` (of the two layers' inks over the pixel, as units of their
+// strokes) as the composite takes it: k1 k2 cov (P - K1) per premultiplied channel, k_i a
+// layer's opacity times its alpha (inkCoverage), P the ink beneath the pair and K1 the lower
+// layer's colour (pairCorrelation in FineUnion.cpp derives it). Every pair's correlation
+// ends here.
+Ink pairCorrection(ir::Builder& b, const Ink& under, const FineLayer& l1, const FineLayer& l2,
+                   ir::ValueId cov);
+
 // The transfer of a pixel's footprint to the fundamental of a periodic ink whose index spans
 // `along` and `across` units over the pixel's two sides: the square pixel's mean of
 // cos(2 pi index) is sinc(along) sinc(across) times its value at the centre, sinc(x) =

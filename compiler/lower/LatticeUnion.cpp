@@ -64,23 +64,6 @@ ValueId screenShare(ir::Builder& b, const CrowdEstimate::LatticeShape& p) {
     return b.min(b.mul(disc, cellsPerArea(b, p)), b.constF(1.0));
 }
 
-// A layer's coverage per unit of its ink.
-ValueId strength(ir::Builder& b, const EnvelopeLayer& l) {
-    const ValueId zero = b.constF(0.0), one = b.constF(1.0);
-    return b.mul(b.clamp(l.opacity, zero, one), b.clamp(l.color[3], zero, one));
-}
-
-// The pair's covariance `cov` as the composite takes it: k1 k2 cov (P - K1), P the ink
-// beneath the pair and K1 the lower layer's colour (FineUnion.cpp, pairCorrelation).
-Ink correction(ir::Builder& b, const Ink& under, const FineLayer& l1, const FineLayer& l2,
-               ValueId cov) {
-    ValueId scale =
-        b.denan(b.mul(b.mul(strength(b, l1.sweep), strength(b, l2.sweep)), cov), b.constF(0.0));
-    const Vals& k = l1.sweep.color;
-    return {b.mul(scale, b.sub(under.r, k[0])), b.mul(scale, b.sub(under.g, k[1])),
-            b.mul(scale, b.sub(under.b, k[2])), b.mul(scale, b.sub(under.a, b.constF(1.0)))};
-}
-
 // The offsets at which the pair is sampled over the pixel: kDotPairTaps^2 points, in pixels
 // along its sides.
 std::vector<std::pair<double, double>> taps() {
@@ -101,12 +84,12 @@ ValueId atTap(ir::Builder& b, ValueId d, const PixelSides& g, const PixelFootpri
 // (u1, v1) matched with the second's row nearest it (f_u, f_v). The beat is the offset
 // u1 - f_u, v1 - f_v, whose gradients along the pixel's sides (gu, gv) step it over the pixel
 // and weigh it (its transfer); rho = sqrt |det(grad u1, grad v1) / det(grad f_u, grad f_v)| is
-// the second's pitch over the first's.
+// the second's pitch over the first's. `det` is the first's generators' determinant.
 struct Matched {
     const CrowdEstimate::LatticeShape* p1 = nullptr;
     Row fu{}, fv{};
     PixelSides gu{}, gv{};
-    ValueId rho = ir::kNoValue;
+    ValueId det = ir::kNoValue, rho = ir::kNoValue;
 };
 Matched match(ir::Builder& b, const CrowdEstimate::LatticeShape& p1,
               const CrowdEstimate::LatticeShape& p2, const PixelFootprint& pixel) {
@@ -117,10 +100,20 @@ Matched match(ir::Builder& b, const CrowdEstimate::LatticeShape& p1,
     m.fv = nearestRow(b, rows, p1.vx, p1.vy);
     m.gu = onPixelSides(b, b.sub(p1.ux, m.fu.gx), b.sub(p1.uy, m.fu.gy), pixel);
     m.gv = onPixelSides(b, b.sub(p1.vx, m.fv.gx), b.sub(p1.vy, m.fv.gy), pixel);
-    const ValueId d1 = b.sub(b.mul(p1.ux, p1.vy), b.mul(p1.uy, p1.vx));
+    m.det = b.sub(b.mul(p1.ux, p1.vy), b.mul(p1.uy, p1.vx));
     const ValueId d2 = b.sub(b.mul(m.fu.gx, m.fv.gy), b.mul(m.fu.gy, m.fv.gx));
-    m.rho = b.sqrt(b.div(b.abs(d1), b.max(b.abs(d2), b.constF(1e-30))));
+    m.rho = b.sqrt(b.div(b.abs(m.det), b.max(b.abs(d2), b.constF(1e-30))));
     return m;
+}
+
+// The weight of a pair of crowded lattices' correlation: the least of their crowding
+// (dotsCrowded) times the beat's transfer over the pixel, that of its faster row (1 where a
+// pixel spans little of a beat, 0 where it spans a whole one).
+ValueId weightOf(ir::Builder& b, const Matched& m, const CrowdEstimate::LatticeShape& p2,
+                 const PixelFootprint& pixel) {
+    const ValueId beat = b.min(transfer(b, m.gu, pixel), transfer(b, m.gv, pixel));
+    return b.mul(b.min(dotsCrowded(b, *m.p1, pixel), dotsCrowded(b, p2, pixel)),
+                 b.clamp(beat, b.constF(0.0), b.constF(1.0)));
 }
 
 // At a tap of the pixel: the offset by which the second lattice stands moved on the first,
@@ -165,11 +158,11 @@ Ink dotCorrelation(ir::Builder& b, const Ink& under, const FineLayer& l1, const 
     const CrowdEstimate::LatticeShape& p1 = *l1.shape;
     const CrowdEstimate::LatticeShape& p2 = *l2.shape;
     auto c = [&](double v) { return b.constF(v); };
-    const ValueId zero = c(0.0), one = c(1.0);
+    const ValueId zero = c(0.0);
     auto value = [&](ValueId v) { return ir::BuiltValue(b, v); };
     const Matched m = match(b, p1, p2, pixel);
     // The first screen's steps in the world: the columns of the inverse of its gradients.
-    const ValueId det = b.sub(b.mul(p1.ux, p1.vy), b.mul(p1.uy, p1.vx));
+    const ValueId det = m.det;
     const ValueId e1x = b.div(p1.vy, det), e1y = b.div(b.neg(p1.vx), det);
     const ValueId e2x = b.div(b.neg(p1.uy), det), e2y = b.div(p1.ux, det);
     // The sites' differences, s_j - s_i, each with the number of pairs that share it.
@@ -205,11 +198,7 @@ Ink dotCorrelation(ir::Builder& b, const Ink& under, const FineLayer& l1, const 
     // the two counts differ by as much; the geometric mean of the two.
     const ValueId pairs = b.sqrt(b.mul(cellsPerArea(b, p1), cellsPerArea(b, p2)));
     const ValueId e = b.mul(b.mul(sum, pairs), c(1.0 / double(taps().size())));
-    const PixelSides &gu = m.gu, &gv = m.gv;
-    // The beat's resolution: the transfer of its faster row over the pixel.
-    const ValueId beat = b.min(transfer(b, gu, pixel), transfer(b, gv, pixel));
-    const ValueId weight = b.mul(b.min(dotsCrowded(b, p1, pixel), dotsCrowded(b, p2, pixel)),
-                                 b.clamp(beat, zero, one));
+    const ValueId weight = weightOf(b, m, p2, pixel);
     // E is the plane's mean; a pixel that holds a few dots of each holds its own share of
     // the pairs that overlap, E m1 / a1 as the first screen's dots read it and E m2 / a2 as
     // the second's: their geometric mean, E where the dots crowd (m = a).
@@ -218,7 +207,7 @@ Ink dotCorrelation(ir::Builder& b, const Ink& under, const FineLayer& l1, const 
     const ValueId own = b.mul(l1.laid, l2.laid);
     ValueId cov = b.mul(weight, b.sub(b.mul(e, held), own));
     cov = b.select(b.emit(ir::Op::And, {p1.dots, p2.dots}), cov, zero);
-    return correction(b, under, l1, l2, cov);
+    return pairCorrection(b, under, l1, l2, cov);
 }
 
 // A line x of the lines' layer (index f, gradient grad f, a period L = 1 / |grad f| in the
@@ -293,7 +282,7 @@ Ink dotLineCorrelation(ir::Builder& b, const Ink& under, const FineLayer& l1, co
     ValueId cov = b.mul(blank, b.sub(factor, one));
     cov = b.select(p.dots, cov, zero);
     if (lines.strandsOn != ir::kNoValue) cov = b.select(lines.strandsOn, cov, zero);
-    return correction(b, under, l1, l2, cov);
+    return pairCorrection(b, under, l1, l2, cov);
 }
 
 bool sameCells(const CrowdEstimate::LatticeShape& a, const CrowdEstimate::LatticeShape& b) {
@@ -400,15 +389,12 @@ Ink cellCorrelation(ir::Builder& b, const Ink& under, const FineLayer& l1, const
     for (const Inset& x : first) i1 = b.add(i1, area(x));
     for (const Inset& y : second) i2 = b.add(i2, area(y));
     i2 = b.div(i2, b.mul(rho, rho));
-    const PixelSides &gu = m.gu, &gv = m.gv;
-    const ValueId beat = b.min(transfer(b, gu, pixel), transfer(b, gv, pixel));
-    const ValueId weight = b.mul(b.min(dotsCrowded(b, p1, pixel), dotsCrowded(b, p2, pixel)),
-                                 b.clamp(beat, zero, one));
+    const ValueId weight = weightOf(b, m, p2, pixel);
     ValueId cov = b.mul(weight, b.sub(e, b.mul(i1, i2)));
     const ValueId edges =
         b.emit(ir::Op::And, {b.emit(ir::Op::Not, {p1.dots}), b.emit(ir::Op::Not, {p2.dots})});
     cov = b.select(edges, cov, zero);
-    return correction(b, under, l1, l2, cov);
+    return pairCorrection(b, under, l1, l2, cov);
 }
 
 } // namespace moire::lower

@@ -63,6 +63,11 @@ std::vector<Scene> filterScenes() {
     out.push_back({"honeycomb about a pixel", "honeycomb_pixel.moire",
                    "layer a { family = hex_lattice; spacing = 1; stroke = 0.2; edges = 1; "
                    "rotation = 7deg }\n"});
+    // A honeycomb's edges under fine lines near a row of its centres (LatticeUnion.h): the
+    // hexagons' paper less the lines' strokes across them, at 2 x 2 taps.
+    out.push_back({"honeycomb under fine lines", "honeycomb_lines.moire",
+                   "layer a { family = hex_lattice; spacing = 0.4; stroke = 0.08; edges = 1 }\n"
+                   "layer b { family = lines; spacing = 0.6; stroke = 0.1; angle = 32deg }\n"});
     out.push_back({"triangle grid, resolved", "lattice_resolved.moire",
                    "layer a { family = triangle_lattice; spacing = 8; stroke = 1.5; edges = 1 }\n"
                    "layer b { family = lines; spacing = 6; stroke = 1; rotation = 5deg }\n"});

@@ -242,6 +242,13 @@ Ink strandUnion(ir::Builder& b, const Ink& under, const Ink& independent,
         const bool cells = run[0].shape && run[1].shape && sameCells(*run[0].shape, *run[1].shape);
         auto strands = [&] {
             if (cells) return ink(cellCorrelation(b, under, run[0], run[1], pixel));
+            // A honeycomb's edges with the other layer's lines, by its hexagons' paper.
+            for (bool first : {true, false}) {
+                const FineLayer& hex = first ? run[0] : run[1];
+                const FineLayer& other = first ? run[1] : run[0];
+                if (hex.shape && honeycombCells(*hex.shape) && !other.strands.empty())
+                    return ink(hexLineCorrelation(b, under, run[0], run[1], first, pixel));
+            }
             return ink(strandCorrelation(b, under, run[0], run[1], pixel));
         };
         auto onlyOne = [&](bool first, const std::function<std::vector<ValueId>()>& otherwise) {

@@ -66,6 +66,31 @@ T polygonInSquare(const std::array<std::array<T, 2>, N>& corners) {
     return sum;
 }
 
+// The area of a convex polygon within the band y0 <= y <= y1 (y0 <= y1), its corners in
+// order: along each row a polygon is the span between its sides, so by Green's theorem the
+// area is the integral of x dy around it, here over the rows within the band, each side's
+// share (y1' - y0') (x(y0') + x(y1')) / 2 with its ends held to the band. Positive for a
+// counterclockwise polygon, negative for a clockwise one.
+template <class T, size_t N>
+T polygonInBand(const std::array<std::array<T, 2>, N>& corners, T y0, T y1) {
+    using std::abs;
+    using std::max;
+    using std::min;
+    const T zero = ir::literal(y0, 0.0), one = ir::literal(y0, 1.0);
+    T sum = zero;
+    for (size_t k = 0; k < N; ++k) {
+        const auto& a = corners[k];
+        const auto& z = corners[(k + 1) % N];
+        const T dy = z[1] - a[1];
+        const auto flat = ir::lessThan(abs(dy), ir::literal(y0, 1e-12));
+        const T slope = ir::select(flat, zero, (z[0] - a[0]) / ir::select(flat, one, dy));
+        const T ya = min(max(a[1], y0), y1), yb = min(max(z[1], y0), y1);
+        const T xa = a[0] + (ya - a[1]) * slope, xb = a[0] + (yb - a[1]) * slope;
+        sum = sum + (yb - ya) * (xa + xb) * 0.5;
+    }
+    return sum;
+}
+
 // The honeycomb as its centres' generators (u, v) lay it: the centres at whole (u, v), the
 // hexagon about each |m_k . q| <= 1 with q the offset from the centre and m = (1, 2), (2, 1),
 // (1, -1), its corners +-(1/3, 1/3), +-(-1/3, 2/3), +-(-2/3, 1/3). Its six neighbours stand at
@@ -89,6 +114,15 @@ constexpr std::array<std::array<double, 2>, 19> kHexRings{{
 // holds to 1.63 rows a pixel and two to about 4.2, less under a stretch
 // (HoneycombInPixel_test.cpp holds both to a count, turned and stretched up to 1.3).
 constexpr double kOneRingRows = 1.45, kTwoRingsRows = 3.4;
+
+// |grad(m_k . (u, v))| for the generators' gradients: a side moved in by h moves its bound
+// by h times it, and the sides' lines stand 1 / it apart.
+template <class T>
+T hexSideRate(size_t k, T ux, T uy, T vx, T vy) {
+    using std::hypot;
+    const auto [m, n] = kHexNormals[k];
+    return hypot(ux * m + vx * n, uy * m + vy * n);
+}
 
 // The hexagon shrunk to |m_k . q| <= B_k (each side moved in by the stroke's half-width, B_k = 1 -
 // h |grad(m_k . (u, v))|, held at or above 0): its corners, counterclockwise in (u, v), each

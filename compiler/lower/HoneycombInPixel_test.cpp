@@ -67,6 +67,49 @@ TEST_CASE("a convex polygon's area within the square matches a count of its poin
     CHECK(polygonInSquare(half) == doctest::Approx(0.5).epsilon(1e-9));
 }
 
+// A polygon's area within a band of rows, against the same count over a tall grid: the
+// hexagons above, cut by bands that miss them, cross them and hold them whole.
+TEST_CASE("a convex polygon's area within a band of rows matches a count of its points") {
+    std::mt19937 rng(5);
+    std::uniform_real_distribution<double> centre(-0.3, 0.3), size(0.1, 0.45), turn(0.0, 6.283),
+        edge(-0.6, 0.6), width(0.0, 0.5);
+    constexpr int kSide = 800;
+    for (int trial = 0; trial < 40; ++trial) {
+        std::array<std::array<double, 2>, 6> p;
+        const double cx = centre(rng), cy = centre(rng), r = size(rng), a0 = turn(rng);
+        for (int k = 0; k < 6; ++k) {
+            const double a = a0 + k * std::numbers::pi / 3.0, rk = r * (1.0 + 0.15 * (k % 2));
+            p[k] = {cx + rk * std::cos(a), cy + rk * std::sin(a)};
+        }
+        const double y0 = edge(rng), y1 = y0 + width(rng);
+        // Points of [-1, 1]^2 within the band and the polygon (it lies within the square).
+        long in = 0;
+        for (int i = 0; i < kSide; ++i)
+            for (int j = 0; j < kSide; ++j) {
+                const double x = 2.0 * (i + 0.5) / kSide - 1.0, y = 2.0 * (j + 0.5) / kSide - 1.0;
+                if (y < y0 || y > y1) continue;
+                bool inside = true;
+                for (size_t k = 0; k < 6; ++k) {
+                    const auto& a = p[k];
+                    const auto& z = p[(k + 1) % 6];
+                    inside =
+                        inside && (z[0] - a[0]) * (y - a[1]) - (z[1] - a[1]) * (x - a[0]) >= 0.0;
+                }
+                in += inside ? 1 : 0;
+            }
+        const double want = 4.0 * double(in) / (double(kSide) * kSide);
+        CAPTURE(trial);
+        CHECK(std::abs(polygonInBand(p, y0, y1) - want) <= 3e-3);
+        std::array<std::array<double, 2>, 6> reversed;
+        for (int k = 0; k < 6; ++k) reversed[k] = p[5 - k];
+        CHECK(std::abs(polygonInBand(reversed, y0, y1) + want) <= 3e-3);
+    }
+    // A band over the whole polygon holds its area; one beside it none.
+    const std::array<std::array<double, 2>, 3> small{{{0.0, 0.0}, {0.2, 0.0}, {0.0, 0.2}}};
+    CHECK(polygonInBand(small, -5.0, 5.0) == doctest::Approx(0.02).epsilon(1e-9));
+    CHECK(std::abs(polygonInBand(small, 0.3, 0.5)) <= 1e-12);
+}
+
 // The honeycomb's paper at a grid point: its hexagon by the least max_k |m_k . q| over the
 // centres within two of its rounded (u, v), and inside the shrunk one where every |m_k . q|
 // is within its bound.

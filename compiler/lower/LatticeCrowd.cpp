@@ -164,12 +164,11 @@ ValueId dotsInPixel(ir::Builder& b, LatticeKind kind, const LatticeCrowdInputs& 
 // The honeycomb's sides' |grad(m_k . (u, v))| (HoneycombInPixel.h's m_k), m_k . (u, v) 1 on
 // the side: a side moved in by h moves its bound by h times it.
 std::array<ValueId, 3> hexSideRates(ir::Builder& b, const LatticeCrowdInputs& in) {
+    auto value = [&](ValueId v) { return ir::BuiltValue(b, v); };
     std::array<ValueId, 3> out{};
-    for (size_t k = 0; k < 3; ++k) {
-        const auto [m, n] = kHexNormals[k];
-        out[k] = b.hypot(b.add(b.mul(b.constF(m), in.genUX), b.mul(b.constF(n), in.genVX)),
-                         b.add(b.mul(b.constF(m), in.genUY), b.mul(b.constF(n), in.genVY)));
-    }
+    for (size_t k = 0; k < 3; ++k)
+        out[k] =
+            hexSideRate(k, value(in.genUX), value(in.genUY), value(in.genVX), value(in.genVY)).id;
     return out;
 }
 

@@ -1,5 +1,7 @@
 #include "compiler/lower/LatticeUnion.h"
 
+#include "compiler/lower/HoneycombInPixel.h"
+
 #include <map>
 #include <numbers>
 #include <utility>
@@ -127,6 +129,62 @@ std::array<ValueId, 2> offsetAt(ir::Builder& b, const Matched& m, const PixelFoo
             residual(atTap(b, b.sub(m.p1->v, m.fv.phase), m.gv, pixel, a, e))};
 }
 
+// A line (index f) with the lattice's row nearest its direction (nearestRow): the beat's
+// gradient along the pixel's sides (the line's less the row's), the line's and the row's,
+// the line's period in the world, and its phase per unit of the row's across them (1 where
+// the periods match).
+struct LineOnRow {
+    Row row;
+    PixelSides beat, gf, gr;
+    ValueId period, perRow;
+};
+LineOnRow lineOnRow(ir::Builder& b, const std::vector<Row>& rows, const Footprint& f,
+                    const PixelFootprint& pixel) {
+    LineOnRow out;
+    out.row = nearestRow(b, rows, f.gradX, f.gradY);
+    const Row& row = out.row;
+    out.beat = onPixelSides(b, b.sub(f.gradX, row.gx), b.sub(f.gradY, row.gy), pixel);
+    out.gf = onPixelSides(b, f.gradX, f.gradY, pixel);
+    out.gr = onPixelSides(b, row.gx, row.gy, pixel);
+    out.period = b.div(b.constF(1.0), b.max(f.grad, b.constF(1e-12)));
+    out.perRow = b.div(b.add(b.mul(f.gradX, row.gx), b.mul(f.gradY, row.gy)),
+                       b.max(b.add(b.mul(row.gx, row.gx), b.mul(row.gy, row.gy)), b.constF(1e-24)));
+    return out;
+}
+
+// A crowded lattice's covariance with lines, the lines taken one by one and as independent
+// of one another, as strandCorrelation takes them (FineUnion.cpp): blank paper prod(1 -
+// m_x)(1 - m) times prod over the lines of (1 + cov_x / ((1 - m_x)(1 - m))), m the lattice's
+// own mean over the pixel (`laid`) and m_x a line's. A line's cov_x is E held to the pixel's
+// own means, E sqrt(m m_x / (a d)) - m m_x (E the mean of the two inks' product over the plane
+// at the pixel, a and d their shares of the plane: E where both crowd, m = a), weighted by
+// the least of the two's crowding and the beat's transfer (`beat`, the line's gradient less
+// its row's, along the pixel's sides).
+struct LineFold {
+    ValueId laid, share, crowded, blank, factor;
+};
+LineFold startFold(ir::Builder& b, ValueId laid, ValueId share, ValueId crowded) {
+    return {laid, share, crowded, b.sub(b.constF(1.0), laid), b.constF(1.0)};
+}
+void foldLine(ir::Builder& b, LineFold& fold, const Strand& x, ValueId e, ValueId duty,
+              const PixelSides& beat, const PixelFootprint& pixel) {
+    const ValueId zero = b.constF(0.0), one = b.constF(1.0);
+    const Footprint& f = x.footprint;
+    const ValueId weight =
+        b.mul(b.mul(b.min(fold.crowded, unresolved(b, f, pixel)), pastFirst(b, f)),
+              b.clamp(transfer(b, beat, pixel), zero, one));
+    const ValueId own = b.mul(fold.laid, x.mean);
+    const ValueId held = b.sqrt(b.div(own, b.max(b.mul(fold.share, duty), b.constF(1e-12))));
+    const ValueId cov = b.mul(weight, b.sub(b.mul(e, held), own));
+    const ValueId paper = b.mul(b.sub(one, x.mean), b.sub(one, fold.laid));
+    const ValueId ratio = b.max(b.div(cov, b.max(paper, b.constF(1e-12))), b.constF(-1.0));
+    fold.blank = b.mul(fold.blank, b.sub(one, x.mean));
+    fold.factor = b.mul(fold.factor, b.add(one, b.denan(ratio, zero)));
+}
+ValueId foldedCovariance(ir::Builder& b, const LineFold& fold) {
+    return b.mul(fold.blank, b.sub(fold.factor, b.constF(1.0)));
+}
+
 } // namespace
 
 ValueId dotsCrowded(ir::Builder& b, const CrowdEstimate::LatticeShape& p,
@@ -238,19 +296,13 @@ Ink dotLineCorrelation(ir::Builder& b, const Ink& under, const FineLayer& l1, co
     const ValueId cells = cellsPerArea(b, p), share = screenShare(b, p);
     const ValueId crowded = dotsCrowded(b, p, pixel);
     const ValueId half = b.max(lines.sweep.halfWidth, zero);
-    const ValueId md = dots.laid;
-    ValueId blank = b.sub(one, md), factor = one;
+    LineFold fold = startFold(b, dots.laid, share, crowded);
     for (const Strand& x : lines.strands) {
         const Footprint& f = x.footprint;
-        const Row row = nearestRow(b, rows, f.gradX, f.gradY);
-        const PixelSides g = onPixelSides(b, b.sub(f.gradX, row.gx), b.sub(f.gradY, row.gy), pixel);
-        const PixelSides gf = onPixelSides(b, f.gradX, f.gradY, pixel);
-        const PixelSides gr = onPixelSides(b, row.gx, row.gy, pixel);
-        const ValueId period = b.div(one, b.max(f.grad, c(1e-12)));
-        // The lines' phase per unit of the row's, across them: 1 where the periods match.
-        const ValueId perRow =
-            b.div(b.add(b.mul(f.gradX, row.gx), b.mul(f.gradY, row.gy)),
-                  b.max(b.add(b.mul(row.gx, row.gx), b.mul(row.gy, row.gy)), c(1e-24)));
+        const LineOnRow on = lineOnRow(b, rows, f, pixel);
+        const Row& row = on.row;
+        const PixelSides &g = on.beat, &gf = on.gf, &gr = on.gr;
+        const ValueId period = on.period, perRow = on.perRow;
         ValueId sum = zero;
         for (const auto& [a, e] : taps()) {
             const ValueId phase = atTap(b, f.index, gf, pixel, a, e);
@@ -269,18 +321,9 @@ Ink dotLineCorrelation(ir::Builder& b, const Ink& under, const FineLayer& l1, co
         }
         const ValueId e = b.mul(b.mul(sum, cells), c(1.0 / double(taps().size())));
         const ValueId duty = b.clamp(b.mul(c(2.0), b.mul(half, f.grad)), zero, one);
-        const ValueId weight =
-            b.mul(b.mul(b.min(crowded, unresolved(b, f, pixel)), pastFirst(b, f)),
-                  b.clamp(transfer(b, g, pixel), zero, one));
-        const ValueId held = b.sqrt(b.div(b.mul(md, x.mean), b.max(b.mul(share, duty), c(1e-12))));
-        const ValueId cov = b.mul(weight, b.sub(b.mul(e, held), b.mul(md, x.mean)));
-        const ValueId paper = b.mul(b.sub(one, x.mean), b.sub(one, md));
-        const ValueId ratio = b.max(b.div(cov, b.max(paper, c(1e-12))), c(-1.0));
-        blank = b.mul(blank, b.sub(one, x.mean));
-        factor = b.mul(factor, b.add(one, b.denan(ratio, zero)));
+        foldLine(b, fold, x, e, duty, g, pixel);
     }
-    ValueId cov = b.mul(blank, b.sub(factor, one));
-    cov = b.select(p.dots, cov, zero);
+    ValueId cov = b.select(p.dots, foldedCovariance(b, fold), zero);
     if (lines.strandsOn != ir::kNoValue) cov = b.select(lines.strandsOn, cov, zero);
     return pairCorrection(b, under, l1, l2, cov);
 }
@@ -394,6 +437,103 @@ Ink cellCorrelation(ir::Builder& b, const Ink& under, const FineLayer& l1, const
     const ValueId edges =
         b.emit(ir::Op::And, {b.emit(ir::Op::Not, {p1.dots}), b.emit(ir::Op::Not, {p2.dots})});
     cov = b.select(edges, cov, zero);
+    return pairCorrection(b, under, l1, l2, cov);
+}
+
+bool honeycombCells(const CrowdEstimate::LatticeShape& p) {
+    return p.cells.size() == 1 && p.cells[0].upper && p.cells[0].lower;
+}
+
+// A line x of the lines' layer (index f, a period L = 1 / |grad f| in the world) and the
+// honeycomb's row nearest its direction (phase r = a u + b v, whole at every centre; a row of
+// centres, (1, 0), (0, 1), (1, 1), or of the lines the sides lie on, (1, 2), (2, 1), (1, -1))
+// advance together over the pixel: at a tap the centres of the nearest row, r - round(r) rows
+// back, stand at the lines' phase f_c = f - perRow (r - round(r)), which runs with the beat,
+// so line n crosses each such hexagon (n - f_c) L from its centre along the lines' normal.
+// The paper both layers leave is then the shrunk hexagon (insetHexagon, mapped to the world
+// through the generators' steps) less its parts within the strokes of the lines that reach
+// it, five about the nearest (polygonInBand in the frame of the lines), once a cell:
+//   E[I_h I_x] = cells (area(H) - sum_n area(H within line n's stroke)),
+// sampled at kDotPairTaps^2 points of the pixel. As inks (c = 1 - I) the product's mean is
+// 1 - i_h - i_x + E[I_h I_x], i the papers' shares; weighted and held to the pixel's own
+// means as dotLineCorrelation weighs a screen's, and the lines of a lattice of edges taken
+// as independent of one another the same way.
+Ink hexLineCorrelation(ir::Builder& b, const Ink& under, const FineLayer& l1, const FineLayer& l2,
+                       bool cellsFirst, const PixelFootprint& pixel) {
+    const FineLayer& hex = cellsFirst ? l1 : l2;
+    const FineLayer& lines = cellsFirst ? l2 : l1;
+    const CrowdEstimate::LatticeShape& p = *hex.shape;
+    auto c = [&](double v) { return b.constF(v); };
+    const ValueId zero = c(0.0), one = c(1.0);
+    if (lines.strands.empty()) return {zero, zero, zero, zero}; // a honeycomb's edges
+    auto value = [&](ValueId v) { return ir::BuiltValue(b, v); };
+    // The rows, as screenRows reads a screen with one site at the centres.
+    CrowdEstimate::LatticeShape rowsOf = p;
+    rowsOf.sites = {{{0.0, 0.0}}};
+    rowsOf.shortest = {{{1, 0}}, {{0, 1}}, {{1, 1}}, {{1, 2}}, {{2, 1}}, {{1, -1}}};
+    const std::vector<Row> rows = screenRows(b, rowsOf);
+    // The shrunk hexagon in the world: its corners through the generators' steps.
+    std::array<ir::BuiltValue, 3> bounds{value(zero), value(zero), value(zero)};
+    const ValueId half = b.max(p.radius, zero);
+    for (size_t k = 0; k < 3; ++k)
+        bounds[k] = value(b.sub(
+            one,
+            b.mul(half, hexSideRate(k, value(p.ux), value(p.uy), value(p.vx), value(p.vy)).id)));
+    const auto corners = insetHexagon(bounds);
+    ir::BuiltValue paperShare(b, zero); // the shrunk hexagon's area in cells: i_h
+    for (size_t k = 0; k < 6; ++k)
+        paperShare = paperShare + (corners[k][0] * corners[(k + 1) % 6][1] -
+                                   corners[(k + 1) % 6][0] * corners[k][1]) *
+                                      0.5;
+    const ValueId det = b.sub(b.mul(p.ux, p.vy), b.mul(p.uy, p.vx));
+    const ir::BuiltValue e1x = value(b.div(p.vy, det)), e1y = value(b.div(b.neg(p.vx), det));
+    const ir::BuiltValue e2x = value(b.div(b.neg(p.uy), det)), e2y = value(b.div(p.ux, det));
+    const ValueId cells = b.abs(det);
+    const ValueId crowded = dotsCrowded(b, p, pixel);
+    const ValueId lineHalf = b.max(lines.sweep.halfWidth, zero);
+    const ValueId ah = b.sub(one, paperShare.id); // the honeycomb's share of ink
+    LineFold fold = startFold(b, hex.laid, ah, crowded);
+    for (const Strand& x : lines.strands) {
+        const Footprint& f = x.footprint;
+        const LineOnRow on = lineOnRow(b, rows, f, pixel);
+        const Row& row = on.row;
+        const PixelSides &g = on.beat, &gf = on.gf, &gr = on.gr;
+        const ValueId period = on.period, perRow = on.perRow;
+        // The hexagon in the lines' frame: y along their normal, x along them (a right-handed
+        // frame, so the corners keep their sense).
+        const ir::BuiltValue nx = value(b.div(f.gradX, b.max(f.grad, c(1e-12))));
+        const ir::BuiltValue ny = value(b.div(f.gradY, b.max(f.grad, c(1e-12))));
+        std::array<std::array<ir::BuiltValue, 2>, 6> shape;
+        for (size_t k = 0; k < 6; ++k) {
+            const ir::BuiltValue wx = corners[k][0] * e1x + corners[k][1] * e2x;
+            const ir::BuiltValue wy = corners[k][0] * e1y + corners[k][1] * e2y;
+            shape[k] = {wx * ny - wy * nx, wx * nx + wy * ny};
+        }
+        const ValueId h = b.min(lineHalf, b.mul(period, c(0.5)));
+        ValueId sum = zero;
+        for (const auto& [a, e] : taps()) {
+            const ValueId phase = atTap(b, f.index, gf, pixel, a, e);
+            const ValueId rowPhase = atTap(b, row.phase, gr, pixel, a, e);
+            const ValueId past = b.sub(rowPhase, b.round(rowPhase));
+            const ValueId atCentre = b.sub(phase, b.mul(perRow, past));
+            const ValueId nearest = b.round(atCentre);
+            ValueId covered = zero;
+            for (double n : {-2.0, -1.0, 0.0, 1.0, 2.0}) {
+                const ValueId y = b.mul(b.sub(b.add(nearest, c(n)), atCentre), period);
+                covered =
+                    b.add(covered,
+                          b.abs(polygonInBand(shape, value(b.sub(y, h)), value(b.add(y, h))).id));
+            }
+            sum = b.add(sum, b.sub(paperShare.id, b.mul(cells, covered)));
+        }
+        const ValueId paperBoth = b.mul(sum, c(1.0 / double(taps().size())));
+        const ValueId duty = b.clamp(b.mul(c(2.0), b.mul(lineHalf, f.grad)), zero, one);
+        // The inks' product: 1 - i_h - i_x + E[I_h I_x].
+        const ValueId e = b.add(b.sub(b.add(ah, duty), one), paperBoth);
+        foldLine(b, fold, x, e, duty, g, pixel);
+    }
+    ValueId cov = b.select(p.dots, zero, foldedCovariance(b, fold));
+    if (lines.strandsOn != ir::kNoValue) cov = b.select(lines.strandsOn, cov, zero);
     return pairCorrection(b, under, l1, l2, cov);
 }
 

@@ -153,4 +153,18 @@ bool sameCells(const CrowdEstimate::LatticeShape& a, const CrowdEstimate::Lattic
 Ink cellCorrelation(ir::Builder& b, const Ink& under, const FineLayer& l1, const FineLayer& l2,
                     const PixelFootprint& pixel);
 
+// Whether a lattice's cells are the honeycomb's hexagon (bounded on both sides of each
+// direction), whose paper hexLineCorrelation lays on lines.
+bool honeycombCells(const CrowdEstimate::LatticeShape& p);
+
+// The correlation of a honeycomb that draws its edges with a layer of lines, consecutive (the
+// honeycomb first where `cellsFirst`): a phase family, or a lattice that draws its edges, by
+// its strands. Each line beats with the honeycomb's row nearest its direction (a row of its
+// centres, or of the lines its sides lie on), which carries the lines' offset from each
+// hexagon's centre; the paper both leave is the shrunk hexagon less the lines' strokes across
+// it (polygonInBand, HoneycombInPixel.h). In the same form as dotLineCorrelation; zero where
+// the honeycomb draws its points or the lattice of lines does not draw its edges.
+Ink hexLineCorrelation(ir::Builder& b, const Ink& under, const FineLayer& l1, const FineLayer& l2,
+                       bool cellsFirst, const PixelFootprint& pixel);
+
 } // namespace moire::lower

@@ -149,6 +149,28 @@ std::array<std::array<T, 2>, 6> insetHexagon(const std::array<T, 3>& bounds) {
             {zero - c2[0], zero - c2[1]}};
 }
 
+// The shrunk hexagon's bounds for strokes of half-width `half` (world), the generators'
+// gradients (ux, uy), (vx, vy): B_k = 1 - max(half, 0) |grad(m_k . (u, v))|.
+template <class T>
+std::array<T, 3> hexBounds(T half, T ux, T uy, T vx, T vy) {
+    using std::max;
+    const T h = max(half, ir::literal(half, 0.0));
+    return {ir::literal(half, 1.0) - h * hexSideRate(0, ux, uy, vx, vy),
+            ir::literal(half, 1.0) - h * hexSideRate(1, ux, uy, vx, vy),
+            ir::literal(half, 1.0) - h * hexSideRate(2, ux, uy, vx, vy)};
+}
+
+// The shrunk hexagon's area in (u, v), where the whole hexagon is 1 (a cell): its paper's
+// share of the plane. The shoelace over its corners.
+template <class T>
+T insetHexagonArea(const std::array<T, 3>& bounds) {
+    const auto c = insetHexagon(bounds);
+    T area = ir::literal(bounds[0], 0.0);
+    for (size_t k = 0; k < 6; ++k)
+        area = area + (c[k][0] * c[(k + 1) % 6][1] - c[(k + 1) % 6][0] * c[k][1]) * 0.5;
+    return area;
+}
+
 // The hexagon of the centre nearest (u, v) in the hexagons' own measure: the one of the four
 // whole points about it whose offset q has the least max_k |m_k . q|, the hexagon that holds
 // the point. Returns q.

@@ -200,10 +200,7 @@ TEST_CASE("a shrunk hexagon whose bounds leave a parallelogram keeps its area") 
     for (const std::array<double, 3>& bounds :
          {std::array<double, 3>{0.9, 0.2, 0.3}, std::array<double, 3>{0.1, 0.6, 0.3},
           std::array<double, 3>{0.2, 0.2, 0.7}}) {
-        const auto c = insetHexagon(bounds);
-        double area = 0.0;
-        for (size_t k = 0; k < 6; ++k)
-            area += 0.5 * (c[k][0] * c[(k + 1) % 6][1] - c[(k + 1) % 6][0] * c[k][1]);
+        const double area = insetHexagonArea(bounds);
         // The region's area in (u, v), counted on a fine grid over [-1, 1]^2.
         long in = 0;
         constexpr int kSide = 1000;

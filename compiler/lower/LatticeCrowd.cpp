@@ -9,7 +9,6 @@
 #include <cmath>
 #include <functional>
 #include <numbers>
-#include <optional>
 #include <vector>
 
 namespace moire::lower {
@@ -53,6 +52,19 @@ Geometry geometryOf(LatticeKind kind) {
                 2.0, {{{0, 1}, {-kSqrt3 / 2, 0.5}, {kSqrt3 / 2, 0.5}}}};
     }
     return {};
+}
+
+// The generators' steps in the world, the columns of the inverse of their gradients, along
+// the pixel's sides in pixels: e1 = (u, v) advanced by (1, 0), e2 by (0, 1).
+struct PixelSteps {
+    ValueId e1u, e1v, e2u, e2v;
+};
+PixelSteps pixelSteps(ir::Builder& b, const LatticeCrowdInputs& in, const PixelFootprint& pixel) {
+    ValueId det = b.sub(b.mul(in.genUX, in.genVY), b.mul(in.genUY, in.genVX));
+    const PixelSides e1 = onPixelSides(b, b.div(in.genVY, det), b.div(b.neg(in.genVX), det), pixel);
+    const PixelSides e2 = onPixelSides(b, b.div(b.neg(in.genUY), det), b.div(in.genUX, det), pixel);
+    return {b.div(e1.u, in.pixel), b.div(e1.v, in.pixel), b.div(e2.u, in.pixel),
+            b.div(e2.v, in.pixel)};
 }
 
 // The dots' mean over the pixel where the lattice draws its points (LatticeCrowdInputs, t the
@@ -109,13 +121,7 @@ ValueId dotsInPixel(ir::Builder& b, LatticeKind kind, const LatticeCrowdInputs& 
                 steps.push_back({i / 3.0, j / 3.0, true});
         }
     }
-    // The generators' steps in the world, the columns of the inverse of their gradients,
-    // along the pixel's sides in pixels.
-    ValueId det = b.sub(b.mul(in.genUX, in.genVY), b.mul(in.genUY, in.genVX));
-    const PixelSides e1 = onPixelSides(b, b.div(in.genVY, det), b.div(b.neg(in.genVX), det), pixel);
-    const PixelSides e2 = onPixelSides(b, b.div(b.neg(in.genUY), det), b.div(in.genUX, det), pixel);
-    const ValueId e1u = b.div(e1.u, in.pixel), e1v = b.div(e1.v, in.pixel);
-    const ValueId e2u = b.div(e2.u, in.pixel), e2v = b.div(e2.v, in.pixel);
+    const auto [e1u, e1v, e2u, e2v] = pixelSteps(b, in, pixel);
     ValueId sign = c(1.0);
     if (kind == LatticeKind::Hex) {
         // u + v at the nearest corner: at the pixel's, less the gradients along the way back.
@@ -161,35 +167,17 @@ ValueId dotsInPixel(ir::Builder& b, LatticeKind kind, const LatticeCrowdInputs& 
     });
 }
 
-// The honeycomb's sides' |grad(m_k . (u, v))| (HoneycombInPixel.h's m_k), m_k . (u, v) 1 on
-// the side: a side moved in by h moves its bound by h times it.
-std::array<ValueId, 3> hexSideRates(ir::Builder& b, const LatticeCrowdInputs& in) {
+// The honeycomb's shrunk hexagon's bounds (HoneycombInPixel.h) for strokes of half-width
+// `half`, and its edges' share of the plane, exactly: 1 less the hexagon's area.
+std::array<ir::BuiltValue, 3> hexBoundsOf(ir::Builder& b, const LatticeCrowdInputs& in,
+                                          ValueId half) {
     auto value = [&](ValueId v) { return ir::BuiltValue(b, v); };
-    std::array<ValueId, 3> out{};
-    for (size_t k = 0; k < 3; ++k)
-        out[k] =
-            hexSideRate(k, value(in.genUX), value(in.genUY), value(in.genVX), value(in.genVY)).id;
-    return out;
+    return hexBounds(value(half), value(in.genUX), value(in.genUY), value(in.genVX),
+                     value(in.genVY));
 }
-
-// The shrunk hexagon's bounds for strokes of half-width `half`.
-std::array<ir::BuiltValue, 3> hexBounds(ir::Builder& b, const std::array<ValueId, 3>& rates,
-                                        ValueId half) {
-    const ValueId h = b.max(half, b.constF(0.0));
-    std::array<ir::BuiltValue, 3> out{ir::BuiltValue(b, h), ir::BuiltValue(b, h),
-                                      ir::BuiltValue(b, h)};
-    for (size_t k = 0; k < 3; ++k) out[k] = {b, b.sub(b.constF(1.0), b.mul(h, rates[k]))};
-    return out;
-}
-
-// The honeycomb's edges' share of the plane, exactly: 1 less the shrunk hexagon's area in
-// (u, v), where the whole hexagon is 1 (a cell).
-ValueId hexEdgeShare(ir::Builder& b, const std::array<ValueId, 3>& rates, ValueId half) {
-    const auto c = insetHexagon(hexBounds(b, rates, half));
-    ir::BuiltValue area(b, b.constF(0.0));
-    for (size_t k = 0; k < 6; ++k)
-        area = area + (c[k][0] * c[(k + 1) % 6][1] - c[(k + 1) % 6][0] * c[k][1]) * 0.5;
-    return b.clamp(b.sub(b.constF(1.0), area.id), b.constF(0.0), b.constF(1.0));
+ValueId hexEdgeShare(ir::Builder& b, const LatticeCrowdInputs& in, ValueId half) {
+    const ValueId paper = insetHexagonArea(hexBoundsOf(b, in, half)).id;
+    return b.clamp(b.sub(b.constF(1.0), paper), b.constF(0.0), b.constF(1.0));
 }
 
 // A honeycomb's edges over the pixel: 1 less the paper its strokes leave there
@@ -200,8 +188,8 @@ ValueId hexEdgeShare(ir::Builder& b, const std::array<ValueId, 3>& rates, ValueI
 // nearest edge within half its diagonal) and is not handed over whole; elsewhere the
 // distance form.
 constexpr double kHexHandOver = 0.4;
-ValueId hexEdgesInPixel(ir::Builder& b, const LatticeCrowdInputs& in, ValueId half,
-                        const std::array<ValueId, 3>& rates, ValueId members, ValueId& engaged) {
+ValueId hexEdgesInPixel(ir::Builder& b, const LatticeCrowdInputs& in, ValueId half, ValueId members,
+                        ValueId& engaged) {
     auto c = [&](double v) { return b.constF(v); };
     auto value = [&](ValueId v) { return ir::BuiltValue(b, v); };
     const PixelFootprint pixel{in.pixel, in.cosTurn, in.sinTurn};
@@ -213,17 +201,10 @@ ValueId hexEdgesInPixel(ir::Builder& b, const LatticeCrowdInputs& in, ValueId ha
                              b.lt(handed, c(1.0))});
     // The paper over the pixel from `rings` rings of hexagons about its centre.
     auto paper = [&](int rings) {
-        // The generators' steps in the world (the inverse of their gradients), along the
-        // pixel's sides in pixels.
-        ValueId det = b.sub(b.mul(in.genUX, in.genVY), b.mul(in.genUY, in.genVX));
-        const PixelSides e1 =
-            onPixelSides(b, b.div(in.genVY, det), b.div(b.neg(in.genVX), det), pixel);
-        const PixelSides e2 =
-            onPixelSides(b, b.div(b.neg(in.genUY), det), b.div(in.genUX, det), pixel);
-        auto inPixels = [&](ValueId x) { return value(b.div(x, in.pixel)); };
-        const ir::BuiltValue left = honeycombPaperInSquare(
-            value(in.genU), value(in.genV), inPixels(e1.u), inPixels(e1.v), inPixels(e2.u),
-            inPixels(e2.v), hexBounds(b, rates, half), rings);
+        const PixelSteps e = pixelSteps(b, in, pixel);
+        const ir::BuiltValue left =
+            honeycombPaperInSquare(value(in.genU), value(in.genV), value(e.e1u), value(e.e1v),
+                                   value(e.e2u), value(e.e2v), hexBoundsOf(b, in, half), rings);
         return std::vector<ValueId>{b.denan(b.sub(c(1.0), left.id), c(0.0))};
     };
     return b.ifThenElse(
@@ -302,17 +283,14 @@ CrowdEstimate latticeCrowd(ir::Builder& b, LatticeKind kind, const LatticeCrowdI
     // The honeycomb's edges leave each hexagon shrunk from its sides, whose area is exact
     // (HoneycombInPixel.h): laid as independent, its three directions' strokes, which meet
     // at its corners, were counted light by up to 5% of their ink.
-    std::optional<std::array<ValueId, 3>> hexRates;
-    if (kind == LatticeKind::Hex && in.genU != ir::kNoValue) hexRates = hexSideRates(b, in);
-    out.share = [exactEdges, dotShare, hexRates, drawEdges = in.drawEdges](ir::Builder& bb,
-                                                                           ValueId half) {
+    const bool hexCells = kind == LatticeKind::Hex && in.genU != ir::kNoValue;
+    out.share = [exactEdges, dotShare, hexCells, in](ir::Builder& bb, ValueId half) {
         ValueId width = bb.mul(bb.max(half, bb.constF(0.0)), bb.constF(2.0));
-        ValueId edges = hexRates ? hexEdgeShare(bb, *hexRates, half) : exactEdges(bb, width);
-        return bb.min(bb.select(drawEdges, edges, dotShare(bb, width)), bb.constF(1.0));
+        ValueId edges = hexCells ? hexEdgeShare(bb, in, half) : exactEdges(bb, width);
+        return bb.min(bb.select(in.drawEdges, edges, dotShare(bb, width)), bb.constF(1.0));
     };
     ValueId dots = dotShare(b, t);
-    ValueId edges =
-        hexRates ? hexEdgeShare(b, *hexRates, b.mul(t, c(0.5))) : independentEdges(b, t);
+    ValueId edges = hexCells ? hexEdgeShare(b, in, b.mul(t, c(0.5))) : independentEdges(b, t);
     if (kind != LatticeKind::Hex && in.genU != ir::kNoValue) {
         // Whole lines: the edges u, v in Z (and u + v for the triangle lattice), each a phase
         // family averaged over the square pixel as phaseFamilyFields' are (meanInk).
@@ -385,11 +363,11 @@ CrowdEstimate latticeCrowd(ir::Builder& b, LatticeKind kind, const LatticeCrowdI
     if (in.distance != ir::kNoValue) {
         ValueId dot = dotsInPixel(b, kind, in, t, out.engaged);
         const ValueId half = b.mul(t, c(0.5));
-        ValueId edge = hexRates ? hexEdgesInPixel(b, in, half, *hexRates, members, out.engaged)
+        ValueId edge = hexCells ? hexEdgesInPixel(b, in, half, members, out.engaged)
                                 : distanceInk(b, in.distance, half, ir::kNoValue, ir::kNoValue,
                                               PixelFootprint{in.pixel, in.cosTurn, in.sinTurn});
         out.nearest = b.select(in.drawEdges, edge, dot);
-        if (hexRates)
+        if (hexCells)
             out.strokesCrowded = b.select(
                 in.drawEdges, b.smoothstep(c(kCrowdFrom), c(kCrowdFull), members), out.engaged);
     }

@@ -54,6 +54,15 @@ Row nearestRow(ir::Builder& b, const std::vector<Row>& rows, ValueId gx, ValueId
     return out;
 }
 
+// A lattice's generators' steps in the world, the columns of the inverse of their gradients
+// (det their determinant): (u, v) advanced by (1, 0) and by (0, 1).
+struct WorldSteps {
+    ValueId e1x, e1y, e2x, e2y;
+};
+WorldSteps worldSteps(ir::Builder& b, const CrowdEstimate::LatticeShape& p, ValueId det) {
+    return {b.div(p.vy, det), b.div(b.neg(p.vx), det), b.div(b.neg(p.uy), det), b.div(p.ux, det)};
+}
+
 // A screen's cells a world area: |det(grad u, grad v)|.
 ValueId cellsPerArea(ir::Builder& b, const CrowdEstimate::LatticeShape& p) {
     return b.abs(b.sub(b.mul(p.ux, p.vy), b.mul(p.uy, p.vx)));
@@ -220,9 +229,7 @@ Ink dotCorrelation(ir::Builder& b, const Ink& under, const FineLayer& l1, const 
     auto value = [&](ValueId v) { return ir::BuiltValue(b, v); };
     const Matched m = match(b, p1, p2, pixel);
     // The first screen's steps in the world: the columns of the inverse of its gradients.
-    const ValueId det = m.det;
-    const ValueId e1x = b.div(p1.vy, det), e1y = b.div(b.neg(p1.vx), det);
-    const ValueId e2x = b.div(b.neg(p1.uy), det), e2y = b.div(p1.ux, det);
+    const auto [e1x, e1y, e2x, e2y] = worldSteps(b, p1, m.det);
     // The sites' differences, s_j - s_i, each with the number of pairs that share it.
     std::map<std::pair<double, double>, int> differences;
     for (const auto& si : p1.sites)
@@ -473,21 +480,14 @@ Ink hexLineCorrelation(ir::Builder& b, const Ink& under, const FineLayer& l1, co
     rowsOf.shortest = {{{1, 0}}, {{0, 1}}, {{1, 1}}, {{1, 2}}, {{2, 1}}, {{1, -1}}};
     const std::vector<Row> rows = screenRows(b, rowsOf);
     // The shrunk hexagon in the world: its corners through the generators' steps.
-    std::array<ir::BuiltValue, 3> bounds{value(zero), value(zero), value(zero)};
-    const ValueId half = b.max(p.radius, zero);
-    for (size_t k = 0; k < 3; ++k)
-        bounds[k] = value(b.sub(
-            one,
-            b.mul(half, hexSideRate(k, value(p.ux), value(p.uy), value(p.vx), value(p.vy)).id)));
+    const auto bounds =
+        hexBounds(value(p.radius), value(p.ux), value(p.uy), value(p.vx), value(p.vy));
     const auto corners = insetHexagon(bounds);
-    ir::BuiltValue paperShare(b, zero); // the shrunk hexagon's area in cells: i_h
-    for (size_t k = 0; k < 6; ++k)
-        paperShare = paperShare + (corners[k][0] * corners[(k + 1) % 6][1] -
-                                   corners[(k + 1) % 6][0] * corners[k][1]) *
-                                      0.5;
+    const ir::BuiltValue paperShare = insetHexagonArea(bounds); // in cells: i_h
     const ValueId det = b.sub(b.mul(p.ux, p.vy), b.mul(p.uy, p.vx));
-    const ir::BuiltValue e1x = value(b.div(p.vy, det)), e1y = value(b.div(b.neg(p.vx), det));
-    const ir::BuiltValue e2x = value(b.div(b.neg(p.uy), det)), e2y = value(b.div(p.ux, det));
+    const WorldSteps steps = worldSteps(b, p, det);
+    const ir::BuiltValue e1x = value(steps.e1x), e1y = value(steps.e1y);
+    const ir::BuiltValue e2x = value(steps.e2x), e2y = value(steps.e2y);
     const ValueId cells = b.abs(det);
     const ValueId crowded = dotsCrowded(b, p, pixel);
     const ValueId lineHalf = b.max(lines.sweep.halfWidth, zero);

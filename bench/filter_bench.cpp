@@ -68,6 +68,14 @@ std::vector<Scene> filterScenes() {
     out.push_back({"honeycomb under fine lines", "honeycomb_lines.moire",
                    "layer a { family = hex_lattice; spacing = 0.4; stroke = 0.08; edges = 1 }\n"
                    "layer b { family = lines; spacing = 0.6; stroke = 0.1; angle = 32deg }\n"});
+    // A family given by its distance (DistanceFamily.h): rings 0.7 apart (a pixel of every
+    // frame read in parts), and 3 apart (the parts only where a ring's stroke meets a ridge).
+    for (const char* spacing : {"0.7", "3"})
+        out.push_back({std::string("distance rings, ") + spacing,
+                       std::string("distance_rings_") + spacing + ".moire",
+                       std::string("family rings { distance = abs(r - spacing * round(r / "
+                                   "spacing)) }\nlayer a { family = rings; spacing = ") +
+                           spacing + "; stroke = " + (spacing[0] == '0' ? "0.1" : "0.8") + " }\n"});
     out.push_back({"triangle grid, resolved", "lattice_resolved.moire",
                    "layer a { family = triangle_lattice; spacing = 8; stroke = 1.5; edges = 1 }\n"
                    "layer b { family = lines; spacing = 6; stroke = 1; rotation = 5deg }\n"});

@@ -29,6 +29,9 @@ struct LayerFrame {
     ir::ValueId qx, qy; // the point in the layer's frame
     ir::ValueId dx, dy; // p - origin, in world axes
     ir::ValueId spacing, phase;
+    // The angle the layer's frame turns from the world's (its rotation and the viewer's turn):
+    // a world offset o moves q by Rot(-turn) o. kNoValue: it does not turn.
+    ir::ValueId turn = ir::kNoValue;
 };
 
 // What a compiler-built family is given.

@@ -3,6 +3,7 @@
 #include "compiler/diag/Diagnostics.h"
 #include "compiler/ir/BuiltValue.h"
 #include "compiler/ir/Plane.h"
+#include "compiler/lower/DistanceFamily.h"
 #include "compiler/lower/MorphFamily.h"
 
 namespace moire::lower {
@@ -40,6 +41,9 @@ LayerFields LayerLowering::fields(const sema::CheckedLayer& layer, const StrokeB
     Vals origin = ctx_.layerProp(layer, "origin");
     const Expr* turn = layer.prop("rotation");
     ir::Vec2T<BuiltValue> p{built(ctx_.world.x), built(ctx_.world.y)};
+    auto turnBy = [&](ValueId angle) {
+        lf.turn = lf.turn == ir::kNoValue ? angle : b.add(lf.turn, angle);
+    };
     if (ctx_.interactive()) {
         // The viewer's rigid motion M(p) = Rot(a) p + d carries the layer: evaluate it at
         // M^-1(p) = Rot(-a) (p - d).
@@ -47,13 +51,19 @@ LayerFields LayerLowering::fields(const sema::CheckedLayer& layer, const StrokeB
         ir::Vec2T<BuiltValue> moved{
             p.x - built(ctx_.viewParam(ViewSlots::layer(i, ViewSlots::kLayerDx))),
             p.y - built(ctx_.viewParam(ViewSlots::layer(i, ViewSlots::kLayerDy)))};
-        p = ir::rotate(moved, -built(ctx_.viewParam(ViewSlots::layer(i, ViewSlots::kLayerTurn))));
+        const ValueId viewTurn = ctx_.viewParam(ViewSlots::layer(i, ViewSlots::kLayerTurn));
+        p = ir::rotate(moved, -built(viewTurn));
+        turnBy(viewTurn);
     }
     ir::Vec2T<BuiltValue> d{p.x - built(origin[0]), p.y - built(origin[1])};
     lf.dx = d.x.id;
     lf.dy = d.y.id;
     ir::Vec2T<BuiltValue> q = d;
-    if (turn) q = ir::rotate(d, -built(ctx_.exprs.scalar(*turn, ctx_.world)));
+    if (turn) {
+        const ValueId angle = ctx_.exprs.scalar(*turn, ctx_.world);
+        q = ir::rotate(d, -built(angle));
+        turnBy(angle);
+    }
     lf.qx = q.x.id;
     lf.qy = q.y.id;
     if (layer.morph.empty())
@@ -133,6 +143,21 @@ LayerFields LayerLowering::familyFields(const sema::CheckedLayer& layer, const L
         LayerFields out;
         out.distance = ctx_.exprs.scalar(*family->distance, here);
         out.index = family->index ? ctx_.exprs.scalar(*family->index, here) : b.constF(0.0);
+        if (ctx_.options.filter == sema::FilterMode::Mean) {
+            // The distance about the pixel (DistanceFamily.h): the family's expression at the
+            // pixel's point moved by a world offset, turned into the layer's frame.
+            auto at = [&](ir::Builder& bb, ValueId ox, ValueId oy) {
+                ir::Vec2T<BuiltValue> o{BuiltValue(bb, ox), BuiltValue(bb, oy)};
+                if (lf.turn != ir::kNoValue) o = ir::rotate(o, -BuiltValue(bb, lf.turn));
+                Frame there = frameAt(bf, lf, bb.add(lf.qx, o.x.id), bb.add(lf.qy, o.y.id));
+                return ctx_.exprs.scalar(*family->distance, there);
+            };
+            const PixelFootprint pixel{b.div(band.a, b.constF(kAntialiasPixels)), ctx_.cosTurn,
+                                       ctx_.sinTurn};
+            out.crowd = distanceFamilyCrowd(
+                b, out.distance, at, b.mul(ctx_.layerProp(layer, "stroke")[0], b.constF(0.5)),
+                pixel);
+        }
         return out;
     }
     if (walks(layer, family)) {

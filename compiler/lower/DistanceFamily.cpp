@@ -1,0 +1,215 @@
+#include "compiler/lower/DistanceFamily.h"
+
+#include "compiler/ir/BuiltValue.h"
+#include "compiler/lower/LowerExpr.h"
+
+#include <span>
+#include <vector>
+
+namespace moire::lower {
+
+using ir::Op;
+using ir::ValueId;
+
+namespace {
+
+// How much faster than at the centre a distance may change across the pixel: a distance
+// given as |f| for a smooth f whose gradient grows, not a Euclidean one.
+constexpr double kGrowth = 1.25;
+
+// A point of the pixel, (a, c) pixel units along its sides from its centre, as a world offset.
+struct Offset {
+    ValueId ox, oy;
+};
+Offset offsetOf(ir::Builder& b, ValueId a, ValueId c, const PixelFootprint& pixel) {
+    if (pixel.cosTurn == ir::kNoValue) return {b.mul(pixel.size, a), b.mul(pixel.size, c)};
+    // The pixel's sides run along the world's axes turned by the camera (onPixelSides).
+    return {b.mul(pixel.size, b.sub(b.mul(a, pixel.cosTurn), b.mul(c, pixel.sinTurn))),
+            b.mul(pixel.size, b.add(b.mul(a, pixel.sinTurn), b.mul(c, pixel.cosTurn)))};
+}
+
+// The distance at a point and its gradient along the pixel's sides, per world unit (the
+// compiler's AD of the family's expression).
+struct Reading {
+    ValueId d, gu, gv, length;
+};
+Reading readAt(ir::Builder& b, ValueId d, const PixelFootprint& pixel) {
+    PixelSides g = onPixelSides(b, b.emit(Op::DerivX, {d}), b.emit(Op::DerivY, {d}), pixel);
+    return {d, g.u, g.v, b.hypot(g.u, g.v)};
+}
+
+// The mean over a square of side `side` about the reading's point of the stroke d < h, the
+// distance read to first order: a centre line d / |grad d| away across the gradient, the stroke
+// h / |grad d| to either side of it (distanceMeanInk). Where the gradient vanishes (or is NaN),
+// at a kink of the distance such as |f| where f is 0 to the last bit (often so in float), it
+// takes `stand`'s, the pixel's centre's (which is read in parts where its own vanishes).
+ValueId firstOrderMean(ir::Builder& b, const Reading& r, ValueId h, ValueId side,
+                       const Reading& stand) {
+    ValueId some = b.gt(r.length, b.constF(0.0)); // false on NaN too
+    ValueId gu = b.select(some, r.gu, stand.gu), gv = b.select(some, r.gv, stand.gv);
+    ValueId length = b.max(b.select(some, r.length, stand.length), b.constF(1e-30));
+    NormalExtents e = extentsAcross(b, gu, gv, side);
+    ValueId mean =
+        distanceMeanInk(ir::BuiltValue(b, b.div(r.d, length)), ir::BuiltValue(b, b.div(h, length)),
+                        ir::BuiltValue(b, e.along), ir::BuiltValue(b, e.across))
+            .id;
+    return b.denan(mean, b.constF(0.0));
+}
+
+// Whether the distance at `there` (pixel units (da, dc) from `r`'s point) stands off the
+// first-order reading from `r`, |d + grad d . o|, by more than kStraightSlack of the change
+// across `span` pixels.
+ValueId bends(ir::Builder& b, const Reading& r, ValueId there, double da, double dc, ValueId span) {
+    ValueId along = b.mul(span, b.add(b.mul(r.gu, b.constF(da)), b.mul(r.gv, b.constF(dc))));
+    ValueId predicted = b.abs(b.add(r.d, along));
+    ValueId slack = b.mul(b.constF(kStraightSlack), b.mul(r.length, span));
+    return b.gt(b.abs(b.sub(there, predicted)), slack);
+}
+
+ValueId anyOf(ir::Builder& b, const std::vector<ValueId>& flags) {
+    ValueId out = b.constB(false);
+    for (ValueId f : flags) out = b.emit(Op::Or, {out, f});
+    return out;
+}
+
+// Whether the stroke of `m`'s member, read straight from `m`'s point, reaches into the square
+// of side `side` whose centre stands (da, dc) sides from it: the least of d + grad d . o over
+// the square, d + side (grad d . (da, dc) - (|g_u| + |g_v|) / 2), short of h (with
+// kStraightSlack to spare).
+ValueId reachesInto(ir::Builder& b, const Reading& m, double da, double dc, ValueId side,
+                    ValueId h) {
+    ValueId toward = b.add(b.mul(m.gu, b.constF(da)), b.mul(m.gv, b.constF(dc)));
+    ValueId spread = b.mul(b.add(b.abs(m.gu), b.abs(m.gv)), b.constF(0.5));
+    ValueId least = b.add(m.d, b.mul(side, b.sub(toward, spread)));
+    ValueId slack = b.mul(b.constF(kStraightSlack), b.mul(m.length, side));
+    return b.lt(least, b.add(h, slack));
+}
+
+// The k-th of n squares' centres along a pixel's side, in pixel units from its centre.
+ValueId place(ir::Builder& b, ValueId k, int n) {
+    return b.sub(b.div(b.add(k, b.constF(0.5)), b.constF(n)), b.constF(0.5));
+}
+
+// The pixel cut into n x n squares, each read to first order about its centre: their mean ink.
+// A loop over the rows of squares, the family's expression written out once a square of a row
+// (a loop over every square, written out once, took 1.6 times as long on the JIT; the whole
+// pixel written out, a kernel that lavapipe took 30 s to compile).
+ValueId finePartsMean(ir::Builder& b, const DistanceAt& at, ValueId h, const PixelFootprint& pixel,
+                      const Reading& centre, int n) {
+    const ValueId side = b.div(pixel.size, b.constF(n));
+    std::vector<ValueId> init{b.constF(0.0), b.constF(0.0)}; // the row, the sum
+    auto more = [&](std::span<const ValueId> v) {
+        return std::vector<ValueId>{b.lt(v[0], b.constF(n))};
+    };
+    std::vector<ValueId> out = b.loop(init, more, [&](std::span<const ValueId> v) {
+        const ValueId c = place(b, v[0], n);
+        ValueId sum = v[1];
+        for (int i = 0; i < n; ++i) {
+            Offset o = offsetOf(b, place(b, b.constF(i), n), c, pixel);
+            Reading r = readAt(b, at(b, o.ox, o.oy), pixel);
+            sum = b.add(sum, firstOrderMean(b, r, h, side, centre));
+        }
+        return std::vector<ValueId>{b.add(v[0], b.constF(1.0)), sum};
+    });
+    return b.mul(out[1], b.constF(1.0 / (n * n)));
+}
+
+// The pixel cut into n x n squares, each read to first order about its centre: their mean ink,
+// and whether any square holds the stroke of a member other than its own: a neighbour's reading
+// that stands off the square's own (`bends`) and whose member's stroke, read straight from the
+// neighbour, reaches into the square. Where none does, each square holds its own member's stroke
+// alone and the mean is exact to first order. A loop over the rows of squares (the family's
+// expression is written out once a row, not once a square), carrying the row below's readings to
+// compare with.
+struct Parts {
+    ValueId mean, bent;
+};
+Parts partsMean(ir::Builder& b, const DistanceAt& at, ValueId h, const PixelFootprint& pixel,
+                const Reading& centre, int n) {
+    const ValueId side = b.div(pixel.size, b.constF(n));
+    // Carried: the row, the sum of the squares' means, whether any square holds another's
+    // stroke (1 or 0), and the row below's readings, four values a square.
+    std::vector<ValueId> init(3 + 4 * n, b.constF(0.0));
+    auto more = [&](std::span<const ValueId> v) {
+        return std::vector<ValueId>{b.lt(v[0], b.constF(n))};
+    };
+    std::vector<ValueId> out = b.loop(init, more, [&](std::span<const ValueId> v) {
+        const ValueId c = place(b, v[0], n);
+        std::vector<Reading> row;
+        ValueId sum = v[1];
+        for (int i = 0; i < n; ++i) {
+            Offset o = offsetOf(b, place(b, b.constF(i), n), c, pixel);
+            row.push_back(readAt(b, at(b, o.ox, o.oy), pixel));
+            sum = b.add(sum, firstOrderMean(b, row.back(), h, side, centre));
+        }
+        std::vector<ValueId> flags;
+        // The squares r and s, s (da, dc) sides from r: each way round.
+        auto pair = [&](const Reading& r, const Reading& s, double da, double dc) {
+            flags.push_back(b.emit(
+                Op::And, {bends(b, r, s.d, da, dc, side), reachesInto(b, s, -da, -dc, side, h)}));
+            flags.push_back(b.emit(
+                Op::And, {bends(b, s, r.d, -da, -dc, side), reachesInto(b, r, da, dc, side, h)}));
+        };
+        for (int i = 0; i + 1 < n; ++i) pair(row[i], row[i + 1], 1, 0);
+        const ValueId within = anyOf(b, flags);
+        flags.clear();
+        for (int i = 0; i < n; ++i)
+            pair(Reading{v[3 + 4 * i], v[4 + 4 * i], v[5 + 4 * i], v[6 + 4 * i]}, row[i], 0, 1);
+        // The first row has none below it.
+        const ValueId below = b.emit(Op::And, {b.gt(v[0], b.constF(0.0)), anyOf(b, flags)});
+        const ValueId any = b.emit(Op::Or, {within, below});
+        std::vector<ValueId> next{b.add(v[0], b.constF(1.0)), sum,
+                                  b.select(any, b.constF(1.0), v[2])};
+        for (const Reading& r : row) next.insert(next.end(), {r.d, r.gu, r.gv, r.length});
+        return next;
+    });
+    return {b.mul(out[1], b.constF(1.0 / (n * n))), b.gt(out[2], b.constF(0.0))};
+}
+
+} // namespace
+
+CrowdEstimate distanceFamilyCrowd(ir::Builder& b, ValueId distance, const DistanceAt& at,
+                                  ValueId halfWidth, const PixelFootprint& pixel) {
+    const Reading centre = readAt(b, distance, pixel);
+    // Each corner against the centre's first-order reading: where one reads off it, a member
+    // other than the centre's straight one is nearer there, which matters where a stroke
+    // other than the centre's may ink the pixel. Every point of the pixel nearer that corner
+    // than its centre stands within half a side of the corner, and a distance changes by
+    // about its gradient's length a world unit (kGrowth to spare for one that grows across the
+    // pixel): where the corner's distance stands further than that past h, no such point is
+    // inked. So a ridge between two resolved members whose strokes stop short of it is read
+    // as the centre says, and a pixel that holds members closer than it is read in parts.
+    const ValueId reach =
+        b.add(halfWidth, b.mul(b.constF(0.5 * kGrowth), b.mul(centre.length, pixel.size)));
+    std::vector<ValueId> parts;
+    for (double a : {-0.5, 0.5})
+        for (double c : {-0.5, 0.5}) {
+            Offset o = offsetOf(b, b.constF(a), b.constF(c), pixel);
+            ValueId there = at(b, o.ox, o.oy);
+            parts.push_back(
+                b.emit(Op::And, {bends(b, centre, there, a, c, pixel.size), b.lt(there, reach)}));
+        }
+    // Where the centre's gradient vanishes (a kink met to the last bit) there is no reading to
+    // trust: the parts.
+    parts.push_back(b.emit(Op::Not, {b.gt(centre.length, b.constF(0.0))}));
+    const ValueId parted = anyOf(b, parts);
+    CrowdEstimate out;
+    out.nearest = b.ifThenElse(
+        parted,
+        [&] {
+            Parts coarse = partsMean(b, at, halfWidth, pixel, centre, kDistanceTaps);
+            // Members closer than the parts: finer parts, behind their own branch.
+            return Vals{b.ifThenElse(
+                coarse.bent,
+                [&] {
+                    return Vals{finePartsMean(b, at, halfWidth, pixel, centre, kDistanceFineTaps)};
+                },
+                [&] { return Vals{coarse.mean}; })[0]};
+        },
+        // Not parted, the centre's gradient does not vanish: it stands for itself.
+        [&] { return Vals{firstOrderMean(b, centre, halfWidth, pixel.size, centre)}; })[0];
+    out.strokesCrowded = b.select(parted, b.constF(1.0), b.constF(0.0));
+    return out;
+}
+
+} // namespace moire::lower

@@ -135,6 +135,13 @@ TEST_CASE("filter: the JIT and the GPU draw the mean the interpreter draws") {
         "layer a { family = hex_lattice; spacing = 0.35; stroke = 0.2 }\n"
         "layer b { family = lines; spacing = 0.525; stroke = 0.15; angle = 92deg; color = "
         "#a02020 }\n",
+        // A resolved honeycomb under a stretched triangle screen whose dots tie on the
+        // pixels' grid: the nearest dot's stroke meets the edges (StrokePairs.h), weighed to 0
+        // at a tie, where double and float picked different dots (1.6% of pixels apart).
+        "layer a { family = hex_lattice; spacing = 2.2; stroke = 0.6; edges = 1; rotation = 7deg "
+        "}\n"
+        "layer b { family = triangle_lattice; spacing = 3; stroke = 2.4; scale = (1, 1.4); color "
+        "= #a02020 }\n",
         // Families given by their distance (DistanceFamily.h): a grid's crossings read in
         // parts under resolved circles, and rings five a pixel read in the finer parts, under
         // a turned camera.

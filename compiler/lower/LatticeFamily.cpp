@@ -47,13 +47,16 @@ struct LatticeFrame {
 };
 
 // A running minimum over candidate points: the world distance and the integer pair of the
-// nearest so far. Strict `<` keeps the earlier candidate on a tie, so the rounded point
-// wins ties and the index never flickers between equidistant points for no reason.
+// nearest so far, and the distance of the next nearest (`second`, kNoMember before a second
+// candidate). Strict `<` keeps the earlier candidate on a tie, so the rounded point wins ties
+// and the index never flickers between equidistant points for no reason.
 struct Nearest {
     ValueId d, i, j;
+    ValueId second;
 };
 void consider(ir::Builder& b, Nearest& best, ValueId d, ValueId i, ValueId j) {
     ValueId closer = b.lt(d, best.d);
+    best.second = b.select(closer, best.d, b.min(best.second, d));
     best.d = b.select(closer, d, best.d);
     best.i = b.select(closer, i, best.i);
     best.j = b.select(closer, j, best.j);
@@ -119,14 +122,19 @@ void setGenerators(ir::Builder& b, const LatticeFrame& f, LayerFields& out, Valu
 LayerFields squareLattice(ir::Builder& b, const LatticeFrame& f, ValueId drawEdges) {
     ValueId u = b.div(f.ux, f.s), v = b.div(f.uy, f.s);
     ValueId i = b.round(u), j = b.round(v);
-    ValueId vertex =
-        b.hypot(b.sub(f.px, b.mul(b.mul(f.sx, f.s), i)), b.sub(f.py, b.mul(b.mul(f.sy, f.s), j)));
+    ValueId ex = b.mul(f.sx, f.s), ey = b.mul(f.sy, f.s); // the world steps
+    ValueId rx = b.sub(f.px, b.mul(ex, i)), ry = b.sub(f.py, b.mul(ey, j));
+    ValueId vertex = b.hypot(rx, ry);
+    // The next nearest point: the rounded one's neighbour across the nearer side of its
+    // rectangle, along x or along y.
+    ValueId alongX = b.hypot(b.sub(b.abs(rx), ex), ry), alongY = b.hypot(rx, b.sub(b.abs(ry), ey));
     ValueId edge =
         b.min(lineFamilyDistance(b, f, 1.0, 0.0, f.s), lineFamilyDistance(b, f, 0.0, 1.0, f.s));
     LayerFields out;
     out.distance = b.select(drawEdges, edge, vertex);
     out.index = i;
     out.aux0 = j;
+    out.runnerUp = b.min(alongX, alongY);
     setGenerators(b, f, out, u, v);
     return out;
 }
@@ -159,7 +167,7 @@ LayerFields triangleLattice(ir::Builder& b, const LatticeFrame& f, ValueId drawE
     };
     const Step steps[] = {
         {stepX, b.constF(0.0), 1, 0}, {a2x, a2y, 0, 1}, {b.sub(a2x, stepX), a2y, -1, 1}};
-    Nearest best{b.hypot(rx, ry), i, j};
+    Nearest best{b.hypot(rx, ry), i, j, b.constF(kNoMember)};
     for (const Step& st : steps) {
         for (double sign : {1.0, -1.0}) {
             ValueId sg = b.constF(sign);
@@ -176,6 +184,7 @@ LayerFields triangleLattice(ir::Builder& b, const LatticeFrame& f, ValueId drawE
     out.distance = b.select(drawEdges, edge, best.d);
     out.index = best.i;
     out.aux0 = best.j;
+    out.runnerUp = best.second;
     setGenerators(b, f, out, u, v);
     return out;
 }
@@ -222,7 +231,8 @@ LayerFields hexLattice(ir::Builder& b, const LatticeFrame& f, ValueId drawEdges)
         // World offset from the corner to p: S (q - s (cos a, sin a)).
         ValueId dx = b.mul(f.sx, b.sub(qx, b.mul(f.s, b.constF(std::cos(a)))));
         ValueId dy = b.mul(f.sy, b.sub(qy, b.mul(f.s, b.constF(std::sin(a)))));
-        return Nearest{b.hypot(dx, dy), b.add(m0, b.constF(c.dm)), b.add(n0, b.constF(c.dn))};
+        return Nearest{b.hypot(dx, dy), b.add(m0, b.constF(c.dm)), b.add(n0, b.constF(c.dn)),
+                       b.constF(kNoMember)};
     };
     Nearest best = corner(kCorners[0]);
     for (int k = 1; k < 6; ++k) {
@@ -243,6 +253,7 @@ LayerFields hexLattice(ir::Builder& b, const LatticeFrame& f, ValueId drawEdges)
     out.distance = b.select(drawEdges, edge, best.d);
     out.index = best.i;
     out.aux0 = best.j;
+    out.runnerUp = best.second;
     setGenerators(b, f, out, cu, cv);
     return out;
 }

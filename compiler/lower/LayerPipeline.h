@@ -154,6 +154,9 @@ struct LayerFields {
     // kNoValue on every other family.
     ir::ValueId genU = ir::kNoValue, genUX = ir::kNoValue, genUY = ir::kNoValue;
     ir::ValueId genV = ir::kNoValue, genVX = ir::kNoValue, genVY = ir::kNoValue;
+    // A lattice's next nearest point's world distance (where it draws its points, the nearest
+    // point's runner-up, which is as near where the two tie). kNoValue on every other family.
+    ir::ValueId runnerUp = ir::kNoValue;
     // Where `index` is a member's number rather than the fractional index (the pencil's
     // sector), the fractional index itself, whose gradient gradX, gradY are: what the
     // characters and the overlay read (Characters.h). kNoValue elsewhere (`index` is it).

@@ -69,8 +69,19 @@ std::optional<StrokeAcross> strokeAcross(ir::Builder& b, const LayerFields& fiel
     // A lattice's dots in rows a pixel apart or closer: each dot over the pixel is still
     // counted exactly (LatticeCrowd.cpp), but the nearest is not the pixel's ink, and two such
     // screens are correlated as screens (LatticeUnion.h).
-    if (const auto& p = fields.crowd.shape)
-        weight = b.mul(weight, b.select(p->dots, b.sub(one, dotsCrowded(b, *p, pixel)), one));
+    if (const auto& p = fields.crowd.shape) {
+        ValueId alone = b.sub(one, dotsCrowded(b, *p, pixel));
+        if (fields.runnerUp != ir::kNoValue) {
+            // The nearest dot's stroke turns with the dot: where two stand equally near the
+            // pixel's centre it flips from one to the other, and double and float may pick
+            // different ones. Weighed to 0 at the tie, over kTieBand pixels of the runner-up's
+            // lead, the pair's term is continuous across it.
+            ValueId lead = b.div(b.sub(fields.runnerUp, fields.distance),
+                                 b.mul(pixel.size, b.constF(kTieBand)));
+            alone = b.mul(alone, b.clamp(lead, zero, one));
+        }
+        weight = b.mul(weight, b.select(p->dots, alone, one));
+    }
     ValueId h = b.div(halfWidth, pixel.size);
     ValueId touches =
         b.emit(ir::Op::And, {b.gt(weight, zero), b.lt(b.abs(s), b.add(h, b.constF(0.7072)))});

@@ -62,6 +62,9 @@ T meanShared(T lo, T hi, T m0, T r, T span) {
 // its centre).
 constexpr double kLeastCrossingCos = 0.05;
 constexpr double kLeastDrift = 1e-4;
+// How far (pixels) the second nearest of a lattice's dots must stand behind the nearest for the
+// nearest's stroke to count whole in a pair (strokeAcross).
+constexpr double kTieBand = 0.1;
 
 // The covariance over a pixel of two straight strokes' inks (each 1 inside its stroke, 0
 // outside), in pixel units, in the frame of the first stroke's normal: u along it, v across,

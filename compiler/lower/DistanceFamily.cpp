@@ -2,6 +2,7 @@
 
 #include "compiler/ir/BuiltValue.h"
 #include "compiler/lower/LowerExpr.h"
+#include "compiler/lower/StrokePairs.h"
 
 #include <span>
 #include <vector>
@@ -16,6 +17,11 @@ namespace {
 // How much faster than at the centre a distance may change across the pixel: a distance
 // given as |f| for a smooth f whose gradient grows, not a Euclidean one.
 constexpr double kGrowth = 1.25;
+// A neighbour's member is the square's own where their feet stand within kSameFoot of a side
+// (a point), or its foot stands that near the own centre line and their normals' cosine is past
+// kSameFacing (a curve).
+constexpr double kSameFoot = 0.25;
+constexpr double kSameFacing = 0.9;
 
 // A point of the pixel, (a, c) pixel units along its sides from its centre, as a world offset.
 struct Offset {
@@ -38,17 +44,24 @@ Reading readAt(ir::Builder& b, ValueId d, const PixelFootprint& pixel) {
     return {d, g.u, g.v, b.hypot(g.u, g.v)};
 }
 
+// A reading whose gradient vanishes (or is NaN), at a kink of the distance such as |f| where f
+// is 0 to the last bit (often so in float), with `stand`'s gradient: the pixel's centre's
+// (which is read in parts where its own vanishes).
+Reading steady(ir::Builder& b, const Reading& r, const Reading& stand) {
+    ValueId some = b.gt(r.length, b.constF(0.0)); // false on NaN too
+    return {r.d, b.select(some, r.gu, stand.gu), b.select(some, r.gv, stand.gv),
+            b.select(some, r.length, stand.length)};
+}
+
 // The mean over a square of side `side` about the reading's point of the stroke d < h, the
 // distance read to first order: a centre line d / |grad d| away across the gradient, the stroke
-// h / |grad d| to either side of it (distanceMeanInk). Where the gradient vanishes (or is NaN),
-// at a kink of the distance such as |f| where f is 0 to the last bit (often so in float), it
-// takes `stand`'s, the pixel's centre's (which is read in parts where its own vanishes).
-ValueId firstOrderMean(ir::Builder& b, const Reading& r, ValueId h, ValueId side,
+// h / |grad d| to either side of it (distanceMeanInk); a vanishing gradient `stand`'s
+// (steady).
+ValueId firstOrderMean(ir::Builder& b, const Reading& reading, ValueId h, ValueId side,
                        const Reading& stand) {
-    ValueId some = b.gt(r.length, b.constF(0.0)); // false on NaN too
-    ValueId gu = b.select(some, r.gu, stand.gu), gv = b.select(some, r.gv, stand.gv);
-    ValueId length = b.max(b.select(some, r.length, stand.length), b.constF(1e-30));
-    NormalExtents e = extentsAcross(b, gu, gv, side);
+    const Reading r = steady(b, reading, stand);
+    ValueId length = b.max(r.length, b.constF(1e-30));
+    NormalExtents e = extentsAcross(b, r.gu, r.gv, side);
     ValueId mean =
         distanceMeanInk(ir::BuiltValue(b, b.div(r.d, length)), ir::BuiltValue(b, b.div(h, length)),
                         ir::BuiltValue(b, e.along), ir::BuiltValue(b, e.across))
@@ -90,26 +103,123 @@ ValueId place(ir::Builder& b, ValueId k, int n) {
     return b.sub(b.div(b.add(k, b.constF(0.5)), b.constF(n)), b.constF(0.5));
 }
 
-// The pixel cut into n x n squares, each read to first order about its centre: their mean ink.
-// A loop over the rows of squares, the family's expression written out once a square of a row
-// (a loop over every square, written out once, took 1.6 times as long on the JIT; the whole
-// pixel written out, a kernel that lavapipe took 30 s to compile).
+// A square's ink where a second member's stroke may cross it: its own member's stroke and the
+// nearest of its four neighbours' members whose stroke reaches in (`reachesInto`, read
+// straight from the neighbour), their union by inclusion and exclusion, a1 + a2 - E[A1 A2],
+// E[A1 A2] = a1 a2 + the two straight strokes' covariance over the square (StrokePairs.h:
+// strokeCovariance, in the square's units). `others` are the neighbours' readings with their
+// offsets (in sides) from the square and whether each is there.
+struct Neighbour {
+    Reading r;
+    double da, dc;
+    ValueId there;
+};
+ValueId unionMean(ir::Builder& b, const Reading& read, const std::vector<Neighbour>& others,
+                  ValueId h, ValueId side, const Reading& centre) {
+    const Reading own = steady(b, read, centre);
+    const ValueId a1 = firstOrderMean(b, own, h, side, centre);
+    // The nearest other stroke to the square's centre: its first-order distance there.
+    ValueId found = b.constB(false), best = b.constF(kNoMember);
+    Reading other{b.constF(kNoMember), centre.gu, centre.gv, centre.length};
+    // The foot of a reading's member, the nearest point of its centre line, from the square's
+    // centre in world units along the pixel's sides: -d grad d / |grad d|^2 from its point.
+    auto foot = [&](const Reading& r, double da, double dc) {
+        ValueId k = b.div(r.d, b.max(b.mul(r.length, r.length), b.constF(1e-30)));
+        return std::pair{b.sub(b.mul(side, b.constF(da)), b.mul(k, r.gu)),
+                         b.sub(b.mul(side, b.constF(dc)), b.mul(k, r.gv))};
+    };
+    const auto [ou, ov] = foot(own, 0, 0);
+    const ValueId ownLength = b.max(own.length, b.constF(1e-30));
+    for (const Neighbour& neighbour : others) {
+        Neighbour n = neighbour;
+        n.r = steady(b, n.r, centre);
+        ValueId crosses = b.emit(Op::And, {n.there, bends(b, own, n.r.d, n.da, n.dc, side)});
+        crosses = b.emit(Op::And, {crosses, reachesInto(b, n.r, -n.da, -n.dc, side, h)});
+        // The same member seen bending, not another: its foot where the square's own is (a
+        // point, a dot's centre), or on the square's own centre line facing the same way (a
+        // curve). kSameFoot of a side either way.
+        const auto [nu, nv] = foot(n.r, n.da, n.dc);
+        ValueId apart = b.hypot(b.sub(nu, ou), b.sub(nv, ov));
+        ValueId onLine =
+            b.abs(b.div(b.add(own.d, b.add(b.mul(own.gu, nu), b.mul(own.gv, nv))), ownLength));
+        ValueId facing = b.gt(b.abs(b.div(b.add(b.mul(own.gu, n.r.gu), b.mul(own.gv, n.r.gv)),
+                                          b.max(b.mul(ownLength, n.r.length), b.constF(1e-30)))),
+                              b.constF(kSameFacing));
+        ValueId reach = b.mul(side, b.constF(kSameFoot));
+        ValueId same =
+            b.emit(Op::Or, {b.lt(apart, reach), b.emit(Op::And, {facing, b.lt(onLine, reach)})});
+        crosses = b.emit(Op::And, {crosses, b.emit(Op::Not, {same})});
+        // Its distance at the square's centre, (da, dc) sides back from its own point.
+        ValueId back =
+            b.mul(side, b.add(b.mul(n.r.gu, b.constF(n.da)), b.mul(n.r.gv, b.constF(n.dc))));
+        ValueId f = b.sub(n.r.d, back);
+        ValueId nearer = b.emit(Op::And, {crosses, b.lt(b.abs(f), best)});
+        best = b.select(nearer, b.abs(f), best);
+        other = {b.select(nearer, f, other.d), b.select(nearer, n.r.gu, other.gu),
+                 b.select(nearer, n.r.gv, other.gv), b.select(nearer, n.r.length, other.length)};
+        found = b.emit(Op::Or, {found, nearer});
+    }
+    // Behind a branch: most squares hold one member's stroke or none.
+    return b.ifThenElse(
+        found,
+        [&] {
+            const ValueId a2 = firstOrderMean(b, other, h, side, centre);
+            auto across = [&](const Reading& r) { // the stroke in the square's units
+                ValueId length = b.max(r.length, b.constF(1e-30));
+                ValueId scale = b.mul(length, side);
+                return StrokeAcross{b.div(r.gu, length), b.div(r.gv, length), b.div(r.d, scale),
+                                    b.div(h, scale),     b.constF(1.0),       b.constB(true)};
+            };
+            const ValueId cov = strokeCovariance(b, across(own), across(other));
+            const ValueId both = b.sub(b.add(a1, a2), b.add(b.mul(a1, a2), cov));
+            const ValueId bounded =
+                b.min(b.max(both, b.max(a1, a2)), b.min(b.add(a1, a2), b.constF(1.0)));
+            return Vals{b.denan(bounded, a1)};
+        },
+        [&] { return Vals{a1}; })[0];
+}
+
+// The pixel cut into n x n squares, each read to first order about its centre, with a second
+// member's stroke where one crosses it (unionMean): their mean ink. A loop over the rows of
+// squares, the family's expression written out once a square of a row (a loop over every
+// square, written out once, took 1.6 times as long on the JIT; the whole pixel written out, a
+// kernel that lavapipe took 30 s to compile). A row's squares are read once the row above is
+// (their upper neighbours): the loop reads rows 0 to n, the last above the pixel, and carries
+// the two rows before.
 ValueId finePartsMean(ir::Builder& b, const DistanceAt& at, ValueId h, const PixelFootprint& pixel,
                       const Reading& centre, int n) {
     const ValueId side = b.div(pixel.size, b.constF(n));
-    std::vector<ValueId> init{b.constF(0.0), b.constF(0.0)}; // the row, the sum
+    // Carried: the row read, the sum, the rows two and one before it (four values a square).
+    std::vector<ValueId> init(2 + 8 * n, b.constF(0.0));
     auto more = [&](std::span<const ValueId> v) {
-        return std::vector<ValueId>{b.lt(v[0], b.constF(n))};
+        return std::vector<ValueId>{b.le(v[0], b.constF(n))};
     };
     std::vector<ValueId> out = b.loop(init, more, [&](std::span<const ValueId> v) {
         const ValueId c = place(b, v[0], n);
-        ValueId sum = v[1];
+        std::vector<Reading> row, below, mid;
         for (int i = 0; i < n; ++i) {
             Offset o = offsetOf(b, place(b, b.constF(i), n), c, pixel);
-            Reading r = readAt(b, at(b, o.ox, o.oy), pixel);
-            sum = b.add(sum, firstOrderMean(b, r, h, side, centre));
+            row.push_back(readAt(b, at(b, o.ox, o.oy), pixel));
+            below.push_back({v[2 + 4 * i], v[3 + 4 * i], v[4 + 4 * i], v[5 + 4 * i]});
+            mid.push_back({v[2 + 4 * n + 4 * i], v[3 + 4 * n + 4 * i], v[4 + 4 * n + 4 * i],
+                           v[5 + 4 * n + 4 * i]});
         }
-        return std::vector<ValueId>{b.add(v[0], b.constF(1.0)), sum};
+        // The squares of the row before this one (none before the first).
+        const ValueId yes = b.constB(true);
+        const ValueId hasBelow = b.gt(v[0], b.constF(1.5));
+        ValueId sum = b.constF(0.0);
+        for (int i = 0; i < n; ++i) {
+            std::vector<Neighbour> others{{row[i], 0, 1, yes}, {below[i], 0, -1, hasBelow}};
+            if (i > 0) others.push_back({mid[i - 1], -1, 0, yes});
+            if (i + 1 < n) others.push_back({mid[i + 1], 1, 0, yes});
+            sum = b.add(sum, unionMean(b, mid[i], others, h, side, centre));
+        }
+        std::vector<ValueId> next{
+            b.add(v[0], b.constF(1.0)),
+            b.add(v[1], b.select(b.gt(v[0], b.constF(0.5)), sum, b.constF(0.0)))};
+        for (const Reading& r : mid) next.insert(next.end(), {r.d, r.gu, r.gv, r.length});
+        for (const Reading& r : row) next.insert(next.end(), {r.d, r.gu, r.gv, r.length});
+        return next;
     });
     return b.mul(out[1], b.constF(1.0 / (n * n)));
 }

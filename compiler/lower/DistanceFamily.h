@@ -16,7 +16,8 @@
 // into the pixel, the pixel is cut into kDistanceTaps^2 squares, each read the same way about
 // its own centre: the box filter of the pixel is the mean of its parts' boxes, exact while
 // each part holds one straight member's stroke; where a part's neighbour reads a member whose
-// stroke reaches into the part, into kDistanceFineTaps^2.
+// stroke reaches into the part, into kDistanceFineTaps^2, each of those parts with the nearest
+// such stroke as well, the two strokes' union by inclusion and exclusion.
 #pragma once
 
 #include "compiler/ir/Builder.h"

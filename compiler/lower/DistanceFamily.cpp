@@ -103,6 +103,38 @@ ValueId place(ir::Builder& b, ValueId k, int n) {
     return b.sub(b.div(b.add(k, b.constF(0.5)), b.constF(n)), b.constF(0.5));
 }
 
+// Whether the square of reading `r` holds the stroke of a member other than its own, as read
+// from `s`, (da, dc) sides away: `s` stands off r's first-order reading (bends) and its member's
+// stroke, read straight from `s`, reaches into r's square.
+ValueId otherReaches(ir::Builder& b, const Reading& r, const Reading& s, double da, double dc,
+                     ValueId side, ValueId h) {
+    return b.emit(Op::And, {bends(b, r, s.d, da, dc, side), reachesInto(b, s, -da, -dc, side, h)});
+}
+
+// The readings of a row of n squares whose centres stand `c` pixel units up from the pixel's.
+std::vector<Reading> readRow(ir::Builder& b, const DistanceAt& at, const PixelFootprint& pixel,
+                             ValueId c, int n) {
+    std::vector<Reading> row;
+    for (int i = 0; i < n; ++i) {
+        Offset o = offsetOf(b, place(b, b.constF(i), n), c, pixel);
+        row.push_back(readAt(b, at(b, o.ox, o.oy), pixel));
+    }
+    return row;
+}
+
+// A row of n readings carried by a loop, four values a reading from `first`, and back.
+std::vector<Reading> carriedRow(std::span<const ValueId> v, size_t first, int n) {
+    std::vector<Reading> row;
+    for (int i = 0; i < n; ++i) {
+        const size_t k = first + 4 * i;
+        row.push_back({v[k], v[k + 1], v[k + 2], v[k + 3]});
+    }
+    return row;
+}
+void carry(std::vector<ValueId>& next, const std::vector<Reading>& row) {
+    for (const Reading& r : row) next.insert(next.end(), {r.d, r.gu, r.gv, r.length});
+}
+
 // A square's ink where a second member's stroke may cross it: its own member's stroke and the
 // nearest of its four neighbours' members whose stroke reaches in (`reachesInto`, read
 // straight from the neighbour), their union by inclusion and exclusion, a1 + a2 - E[A1 A2],
@@ -133,8 +165,8 @@ ValueId unionMean(ir::Builder& b, const Reading& read, const std::vector<Neighbo
     for (const Neighbour& neighbour : others) {
         Neighbour n = neighbour;
         n.r = steady(b, n.r, centre);
-        ValueId crosses = b.emit(Op::And, {n.there, bends(b, own, n.r.d, n.da, n.dc, side)});
-        crosses = b.emit(Op::And, {crosses, reachesInto(b, n.r, -n.da, -n.dc, side, h)});
+        ValueId crosses =
+            b.emit(Op::And, {n.there, otherReaches(b, own, n.r, n.da, n.dc, side, h)});
         // The same member seen bending, not another: its foot where the square's own is (a
         // point, a dot's centre), or on the square's own centre line facing the same way (a
         // curve). kSameFoot of a side either way.
@@ -195,15 +227,8 @@ ValueId finePartsMean(ir::Builder& b, const DistanceAt& at, ValueId h, const Pix
         return std::vector<ValueId>{b.le(v[0], b.constF(n))};
     };
     std::vector<ValueId> out = b.loop(init, more, [&](std::span<const ValueId> v) {
-        const ValueId c = place(b, v[0], n);
-        std::vector<Reading> row, below, mid;
-        for (int i = 0; i < n; ++i) {
-            Offset o = offsetOf(b, place(b, b.constF(i), n), c, pixel);
-            row.push_back(readAt(b, at(b, o.ox, o.oy), pixel));
-            below.push_back({v[2 + 4 * i], v[3 + 4 * i], v[4 + 4 * i], v[5 + 4 * i]});
-            mid.push_back({v[2 + 4 * n + 4 * i], v[3 + 4 * n + 4 * i], v[4 + 4 * n + 4 * i],
-                           v[5 + 4 * n + 4 * i]});
-        }
+        const std::vector<Reading> row = readRow(b, at, pixel, place(b, v[0], n), n);
+        const std::vector<Reading> below = carriedRow(v, 2, n), mid = carriedRow(v, 2 + 4 * n, n);
         // The squares of the row before this one (none before the first).
         const ValueId yes = b.constB(true);
         const ValueId hasBelow = b.gt(v[0], b.constF(1.5));
@@ -217,8 +242,8 @@ ValueId finePartsMean(ir::Builder& b, const DistanceAt& at, ValueId h, const Pix
         std::vector<ValueId> next{
             b.add(v[0], b.constF(1.0)),
             b.add(v[1], b.select(b.gt(v[0], b.constF(0.5)), sum, b.constF(0.0)))};
-        for (const Reading& r : mid) next.insert(next.end(), {r.d, r.gu, r.gv, r.length});
-        for (const Reading& r : row) next.insert(next.end(), {r.d, r.gu, r.gv, r.length});
+        carry(next, mid);
+        carry(next, row);
         return next;
     });
     return b.mul(out[1], b.constF(1.0 / (n * n)));
@@ -244,33 +269,26 @@ Parts partsMean(ir::Builder& b, const DistanceAt& at, ValueId h, const PixelFoot
         return std::vector<ValueId>{b.lt(v[0], b.constF(n))};
     };
     std::vector<ValueId> out = b.loop(init, more, [&](std::span<const ValueId> v) {
-        const ValueId c = place(b, v[0], n);
-        std::vector<Reading> row;
+        const std::vector<Reading> row = readRow(b, at, pixel, place(b, v[0], n), n);
         ValueId sum = v[1];
-        for (int i = 0; i < n; ++i) {
-            Offset o = offsetOf(b, place(b, b.constF(i), n), c, pixel);
-            row.push_back(readAt(b, at(b, o.ox, o.oy), pixel));
-            sum = b.add(sum, firstOrderMean(b, row.back(), h, side, centre));
-        }
+        for (const Reading& r : row) sum = b.add(sum, firstOrderMean(b, r, h, side, centre));
         std::vector<ValueId> flags;
         // The squares r and s, s (da, dc) sides from r: each way round.
         auto pair = [&](const Reading& r, const Reading& s, double da, double dc) {
-            flags.push_back(b.emit(
-                Op::And, {bends(b, r, s.d, da, dc, side), reachesInto(b, s, -da, -dc, side, h)}));
-            flags.push_back(b.emit(
-                Op::And, {bends(b, s, r.d, -da, -dc, side), reachesInto(b, r, da, dc, side, h)}));
+            flags.push_back(otherReaches(b, r, s, da, dc, side, h));
+            flags.push_back(otherReaches(b, s, r, -da, -dc, side, h));
         };
         for (int i = 0; i + 1 < n; ++i) pair(row[i], row[i + 1], 1, 0);
         const ValueId within = anyOf(b, flags);
         flags.clear();
-        for (int i = 0; i < n; ++i)
-            pair(Reading{v[3 + 4 * i], v[4 + 4 * i], v[5 + 4 * i], v[6 + 4 * i]}, row[i], 0, 1);
+        const std::vector<Reading> previous = carriedRow(v, 3, n);
+        for (int i = 0; i < n; ++i) pair(previous[i], row[i], 0, 1);
         // The first row has none below it.
         const ValueId below = b.emit(Op::And, {b.gt(v[0], b.constF(0.0)), anyOf(b, flags)});
         const ValueId any = b.emit(Op::Or, {within, below});
         std::vector<ValueId> next{b.add(v[0], b.constF(1.0)), sum,
                                   b.select(any, b.constF(1.0), v[2])};
-        for (const Reading& r : row) next.insert(next.end(), {r.d, r.gu, r.gv, r.length});
+        carry(next, row);
         return next;
     });
     return {b.mul(out[1], b.constF(1.0 / (n * n))), b.gt(out[2], b.constF(0.0))};

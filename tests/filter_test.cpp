@@ -836,10 +836,18 @@ TEST_CASE("filter: a family given by its distance reads the ink of its exact fie
                 "rotation = 20deg }\n",
          0.001, 0.005},
         {grid + "layer a { family = grid; spacing = 0.6; stroke = 0.1 }\n", 0.002, 0.01},
-        // Dots 0.7 apart: 0.159 -> 0.008, ink 0.275 -> 0.153 against 0.145 (each part reads
-        // its dot's edge as straight).
-        {dots + "layer a { family = dots; spacing = 0.7; stroke = 0.3; rotation = 10deg }\n", 0.011,
-         0.07},
+        // Dots 0.7 apart: 0.159 -> 0.008 with each part reading its dot's edge as straight
+        // (ink 0.275 -> 0.153 against 0.145), 0.0008 with the edge's curvature (0.1444).
+        // Dots 0.4 apart, 0.024 (ink 12% heavy) -> 0.0018; 1.5 apart, 0.0018 -> 0.0003; all
+        // but touching a pixel apart, 0.0052 -> 0.0017.
+        {dots + "layer a { family = dots; spacing = 0.7; stroke = 0.3; rotation = 10deg }\n",
+         0.0015, 0.01},
+        {dots + "layer a { family = dots; spacing = 0.4; stroke = 0.2; rotation = 10deg }\n", 0.003,
+         0.01},
+        {dots + "layer a { family = dots; spacing = 1.5; stroke = 0.8; rotation = 10deg }\n", 0.001,
+         0.005},
+        {dots + "layer a { family = dots; spacing = 1; stroke = 0.9; rotation = 10deg }\n", 0.003,
+         0.005},
         // Distances whose gradient is not 1: waves 0.5 apart (|grad d| to 1.17), 0.092 ->
         // 0.0001 (ink 0.108 -> 0.200); petals (to 1.4), one member resolved, 0.0117 -> 0.0009.
         {"family waves {\n let f = y - 3 * sin(x / 5)\n distance = abs(f - spacing * round(f / "

@@ -17,7 +17,9 @@
 // its own centre: the box filter of the pixel is the mean of its parts' boxes, exact while
 // each part holds one straight member's stroke; where a part's neighbour reads a member whose
 // stroke reaches into the part, into kDistanceFineTaps^2, each of those parts with the nearest
-// such stroke as well, the two strokes' union by inclusion and exclusion.
+// such stroke as well, the two strokes' union by inclusion and exclusion, and its own stroke's
+// near edge moved in by the lens a straight edge adds where it bends (its curvature read from
+// how the neighbours' normals turn).
 #pragma once
 
 #include "compiler/ir/Builder.h"

@@ -76,6 +76,12 @@ std::vector<Scene> filterScenes() {
                        std::string("family rings { distance = abs(r - spacing * round(r / "
                                    "spacing)) }\nlayer a { family = rings; spacing = ") +
                            spacing + "; stroke = " + (spacing[0] == '0' ? "0.1" : "0.8") + " }\n"});
+    // Dots given by their distance, 0.7 apart: every pixel in 8 x 8 parts, each fitting its
+    // dot's edge's curvature from its neighbours' normals.
+    out.push_back({"distance dots, 0.7", "distance_dots.moire",
+                   "family dots { distance = hypot(x - spacing * round(x / spacing), y - spacing * "
+                   "round(y / spacing)) }\nlayer a { family = dots; spacing = 0.7; stroke = 0.3; "
+                   "rotation = 10deg }\n"});
     out.push_back({"triangle grid, resolved", "lattice_resolved.moire",
                    "layer a { family = triangle_lattice; spacing = 8; stroke = 1.5; edges = 1 }\n"
                    "layer b { family = lines; spacing = 6; stroke = 1; rotation = 5deg }\n"});

@@ -131,6 +131,11 @@ TEST_CASE("filter: the JIT and the GPU draw the mean the interpreter draws") {
         "layer a { family = hex_lattice; spacing = 0.4; stroke = 0.08; edges = 1 }\n"
         "layer b { family = lines; spacing = 0.6; stroke = 0.1; angle = 32deg; color = "
         "#a02020 }\n",
+        // A honeycomb's edges under a fine triangle screen along its rows of centres
+        // (LatticeUnion.h, hexDotCorrelation).
+        "layer a { family = hex_lattice; spacing = 0.4; stroke = 0.08; edges = 1 }\n"
+        "layer b { family = triangle_lattice; spacing = 0.693; stroke = 0.3; rotation = 2deg; "
+        "color = #a02020 }\n",
         // A honeycomb's dots under fine lines (LatticeUnion.h, dotLineCorrelation).
         "layer a { family = hex_lattice; spacing = 0.35; stroke = 0.2 }\n"
         "layer b { family = lines; spacing = 0.525; stroke = 0.15; angle = 92deg; color = "
@@ -648,6 +653,25 @@ TEST_CASE("filter: a honeycomb's edges and fine lines show their beat") {
          "2deg }\n"},
         {"layer a { family = hex_lattice; spacing = 0.3; stroke = 0.08; edges = 1 }\n",
          "layer b { family = lines; spacing = 0.46; stroke = 0.14; angle = 33deg }\n"},
+    };
+    for (const auto& [first, second] : kPairs) checkPairAgainstExact(first, second, *backend);
+}
+
+// A honeycomb's edges and a dot screen (LatticeUnion.h, hexDotCorrelation): a triangle screen
+// whose rows run with the honeycomb's rows of centres (0.693 apart for hexagons 0.4 on a side),
+// turned 2 degrees, either on top; and a honeycomb's own corners as dots, turned 3 degrees.
+TEST_CASE("filter: a honeycomb's edges and a dot screen show their beat") {
+    auto backend = test::makeBackendOrSkip("jit");
+    if (!backend) backend = test::makeBackendOrSkip("interp");
+    REQUIRE(backend);
+    const std::pair<const char*, const char*> kPairs[] = {
+        {"layer a { family = hex_lattice; spacing = 0.4; stroke = 0.08; edges = 1 }\n",
+         "layer b { family = triangle_lattice; spacing = 0.693; stroke = 0.3; rotation = 2deg "
+         "}\n"},
+        {"layer a { family = triangle_lattice; spacing = 0.7; stroke = 0.34; rotation = 1deg }\n",
+         "layer b { family = hex_lattice; spacing = 0.4; stroke = 0.1; edges = 1 }\n"},
+        {"layer a { family = hex_lattice; spacing = 0.4; stroke = 0.08; edges = 1 }\n",
+         "layer b { family = hex_lattice; spacing = 0.4; stroke = 0.2; rotation = 3deg }\n"},
     };
     for (const auto& [first, second] : kPairs) checkPairAgainstExact(first, second, *backend);
 }

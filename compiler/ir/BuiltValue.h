@@ -78,6 +78,9 @@ inline BuiltValue floor(BuiltValue x) {
 inline BuiltValue hypot(BuiltValue x, BuiltValue y) {
     return {*x.b, x.b->hypot(x.id, y.id)};
 }
+inline BuiltValue atan2(BuiltValue y, BuiltValue x) {
+    return {*y.b, y.b->emit(Op::Atan2, {y.id, x.id})};
+}
 
 // Branch-free choices, for maths that must stay straight-line IR: a comparison gives a
 // boolean value, and select picks by it. The double overloads are the same choices made

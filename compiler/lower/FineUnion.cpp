@@ -253,10 +253,16 @@ Ink strandUnion(ir::Builder& b, const Ink& under, const Ink& independent,
         };
         auto onlyOne = [&](bool first, const std::function<std::vector<ValueId>()>& otherwise) {
             const FineLayer& dots = first ? run[0] : run[1];
+            const FineLayer& other = first ? run[1] : run[0];
             if (!dots.shape) return otherwise();
             return b.ifThenElse(
                 dots.shape->dots,
-                [&] { return ink(dotLineCorrelation(b, under, run[0], run[1], first, pixel)); },
+                [&] {
+                    // With a honeycomb's edges, by its hexagons' paper; else by the lines.
+                    if (other.shape && honeycombCells(*other.shape))
+                        return ink(hexDotCorrelation(b, under, run[0], run[1], !first, pixel));
+                    return ink(dotLineCorrelation(b, under, run[0], run[1], first, pixel));
+                },
                 otherwise);
         };
         auto mixed = [&] { return onlyOne(true, [&] { return onlyOne(false, strands); }); };

@@ -127,6 +127,52 @@ bool onPaper(double u, double v, const std::array<double, 3>& bounds) {
     return true;
 }
 
+TEST_CASE("a disc's area within a convex polygon matches a count of its points") {
+    // Random hexagons (a turned, stretched regular one) and discs that miss them, cut their
+    // sides and corners, hold them and lie within them; counted over the square, which holds
+    // every polygon and disc drawn.
+    std::mt19937 rng(11);
+    std::uniform_real_distribution<double> centre(-0.3, 0.3), size(0.05, 0.3), turn(0.0, 6.283),
+        stretch(0.6, 1.4), radius(0.0, 0.25);
+    for (int trial = 0; trial < 40; ++trial) {
+        const double cx = centre(rng) * 0.5, cy = centre(rng) * 0.5, s = size(rng), a = turn(rng),
+                     k = stretch(rng);
+        std::array<std::array<double, 2>, 6> hex;
+        for (int i = 0; i < 6; ++i) {
+            const double t = a + i * std::numbers::pi / 3.0;
+            hex[i] = {cx + s * std::cos(t) * k, cy + s * std::sin(t)};
+        }
+        const double dx = centre(rng), dy = centre(rng), r = radius(rng);
+        long in = 0;
+        for (int i = 0; i < kGrid; ++i)
+            for (int j = 0; j < kGrid; ++j) {
+                const double x = (i + 0.5) / kGrid - 0.5, y = (j + 0.5) / kGrid - 0.5;
+                if ((x - dx) * (x - dx) + (y - dy) * (y - dy) >= r * r) continue;
+                bool inside = true;
+                for (int q = 0; q < 6; ++q) {
+                    const auto& p = hex[q];
+                    const auto& z = hex[(q + 1) % 6];
+                    inside = inside && (z[0] - p[0]) * (y - p[1]) - (z[1] - p[1]) * (x - p[0]) >= 0;
+                }
+                in += inside ? 1 : 0;
+            }
+        const double brute = double(in) / (double(kGrid) * kGrid);
+        CAPTURE(trial);
+        CHECK(std::abs(discInPolygon(hex, dx, dy, r) - brute) <= 1e-3);
+        // Clockwise, the same area negated.
+        std::array<std::array<double, 2>, 6> back;
+        for (int i = 0; i < 6; ++i) back[i] = hex[5 - i];
+        CHECK(std::abs(discInPolygon(back, dx, dy, r) + brute) <= 1e-3);
+    }
+    // Exact cases: a disc within the polygon, one holding it, one apart, a half disc.
+    const std::array<std::array<double, 2>, 4> square{
+        {{-1.0, -1.0}, {1.0, -1.0}, {1.0, 1.0}, {-1.0, 1.0}}};
+    CHECK(discInPolygon(square, 0.2, -0.1, 0.5) == doctest::Approx(std::numbers::pi * 0.25));
+    CHECK(discInPolygon(square, 0.1, 0.0, 3.0) == doctest::Approx(4.0));
+    CHECK(std::abs(discInPolygon(square, 3.0, 0.0, 0.5)) <= 1e-12);
+    CHECK(discInPolygon(square, 1.0, 0.0, 0.5) == doctest::Approx(std::numbers::pi * 0.125));
+}
+
 TEST_CASE("the paper a honeycomb's strokes leave in the pixel matches a count of its points") {
     std::mt19937 rng(11);
     std::uniform_real_distribution<double> logSide(std::log(0.35), std::log(5.0)), turn(0.0, 6.283),

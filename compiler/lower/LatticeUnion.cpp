@@ -4,6 +4,7 @@
 
 #include <map>
 #include <numbers>
+#include <span>
 #include <utility>
 
 namespace moire::lower {
@@ -537,6 +538,88 @@ Ink hexLineCorrelation(ir::Builder& b, const Ink& under, const FineLayer& l1, co
     }
     ValueId cov = b.select(p.dots, zero, foldedCovariance(b, fold));
     if (lines.strandsOn != ir::kNoValue) cov = b.select(lines.strandsOn, cov, zero);
+    return pairCorrection(b, under, l1, l2, cov);
+}
+
+// A dot of the screen, at its site j in the matched rows' phases (the rows' shifts), stands
+// where the honeycomb's (u, v) = t + shift_j + n, t the beat's offset at the tap, n whole: in
+// the world, from the centre of the hexagon at (0, 0), through the honeycomb's steps. With the
+// screen taken at the honeycomb's period (its dots' radius r / rho, rho its pitch over the
+// honeycomb's: the screen's share kept, as cellCorrelation takes a second lattice), the mean
+// over the plane of the paper both leave a cell is
+//   E[I_h D](t) = cells x sum over the sites j of sum_{n whole} area(H within the dot at
+//   t + shift_j + n)
+// (H the shrunk hexagon; discInPolygon), read at the pixel's centre. The hexagons tile the
+// plane, so the sum over n is one dot's area within every hexagon: within
+// the three whose centres stand nearest its own (a dot of radius under half a side reaches no
+// other's paper). As
+// inks (the honeycomb's 1 - I_h, the screen's D) the product's mean is d - E[I_h D], held to
+// the pixel's own means and weighted as two screens are.
+Ink hexDotCorrelation(ir::Builder& b, const Ink& under, const FineLayer& l1, const FineLayer& l2,
+                      bool cellsFirst, const PixelFootprint& pixel) {
+    const FineLayer& hex = cellsFirst ? l1 : l2;
+    const FineLayer& dots = cellsFirst ? l2 : l1;
+    const CrowdEstimate::LatticeShape& ph = *hex.shape;
+    const CrowdEstimate::LatticeShape& pd = *dots.shape;
+    auto c = [&](double v) { return b.constF(v); };
+    const ValueId zero = c(0.0), one = c(1.0);
+    auto value = [&](ValueId v) { return ir::BuiltValue(b, v); };
+    const Matched m = match(b, ph, pd, pixel);
+    const auto bounds =
+        hexBounds(value(ph.radius), value(ph.ux), value(ph.uy), value(ph.vx), value(ph.vy));
+    const auto corners = insetHexagon(bounds);
+    const ValueId paperShare = insetHexagonArea(bounds).id; // in cells: i_h
+    const WorldSteps steps = worldSteps(b, ph, m.det);
+    const ir::BuiltValue e1x = value(steps.e1x), e1y = value(steps.e1y);
+    const ir::BuiltValue e2x = value(steps.e2x), e2y = value(steps.e2y);
+    std::array<std::array<ir::BuiltValue, 2>, 6> shape;
+    for (size_t k = 0; k < 6; ++k)
+        shape[k] = {corners[k][0] * e1x + corners[k][1] * e2x,
+                    corners[k][0] * e1y + corners[k][1] * e2y};
+    const ValueId cells = b.abs(m.det);
+    const ValueId radius = b.div(b.max(pd.radius, zero), m.rho);
+    // At the pixel's centre (2 x 2 taps read the pairs below the same to 1e-4 at four times
+    // the cost: the beat's change across the pixel is its transfer's), one loop over the three
+    // hexagons nearest each dot, so that the kernel writes a disc's sides out once a site
+    // (written out for every tap and every dot about a hexagon, the kernel was 3.4 MB of GLSL
+    // that lavapipe took six minutes to compile).
+    const int kNear = 3;
+    const auto [tu, tv] = offsetAt(b, m, pixel, 0.0, 0.0);
+    auto more = [&](std::span<const ValueId> v) {
+        return std::vector<ValueId>{b.lt(v[0], c(double(kNear)))};
+    };
+    const std::vector<ValueId> out = b.loop({zero, zero}, more, [&](std::span<const ValueId> v) {
+        const ValueId near = v[0];
+        ValueId sum = v[1];
+        for (size_t j = 0; j < pd.sites.size(); ++j) {
+            ValueId su = b.add(tu, m.fu.shifts[j]), sv = b.add(tv, m.fv.shifts[j]);
+            su = b.sub(su, b.floor(su));
+            sv = b.sub(sv, b.floor(sv));
+            // The centres about a point of the cell [0, 1)^2: the triangle (0, 0), (1, 0),
+            // (0, 1) below u + v = 1, (1, 1), (1, 0), (0, 1) above (the neighbours stand at
+            // (1, -1) as at (1, 0) and (0, 1)).
+            const ValueId above = b.gt(b.add(su, sv), one);
+            const ValueId corner = b.select(above, one, zero);
+            const ValueId isU = b.lt(near, c(0.5)), isV = b.lt(b.abs(b.sub(near, one)), c(0.5));
+            const ValueId cu = b.select(isU, one, b.select(isV, zero, corner));
+            const ValueId cv = b.select(isU, zero, b.select(isV, one, corner));
+            const ir::BuiltValue qu = value(b.sub(su, cu)), qv = value(b.sub(sv, cv));
+            const ir::BuiltValue x = qu * e1x + qv * e2x, y = qu * e1y + qv * e2y;
+            sum = b.add(sum, b.abs(discInPolygon(shape, x, y, value(radius)).id));
+        }
+        return std::vector<ValueId>{b.add(v[0], one), sum};
+    });
+    const ValueId paperDots = b.mul(cells, out[1]);
+    const ValueId dotShare = b.min(
+        b.mul(cells, b.mul(c(std::numbers::pi * double(pd.sites.size())), b.mul(radius, radius))),
+        one);
+    const ValueId inkHex = b.sub(one, paperShare);
+    const ValueId e = b.sub(dotShare, paperDots); // E[(1 - I_h) D]
+    const ValueId held =
+        b.sqrt(b.div(b.mul(hex.laid, dots.laid), b.max(b.mul(inkHex, dotShare), c(1e-12))));
+    const ValueId weight = weightOf(b, m, pd, pixel);
+    ValueId cov = b.mul(weight, b.sub(b.mul(e, held), b.mul(hex.laid, dots.laid)));
+    cov = b.select(b.emit(ir::Op::And, {b.emit(ir::Op::Not, {ph.dots}), pd.dots}), cov, zero);
     return pairCorrection(b, under, l1, l2, cov);
 }
 

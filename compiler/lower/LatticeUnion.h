@@ -167,4 +167,13 @@ bool honeycombCells(const CrowdEstimate::LatticeShape& p);
 Ink hexLineCorrelation(ir::Builder& b, const Ink& under, const FineLayer& l1, const FineLayer& l2,
                        bool cellsFirst, const PixelFootprint& pixel);
 
+// The correlation of a honeycomb that draws its edges with a dot screen, consecutive (the
+// honeycomb first where `cellsFirst`). The screen is matched with the honeycomb's rows of
+// centres as one screen is with another (dotCorrelation), which makes it, about the pixel, a
+// screen at the honeycomb's period moved by the beat's offset; the paper both leave is the
+// shrunk hexagon less the dots within it (discInPolygon, HoneycombInPixel.h). In the same form
+// as dotCorrelation; zero where the honeycomb draws its points or the screen its edges.
+Ink hexDotCorrelation(ir::Builder& b, const Ink& under, const FineLayer& l1, const FineLayer& l2,
+                      bool cellsFirst, const PixelFootprint& pixel);
+
 } // namespace moire::lower

@@ -578,9 +578,9 @@ Ink hexDotCorrelation(ir::Builder& b, const Ink& under, const FineLayer& l1, con
                     corners[k][0] * e1y + corners[k][1] * e2y};
     const ValueId cells = b.abs(m.det);
     const ValueId radius = b.div(b.max(pd.radius, zero), m.rho);
-    // At the pixel's centre (2 x 2 taps read the pairs below the same to 1e-4 at four times
-    // the cost: the beat's change across the pixel is its transfer's), one loop over the three
-    // hexagons nearest each dot, so that the kernel writes a disc's sides out once a site
+    // At the pixel's centre (2 x 2 taps read the tests' pairs the same to 1e-4 with four times
+    // the loop's work: the beat's change across the pixel is its transfer's), one loop over the
+    // three hexagons nearest each dot, so that the kernel writes a disc's sides out once a site
     // (written out for every tap and every dot about a hexagon, the kernel was 3.4 MB of GLSL
     // that lavapipe took six minutes to compile).
     const int kNear = 3;

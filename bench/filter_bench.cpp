@@ -82,6 +82,16 @@ std::vector<Scene> filterScenes() {
                    "family dots { distance = hypot(x - spacing * round(x / spacing), y - spacing * "
                    "round(y / spacing)) }\nlayer a { family = dots; spacing = 0.7; stroke = 0.3; "
                    "rotation = 10deg }\n"});
+    // Members given by their distance finer than the 8 x 8 parts, read by their tubes
+    // (DistanceTubes.h): dots and a grid's lines 0.15 apart.
+    out.push_back({"distance dots, 0.15", "distance_dots_fine.moire",
+                   "family dots { distance = hypot(x - spacing * round(x / spacing), y - spacing * "
+                   "round(y / spacing)) }\nlayer a { family = dots; spacing = 0.15; stroke = 0.07; "
+                   "rotation = 10deg }\n"});
+    out.push_back({"distance grid, 0.15", "distance_grid_fine.moire",
+                   "family grid { distance = min(abs(x - spacing * round(x / spacing)), abs(y - "
+                   "spacing * round(y / spacing))) }\nlayer a { family = grid; spacing = 0.15; "
+                   "stroke = 0.03; rotation = 10deg }\n"});
     out.push_back({"triangle grid, resolved", "lattice_resolved.moire",
                    "layer a { family = triangle_lattice; spacing = 8; stroke = 1.5; edges = 1 }\n"
                    "layer b { family = lines; spacing = 6; stroke = 1; rotation = 5deg }\n"});

@@ -84,7 +84,10 @@ ValueId sample(Builder& b, Op op, ValueId a, ValueId c) {
         b.emitSink(Op::Tally, {}, 1);
         return b.mul(b.sin(a), c);
     case Kind::Marker: // indep, deriv.x and deriv.y are in every scene built below
-    case Kind::Sink:   // and so is output
+        // detach of a value that does not vary (so that finite differences agree with AD)
+        if (op == Op::Detach) return b.mul(b.sin(a), b.add(c, b.emit(op, {b.param(2)})));
+        return b.mul(b.sin(a), c);
+    case Kind::Sink: // output is in every scene too
         return b.mul(b.sin(a), c);
     }
     return kNoValue;
@@ -159,7 +162,7 @@ TEST_CASE("every op survives AD, the cleanup passes, SplitFrame and every backen
         // The compiler's order (Compile.cpp): simplify, AD, simplify, split, simplify.
         Function raw = passes::autoDiff(withDerivs);
         Function derived = passes::simplify(passes::autoDiff(passes::simplify(withDerivs)));
-        for (Op marker : {Op::Indep, Op::DerivX, Op::DerivY})
+        for (Op marker : {Op::Indep, Op::DerivX, Op::DerivY, Op::Detach})
             CHECK_FALSE(contains(derived, marker));
         passes::FrameSplit split = passes::splitFrame(derived, 3);
         Function kernel = passes::simplify(split.kernel);

@@ -119,7 +119,7 @@ TEST_CASE("the ops checked one by one are all the ops of their kinds") {
     CHECK(optest::opsOfKind({Kind::Leaf}) == V{Op::ConstF, Op::ConstI, Op::ConstB, Op::PixelX,
                                                Op::PixelY, Op::ImageW, Op::ImageH, Op::Uniform});
     CHECK(optest::opsOfKind({Kind::FrameLeaf}) == V{Op::Time, Op::Param});
-    CHECK(optest::opsOfKind({Kind::Marker}) == V{Op::Indep, Op::DerivX, Op::DerivY});
+    CHECK(optest::opsOfKind({Kind::Marker}) == V{Op::Indep, Op::DerivX, Op::DerivY, Op::Detach});
     CHECK(optest::opsOfKind({Kind::Control}) == V{Op::If, Op::Loop, Op::Yield});
     CHECK(optest::opsOfKind({Kind::Sink}) == V{Op::Output});
     CHECK(optest::opsOfKind({Kind::Select, Kind::FToI, Kind::IToF}) ==

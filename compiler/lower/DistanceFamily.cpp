@@ -1,6 +1,7 @@
 #include "compiler/lower/DistanceFamily.h"
 
 #include "compiler/ir/BuiltValue.h"
+#include "compiler/lower/DistanceTubes.h"
 #include "compiler/lower/LowerExpr.h"
 #include "compiler/lower/StrokePairs.h"
 
@@ -17,32 +18,20 @@ namespace {
 // How much faster than at the centre a distance may change across the pixel: a distance
 // given as |f| for a smooth f whose gradient grows, not a Euclidean one.
 constexpr double kGrowth = 1.25;
+// The share of the 4 x 4 parts' neighbouring pairs that must hold another's stroke (each way
+// round counted once) before the tubes are read: crowded dots cross nearly every pair, a
+// resolved grid's crossing a few (at three quarters, dots five a pixel read 0.052 off). Crowded
+// parallel curves cross only the pairs along their normal (half, where it runs along a side:
+// rings fifty a pixel read 0.236 against 0.250 with some of their pixels left out), so they
+// are read as well where the parts' members stand within kParallelGate fine parts' sides on
+// average, which a resolved member's pixel does not (its parts' mean distance is a fifth of
+// the pixel at least: 1.6 fine parts' sides).
+constexpr double kCrossedGate = 0.5, kParallelGate = 0.5;
 // A neighbour's member is the square's own where their feet stand within kSameFoot of a side
 // (a point), or its foot stands that near the own centre line and their normals' cosine is past
 // kSameFacing (a curve).
 constexpr double kSameFoot = 0.25;
 constexpr double kSameFacing = 0.9;
-
-// A point of the pixel, (a, c) pixel units along its sides from its centre, as a world offset.
-struct Offset {
-    ValueId ox, oy;
-};
-Offset offsetOf(ir::Builder& b, ValueId a, ValueId c, const PixelFootprint& pixel) {
-    if (pixel.cosTurn == ir::kNoValue) return {b.mul(pixel.size, a), b.mul(pixel.size, c)};
-    // The pixel's sides run along the world's axes turned by the camera (onPixelSides).
-    return {b.mul(pixel.size, b.sub(b.mul(a, pixel.cosTurn), b.mul(c, pixel.sinTurn))),
-            b.mul(pixel.size, b.add(b.mul(a, pixel.sinTurn), b.mul(c, pixel.cosTurn)))};
-}
-
-// The distance at a point and its gradient along the pixel's sides, per world unit (the
-// compiler's AD of the family's expression).
-struct Reading {
-    ValueId d, gu, gv, length;
-};
-Reading readAt(ir::Builder& b, ValueId d, const PixelFootprint& pixel) {
-    PixelSides g = onPixelSides(b, b.emit(Op::DerivX, {d}), b.emit(Op::DerivY, {d}), pixel);
-    return {d, g.u, g.v, b.hypot(g.u, g.v)};
-}
 
 // A reading whose gradient vanishes (or is NaN), at a kink of the distance such as |f| where f
 // is 0 to the last bit (often so in float), with `stand`'s gradient: the pixel's centre's
@@ -106,11 +95,6 @@ ValueId reachesInto(ir::Builder& b, const Reading& m, double da, double dc, Valu
     ValueId least = b.add(m.d, b.mul(side, b.sub(toward, spread)));
     ValueId slack = b.mul(b.constF(kStraightSlack), b.mul(m.length, side));
     return b.lt(least, b.add(h, slack));
-}
-
-// The k-th of n squares' centres along a pixel's side, in pixel units from its centre.
-ValueId place(ir::Builder& b, ValueId k, int n) {
-    return b.sub(b.div(b.add(k, b.constF(0.5)), b.constF(n)), b.constF(0.5));
 }
 
 // Whether the square of reading `r` holds the stroke of a member other than its own, as read
@@ -336,23 +320,32 @@ ValueId finePartsMean(ir::Builder& b, const DistanceAt& at, ValueId h, const Pix
 // neighbour, reaches into the square. Where none does, each square holds its own member's stroke
 // alone and the mean is exact to first order. A loop over the rows of squares (the family's
 // expression is written out once a row, not once a square), carrying the row below's readings to
-// compare with.
+// compare with. `near`: the squares' mean distance to their members in world units, each held
+// to kTubeReach fine parts' sides; `crossed`: the share of neighbouring pairs of which one
+// holds the other's stroke (whether the members may be crowded: DistanceTubes.h).
 struct Parts {
-    ValueId mean, bent;
+    ValueId mean, bent, near, crossed;
 };
 Parts partsMean(ir::Builder& b, const DistanceAt& at, ValueId h, const PixelFootprint& pixel,
                 const Reading& centre, int n) {
     const ValueId side = b.div(pixel.size, b.constF(n));
-    // Carried: the row, the sum of the squares' means, whether any square holds another's
-    // stroke (1 or 0), and the row below's readings, four values a square.
-    std::vector<ValueId> init(3 + 4 * n, b.constF(0.0));
+    // Carried: the row, the sum of the squares' means, how many pairs hold another's stroke,
+    // the sum of their (held) distances, and the row below's readings, four values a square.
+    const ValueId most =
+        b.mul(b.div(pixel.size, b.constF(kDistanceFineTaps)), b.constF(kTubeReach));
+    std::vector<ValueId> init(4 + 4 * n, b.constF(0.0));
     auto more = [&](std::span<const ValueId> v) {
         return std::vector<ValueId>{b.lt(v[0], b.constF(n))};
     };
     std::vector<ValueId> out = b.loop(init, more, [&](std::span<const ValueId> v) {
         const std::vector<Reading> row = readRow(b, at, pixel, place(b, v[0], n), n);
         ValueId sum = v[1];
-        for (const Reading& r : row) sum = b.add(sum, firstOrderMean(b, r, h, side, centre));
+        ValueId near = v[3];
+        for (const Reading& r : row) {
+            sum = b.add(sum, firstOrderMean(b, r, h, side, centre));
+            const ValueId away = b.div(r.d, b.max(r.length, b.constF(1e-30)));
+            near = b.add(near, b.min(b.denan(away, most), most));
+        }
         std::vector<ValueId> flags;
         // The squares r and s, s (da, dc) sides from r: each way round.
         auto pair = [&](const Reading& r, const Reading& s, double da, double dc) {
@@ -360,19 +353,26 @@ Parts partsMean(ir::Builder& b, const DistanceAt& at, ValueId h, const PixelFoot
             flags.push_back(otherReaches(b, s, r, -da, -dc, side, h));
         };
         for (int i = 0; i + 1 < n; ++i) pair(row[i], row[i + 1], 1, 0);
-        const ValueId within = anyOf(b, flags);
+        // How many pairs hold another's stroke, each way round counted once.
+        auto pairsIn = [&](ValueId count, const std::vector<ValueId>& each) {
+            for (size_t k = 0; k + 1 < each.size(); k += 2)
+                count = b.add(count, b.select(b.emit(Op::Or, {each[k], each[k + 1]}), b.constF(1.0),
+                                              b.constF(0.0)));
+            return count;
+        };
+        ValueId count = pairsIn(v[2], flags);
         flags.clear();
-        const std::vector<Reading> previous = carriedRow(v, 3, n);
+        const std::vector<Reading> previous = carriedRow(v, 4, n);
         for (int i = 0; i < n; ++i) pair(previous[i], row[i], 0, 1);
         // The first row has none below it.
-        const ValueId below = b.emit(Op::And, {b.gt(v[0], b.constF(0.0)), anyOf(b, flags)});
-        const ValueId any = b.emit(Op::Or, {within, below});
-        std::vector<ValueId> next{b.add(v[0], b.constF(1.0)), sum,
-                                  b.select(any, b.constF(1.0), v[2])};
+        count = b.select(b.gt(v[0], b.constF(0.0)), pairsIn(count, flags), count);
+        std::vector<ValueId> next{b.add(v[0], b.constF(1.0)), sum, count, near};
         carry(next, row);
         return next;
     });
-    return {b.mul(out[1], b.constF(1.0 / (n * n))), b.gt(out[2], b.constF(0.0))};
+    const double each = 1.0 / (n * n);
+    return {b.mul(out[1], b.constF(each)), b.gt(out[2], b.constF(0.0)),
+            b.mul(out[3], b.constF(each)), b.div(out[2], b.constF(2 * n * (n - 1)))};
 }
 
 } // namespace
@@ -407,11 +407,33 @@ CrowdEstimate distanceFamilyCrowd(ir::Builder& b, ValueId distance, const Distan
         parted,
         [&] {
             Parts coarse = partsMean(b, at, halfWidth, pixel, centre, kDistanceTaps);
-            // Members closer than the parts: finer parts, behind their own branch.
+            // Members closer than the parts: finer parts, behind their own branch; members
+            // finer than those, their tubes (DistanceTubes.h), the fine parts handing over to
+            // them as the samples' rays shorten. The tubes are read only where the coarse
+            // parts' members stand near enough, and cross enough of them, that the hand-over
+            // may begin (kTubeGate, kCrossedGate).
+            auto fine = [&] {
+                return Vals{finePartsMean(b, at, halfWidth, pixel, centre, kDistanceFineTaps)};
+            };
+            const ValueId fineSide = b.div(pixel.size, b.constF(kDistanceFineTaps));
+            const ValueId crossed =
+                b.emit(Op::Or, {b.emit(Op::Ge, {coarse.crossed, b.constF(kCrossedGate)}),
+                                b.lt(coarse.near, b.mul(fineSide, b.constF(kParallelGate)))});
+            const ValueId mayCrowd =
+                b.emit(Op::And, {b.lt(coarse.near, b.mul(fineSide, b.constF(kTubeGate))), crossed});
             return Vals{b.ifThenElse(
                 coarse.bent,
                 [&] {
-                    return Vals{finePartsMean(b, at, halfWidth, pixel, centre, kDistanceFineTaps)};
+                    return b.ifThenElse(
+                        mayCrowd,
+                        [&] {
+                            const TubeEstimate tubes = distanceTubesMean(b, at, halfWidth, pixel);
+                            const ValueId parts =
+                                b.ifThenElse(b.lt(tubes.crowded, b.constF(1.0)), fine,
+                                             [&] { return Vals{tubes.mean}; })[0];
+                            return Vals{b.mix(parts, tubes.mean, tubes.crowded)};
+                        },
+                        fine);
                 },
                 [&] { return Vals{coarse.mean}; })[0]};
         },

@@ -19,14 +19,15 @@
 // stroke reaches into the part, into kDistanceFineTaps^2, each of those parts with the nearest
 // such stroke as well, the two strokes' union by inclusion and exclusion, and its own stroke's
 // near edge moved in by the lens a straight edge adds where it bends (its curvature read from
-// how the neighbours' normals turn).
+// how the neighbours' normals turn). Members finer than those parts are read by their tubes
+// (DistanceTubes.h), handing over from the parts as they crowd.
 #pragma once
 
 #include "compiler/ir/Builder.h"
+#include "compiler/lower/DistanceReading.h"
+#include "compiler/lower/DistanceTubes.h"
 #include "compiler/lower/LayerPipeline.h"
 #include "compiler/lower/Prefilter.h"
-
-#include <functional>
 
 namespace moire::lower {
 
@@ -34,14 +35,10 @@ namespace moire::lower {
 // where a part's neighbour reads one whose stroke reaches into the part (members closer than
 // the parts).
 constexpr int kDistanceTaps = 4;
-constexpr int kDistanceFineTaps = 8;
 // How far (a share of the distance's change across a pixel, |grad d| x pixel) a corner's
 // distance may stand off the first-order one before the pixel is read in parts: a member
 // bending by that much across the pixel's half-diagonal (a radius of about 5 pixels).
 constexpr double kStraightSlack = 0.05;
-
-// The family's distance at the pixel's centre moved by (ox, oy) world units.
-using DistanceAt = std::function<ir::ValueId(ir::Builder&, ir::ValueId ox, ir::ValueId oy)>;
 
 // The crowd estimate of a family given by its distance: `nearest`, the pixel's mean ink read
 // as above (taken by the compose step in place of the distance form), and `strokesCrowded`, 1

@@ -38,6 +38,7 @@ bool hasNoDerivative(Op op) {
     case Op::Uniform:
     case Op::FToI:
     case Op::IToF:
+    case Op::Detach: // by definition
         return true;
     default:
         return isCompareOp(op) || opInfo(op).result == Type::B || opInfo(op).result == Type::I;
@@ -359,6 +360,10 @@ class AutoDiff {
             vmap_[inst.results[0]] = x == kNoValue ? zero() : x;
             return;
         }
+        case Op::Detach:
+            // The value itself, without a tangent: the marker goes with the pass.
+            vmap_[inst.results[0]] = v(inst.args[0]);
+            return;
         case Op::Indep: {
             ValueId r = v(inst.args[0]);
             vmap_[inst.results[0]] = r;

@@ -238,3 +238,40 @@ TEST_CASE("deriv: a derivative of a derivative is refused, not silently zero") {
     CHECK_NOTHROW(passes::autoDiff(field(
         [](Builder& b, ValueId x, ValueId) { return b.emit(Op::DerivX, {b.powi(x, 3)}); }, false)));
 }
+
+TEST_CASE("deriv: a detached value is constant to AD, so a gradient can be read where a "
+          "gradient points") {
+    // g(p) = sin(p_x) cos(2 p_y), read at p = (x, y) + detach(s grad g(x, y)): its derivative
+    // is g's gradient at the moved point, as a function of the point alone (without detach,
+    // the move's own dependence on (x, y) is a derivative of a derivative, refused).
+    auto g = [](Builder& b, ValueId px, ValueId py) {
+        return b.mul(b.sin(px), b.cos(b.mul(py, b.constF(2.0))));
+    };
+    auto moved = [&](bool detach) {
+        return field(
+            [&](Builder& b, ValueId x, ValueId y) {
+                ValueId here = g(b, x, y);
+                ValueId s = b.constF(0.3);
+                ValueId ox = b.mul(s, b.emit(Op::DerivX, {here}));
+                ValueId oy = b.mul(s, b.emit(Op::DerivY, {here}));
+                if (detach) {
+                    ox = b.emit(Op::Detach, {ox});
+                    oy = b.emit(Op::Detach, {oy});
+                }
+                return g(b, b.add(x, ox), b.add(y, oy));
+            },
+            true);
+    };
+    CHECK_THROWS_AS(passes::autoDiff(moved(false)), InternalError);
+    Function f = passes::simplify(passes::autoDiff(moved(true)));
+    for (const Block& blk : f.blocks)
+        for (const Inst& inst : blk.insts) CHECK(inst.op != Op::Detach);
+    for (auto [x, y] : {std::pair{0.3, 1.1}, {-1.7, 0.4}, {2.2, -0.9}}) {
+        const double px = x + 0.3 * std::cos(x) * std::cos(2 * y);
+        const double py = y - 0.6 * std::sin(x) * std::sin(2 * y);
+        std::vector<double> at = optest::interpret(f, {{x, y}});
+        CHECK(at[0] == doctest::Approx(std::sin(px) * std::cos(2 * py)).epsilon(1e-12));
+        CHECK(at[1] == doctest::Approx(std::cos(px) * std::cos(2 * py)).epsilon(1e-12));
+        CHECK(at[2] == doctest::Approx(-2 * std::sin(px) * std::sin(2 * py)).epsilon(1e-12));
+    }
+}

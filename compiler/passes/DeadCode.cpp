@@ -73,8 +73,8 @@ class Dce : public Rewriter {
     bool visit(const Inst& inst) override {
         if (inst.op == Op::Yield) return false;
         bool removable = isPure(inst.op) || inst.op == Op::If || inst.op == Op::Loop ||
-                         inst.op == Op::Indep || inst.op == Op::DerivX || inst.op == Op::DerivY ||
-                         (opInfo(inst.op).flags & flags::Leaf);
+                         inst.op == Op::Indep || inst.op == Op::Detach || inst.op == Op::DerivX ||
+                         inst.op == Op::DerivY || (opInfo(inst.op).flags & flags::Leaf);
         return removable && !isLive(inst);
     }
 

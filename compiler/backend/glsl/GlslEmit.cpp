@@ -46,6 +46,7 @@ constexpr Form kForms[] = {
     {Op::Indep, "$0"},
     {Op::DerivX, ""},
     {Op::DerivY, ""},
+    {Op::Detach, "$0"},
     {Op::Add, "($0 + $1)"},
     {Op::Sub, "($0 - $1)"},
     {Op::Mul, "($0 * $1)"},

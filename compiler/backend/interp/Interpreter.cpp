@@ -140,6 +140,7 @@ void Interpreter::runBlock(uint32_t id, const InterpEnv& env, double* r) const {
             r[p.result] = env.uniforms[p.iimm];
             break;
         case Op::Indep:
+        case Op::Detach:
             r[p.result] = r[p.a];
             break;
         case Op::DerivX:

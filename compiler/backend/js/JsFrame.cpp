@@ -42,6 +42,7 @@ constexpr Form kForms[] = {
     {Op::Indep, "", "differentiation markers are removed by the AD pass"},
     {Op::DerivX, "", "differentiation markers are removed by the AD pass"},
     {Op::DerivY, "", "differentiation markers are removed by the AD pass"},
+    {Op::Detach, "", "differentiation markers are removed by the AD pass"},
     {Op::Add, "($0 + $1)"},
     {Op::Sub, "($0 - $1)"},
     {Op::Mul, "($0 * $1)"},

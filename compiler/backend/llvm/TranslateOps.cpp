@@ -212,6 +212,7 @@ void Translator::instruction(const ir::Inst& inst) {
     case Op::DerivY:
         MOIRE_ICE("derivative markers must be removed by the AD pass");
     case Op::Indep:
+    case Op::Detach:
         r = A(0);
         break;
     case Op::Add:

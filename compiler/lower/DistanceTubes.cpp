@@ -1,0 +1,291 @@
+#include "compiler/lower/DistanceTubes.h"
+
+#include <span>
+#include <vector>
+
+namespace moire::lower {
+
+using ir::Op;
+using ir::ValueId;
+
+namespace {
+
+// Probes along a sample's normal after the first (which stands kTubeReach parts' sides out).
+// The model lands on the ridge from one probe past it for points, parallel curves and crossing
+// lines; the probes are spent getting past the nearest ridge without skipping members (six
+// left a grid 1/12 of a pixel apart 5% light, a ray 7% long).
+constexpr int kRidgeProbes = 8;
+// A ridge is settled where a probe past it puts it within this share of the probe's place.
+constexpr double kSettled = 1e-3;
+// The first of the probes at this many times the sample's distance (and a fiftieth of a part).
+constexpr double kFirstGuess = 3.0;
+// The hand-over, by the samples' mean ray length in fine parts' sides (crowded 1 to 0).
+constexpr double kCrowdedBelow = 0.7, kPartedAbove = 0.95;
+// The samples read before the tubes may be given up, and the mean ray length (as above) past
+// which they are.
+constexpr int kFirstSamples = 8;
+constexpr double kLongRays = 1.1;
+// A probe reads the sample's own member while its foot stands within this share of its step.
+constexpr double kSameFoot = 0.5;
+// The step along the level set for the curvature, as a share of the sample's distance (at
+// least kLeastTurnStep of a part's side).
+constexpr double kTurnStep = 0.1, kLeastTurnStep = 0.01;
+
+// The R2 sequence's steps (the plastic number's inverse and its square).
+constexpr double kR2a = 0.7548776662466927, kR2b = 0.5698402909980532;
+
+ValueId fract(ir::Builder& b, ValueId v) {
+    return b.sub(v, b.floor(v));
+}
+
+// A point in the pixel's own frame, world units along its sides from its centre.
+struct Point {
+    ValueId u, v;
+};
+
+// The reading at p. Where p stands depends on other readings' gradients, so it is detached:
+// the gradient read there is the distance's at p, not a derivative of a derivative.
+Reading readThere(ir::Builder& b, const DistanceAt& at, const PixelFootprint& pixel, Point p) {
+    const ValueId u = b.emit(Op::Detach, {p.u}), v = b.emit(Op::Detach, {p.v});
+    Offset o = offsetOf(b, b.div(u, pixel.size), b.div(v, pixel.size), pixel);
+    return readAt(b, at(b, o.ox, o.oy), pixel);
+}
+
+// The foot of a reading's member from its point p, to first order: d / |grad d| back along the
+// normal (NaN where the gradient vanishes).
+Point footOf(ir::Builder& b, const Reading& r, Point p) {
+    ValueId k = b.div(r.d, b.mul(r.length, r.length));
+    return {b.sub(p.u, b.mul(k, r.gu)), b.sub(p.v, b.mul(k, r.gv))};
+}
+
+ValueId apart(ir::Builder& b, Point a, Point c) {
+    return b.hypot(b.sub(a.u, c.u), b.sub(a.v, c.v));
+}
+
+// One sample's ray: its foot f, unit normal n (along the pixel's sides), its distance t0 along
+// it, in world units.
+struct Ray {
+    Point p, f;
+    ValueId nu, nv, t0;
+};
+
+// A probe s along the ray: whether it reads the sample's own member (its foot within
+// kSameFoot s of the sample's; NaN, a probe on a kink, reads as another's), and the foot and
+// unit normal of the member it reads.
+struct Probe {
+    ValueId same;
+    Point foot;
+    ValueId nu, nv;
+};
+Probe probeAt(ir::Builder& b, const DistanceAt& at, const PixelFootprint& pixel, const Ray& ray,
+              ValueId s) {
+    const Point q{b.add(ray.f.u, b.mul(s, ray.nu)), b.add(ray.f.v, b.mul(s, ray.nv))};
+    const Reading r = readThere(b, at, pixel, q);
+    const Point foot = footOf(b, r, q);
+    const ValueId length = b.max(r.length, b.constF(1e-30));
+    return {b.lt(apart(b, foot, ray.f), b.mul(s, b.constF(kSameFoot))), foot, b.div(r.gu, length),
+            b.div(r.gv, length)};
+}
+
+// Where along the ray the sample's member (s away at s) and the member a probe past the ridge
+// read are as near, that member taken as bending as the sample's own, kappa >= 0 (a circle of
+// radius 1 / kappa through its foot f2, normal n2 there): with a = f - f2,
+//     s = (kappa |a|^2 + 2 a . n2) / (2 (1 - n . n2 - kappa a . n)),
+// a point's |a|^2 / (-2 a . n) as kappa grows, a line's a . n2 / (1 - n . n2) at 0 (exact for
+// a grid's crossing lines, where a point's model only comes down to the ridge from past it).
+// -1 where it does not stand ahead along the ray.
+ValueId ridgeModel(ir::Builder& b, const Ray& ray, const Probe& past, ValueId kappa) {
+    const ValueId au = b.sub(ray.f.u, past.foot.u), av = b.sub(ray.f.v, past.foot.v);
+    // A probe past the other member (on it, where evenly spaced members put the model's
+    // ridge two spacings on, or beyond) reads the normal of its far side: its near side's,
+    // facing back along the ray, is the one the ridge stands on.
+    const ValueId beyond =
+        b.gt(b.add(b.mul(ray.nu, past.nu), b.mul(ray.nv, past.nv)), b.constF(0.0));
+    const ValueId mu = b.select(beyond, b.neg(past.nu), past.nu);
+    const ValueId mv = b.select(beyond, b.neg(past.nv), past.nv);
+    const ValueId alongOther = b.add(b.mul(au, mu), b.mul(av, mv));
+    const ValueId alongOwn = b.add(b.mul(au, ray.nu), b.mul(av, ray.nv));
+    const ValueId facing = b.add(b.mul(ray.nu, mu), b.mul(ray.nv, mv));
+    const ValueId num =
+        b.add(b.mul(kappa, b.add(b.mul(au, au), b.mul(av, av))), b.mul(alongOther, b.constF(2.0)));
+    const ValueId den =
+        b.mul(b.sub(b.sub(b.constF(1.0), facing), b.mul(kappa, alongOwn)), b.constF(2.0));
+    const ValueId s = b.div(num, b.max(den, b.constF(1e-30)));
+    const ValueId forward = b.emit(Op::And, {b.gt(den, b.constF(0.0)), b.gt(s, b.constF(0.0))});
+    return b.select(forward, b.denan(s, b.constF(-1.0)), b.constF(-1.0));
+}
+
+// The ray's length to its ridge, from a probe at `cap` that stands past it: up to
+// kRidgeProbes more, each at the model's ridge where it stands inside the bracket the probes
+// keep, at its middle where not.
+ValueId ridgeAlong(ir::Builder& b, const DistanceAt& at, const PixelFootprint& pixel,
+                   const Ray& ray, const Probe& atCap, ValueId cap, ValueId least, ValueId kappa) {
+    const ValueId zero = b.constF(0.0);
+    auto within = [&](ValueId est, ValueId lo, ValueId hi) {
+        return b.emit(Op::And, {b.emit(Op::Ge, {est, lo}), b.le(est, hi)});
+    };
+    const ValueId first = ridgeModel(b, ray, atCap, kappa);
+    // Carried: the probe, the bracket [lo, hi], the model's ridge (-1: none) and whether it
+    // has settled.
+    std::vector<ValueId> init{zero, ray.t0, cap,
+                              b.select(within(first, ray.t0, cap), first, b.constF(-1.0)), zero};
+    auto more = [&](std::span<const ValueId> v) {
+        return std::vector<ValueId>{b.emit(
+            Op::And, {b.emit(Op::And, {b.lt(v[0], b.constF(kRidgeProbes)), b.lt(v[1], v[2])}),
+                      b.lt(v[4], b.constF(0.5))})};
+    };
+    std::vector<ValueId> out = b.loop(init, more, [&](std::span<const ValueId> v) {
+        const ValueId lo = v[1], hi = v[2], est = v[3];
+        const ValueId inside = b.emit(Op::And, {b.gt(est, lo), b.lt(est, hi)});
+        ValueId s = b.select(inside, est, b.mul(b.add(lo, hi), b.constF(0.5)));
+        // The first probe nearer, where the ray most likely ends (a sample stands half-way
+        // along a ray of parallel curves on average): from a member k spacings on the model
+        // puts the ridge k / 2 spacings out, so from the cap it takes a probe to halve k, and
+        // members fifty a pixel stand twenty spacings within it.
+        const ValueId guess = b.min(s, b.add(b.mul(ray.t0, b.constF(kFirstGuess)), least));
+        s = b.select(b.emit(Op::And, {b.lt(v[0], b.constF(0.5)), b.gt(guess, lo)}), guess, s);
+        const Probe probe = probeAt(b, at, pixel, ray, s);
+        const ValueId lo2 = b.select(probe.same, s, lo), hi2 = b.select(probe.same, hi, s);
+        const ValueId model = ridgeModel(b, ray, probe, kappa);
+        const ValueId takes =
+            b.emit(Op::And, {b.emit(Op::Not, {probe.same}), within(model, lo2, hi2)});
+        const ValueId next = b.select(takes, model, est);
+        // Settled where a probe past the ridge puts it where it was probed.
+        const ValueId settled =
+            b.emit(Op::And, {takes, b.le(b.abs(b.sub(model, s)), b.mul(s, b.constF(kSettled)))});
+        return std::vector<ValueId>{b.add(v[0], b.constF(1.0)), lo2, hi2, next,
+                                    b.select(settled, b.constF(1.0), v[4])};
+    });
+    const ValueId lo = out[1], hi = out[2], est = out[3];
+    return b.select(within(est, lo, hi), est, b.mul(b.add(lo, hi), b.constF(0.5)));
+}
+
+// The curvature kappa0 of the sample's member at its foot, from the level set's through the
+// sample: two probes `step` either side along it, each counted where it reads the same member
+// (its foot within two steps of the sample's), their normals' turn over the step (tan theta =
+// kappa_t step, exact for a circle); kappa0 = kappa_t / (1 - kappa_t t0), the denominator held
+// above 1e-4 (a point member's, 0 but for rounding).
+ValueId memberCurvature(ir::Builder& b, const DistanceAt& at, const PixelFootprint& pixel,
+                        const Ray& ray, ValueId step) {
+    const ValueId zero = b.constF(0.0);
+    ValueId turned = zero, counted = zero;
+    for (double side : {1.0, -1.0}) {
+        const ValueId along = b.mul(step, b.constF(side));
+        // The tangent (-n_v, n_u).
+        const Point q{b.sub(ray.p.u, b.mul(along, ray.nv)), b.add(ray.p.v, b.mul(along, ray.nu))};
+        const Reading r = readThere(b, at, pixel, q);
+        const ValueId length = b.max(r.length, b.constF(1e-30));
+        const ValueId mu = b.div(r.gu, length), mv = b.div(r.gv, length);
+        const ValueId cosine = b.add(b.mul(ray.nu, mu), b.mul(ray.nv, mv));
+        const ValueId turn =
+            b.div(b.sub(b.mul(ray.nu, mv), b.mul(ray.nv, mu)), b.max(cosine, b.constF(1e-6)));
+        const ValueId same =
+            b.emit(Op::And, {b.lt(apart(b, footOf(b, r, q), ray.f), b.mul(step, b.constF(2.0))),
+                             b.gt(cosine, zero)});
+        turned = b.add(turned, b.select(same, b.mul(turn, b.constF(side)), zero));
+        counted = b.add(counted, b.select(same, b.constF(1.0), zero));
+    }
+    const ValueId kappaT = b.select(
+        b.gt(counted, zero), b.div(turned, b.mul(b.max(counted, b.constF(1.0)), step)), zero);
+    const ValueId below = b.max(b.sub(b.constF(1.0), b.mul(kappaT, ray.t0)), b.constF(1e-4));
+    return b.denan(b.div(kappaT, below), zero);
+}
+
+// The share of a ray's tube within h of its member: (2h + kappa0 h^2) / (2M + kappa0 M^2), 1
+// where h reaches the ridge (kappa0 held above -1 / M: the normals of a member bending towards
+// the ray meet past its ridge).
+ValueId tubeShare(ir::Builder& b, ValueId h, ValueId ridge, ValueId kappa0) {
+    const ValueId k = b.max(kappa0, b.div(b.constF(-0.999), ridge));
+    const ValueId inked = b.add(b.mul(h, b.constF(2.0)), b.mul(k, b.mul(h, h)));
+    const ValueId whole = b.add(b.mul(ridge, b.constF(2.0)), b.mul(k, b.mul(ridge, ridge)));
+    const ValueId share = b.denan(b.div(inked, whole), b.div(h, ridge));
+    return b.select(b.lt(h, ridge), b.clamp(share, b.constF(0.0), b.constF(1.0)), b.constF(1.0));
+}
+
+} // namespace
+
+TubeEstimate distanceTubesMean(ir::Builder& b, const DistanceAt& at, ValueId halfWidth,
+                               const PixelFootprint& pixel) {
+    const ValueId part = b.div(pixel.size, b.constF(kDistanceFineTaps));
+    const ValueId cap = b.mul(part, b.constF(kTubeReach));
+    const ValueId zero = b.constF(0.0), one = b.constF(1.0);
+    // The lattice moved (mod 1) by a shift that runs over the frame's pixels as an R2 sequence
+    // does: with the same points in every pixel, a family's rows beat with the lattice's (a
+    // grid's lines 1/8 of a pixel apart read 5% light, 8/px in the tests); moved, what is left
+    // is a grain of the samples' spread, the same on every backend (a product, a sum and a
+    // floor of the pixel's coordinates).
+    const ValueId px = b.leaf(Op::PixelX), py = b.leaf(Op::PixelY);
+    const ValueId shiftU = fract(b, b.add(b.mul(px, b.constF(kR2a)), b.mul(py, b.constF(kR2b))));
+    const ValueId shiftV = fract(b, b.add(b.mul(px, b.constF(kR2b)), b.mul(py, b.constF(kR2a))));
+    // Carried: the sample, the sums of g and of the (capped) ridges, and the samples read.
+    std::vector<ValueId> init{zero, zero, zero, zero};
+    // On past the first kFirstSamples while their rays' mean length (as the parts see it)
+    // stays short of kLongRays parts' sides: past it the hand-over has not begun (kPartedAbove)
+    // and the tubes are not read.
+    auto more = [&](std::span<const ValueId> v) {
+        const ValueId longRays =
+            b.gt(v[2], b.mul(b.mul(part, b.constF(kLongRays)), b.max(v[3], one)));
+        const ValueId going =
+            b.emit(Op::Or, {b.lt(v[0], b.constF(kFirstSamples)), b.emit(Op::Not, {longRays})});
+        return std::vector<ValueId>{b.emit(Op::And, {b.lt(v[0], b.constF(kTubeSamples)), going})};
+    };
+    std::vector<ValueId> out = b.loop(init, more, [&](std::span<const ValueId> v) {
+        // Sample j of a Fibonacci lattice, ((j + 1/2) / N, frac((j G + 1/2) / N)), visited in
+        // the order j = i kVisitStep mod N, so that the first few spread across the pixel.
+        const ValueId visit = b.div(b.mul(v[0], b.constF(kVisitStep)), b.constF(kTubeSamples));
+        const ValueId j = b.round(b.mul(b.sub(visit, b.floor(visit)), b.constF(kTubeSamples)));
+        const ValueId across =
+            b.div(b.add(b.mul(j, b.constF(kLatticeStep)), b.constF(0.5)), b.constF(kTubeSamples));
+        const Point p{
+            b.mul(b.sub(fract(b, b.add(b.div(b.add(j, b.constF(0.5)), b.constF(kTubeSamples)),
+                                       shiftU)),
+                        b.constF(0.5)),
+                  pixel.size),
+            b.mul(b.sub(fract(b, b.add(across, shiftV)), b.constF(0.5)), pixel.size)};
+        const Reading r = readThere(b, at, pixel, p);
+        // A sample on a kink (no gradient) or off the distance's range is not read.
+        const ValueId read =
+            b.emit(Op::And, {b.gt(r.length, zero), b.emit(Op::Not, {b.lt(r.d, zero)})});
+        const ValueId length = b.max(r.length, b.constF(1e-30));
+        Ray ray{p, {}, b.div(r.gu, length), b.div(r.gv, length), b.div(r.d, length)};
+        ray.f = {b.sub(p.u, b.mul(ray.t0, ray.nu)), b.sub(p.v, b.mul(ray.t0, ray.nv))};
+        // The stroke's half-width along the ray, in world units.
+        const ValueId h = b.div(halfWidth, length);
+        // A probe at the cap: where it reads the sample's own member (or the sample stands
+        // further out), the ray is longer than the parts need to know.
+        const Probe atCap = probeAt(b, at, pixel, ray, cap);
+        const ValueId longer = b.emit(Op::Or, {b.emit(Op::Not, {b.lt(ray.t0, cap)}), atCap.same});
+        // [ridge, g, kappa0]
+        const std::vector<ValueId> bent = b.ifThenElse(
+            longer,
+            [&] {
+                return std::vector<ValueId>{cap, tubeShare(b, h, cap, zero), zero};
+            },
+            [&] {
+                const ValueId step = b.max(b.mul(ray.t0, b.constF(kTurnStep)),
+                                           b.mul(part, b.constF(kLeastTurnStep)));
+                const ValueId kappa0 = memberCurvature(b, at, pixel, ray, step);
+                const ValueId ridge = ridgeAlong(b, at, pixel, ray, atCap, cap,
+                                                 b.mul(part, b.constF(0.02)), b.max(kappa0, zero));
+                return std::vector<ValueId>{ridge, tubeShare(b, h, ridge, kappa0), kappa0};
+            });
+        const ValueId ridge = bent[0];
+        const ValueId g = bent[1];
+        // The ray's length as the parts see it: a point member's (kappa0 M large) counts half.
+        const ValueId pointed =
+            b.div(b.constF(0.5), b.add(one, b.mul(b.max(bent[2], zero), ridge)));
+        const ValueId seen = b.mul(ridge, b.add(b.constF(0.5), pointed));
+        const ValueId counted = b.emit(Op::And, {read, b.emit(Op::Eq, {g, g})});
+        return std::vector<ValueId>{b.add(v[0], one), b.add(v[1], b.select(counted, g, zero)),
+                                    b.add(v[2], b.select(counted, seen, zero)),
+                                    b.add(v[3], b.select(counted, one, zero))};
+    });
+    const ValueId samples = b.max(out[3], one);
+    const ValueId meanRidge = b.div(b.div(out[2], samples), part);
+    const ValueId crowded = b.clamp(
+        b.div(b.sub(b.constF(kPartedAbove), meanRidge), b.constF(kPartedAbove - kCrowdedBelow)),
+        zero, one);
+    return {b.div(out[1], samples), b.select(b.gt(out[3], zero), crowded, zero)};
+}
+
+} // namespace moire::lower

@@ -1,0 +1,60 @@
+// The mean ink of a family given by its distance whose members are finer than the parts the
+// pixel is read in (docs/filtering.md, "Families given by their distance").
+//
+// Every point of the plane lies on one ray: the normal from its nearest member's nearest point
+// (its foot), which runs straight until another member is as near (the ridge, M along it). The
+// rays from a stretch of member sweep a tube whose width grows along it by (1 + kappa0 s), kappa0
+// the member's curvature at the foot (a point member: kappa0 infinite, the width grows as s); so
+// the share of a ray's tube within h of its member is
+//     g = (2h + kappa0 h^2) / (2M + kappa0 M^2)   (h < M; 1 where the whole ray is inked),
+// h^2 / M^2 for a point, h / M for a straight member. A point drawn at random from the plane
+// falls on a ray with chance its tube's area, so the mean of g over such points is the share of
+// the plane that is inked, exactly, whatever the members' shapes and spacing: the sum over the
+// tubes of their areas times their shares. Over a pixel that holds many members the pixel is
+// many whole tubes, and the mean of g over points spread across it is its mean ink. Unlike the
+// samples' own ink (1 or 0, which a lattice of members aliases with), g varies only with the
+// ray's length: it is the same at every point of a ray of parallel curves.
+//
+// Each sample finds its ridge along its normal by probing there: a probe reads the same member
+// while its foot is the sample's, and past the ridge it reads another, which, taken as bending
+// as the sample's own member, puts the ridge where the two are as near (ridgeModel in the .cpp:
+// exact for dots, parallel curves and a grid's crossing lines), in a bracket kept by the probes.
+// kappa0 comes first, from two probes a small step either side along the level set: the normals
+// of parallel curves meet at the centre of curvature, so their turn says the level set's
+// curvature kappa_t there, and kappa0 = kappa_t / (1 - kappa_t t0), t0 the sample's distance.
+#pragma once
+
+#include "compiler/ir/Builder.h"
+#include "compiler/lower/DistanceReading.h"
+
+namespace moire::lower {
+
+// Samples over the pixel: a Fibonacci lattice of 34 points (step 21), moved from pixel to pixel
+// (distanceTubesMean), visited 13 at a time so that the first few spread over the pixel. (An
+// 8 x 8 grid of 64 cost twice as much for the same figures, and lined up with a grid's lines
+// 1/8 of a pixel apart: 0.031 RMSE.)
+constexpr int kTubeSamples = 34, kLatticeStep = 21, kVisitStep = 13;
+// The parts the rays are measured against (DistanceFamily.cpp's finer parts).
+constexpr int kDistanceFineTaps = 8;
+// How far along its normal a sample looks for its ridge, in fine parts' sides: beyond, the ray
+// is long enough for the parts to read its member.
+constexpr double kTubeReach = 3.0;
+// Where the pixel's members stand further than this many fine parts' sides from points of the
+// pixel on average (DistanceFamily.cpp reads that from its 4 x 4 parts, each distance held to
+// kTubeReach), it is not read by its tubes. A ray runs past its sample, on average half again
+// its distance for a dot's (which counts half, below) and twice for a line's, so the rays'
+// mean length as the parts see it is past the hand-over's end (0.95) there.
+constexpr double kTubeGate = 1.5;
+
+// `mean`: the mean of g over the pixel's samples. `crowded`: how far the pixel is read by its
+// tubes rather than in parts, 0 to 1: 1 where the samples' rays are short against the fine
+// parts (their mean length under 0.7 of a part's side, a dot's ray counted half: about three
+// dots, six lines or four rows of a grid a pixel), 0 where they are long (past 0.95), where the
+// parts read the members' edges and the tubes' share is off by the members the pixel cuts.
+struct TubeEstimate {
+    ir::ValueId mean, crowded;
+};
+TubeEstimate distanceTubesMean(ir::Builder& b, const DistanceAt& at, ir::ValueId halfWidth,
+                               const PixelFootprint& pixel);
+
+} // namespace moire::lower

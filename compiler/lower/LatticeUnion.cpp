@@ -455,6 +455,29 @@ bool honeycombCells(const CrowdEstimate::LatticeShape& p) {
     return p.cells.size() == 1 && p.cells[0].upper && p.cells[0].lower;
 }
 
+// A honeycomb's cell shrunk by its strokes (insetHexagon), in the world: its corners through
+// the generators' steps (det their determinant), those steps, and its share of the cell, i_h.
+struct WorldHexagon {
+    std::array<std::array<ir::BuiltValue, 2>, 6> corners;
+    ir::BuiltValue e1x, e1y, e2x, e2y;
+    ir::BuiltValue paperShare;
+};
+WorldHexagon worldHexagon(ir::Builder& b, const CrowdEstimate::LatticeShape& p, ValueId det) {
+    auto value = [&](ValueId v) { return ir::BuiltValue(b, v); };
+    const auto bounds =
+        hexBounds(value(p.radius), value(p.ux), value(p.uy), value(p.vx), value(p.vy));
+    const auto corners = insetHexagon(bounds);
+    const ir::BuiltValue paperShare = insetHexagonArea(bounds);
+    const WorldSteps steps = worldSteps(b, p, det);
+    const ir::BuiltValue e1x = value(steps.e1x), e1y = value(steps.e1y);
+    const ir::BuiltValue e2x = value(steps.e2x), e2y = value(steps.e2y);
+    std::array<std::array<ir::BuiltValue, 2>, 6> world;
+    for (size_t k = 0; k < 6; ++k)
+        world[k] = {corners[k][0] * e1x + corners[k][1] * e2x,
+                    corners[k][0] * e1y + corners[k][1] * e2y};
+    return {world, e1x, e1y, e2x, e2y, paperShare};
+}
+
 // A line x of the lines' layer (index f, a period L = 1 / |grad f| in the world) and the
 // honeycomb's row nearest its direction (phase r = a u + b v, whole at every centre; a row of
 // centres, (1, 0), (0, 1), (1, 1), or of the lines the sides lie on, (1, 2), (2, 1), (1, -1))
@@ -483,15 +506,9 @@ Ink hexLineCorrelation(ir::Builder& b, const Ink& under, const FineLayer& l1, co
     rowsOf.sites = {{{0.0, 0.0}}};
     rowsOf.shortest = {{{1, 0}}, {{0, 1}}, {{1, 1}}, {{1, 2}}, {{2, 1}}, {{1, -1}}};
     const std::vector<Row> rows = screenRows(b, rowsOf);
-    // The shrunk hexagon in the world: its corners through the generators' steps.
-    const auto bounds =
-        hexBounds(value(p.radius), value(p.ux), value(p.uy), value(p.vx), value(p.vy));
-    const auto corners = insetHexagon(bounds);
-    const ir::BuiltValue paperShare = insetHexagonArea(bounds); // in cells: i_h
     const ValueId det = b.sub(b.mul(p.ux, p.vy), b.mul(p.uy, p.vx));
-    const WorldSteps steps = worldSteps(b, p, det);
-    const ir::BuiltValue e1x = value(steps.e1x), e1y = value(steps.e1y);
-    const ir::BuiltValue e2x = value(steps.e2x), e2y = value(steps.e2y);
+    const WorldHexagon hexagon = worldHexagon(b, p, det);
+    const ir::BuiltValue paperShare = hexagon.paperShare;
     const ValueId cells = b.abs(det);
     const ValueId crowded = dotsCrowded(b, p, pixel);
     const ValueId lineHalf = b.max(lines.sweep.halfWidth, zero);
@@ -509,8 +526,7 @@ Ink hexLineCorrelation(ir::Builder& b, const Ink& under, const FineLayer& l1, co
         const ir::BuiltValue ny = value(b.div(f.gradY, b.max(f.grad, c(1e-12))));
         std::array<std::array<ir::BuiltValue, 2>, 6> shape;
         for (size_t k = 0; k < 6; ++k) {
-            const ir::BuiltValue wx = corners[k][0] * e1x + corners[k][1] * e2x;
-            const ir::BuiltValue wy = corners[k][0] * e1y + corners[k][1] * e2y;
+            const auto& [wx, wy] = hexagon.corners[k];
             shape[k] = {wx * ny - wy * nx, wx * nx + wy * ny};
         }
         const ValueId h = b.min(lineHalf, b.mul(period, c(0.5)));
@@ -565,17 +581,11 @@ Ink hexDotCorrelation(ir::Builder& b, const Ink& under, const FineLayer& l1, con
     const ValueId zero = c(0.0), one = c(1.0);
     auto value = [&](ValueId v) { return ir::BuiltValue(b, v); };
     const Matched m = match(b, ph, pd, pixel);
-    const auto bounds =
-        hexBounds(value(ph.radius), value(ph.ux), value(ph.uy), value(ph.vx), value(ph.vy));
-    const auto corners = insetHexagon(bounds);
-    const ValueId paperShare = insetHexagonArea(bounds).id; // in cells: i_h
-    const WorldSteps steps = worldSteps(b, ph, m.det);
-    const ir::BuiltValue e1x = value(steps.e1x), e1y = value(steps.e1y);
-    const ir::BuiltValue e2x = value(steps.e2x), e2y = value(steps.e2y);
-    std::array<std::array<ir::BuiltValue, 2>, 6> shape;
-    for (size_t k = 0; k < 6; ++k)
-        shape[k] = {corners[k][0] * e1x + corners[k][1] * e2x,
-                    corners[k][0] * e1y + corners[k][1] * e2y};
+    const WorldHexagon hexagon = worldHexagon(b, ph, m.det);
+    const ValueId paperShare = hexagon.paperShare.id; // in cells: i_h
+    const auto& shape = hexagon.corners;
+    const ir::BuiltValue &e1x = hexagon.e1x, &e1y = hexagon.e1y;
+    const ir::BuiltValue &e2x = hexagon.e2x, &e2y = hexagon.e2y;
     const ValueId cells = b.abs(m.det);
     const ValueId radius = b.div(b.max(pd.radius, zero), m.rho);
     // At the pixel's centre (2 x 2 taps read the tests' pairs the same to 1e-4 with four times

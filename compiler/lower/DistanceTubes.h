@@ -48,9 +48,10 @@ constexpr double kTubeGate = 1.5;
 
 // `mean`: the mean of g over the pixel's samples. `crowded`: how far the pixel is read by its
 // tubes rather than in parts, 0 to 1: 1 where the samples' rays are short against the fine
-// parts (their mean length under 0.7 of a part's side, a dot's ray counted half: about three
-// dots, six lines or four rows of a grid a pixel), 0 where they are long (past 0.95), where the
-// parts read the members' edges and the tubes' share is off by the members the pixel cuts.
+// parts (their mean length under 0.7 of a part's side, a dot's ray counted half: from about 3.3
+// dots, 3.8 rows of a grid or 5.7 lines a pixel), 0 where they are long (past 0.95: under 2.4,
+// 2.8 and 4.2), where the parts read the members' edges and the tubes' share is off by the
+// members the pixel cuts.
 struct TubeEstimate {
     ir::ValueId mean, crowded;
 };

@@ -54,7 +54,7 @@ Reading steady(ir::Builder& b, const Reading& r, const Reading& stand) {
 ValueId firstOrderMean(ir::Builder& b, const Reading& reading, ValueId h, ValueId side,
                        const Reading& stand, ValueId nearIn = ir::kNoValue) {
     const Reading r = steady(b, reading, stand);
-    ValueId length = b.max(r.length, b.constF(1e-30));
+    const ValueId length = heldLength(b, r);
     NormalExtents e = extentsAcross(b, r.gu, r.gv, side);
     ValueId d = b.div(r.d, length), half = b.div(h, length);
     if (nearIn != ir::kNoValue) {
@@ -143,30 +143,23 @@ void carry(std::vector<ValueId>& next, const std::vector<Reading>& row) {
 class Curvature {
   public:
     Curvature(ir::Builder& b, const Reading& own, ValueId side)
-        : own_(own), side_(side), num_(b.constF(0.0)), den_(b.constF(0.0)) {
-        const ValueId length = b.max(own.length, b.constF(1e-30));
-        nu_ = b.div(own.gu, length);
-        nv_ = b.div(own.gv, length);
+        : own_(own), n_(unitNormal(b, own)), side_(side), num_(b.constF(0.0)), den_(b.constF(0.0)) {
     }
     // A neighbour (da, dc) sides away, counted where `counts`.
     void add(ir::Builder& b, ValueId counts, const Reading& n, double da, double dc) {
-        const ValueId length = b.max(n.length, b.constF(1e-30));
-        const ValueId mu = b.div(n.gu, length), mv = b.div(n.gv, length);
         // The normals of parallel curves meet at the centre of curvature, 1 / kappa along the
         // normal from the square's point. A neighbour a step (tau along the tangent t = (-n_v,
         // n_u), nu along the normal) away has turned by tan theta = kappa tau / (1 + kappa nu),
         // that is tan theta = kappa (tau - nu tan theta): exact for a circle, whatever the step.
-        const ValueId cosine = b.add(b.mul(nu_, mu), b.mul(nv_, mv));
-        const ValueId turn =
-            b.div(b.sub(b.mul(nu_, mv), b.mul(nv_, mu)), b.max(cosine, b.constF(1e-6)));
-        const ValueId tau = b.add(b.mul(b.neg(nv_), b.constF(da)), b.mul(nu_, b.constF(dc)));
-        const ValueId across = b.add(b.mul(nu_, b.constF(da)), b.mul(nv_, b.constF(dc)));
-        const ValueId step = b.sub(tau, b.mul(across, turn)); // in sides
+        const Turn turn = turnOf(b, n_, unitNormal(b, n));
+        const ValueId tau = b.add(b.mul(b.neg(n_.v), b.constF(da)), b.mul(n_.u, b.constF(dc)));
+        const ValueId across = b.add(b.mul(n_.u, b.constF(da)), b.mul(n_.v, b.constF(dc)));
+        const ValueId step = b.sub(tau, b.mul(across, turn.tangent)); // in sides
         // A normal turned past a right angle is the member's far side (a neighbour across
         // its centre line), not the level set bending.
         const ValueId zero = b.constF(0.0);
-        counts = b.emit(Op::And, {counts, b.gt(cosine, zero)});
-        num_ = b.add(num_, b.select(counts, b.mul(turn, step), zero));
+        counts = b.emit(Op::And, {counts, b.gt(turn.cosine, zero)});
+        num_ = b.add(num_, b.select(counts, b.mul(turn.tangent, step), zero));
         den_ = b.add(den_, b.select(counts, b.mul(step, step), zero));
     }
     // How far (world units) to move the near edge in: none where no neighbour stands along
@@ -177,8 +170,7 @@ class Curvature {
         const ValueId some = b.gt(den_, b.constF(kLeastStep));
         const ValueId kappa = b.div(b.select(some, num_, b.constF(0.0)),
                                     b.mul(b.max(den_, b.constF(kLeastStep)), side_));
-        const ValueId length = b.max(own_.length, b.constF(1e-30));
-        const ValueId toEdge = b.div(b.sub(h, own_.d), length);
+        const ValueId toEdge = b.div(b.sub(h, own_.d), heldLength(b, own_));
         const ValueId spread = b.max(b.add(b.constF(1.0), b.mul(kappa, toEdge)), b.constF(0.1));
         const ValueId most = b.div(b.constF(kMostBend), side_);
         const ValueId atEdge = b.clamp(b.div(kappa, spread), b.neg(most), most);
@@ -189,7 +181,8 @@ class Curvature {
   private:
     static constexpr double kLeastStep = 0.25, kMostBend = 2.0;
     Reading own_;
-    ValueId side_, nu_ = ir::kNoValue, nv_ = ir::kNoValue, num_, den_;
+    Normal n_;
+    ValueId side_, num_, den_;
 };
 
 // A square's ink where a second member's stroke may cross it: its own member's stroke and the
@@ -209,15 +202,13 @@ ValueId unionMean(ir::Builder& b, const Reading& read, const std::vector<Neighbo
     // The nearest other stroke to the square's centre: its first-order distance there.
     ValueId found = b.constB(false), best = b.constF(kNoMember);
     Reading other{b.constF(kNoMember), centre.gu, centre.gv, centre.length};
-    // The foot of a reading's member, the nearest point of its centre line, from the square's
-    // centre in world units along the pixel's sides: -d grad d / |grad d|^2 from its point.
+    // The foot of a reading's member from the square's centre, in world units along the
+    // pixel's sides (its point is (da, dc) sides away).
     auto foot = [&](const Reading& r, double da, double dc) {
-        ValueId k = b.div(r.d, b.max(b.mul(r.length, r.length), b.constF(1e-30)));
-        return std::pair{b.sub(b.mul(side, b.constF(da)), b.mul(k, r.gu)),
-                         b.sub(b.mul(side, b.constF(dc)), b.mul(k, r.gv))};
+        return footFrom(b, r, {b.mul(side, b.constF(da)), b.mul(side, b.constF(dc))}, true);
     };
-    const auto [ou, ov] = foot(own, 0, 0);
-    const ValueId ownLength = b.max(own.length, b.constF(1e-30));
+    const PixelPoint ownFoot = foot(own, 0, 0);
+    const ValueId ownLength = heldLength(b, own);
     Curvature bend(b, own, side);
     for (const Neighbour& neighbour : others) {
         Neighbour n = neighbour;
@@ -227,10 +218,10 @@ ValueId unionMean(ir::Builder& b, const Reading& read, const std::vector<Neighbo
         // The same member seen bending, not another: its foot where the square's own is (a
         // point, a dot's centre), or on the square's own centre line facing the same way (a
         // curve). kSameFoot of a side either way.
-        const auto [nu, nv] = foot(n.r, n.da, n.dc);
-        ValueId apart = b.hypot(b.sub(nu, ou), b.sub(nv, ov));
-        ValueId onLine =
-            b.abs(b.div(b.add(own.d, b.add(b.mul(own.gu, nu), b.mul(own.gv, nv))), ownLength));
+        const PixelPoint itsFoot = foot(n.r, n.da, n.dc);
+        ValueId apart = b.hypot(b.sub(itsFoot.u, ownFoot.u), b.sub(itsFoot.v, ownFoot.v));
+        ValueId onLine = b.abs(b.div(
+            b.add(own.d, b.add(b.mul(own.gu, itsFoot.u), b.mul(own.gv, itsFoot.v))), ownLength));
         ValueId facing = b.gt(b.abs(b.div(b.add(b.mul(own.gu, n.r.gu), b.mul(own.gv, n.r.gv)),
                                           b.max(b.mul(ownLength, n.r.length), b.constF(1e-30)))),
                               b.constF(kSameFacing));
@@ -262,7 +253,7 @@ ValueId unionMean(ir::Builder& b, const Reading& read, const std::vector<Neighbo
         [&] {
             const ValueId a2 = firstOrderMean(b, other, h, side, centre);
             auto across = [&](const Reading& r) { // the stroke in the square's units
-                ValueId length = b.max(r.length, b.constF(1e-30));
+                const ValueId length = heldLength(b, r);
                 ValueId scale = b.mul(length, side);
                 return StrokeAcross{b.div(r.gu, length), b.div(r.gv, length), b.div(r.d, scale),
                                     b.div(h, scale),     b.constF(1.0),       b.constB(true)};
@@ -343,7 +334,7 @@ Parts partsMean(ir::Builder& b, const DistanceAt& at, ValueId h, const PixelFoot
         ValueId near = v[3];
         for (const Reading& r : row) {
             sum = b.add(sum, firstOrderMean(b, r, h, side, centre));
-            const ValueId away = b.div(r.d, b.max(r.length, b.constF(1e-30)));
+            const ValueId away = b.div(r.d, heldLength(b, r));
             near = b.add(near, b.min(b.denan(away, most), most));
         }
         std::vector<ValueId> flags;

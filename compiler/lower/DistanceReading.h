@@ -34,6 +34,46 @@ inline Reading readAt(ir::Builder& b, ir::ValueId d, const PixelFootprint& pixel
     return {d, g.u, g.v, b.hypot(g.u, g.v)};
 }
 
+// A reading's gradient length, held above 1e-30 so that dividing by it stays finite.
+inline ir::ValueId heldLength(ir::Builder& b, const Reading& r) {
+    return b.max(r.length, b.constF(1e-30));
+}
+
+// A reading's unit normal along the pixel's sides.
+struct Normal {
+    ir::ValueId u, v;
+};
+inline Normal unitNormal(ir::Builder& b, const Reading& r) {
+    const ir::ValueId length = heldLength(b, r);
+    return {b.div(r.gu, length), b.div(r.gv, length)};
+}
+
+// A point in the pixel's own frame: world units along its sides from its centre.
+struct PixelPoint {
+    ir::ValueId u, v;
+};
+
+// The foot of a reading's member from its point p, the nearest point of its centre line to
+// first order: p - d grad d / |grad d|^2. Where the gradient vanishes the foot is NaN, or, with
+// `held` (the denominator held above 1e-30), p itself.
+inline PixelPoint footFrom(ir::Builder& b, const Reading& r, PixelPoint p, bool held) {
+    ir::ValueId squared = b.mul(r.length, r.length);
+    if (held) squared = b.max(squared, b.constF(1e-30));
+    const ir::ValueId k = b.div(r.d, squared);
+    return {b.sub(p.u, b.mul(k, r.gu)), b.sub(p.v, b.mul(k, r.gv))};
+}
+
+// How far the unit normal m has turned from the unit normal n: their cosine, and the angle's
+// tangent (n x m) / (n . m), its denominator held above 1e-6 (a normal turned a right angle or
+// more is another side's, which a caller tells by the cosine).
+struct Turn {
+    ir::ValueId cosine, tangent;
+};
+inline Turn turnOf(ir::Builder& b, Normal n, Normal m) {
+    const ir::ValueId cosine = b.add(b.mul(n.u, m.u), b.mul(n.v, m.v));
+    return {cosine, b.div(b.sub(b.mul(n.u, m.v), b.mul(n.v, m.u)), b.max(cosine, b.constF(1e-6)))};
+}
+
 // The k-th of n squares' centres along a pixel's side, in pixel units from its centre.
 inline ir::ValueId place(ir::Builder& b, ir::ValueId k, int n) {
     return b.sub(b.div(b.add(k, b.constF(0.5)), b.constF(n)), b.constF(0.5));

@@ -38,35 +38,24 @@ ValueId fract(ir::Builder& b, ValueId v) {
     return b.sub(v, b.floor(v));
 }
 
-// A point in the pixel's own frame, world units along its sides from its centre.
-struct Point {
-    ValueId u, v;
-};
-
 // The reading at p. Where p stands depends on other readings' gradients, so it is detached:
 // the gradient read there is the distance's at p, not a derivative of a derivative.
-Reading readThere(ir::Builder& b, const DistanceAt& at, const PixelFootprint& pixel, Point p) {
+Reading readThere(ir::Builder& b, const DistanceAt& at, const PixelFootprint& pixel, PixelPoint p) {
     const ValueId u = b.emit(Op::Detach, {p.u}), v = b.emit(Op::Detach, {p.v});
     Offset o = offsetOf(b, b.div(u, pixel.size), b.div(v, pixel.size), pixel);
     return readAt(b, at(b, o.ox, o.oy), pixel);
 }
 
-// The foot of a reading's member from its point p, to first order: d / |grad d| back along the
-// normal (NaN where the gradient vanishes).
-Point footOf(ir::Builder& b, const Reading& r, Point p) {
-    ValueId k = b.div(r.d, b.mul(r.length, r.length));
-    return {b.sub(p.u, b.mul(k, r.gu)), b.sub(p.v, b.mul(k, r.gv))};
-}
-
-ValueId apart(ir::Builder& b, Point a, Point c) {
+ValueId apart(ir::Builder& b, PixelPoint a, PixelPoint c) {
     return b.hypot(b.sub(a.u, c.u), b.sub(a.v, c.v));
 }
 
 // One sample's ray: its foot f, unit normal n (along the pixel's sides), its distance t0 along
 // it, in world units.
 struct Ray {
-    Point p, f;
-    ValueId nu, nv, t0;
+    PixelPoint p, f;
+    Normal n;
+    ValueId t0;
 };
 
 // A probe s along the ray: whether it reads the sample's own member (its foot within
@@ -74,17 +63,15 @@ struct Ray {
 // unit normal of the member it reads.
 struct Probe {
     ValueId same;
-    Point foot;
-    ValueId nu, nv;
+    PixelPoint foot;
+    Normal n;
 };
 Probe probeAt(ir::Builder& b, const DistanceAt& at, const PixelFootprint& pixel, const Ray& ray,
               ValueId s) {
-    const Point q{b.add(ray.f.u, b.mul(s, ray.nu)), b.add(ray.f.v, b.mul(s, ray.nv))};
+    const PixelPoint q{b.add(ray.f.u, b.mul(s, ray.n.u)), b.add(ray.f.v, b.mul(s, ray.n.v))};
     const Reading r = readThere(b, at, pixel, q);
-    const Point foot = footOf(b, r, q);
-    const ValueId length = b.max(r.length, b.constF(1e-30));
-    return {b.lt(apart(b, foot, ray.f), b.mul(s, b.constF(kSameFoot))), foot, b.div(r.gu, length),
-            b.div(r.gv, length)};
+    const PixelPoint foot = footFrom(b, r, q, false);
+    return {b.lt(apart(b, foot, ray.f), b.mul(s, b.constF(kSameFoot))), foot, unitNormal(b, r)};
 }
 
 // Where along the ray the sample's member (s away at s) and the member a probe past the ridge
@@ -100,12 +87,12 @@ ValueId ridgeModel(ir::Builder& b, const Ray& ray, const Probe& past, ValueId ka
     // ridge two spacings on, or beyond) reads the normal of its far side: its near side's,
     // facing back along the ray, is the one the ridge stands on.
     const ValueId beyond =
-        b.gt(b.add(b.mul(ray.nu, past.nu), b.mul(ray.nv, past.nv)), b.constF(0.0));
-    const ValueId mu = b.select(beyond, b.neg(past.nu), past.nu);
-    const ValueId mv = b.select(beyond, b.neg(past.nv), past.nv);
+        b.gt(b.add(b.mul(ray.n.u, past.n.u), b.mul(ray.n.v, past.n.v)), b.constF(0.0));
+    const ValueId mu = b.select(beyond, b.neg(past.n.u), past.n.u);
+    const ValueId mv = b.select(beyond, b.neg(past.n.v), past.n.v);
     const ValueId alongOther = b.add(b.mul(au, mu), b.mul(av, mv));
-    const ValueId alongOwn = b.add(b.mul(au, ray.nu), b.mul(av, ray.nv));
-    const ValueId facing = b.add(b.mul(ray.nu, mu), b.mul(ray.nv, mv));
+    const ValueId alongOwn = b.add(b.mul(au, ray.n.u), b.mul(av, ray.n.v));
+    const ValueId facing = b.add(b.mul(ray.n.u, mu), b.mul(ray.n.v, mv));
     const ValueId num =
         b.add(b.mul(kappa, b.add(b.mul(au, au), b.mul(av, av))), b.mul(alongOther, b.constF(2.0)));
     const ValueId den =
@@ -172,17 +159,14 @@ ValueId memberCurvature(ir::Builder& b, const DistanceAt& at, const PixelFootpri
     for (double side : {1.0, -1.0}) {
         const ValueId along = b.mul(step, b.constF(side));
         // The tangent (-n_v, n_u).
-        const Point q{b.sub(ray.p.u, b.mul(along, ray.nv)), b.add(ray.p.v, b.mul(along, ray.nu))};
+        const PixelPoint q{b.sub(ray.p.u, b.mul(along, ray.n.v)),
+                           b.add(ray.p.v, b.mul(along, ray.n.u))};
         const Reading r = readThere(b, at, pixel, q);
-        const ValueId length = b.max(r.length, b.constF(1e-30));
-        const ValueId mu = b.div(r.gu, length), mv = b.div(r.gv, length);
-        const ValueId cosine = b.add(b.mul(ray.nu, mu), b.mul(ray.nv, mv));
-        const ValueId turn =
-            b.div(b.sub(b.mul(ray.nu, mv), b.mul(ray.nv, mu)), b.max(cosine, b.constF(1e-6)));
-        const ValueId same =
-            b.emit(Op::And, {b.lt(apart(b, footOf(b, r, q), ray.f), b.mul(step, b.constF(2.0))),
-                             b.gt(cosine, zero)});
-        turned = b.add(turned, b.select(same, b.mul(turn, b.constF(side)), zero));
+        const Turn turn = turnOf(b, ray.n, unitNormal(b, r));
+        const ValueId same = b.emit(
+            Op::And, {b.lt(apart(b, footFrom(b, r, q, false), ray.f), b.mul(step, b.constF(2.0))),
+                      b.gt(turn.cosine, zero)});
+        turned = b.add(turned, b.select(same, b.mul(turn.tangent, b.constF(side)), zero));
         counted = b.add(counted, b.select(same, b.constF(1.0), zero));
     }
     const ValueId kappaT = b.select(
@@ -236,7 +220,7 @@ TubeEstimate distanceTubesMean(ir::Builder& b, const DistanceAt& at, ValueId hal
         const ValueId j = b.round(b.mul(b.sub(visit, b.floor(visit)), b.constF(kTubeSamples)));
         const ValueId across =
             b.div(b.add(b.mul(j, b.constF(kLatticeStep)), b.constF(0.5)), b.constF(kTubeSamples));
-        const Point p{
+        const PixelPoint p{
             b.mul(b.sub(fract(b, b.add(b.div(b.add(j, b.constF(0.5)), b.constF(kTubeSamples)),
                                        shiftU)),
                         b.constF(0.5)),
@@ -246,9 +230,9 @@ TubeEstimate distanceTubesMean(ir::Builder& b, const DistanceAt& at, ValueId hal
         // A sample on a kink (no gradient) or off the distance's range is not read.
         const ValueId read =
             b.emit(Op::And, {b.gt(r.length, zero), b.emit(Op::Not, {b.lt(r.d, zero)})});
-        const ValueId length = b.max(r.length, b.constF(1e-30));
-        Ray ray{p, {}, b.div(r.gu, length), b.div(r.gv, length), b.div(r.d, length)};
-        ray.f = {b.sub(p.u, b.mul(ray.t0, ray.nu)), b.sub(p.v, b.mul(ray.t0, ray.nv))};
+        const ValueId length = heldLength(b, r);
+        Ray ray{p, {}, unitNormal(b, r), b.div(r.d, length)};
+        ray.f = {b.sub(p.u, b.mul(ray.t0, ray.n.u)), b.sub(p.v, b.mul(ray.t0, ray.n.v))};
         // The stroke's half-width along the ray, in world units.
         const ValueId h = b.div(halfWidth, length);
         // A probe at the cap: where it reads the sample's own member (or the sample stands

@@ -42,16 +42,17 @@ constexpr double kTubeReach = 3.0;
 // Where the pixel's members stand further than this many fine parts' sides from points of the
 // pixel on average (DistanceFamily.cpp reads that from its 4 x 4 parts, each distance held to
 // kTubeReach), it is not read by its tubes. A ray runs past its sample, on average half again
-// its distance for a dot's (which counts half, below) and twice for a line's, so the rays'
-// mean length as the parts see it is past the hand-over's end (0.95) there.
+// its distance for a dot's (which counts half, below) and twice for a line's (which counts 1.5
+// times), so the rays' mean length as the parts see it is past the hand-over's end (0.95)
+// there.
 constexpr double kTubeGate = 1.5;
 
 // `mean`: the mean of g over the pixel's samples. `crowded`: how far the pixel is read by its
 // tubes rather than in parts, 0 to 1: 1 where the samples' rays are short against the fine
-// parts (their mean length under 0.7 of a part's side, a dot's ray counted half: from about 3.3
-// dots, 3.8 rows of a grid or 5.7 lines a pixel), 0 where they are long (past 0.95: under 2.4,
-// 2.8 and 4.2), where the parts read the members' edges and the tubes' share is off by the
-// members the pixel cuts.
+// parts (their mean length under 0.7 of a part's side, a dot's ray counted half and a straight
+// member's 1.5 times: from about 3.3 dots, 5.7 rows of a grid or 8.5 lines a pixel), 0 where
+// they are long (past 0.95: under 2.4, 4.2 and 6.3), where the parts read the members' edges
+// and the tubes' share is off by the members the pixel cuts.
 struct TubeEstimate {
     ir::ValueId mean, crowded;
 };

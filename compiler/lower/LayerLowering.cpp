@@ -145,15 +145,13 @@ LayerFields LayerLowering::familyFields(const sema::CheckedLayer& layer, const L
         out.index = family->index ? ctx_.exprs.scalar(*family->index, here) : b.constF(0.0);
         if (ctx_.options.filter == sema::FilterMode::Mean) {
             // The distance about the pixel (DistanceFamily.h): the family's expression at the
-            // pixel's point moved by a world offset, turned into the layer's frame.
+            // pixel's point moved by a world offset.
             auto at = [&](ir::Builder& bb, ValueId ox, ValueId oy) {
-                ir::Vec2T<BuiltValue> o{BuiltValue(bb, ox), BuiltValue(bb, oy)};
-                if (lf.turn != ir::kNoValue) o = ir::rotate(o, -BuiltValue(bb, lf.turn));
-                Frame there = frameAt(bf, lf, bb.add(lf.qx, o.x.id), bb.add(lf.qy, o.y.id));
+                const auto [x, y] = movedBy(bb, lf, ox, oy);
+                Frame there = frameAt(bf, lf, x, y);
                 return ctx_.exprs.scalar(*family->distance, there);
             };
-            const PixelFootprint pixel{b.div(band.a, b.constF(kAntialiasPixels)), ctx_.cosTurn,
-                                       ctx_.sinTurn};
+            const PixelFootprint pixel = pixelOf(band);
             out.crowd = distanceFamilyCrowd(
                 b, out.distance, at, b.mul(ctx_.layerProp(layer, "stroke")[0], b.constF(0.5)),
                 pixel);
@@ -181,7 +179,37 @@ LayerFields LayerLowering::familyFields(const sema::CheckedLayer& layer, const L
         near =
             phaseAt(layer, bf, lf, b.add(lf.qx, e), b.add(lf.qy, b.mul(e, b.constF(0.6180339887))));
     }
-    return phaseFields(layer, lf, phi, first, enc, near);
+    LayerFields out = phaseFields(layer, lf, phi, first, enc, near);
+    if (ctx_.options.filter == sema::FilterMode::Mean && enc.field == ir::kNoValue && !first) {
+        // Where the index bends or folds within the pixel, the pixel read in parts
+        // (Prefilter.h: bentIndexMean), the index at the pixel's point moved by a world offset.
+        auto at = [&](ir::Builder& bb, ValueId ox, ValueId oy) {
+            const auto [x, y] = movedBy(bb, lf, ox, oy);
+            return indexOfPhase(bb, phaseAt(layer, bf, lf, x, y), lf.phase, lf.spacing);
+        };
+        const BentIndex bent =
+            bentIndexMean(b, at, out.footprint,
+                          b.mul(ctx_.layerProp(layer, "stroke")[0], b.constF(0.5)), pixelOf(band));
+        out.footprint.bent = bent.weight;
+        out.footprint.bentMean = bent.mean;
+    }
+    return out;
+}
+
+// The layer's frame's point for the pixel's point moved by the world offset (ox, oy): the
+// offset turned into the layer's frame.
+std::pair<ValueId, ValueId> LayerLowering::movedBy(ir::Builder& b, const LayerFrame& lf, ValueId ox,
+                                                   ValueId oy) {
+    ir::Vec2T<BuiltValue> o{BuiltValue(b, ox), BuiltValue(b, oy)};
+    if (lf.turn != ir::kNoValue) o = ir::rotate(o, -BuiltValue(b, lf.turn));
+    return {b.add(lf.qx, o.x.id), b.add(lf.qy, o.y.id)};
+}
+
+// The pixel as the mean filter's readings in parts see it: its side in world units (the
+// antialias band's over its width in pixels) and the camera's turn.
+PixelFootprint LayerLowering::pixelOf(const StrokeBand& band) {
+    ir::Builder& b = ctx_.b;
+    return {b.div(band.a, b.constF(kAntialiasPixels)), ctx_.cosTurn, ctx_.sinTurn};
 }
 
 // A phase family (Eq. 5), with the encoded field subtracted first (§10.1): forward-mode AD

@@ -6,9 +6,11 @@
 
 #include "compiler/lower/FamilyRegistry.h"
 #include "compiler/lower/LayerPipeline.h"
+#include "compiler/lower/Prefilter.h"
 #include "compiler/lower/SceneContext.h"
 
 #include <optional>
+#include <utility>
 
 namespace moire::lower {
 
@@ -52,6 +54,9 @@ class LayerLowering {
                         bool wantIndex);
 
   private:
+    static std::pair<ir::ValueId, ir::ValueId> movedBy(ir::Builder& b, const LayerFrame& lf,
+                                                       ir::ValueId ox, ir::ValueId oy);
+    PixelFootprint pixelOf(const StrokeBand& band);
     SceneContext& ctx_;
 };
 

@@ -73,6 +73,11 @@ struct Footprint {
     // with one is not a phase family to the fine union or the stroke pairs, which read the
     // index alone; they take it as a distance family whose members may crowd.
     ir::ValueId edge = ir::kNoValue;
+    // Where the index is not linear across the pixel (a polygon's support function folding
+    // along its corners, the circles' centre): how far the pixel's mean stands with `bentMean`,
+    // the pixel read in parts, rather than with the closed form of a linear index, 0 to 1
+    // (Prefilter.h: bentIndexMean). kNoValue: not read.
+    ir::ValueId bent = ir::kNoValue, bentMean = ir::kNoValue;
 };
 
 // A family's own estimate of the ink its members lay where it cannot resolve them itself (the
@@ -197,6 +202,10 @@ StrokeBand strokeBand(ir::Builder& b, ir::ValueId stroke, ir::ValueId pixel, boo
 // `phiNear`, for a family with `first`, is the phase at a point a hair off this one (see the
 // .cpp): on the fold itself (phi exactly 0) AD's gradient says nothing, and the one the
 // distance needs there is read from that point.
+// A phase family's fractional member index, (phi - phase) / spacing, the spacing held above
+// 1e-6.
+ir::ValueId indexOfPhase(ir::Builder& b, ir::ValueId phi, ir::ValueId phase, ir::ValueId spacing);
+
 LayerFields phaseFamilyFields(ir::Builder& b, ir::ValueId phi, ir::ValueId phase,
                               ir::ValueId spacing, std::optional<int> first,
                               ir::ValueId phiNear = ir::kNoValue);

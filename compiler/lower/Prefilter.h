@@ -225,6 +225,22 @@ NormalExtents extentsAcross(ir::Builder& b, ir::ValueId u, ir::ValueId v, ir::Va
 ir::ValueId distanceInk(ir::Builder& b, ir::ValueId distance, ir::ValueId halfWidth,
                         ir::ValueId gradX, ir::ValueId gradY, const PixelFootprint& pixel);
 
+// A phase family's index at the pixel's centre moved by (ox, oy) world units.
+using IndexAt = std::function<ir::ValueId(ir::Builder&, ir::ValueId ox, ir::ValueId oy)>;
+
+// The closed form takes the index as linear across the pixel, which it is not where a phase
+// folds (a polygon's support function along its corners, where a stroke turns a corner inside
+// the pixel) or bends within it (the circles about their centre). The index read at the
+// pixel's corners says how far it departs from its linear model there, in pixels across the
+// members; past kBentFrom the pixel is read in kBentParts x kBentParts parts, each by the
+// closed form over its own index and gradient, fully past kBentFull. `weight` is that
+// hand-over, `mean` the parts' mean (0 where the weight is).
+struct BentIndex {
+    ir::ValueId weight, mean;
+};
+BentIndex bentIndexMean(ir::Builder& b, const IndexAt& at, const Footprint& footprint,
+                        ir::ValueId halfWidth, const PixelFootprint& pixel);
+
 // The drawn ink `ink` handed over to a crowd's mean (CrowdEstimate), weighted by `engaged`
 // (a crowd is estimated where the family's own strokes miss members, so there is no resolved
 // picture to keep: see the .cpp). Called under the mean filter only.

@@ -269,18 +269,18 @@ CompileOptions exactField(CompileOptions options) {
     return options;
 }
 
-// One layer `layer { ... }` of a 160 x 120 frame drawn one sample a pixel, and its exact field
-// at 32 x 32 samples a pixel, over the window (x0, y0, width, height): the two images.
-std::pair<Image, Image> layerAndExact(const std::string& layer, Backend& backend, int x0, int y0,
-                                      int width, int height) {
-    const std::string text =
-        std::string("scene { size = (160, 120) }\nlayer a { ") + layer + " }\n";
+// The declarations `decls` in a 160 x 120 frame drawn one sample a pixel, and their exact field
+// at 32 x 32 samples a pixel, at `time`, over the window (x0, y0, width, height): the two
+// images.
+std::pair<Image, Image> layerAndExact(const std::string& decls, Backend& backend, int x0, int y0,
+                                      int width, int height, double time = 0.0) {
+    const std::string text = "scene { size = (160, 120) }\n" + decls;
     auto drawn = test::compileOk(text);
     auto field = test::compileOk(text, exactField({}));
     // 32 x 32 samples: the exact field's antialias band, 0.7 of a sample, widens a dot of
     // radius r by a share of about (0.7 / 32 / r)^2 / 3 (a few percent at a lattice's dots).
-    return {downsampled(*drawn, backend, x0, y0, width, height, 1, 0, 1),
-            downsampled(*field, backend, x0, y0, width, height, 32, 0, 1)};
+    return {downsampled(*drawn, backend, x0, y0, width, height, 1, 0, 1, time),
+            downsampled(*field, backend, x0, y0, width, height, 32, 0, 1, time)};
 }
 
 // The window drawn one sample a pixel by `drawn` and kExactSamples^2 by the exact field, its
@@ -400,7 +400,8 @@ TEST_CASE("filter: lattices finer than the pixels read their mean ink") {
     };
     for (const char* layer : kLayers) {
         CAPTURE(layer);
-        const auto [got, want] = layerAndExact(layer, *backend, 20, 20, 64, 48);
+        const auto [got, want] =
+            layerAndExact(std::string("layer a { ") + layer + " }\n", *backend, 20, 20, 64, 48);
         const InkAgainst d = inkAgainst(got, want);
         if (std::getenv("MOIRE_FILTER_REPORT"))
             MESSAGE(std::string(layer), ": RMSE ", d.rmse, ", ink ", d.ink, " against ", d.exact);
@@ -1002,6 +1003,7 @@ TEST_CASE("filter: members given by their distance finer than the parts read the
 //   hexagons 2.5 apart, turned:   0.0205 (0.169)  -> 0.0003 (0.0025)
 //   a spiral of three arms:       0.0074 (0.090)  -> 0.0002 (0.0033)
 //   parabolas, bend 30:           0.0133 (0.028)  -> 0.0017 (0.0070)
+//   squares to circles, half-way: 0.0189 (0.127)  -> 0.0007 (0.0018)
 // and lines, whose index is linear, read the same (0.0002).
 TEST_CASE("filter: an index that bends or folds within the pixel is read in parts") {
     auto backend = test::makeBackendOrSkip("jit");
@@ -1015,11 +1017,15 @@ TEST_CASE("filter: an index that bends or folds within the pixel is read in part
         "family = spiral; arms = 3; spacing = 1; stroke = 0.3",
         "family = parabola; bend = 30; spacing = 2; stroke = 0.5",
         "family = lines; spacing = 2; stroke = 0.6",
+        // Half-way through a morph of squares to circles (at 0.5 s of a 2 s loop).
+        "family = morph(change, squares, circles); spacing = 3; stroke = 0.8; morph_time = 1",
     };
     for (const char* layer : kLayers) {
         CAPTURE(layer);
         // About the family's centre, the frame's.
-        const auto [got, want] = layerAndExact(layer, *backend, 68, 48, 24, 24);
+        const auto [got, want] =
+            layerAndExact(std::string("timing change { period = 2 }\nlayer a { ") + layer + " }\n",
+                          *backend, 68, 48, 24, 24, 0.5);
         const InkAgainst d = inkAgainst(got, want);
         double worst = 0.0;
         for (size_t i = 0; i < got.pixels.size(); ++i)

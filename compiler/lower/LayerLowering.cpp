@@ -180,20 +180,28 @@ LayerFields LayerLowering::familyFields(const sema::CheckedLayer& layer, const L
             phaseAt(layer, bf, lf, b.add(lf.qx, e), b.add(lf.qy, b.mul(e, b.constF(0.6180339887))));
     }
     LayerFields out = phaseFields(layer, lf, phi, first, enc, near);
-    if (ctx_.options.filter == sema::FilterMode::Mean && enc.field == ir::kNoValue && !first) {
-        // Where the index bends or folds within the pixel, the pixel read in parts
-        // (Prefilter.h: bentIndexMean), the index at the pixel's point moved by a world offset.
-        auto at = [&](ir::Builder& bb, ValueId ox, ValueId oy) {
-            const auto [x, y] = movedBy(bb, lf, ox, oy);
-            return indexOfPhase(bb, phaseAt(layer, bf, lf, x, y), lf.phase, lf.spacing);
-        };
-        const BentIndex bent =
-            bentIndexMean(b, at, out.footprint,
-                          b.mul(ctx_.layerProp(layer, "stroke")[0], b.constF(0.5)), pixelOf(band));
-        out.footprint.bent = bent.weight;
-        out.footprint.bentMean = bent.mean;
-    }
+    readWhereBent(out, layer, lf, band, first, enc,
+                  [&](ValueId x, ValueId y) { return phaseAt(layer, bf, lf, x, y); });
     return out;
+}
+
+void LayerLowering::readWhereBent(LayerFields& fields, const sema::CheckedLayer& layer,
+                                  const LayerFrame& lf, const StrokeBand& band,
+                                  std::optional<int> first, const Encoding& enc,
+                                  const PhaseAtPoint& phiAt) {
+    // Not for a family with a first member (read by its distance below it) nor a layer
+    // encoding a field (whose phase is the field's too).
+    if (ctx_.options.filter != sema::FilterMode::Mean || enc.field != ir::kNoValue || first) return;
+    ir::Builder& b = ctx_.b;
+    auto at = [&](ir::Builder& bb, ValueId ox, ValueId oy) {
+        const auto [x, y] = movedBy(bb, lf, ox, oy);
+        return indexOfPhase(bb, phiAt(x, y), lf.phase, lf.spacing);
+    };
+    const BentIndex bent =
+        bentIndexMean(b, at, fields.footprint,
+                      b.mul(ctx_.layerProp(layer, "stroke")[0], b.constF(0.5)), pixelOf(band));
+    fields.footprint.bent = bent.weight;
+    fields.footprint.bentMean = bent.mean;
 }
 
 // The layer's frame's point for the pixel's point moved by the world offset (ox, oy): the

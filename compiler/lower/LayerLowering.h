@@ -9,6 +9,7 @@
 #include "compiler/lower/Prefilter.h"
 #include "compiler/lower/SceneContext.h"
 
+#include <functional>
 #include <optional>
 #include <utility>
 
@@ -47,6 +48,13 @@ class LayerLowering {
     LayerFields phaseFields(const sema::CheckedLayer& layer, const LayerFrame& lf, ir::ValueId phi,
                             std::optional<int> first, const Encoding& enc,
                             ir::ValueId near = ir::kNoValue);
+    // Under the mean filter, where a phase family's index folds or bends within the pixel, the
+    // pixel read in parts (Prefilter.h: bentIndexMean), the phase read by `phiAt` at points of
+    // the layer's frame: fields.footprint's `bent` and `bentMean`.
+    using PhaseAtPoint = std::function<ir::ValueId(ir::ValueId x, ir::ValueId y)>;
+    void readWhereBent(LayerFields& fields, const sema::CheckedLayer& layer, const LayerFrame& lf,
+                       const StrokeBand& band, std::optional<int> first, const Encoding& enc,
+                       const PhaseAtPoint& phiAt);
     // What a registered builder is given for this layer (FamilyInputs), with `phaseAt` and
     // `facets` left for the caller.
     FamilyInputs inputs(const sema::CheckedLayer& layer, const LayerFrame& lf,

@@ -271,7 +271,14 @@ LayerFields morphFields(LayerLowering& layers, const sema::CheckedLayer& layer,
         Vals phis;
         for (const BoundFamily& m : members)
             phis.push_back(layers.phaseAt(layer, m, lf, lf.qx, lf.qy));
-        return layers.phaseFields(layer, lf, blend(phis), first, enc);
+        LayerFields out = layers.phaseFields(layer, lf, blend(phis), first, enc);
+        layers.readWhereBent(out, layer, lf, band, first, enc, [&](ValueId x, ValueId y) {
+            Vals there;
+            for (const BoundFamily& m : members)
+                there.push_back(layers.phaseAt(layer, m, lf, x, y));
+            return blend(there);
+        });
+        return out;
     }
     if (allWalk) {
         FamilyInputs in = layers.inputs(layer, lf, BoundFamily{}, band, enc, wantIndex);

@@ -994,16 +994,16 @@ TEST_CASE("filter: members given by their distance finer than the parts read the
 // The closed form takes a phase family's index as linear across the pixel. Where it folds (a
 // polygon's support function along its corners, where a stroke turns its corner inside the
 // pixel) or bends within the pixel (about the circles' centre, a spiral's core, a parabola's
-// vertex), the pixel is read in 8 x 8 parts, each by the closed form over its own index
-// (Prefilter.h, bentIndexMean). Against the exact field at 32 x 32 samples a pixel, over 24 x
-// 24 pixels about the family's centre, before and now (RMSE; the worst pixel):
-//   circles 1 apart:              0.0101 (0.103)  -> 0.0001 (0.0007)
+// vertex), the pixel is read in 2 x 2 to 8 x 8 parts, each by the closed form over its own
+// index (Prefilter.h, bentIndexMean). Against the exact field at 32 x 32 samples a pixel, over
+// 24 x 24 pixels about the family's centre, before and now (RMSE; the worst pixel):
+//   circles 1 apart:              0.0101 (0.103)  -> 0.0003 (0.0011)
 //   squares 4 apart:              0.0510 (0.250)  -> 0.0000 (0.0000)
 //   triangles 3 apart, turned:    0.0197 (0.260)  -> 0.0004 (0.0046)
 //   hexagons 2.5 apart, turned:   0.0205 (0.169)  -> 0.0003 (0.0025)
-//   a spiral of three arms:       0.0074 (0.090)  -> 0.0002 (0.0033)
-//   parabolas, bend 30:           0.0133 (0.028)  -> 0.0017 (0.0070)
-//   squares to circles, half-way: 0.0189 (0.127)  -> 0.0007 (0.0018)
+//   a spiral of three arms:       0.0074 (0.090)  -> 0.0003 (0.0033)
+//   parabolas, bend 30:           0.0133 (0.028)  -> 0.0020 (0.0089)
+//   squares to circles, half-way: 0.0189 (0.127)  -> 0.0009 (0.0019)
 // and lines, whose index is linear, read the same (0.0002).
 TEST_CASE("filter: an index that bends or folds within the pixel is read in parts") {
     auto backend = test::makeBackendOrSkip("jit");

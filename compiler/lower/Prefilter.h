@@ -232,8 +232,8 @@ using IndexAt = std::function<ir::ValueId(ir::Builder&, ir::ValueId ox, ir::Valu
 // folds (a polygon's support function along its corners, where a stroke turns a corner inside
 // the pixel) or bends within it (the circles about their centre). The index read at the
 // pixel's corners says how far it departs from its linear model there, in pixels across the
-// members; past kBentFrom the pixel is read in kBentParts x kBentParts parts, each by the
-// closed form over its own index and gradient, fully past kBentFull. `weight` is that
+// members; past kBentFrom the pixel is read in n x n parts (n = 2, 4 or 8 by the departure),
+// each by the closed form over its own index and gradient, fully past kBentFull. `weight` is that
 // hand-over, `mean` the parts' mean (0 where the weight is).
 struct BentIndex {
     ir::ValueId weight, mean;

@@ -75,8 +75,11 @@ inline Turn turnOf(ir::Builder& b, Normal n, Normal m) {
 }
 
 // The k-th of n squares' centres along a pixel's side, in pixel units from its centre.
+inline ir::ValueId place(ir::Builder& b, ir::ValueId k, ir::ValueId n) {
+    return b.sub(b.div(b.add(k, b.constF(0.5)), n), b.constF(0.5));
+}
 inline ir::ValueId place(ir::Builder& b, ir::ValueId k, int n) {
-    return b.sub(b.div(b.add(k, b.constF(0.5)), b.constF(n)), b.constF(0.5));
+    return place(b, k, b.constF(n));
 }
 
 } // namespace moire::lower

@@ -194,6 +194,10 @@ struct StrokeBand {
 // floored false: h = t/2 at every zoom (LowerOptions::strokeFloor, for §8.2's experiment).
 StrokeBand strokeBand(ir::Builder& b, ir::ValueId stroke, ir::ValueId pixel, bool floored = true);
 
+// A phase family's fractional member index, (phi - phase) / spacing, the spacing held above
+// 1e-6.
+ir::ValueId indexOfPhase(ir::Builder& b, ir::ValueId phi, ir::ValueId phase, ir::ValueId spacing);
+
 // Members are the level sets {phi = n s + phase}. The index is (phi - phase) / s; the nearest
 // member is the rounded index (clamped to `first` when the family starts there), and the
 // distance is the index residual over the index gradient's length (Eq. 5); short of the
@@ -202,10 +206,6 @@ StrokeBand strokeBand(ir::Builder& b, ir::ValueId stroke, ir::ValueId pixel, boo
 // `phiNear`, for a family with `first`, is the phase at a point a hair off this one (see the
 // .cpp): on the fold itself (phi exactly 0) AD's gradient says nothing, and the one the
 // distance needs there is read from that point.
-// A phase family's fractional member index, (phi - phase) / spacing, the spacing held above
-// 1e-6.
-ir::ValueId indexOfPhase(ir::Builder& b, ir::ValueId phi, ir::ValueId phase, ir::ValueId spacing);
-
 LayerFields phaseFamilyFields(ir::Builder& b, ir::ValueId phi, ir::ValueId phase,
                               ir::ValueId spacing, std::optional<int> first,
                               ir::ValueId phiNear = ir::kNoValue);

@@ -93,22 +93,40 @@ ValueId distanceInk(ir::Builder& b, ValueId distance, ValueId halfWidth, ValueId
         .id;
 }
 
+namespace {
+
+// The closed form over a square of side `side` (world units) along the pixel's sides, the index
+// and its gradient (per world unit; `grad` its length) read at its centre; with the index's
+// steps across the square's two sides.
+struct SquareMean {
+    ValueId mean, along, across;
+};
+SquareMean squareMean(ir::Builder& b, ValueId index, ValueId gradX, ValueId gradY, ValueId grad,
+                      ValueId halfWidth, ValueId side, const PixelFootprint& pixel) {
+    // The index's steps across the square's two sides: the gradient's components along them.
+    PixelSides g = onPixelSides(b, gradX, gradY, pixel);
+    ValueId along = b.mul(b.abs(g.u), side), across = b.mul(b.abs(g.v), side);
+    ValueId w = b.mul(halfWidth, grad); // half-width in index units
+    const ValueId mean = squareMeanInk(ir::BuiltValue(b, index), ir::BuiltValue(b, along),
+                                       ir::BuiltValue(b, across), ir::BuiltValue(b, w))
+                             .id;
+    return {mean, along, across};
+}
+
+} // namespace
+
 ValueId meanInk(ir::Builder& b, const Footprint& footprint, ValueId distance, ValueId halfWidth,
                 const PixelFootprint& pixel) {
-    // The index's steps across the pixel's two sides: the gradient's components along them.
-    PixelSides g = onPixelSides(b, footprint.gradX, footprint.gradY, pixel);
-    ValueId along = b.mul(b.abs(g.u), pixel.size), across = b.mul(b.abs(g.v), pixel.size);
-    ValueId w = b.mul(halfWidth, footprint.grad); // half-width in index units
-    ValueId mean = squareMeanInk(ir::BuiltValue(b, footprint.index), ir::BuiltValue(b, along),
-                                 ir::BuiltValue(b, across), ir::BuiltValue(b, w))
-                       .id;
+    const SquareMean square = squareMean(b, footprint.index, footprint.gradX, footprint.gradY,
+                                         footprint.grad, halfWidth, pixel.size, pixel);
+    ValueId mean = square.mean;
     if (footprint.bent != ir::kNoValue) mean = b.mix(mean, footprint.bentMean, footprint.bent);
     if (!footprint.first && footprint.edge == ir::kNoValue) return mean;
     ValueId below = b.constB(false);
     if (footprint.first) {
         // Where the footprint reaches below the first member (half the square's diagonal
         // extent along the index), the nearest member's distance mean.
-        ValueId reach = b.mul(b.add(along, across), b.constF(0.5));
+        ValueId reach = b.mul(b.add(square.along, square.across), b.constF(0.5));
         below = b.lt(b.sub(footprint.index, reach), b.constF(*footprint.first - 0.5));
     }
     if (footprint.edge != ir::kNoValue) {
@@ -140,16 +158,13 @@ constexpr double kBentFrom = 0.005, kBentFull = 0.015;
 constexpr double kTwoParts = 4.0 * kBentFrom, kFourParts = 16.0 * kBentFrom;
 constexpr int kMostParts = 8;
 
-// The closed form over one part, `size` its side: its index and gradient read there.
+// The closed form over one part, `size` its side: its index and gradient read there (the
+// gradient's length held above kTiny, as phaseFamilyFields holds the pixel's).
 ValueId partMean(ir::Builder& b, ValueId index, ValueId halfWidth, ValueId size,
                  const PixelFootprint& pixel) {
     const ValueId gx = b.emit(ir::Op::DerivX, {index}), gy = b.emit(ir::Op::DerivY, {index});
-    PixelSides g = onPixelSides(b, gx, gy, pixel);
     const ValueId grad = b.max(b.hypot(gx, gy), b.constF(ir::kTiny));
-    const ir::BuiltValue mean = squareMeanInk(
-        ir::BuiltValue(b, index), ir::BuiltValue(b, b.mul(b.abs(g.u), size)),
-        ir::BuiltValue(b, b.mul(b.abs(g.v), size)), ir::BuiltValue(b, b.mul(halfWidth, grad)));
-    return b.denan(mean.id, b.constF(0.0));
+    return b.denan(squareMean(b, index, gx, gy, grad, halfWidth, size, pixel).mean, b.constF(0.0));
 }
 
 } // namespace
@@ -180,10 +195,7 @@ BentIndex bentIndexMean(ir::Builder& b, const IndexAt& at, const Footprint& foot
                                        b.select(b.lt(acrossMembers, b.constF(kFourParts)),
                                                 b.constF(4.0), b.constF(double(kMostParts))));
             const ValueId side = b.div(pixel.size, n);
-            // Part k, in rows of n, its centre (k + 1/2) / n - 1/2 of the pixel along a side.
-            auto centreOf = [&](ValueId k) {
-                return b.sub(b.div(b.add(k, b.constF(0.5)), n), b.constF(0.5));
-            };
+            // Part k, in rows of n.
             std::vector<ValueId> out = b.loop(
                 {zero, zero},
                 [&](std::span<const ValueId> v) {
@@ -192,7 +204,7 @@ BentIndex bentIndexMean(ir::Builder& b, const IndexAt& at, const Footprint& foot
                 [&](std::span<const ValueId> v) {
                     const ValueId row = b.floor(b.div(v[0], n));
                     const ValueId col = b.sub(v[0], b.mul(row, n));
-                    const Offset o = offsetOf(b, centreOf(col), centreOf(row), pixel);
+                    const Offset o = offsetOf(b, place(b, col, n), place(b, row, n), pixel);
                     const ValueId m = partMean(b, at(b, o.ox, o.oy), halfWidth, side, pixel);
                     return std::vector<ValueId>{b.add(v[0], b.constF(1.0)), b.add(v[1], m)};
                 });

@@ -134,15 +134,9 @@ class Selector {
         out.slope[1] = res[7];
         return out;
     }
-    // The normal at the pixel of member n turned by psi: grad_p h = Rot(psi) grad_q h, the
-    // gradient with respect to the turned point q = Rot(-psi) p by central differences.
+    // The normal at the pixel of member n turned by psi (memberNormal).
     std::pair<ValueId, ValueId> normal(ValueId n, ValueId psi) {
-        auto [x, y] = in_.unturn(psi);
-        ValueId e = b_.max(in_.reach, c(1e-6));
-        ValueId gx = b_.sub(in_.residual(n, b_.add(x, e), y), in_.residual(n, b_.sub(x, e), y));
-        ValueId gy = b_.sub(in_.residual(n, x, b_.add(y, e)), in_.residual(n, x, b_.sub(y, e)));
-        ValueId cs = b_.cos(psi), sn = b_.sin(psi);
-        return {b_.sub(b_.mul(cs, gx), b_.mul(sn, gy)), b_.add(b_.mul(sn, gx), b_.mul(cs, gy))};
+        return memberNormal(b_, in_, n, psi, b_.max(in_.reach, c(1e-6)));
     }
     // The angle between two turns, the shorter way round.
     ValueId gap(ValueId a, ValueId bv) { return b_.abs(b_.wrap(b_.sub(bv, a), c(kTurn))); }

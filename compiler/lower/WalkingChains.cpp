@@ -417,6 +417,15 @@ class Chains {
 
 } // namespace
 
+std::pair<ValueId, ValueId> memberNormal(ir::Builder& b, const ChainInputs& in, ValueId n,
+                                         ValueId psi, ValueId e) {
+    auto [x, y] = in.unturn(psi);
+    ValueId gx = b.sub(in.residual(n, b.add(x, e), y), in.residual(n, b.sub(x, e), y));
+    ValueId gy = b.sub(in.residual(n, x, b.add(y, e)), in.residual(n, x, b.sub(y, e)));
+    ValueId cs = b.cos(psi), sn = b.sin(psi);
+    return {b.sub(b.mul(cs, gx), b.mul(sn, gy)), b.add(b.mul(sn, gx), b.mul(cs, gy))};
+}
+
 TurnPeriod turnPeriod(ir::Builder& b, ValueId turn) {
     return Chains(b, nullptr).period(turn);
 }

@@ -52,6 +52,12 @@ struct ChainInputs {
 
 struct ChainWindows;
 
+// The normal at the pixel of member n turned by psi, grad_p h_p(n), in the frame of the point
+// the residual is read at: grad_p h = Rot(psi) grad_q h, the gradient with respect to the
+// turned point q = Rot(-psi) p, by central differences of step e (in.residual, in.unturn).
+std::pair<ir::ValueId, ir::ValueId> memberNormal(ir::Builder& b, const ChainInputs& in,
+                                                 ir::ValueId n, ir::ValueId psi, ir::ValueId e);
+
 // The footprint mean of the union of every member's stroke in [lo, end), for a period found
 // (period.q > 0): every chain of it, or where `picked` (a bool), the near members [lo, split)
 // one by one and the chains of `windows` alone (ChainSelection.h).

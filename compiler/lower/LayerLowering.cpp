@@ -189,19 +189,47 @@ void LayerLowering::readWhereBent(LayerFields& fields, const sema::CheckedLayer&
                                   const LayerFrame& lf, const StrokeBand& band,
                                   std::optional<int> first, const Encoding& enc,
                                   const PhaseAtPoint& phiAt) {
-    // Not for a family with a first member (read by its distance below it) nor a layer
-    // encoding a field (whose phase is the field's too).
-    if (ctx_.options.filter != sema::FilterMode::Mean || enc.field != ir::kNoValue || first) return;
+    // Not a layer encoding a field (whose phase is the field's too). A family with a first
+    // member is read in parts below it alone (readBelowFirst).
+    if (ctx_.options.filter != sema::FilterMode::Mean || enc.field != ir::kNoValue) return;
     ir::Builder& b = ctx_.b;
+    const ValueId halfWidth = b.mul(ctx_.layerProp(layer, "stroke")[0], b.constF(0.5));
     auto at = [&](ir::Builder& bb, ValueId ox, ValueId oy) {
         const auto [x, y] = movedBy(bb, lf, ox, oy);
         return indexOfPhase(bb, phiAt(x, y), lf.phase, lf.spacing);
     };
-    const BentIndex bent =
-        bentIndexMean(b, at, fields.footprint,
-                      b.mul(ctx_.layerProp(layer, "stroke")[0], b.constF(0.5)), pixelOf(band));
+    if (first) return readBelowFirst(fields, lf, band, halfWidth, *first, phiAt, at);
+    const BentIndex bent = bentIndexMean(b, at, fields.footprint, halfWidth, pixelOf(band));
     fields.footprint.bent = bent.weight;
     fields.footprint.bentMean = bent.mean;
+}
+
+void LayerLowering::readBelowFirst(LayerFields& fields, const LayerFrame& lf,
+                                   const StrokeBand& band, ValueId halfWidth, int first,
+                                   const PhaseAtPoint& phiAt, const IndexAt& indexAt) {
+    ir::Builder& b = ctx_.b;
+    const PixelFootprint pixel = pixelOf(band);
+    // Each part's fields as the point-sampled layer's at that point, its phase read a
+    // millionth of the radius away too (off a fold through the part's centre, as familyFields
+    // reads the pixel's).
+    auto at = [&](ir::Builder& bb, ValueId ox, ValueId oy) {
+        const auto [x, y] = movedBy(bb, lf, ox, oy);
+        ValueId e = bb.mul(bb.hypot(x, y), bb.constF(1e-6));
+        ValueId near = phiAt(bb.add(x, e), bb.add(y, bb.mul(e, bb.constF(0.6180339887))));
+        return phaseFamilyFields(bb, phiAt(x, y), lf.phase, lf.spacing, first, near);
+    };
+    const Bend bend = bendOf(b, indexAt, fields.footprint, pixel);
+    const ValueId below = reachesBelowFirst(b, fields.footprint, pixel);
+    const ValueId read = b.emit(ir::Op::Or, {below, b.gt(bend.weight, b.constF(0.0))});
+    // 8 x 8 below the first member, where the members crowd towards a fold; where the index
+    // only bends, the parts its bend asks for.
+    const ValueId n = b.select(below, b.constF(8.0), bend.parts);
+    const ValueId parts = b.ifThenElse(
+        read, [&] { return std::vector<ValueId>{belowFirstMean(b, at, halfWidth, pixel, n)}; },
+        [&] { return std::vector<ValueId>{b.constF(0.0)}; })[0];
+    fields.footprint.bent = bend.weight;
+    fields.footprint.bentMean = parts;
+    fields.footprint.belowMean = parts;
 }
 
 // The layer's frame's point for the pixel's point moved by the world offset (ox, oy): the

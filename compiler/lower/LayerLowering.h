@@ -55,6 +55,12 @@ class LayerLowering {
     void readWhereBent(LayerFields& fields, const sema::CheckedLayer& layer, const LayerFrame& lf,
                        const StrokeBand& band, std::optional<int> first, const Encoding& enc,
                        const PhaseAtPoint& phiAt);
+    // Under the mean filter, where the footprint of a family with a first member reaches
+    // below it or its index bends, the pixel read in parts (Prefilter.h: belowFirstMean):
+    // fields.footprint's `belowMean`, `bent` and `bentMean`.
+    void readBelowFirst(LayerFields& fields, const LayerFrame& lf, const StrokeBand& band,
+                        ir::ValueId halfWidth, int first, const PhaseAtPoint& phiAt,
+                        const IndexAt& indexAt);
     // What a registered builder is given for this layer (FamilyInputs), with `phaseAt` and
     // `facets` left for the caller.
     FamilyInputs inputs(const sema::CheckedLayer& layer, const LayerFrame& lf,

@@ -78,6 +78,9 @@ struct Footprint {
     // the pixel read in parts, rather than with the closed form of a linear index, 0 to 1
     // (Prefilter.h: bentIndexMean). kNoValue: not read.
     ir::ValueId bent = ir::kNoValue, bentMean = ir::kNoValue;
+    // Where the footprint reaches below the first member: the pixel's mean read in parts
+    // (Prefilter.h: belowFirstMean). kNoValue: the nearest member's distance mean instead.
+    ir::ValueId belowMean = ir::kNoValue;
 };
 
 // A family's own estimate of the ink its members lay where it cannot resolve them itself (the

@@ -124,10 +124,9 @@ ValueId meanInk(ir::Builder& b, const Footprint& footprint, ValueId distance, Va
     if (!footprint.first && footprint.edge == ir::kNoValue) return mean;
     ValueId below = b.constB(false);
     if (footprint.first) {
-        // Where the footprint reaches below the first member (half the square's diagonal
-        // extent along the index), the nearest member's distance mean.
-        ValueId reach = b.mul(b.add(square.along, square.across), b.constF(0.5));
-        below = b.lt(b.sub(footprint.index, reach), b.constF(*footprint.first - 0.5));
+        // Where the footprint reaches below the first member, the nearest member's distance
+        // mean, or the parts' (belowFirstMean).
+        below = reachesBelowFirst(b, footprint, pixel);
     }
     if (footprint.edge != ir::kNoValue) {
         // Where it reaches the region the members do not enter (within half the pixel's
@@ -138,10 +137,50 @@ ValueId meanInk(ir::Builder& b, const Footprint& footprint, ValueId distance, Va
     return b.ifThenElse(
         below,
         [&] {
+            if (footprint.belowMean != ir::kNoValue)
+                return std::vector<ValueId>{footprint.belowMean};
             return std::vector<ValueId>{
                 distanceInk(b, distance, halfWidth, footprint.gradX, footprint.gradY, pixel)};
         },
         [&] { return std::vector<ValueId>{mean}; })[0];
+}
+
+ValueId reachesBelowFirst(ir::Builder& b, const Footprint& footprint, const PixelFootprint& pixel,
+                          double margin) {
+    // Half the square's diagonal extent along the index: half its steps across the two sides.
+    PixelSides g = onPixelSides(b, footprint.gradX, footprint.gradY, pixel);
+    ValueId reach = b.mul(b.mul(b.add(b.abs(g.u), b.abs(g.v)), pixel.size), b.constF(0.5));
+    return b.lt(b.sub(footprint.index, reach), b.constF(*footprint.first - margin));
+}
+
+ValueId belowFirstMean(ir::Builder& b, const FieldsAt& at, ValueId halfWidth,
+                       const PixelFootprint& pixel, ValueId n) {
+    const ValueId zero = b.constF(0.0);
+    const PixelFootprint part{b.div(pixel.size, n), pixel.cosTurn, pixel.sinTurn};
+    // Part k, in rows of n.
+    std::vector<ValueId> out = b.loop(
+        {zero, zero},
+        [&](std::span<const ValueId> v) { return std::vector<ValueId>{b.lt(v[0], b.mul(n, n))}; },
+        [&](std::span<const ValueId> v) {
+            const ValueId row = b.floor(b.div(v[0], n));
+            const ValueId col = b.sub(v[0], b.mul(row, n));
+            const Offset o = offsetOf(b, place(b, col, n), place(b, row, n), pixel);
+            const LayerFields f = at(b, o.ox, o.oy);
+            // A part reaching below the first member at all takes its distance: the point rule
+            // measures the first member by its fold distance short of it, wider than the
+            // closed form's first-order one (by (c + phi) / 2 phi), and a stroke thick beside
+            // the centre was drawn too far inwards by the closed form.
+            const Footprint& fp = f.footprint;
+            const ValueId closed =
+                squareMean(b, fp.index, fp.gradX, fp.gradY, fp.grad, halfWidth, part.size, part)
+                    .mean;
+            const ValueId m = b.denan(
+                b.select(reachesBelowFirst(b, fp, part, 0.0),
+                         distanceInk(b, f.distance, halfWidth, fp.gradX, fp.gradY, part), closed),
+                zero);
+            return std::vector<ValueId>{b.add(v[0], b.constF(1.0)), b.add(v[1], m)};
+        });
+    return b.div(out[1], b.mul(n, n));
 }
 
 namespace {
@@ -169,8 +208,8 @@ ValueId partMean(ir::Builder& b, ValueId index, ValueId halfWidth, ValueId size,
 
 } // namespace
 
-BentIndex bentIndexMean(ir::Builder& b, const IndexAt& at, const Footprint& footprint,
-                        ValueId halfWidth, const PixelFootprint& pixel) {
+Bend bendOf(ir::Builder& b, const IndexAt& at, const Footprint& footprint,
+            const PixelFootprint& pixel) {
     const ValueId zero = b.constF(0.0);
     // The index at the corners against its linear model, each departure taken to the nearest
     // whole number (a phase's cut by whole members, the spiral's, departs by none).
@@ -188,12 +227,19 @@ BentIndex bentIndexMean(ir::Builder& b, const IndexAt& at, const Footprint& foot
     const ValueId acrossMembers = b.div(most, b.mul(footprint.grad, pixel.size));
     const ValueId weight =
         b.smoothstep(b.constF(kBentFrom), b.constF(kBentFull), b.denan(acrossMembers, zero));
+    const ValueId n = b.select(b.lt(acrossMembers, b.constF(kTwoParts)), b.constF(2.0),
+                               b.select(b.lt(acrossMembers, b.constF(kFourParts)), b.constF(4.0),
+                                        b.constF(double(kMostParts))));
+    return {weight, n};
+}
+
+BentIndex bentIndexMean(ir::Builder& b, const IndexAt& at, const Footprint& footprint,
+                        ValueId halfWidth, const PixelFootprint& pixel) {
+    const ValueId zero = b.constF(0.0);
+    const auto [weight, n] = bendOf(b, at, footprint, pixel);
     const ValueId mean = b.ifThenElse(
         b.gt(weight, zero),
         [&] {
-            const ValueId n = b.select(b.lt(acrossMembers, b.constF(kTwoParts)), b.constF(2.0),
-                                       b.select(b.lt(acrossMembers, b.constF(kFourParts)),
-                                                b.constF(4.0), b.constF(double(kMostParts))));
             const ValueId side = b.div(pixel.size, n);
             // Part k, in rows of n.
             std::vector<ValueId> out = b.loop(

@@ -240,6 +240,33 @@ struct BentIndex {
 };
 BentIndex bentIndexMean(ir::Builder& b, const IndexAt& at, const Footprint& footprint,
                         ir::ValueId halfWidth, const PixelFootprint& pixel);
+// The hand-over alone: `weight` as above, and `parts`, the parts a side the departure asks for
+// (2, 4 or 8).
+struct Bend {
+    ir::ValueId weight, parts;
+};
+Bend bendOf(ir::Builder& b, const IndexAt& at, const Footprint& footprint,
+            const PixelFootprint& pixel);
+
+// Whether the footprint of a family with a first member reaches below it (half the square's
+// diagonal extent along the index short of first - margin): with a margin of 1/2, where
+// meanInk reads the nearest member's distance, or Footprint::belowMean.
+ir::ValueId reachesBelowFirst(ir::Builder& b, const Footprint& footprint,
+                              const PixelFootprint& pixel, double margin = 0.5);
+
+// A phase family's fields (phaseFamilyFields) at the pixel's centre moved by (ox, oy).
+using FieldsAt = std::function<LayerFields(ir::Builder&, ir::ValueId ox, ir::ValueId oy)>;
+
+// Below a first member the closed form does not hold (it would count the excluded members) and
+// the nearest member's distance sees one stroke, where a fold of the phase (the hyperbola's
+// asymptotes, its member 0) brings the first member's two sides and the members after it
+// together within the pixel. There (in 8 x 8 parts), and where the index bends within the
+// pixel (bendOf: beside such a fold it runs as the square root of the distance to it; in the
+// parts the bend asks for), the pixel is read in n x n parts, each over its own fields: its
+// nearest member's distance mean where it reaches below the first member at all, the closed
+// form elsewhere.
+ir::ValueId belowFirstMean(ir::Builder& b, const FieldsAt& at, ir::ValueId halfWidth,
+                           const PixelFootprint& pixel, ir::ValueId n);
 
 // The drawn ink `ink` handed over to a crowd's mean (CrowdEstimate), weighted by `engaged`
 // (a crowd is estimated where the family's own strokes miss members, so there is no resolved

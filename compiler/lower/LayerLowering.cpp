@@ -190,7 +190,7 @@ void LayerLowering::readWhereBent(LayerFields& fields, const sema::CheckedLayer&
                                   std::optional<int> first, const Encoding& enc,
                                   const PhaseAtPoint& phiAt) {
     // Not a layer encoding a field (whose phase is the field's too). A family with a first
-    // member is read in parts below it alone (readBelowFirst).
+    // member is read in parts its own way, below the first member as well (readBelowFirst).
     if (ctx_.options.filter != sema::FilterMode::Mean || enc.field != ir::kNoValue) return;
     ir::Builder& b = ctx_.b;
     const ValueId halfWidth = b.mul(ctx_.layerProp(layer, "stroke")[0], b.constF(0.5));

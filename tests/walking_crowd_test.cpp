@@ -24,9 +24,11 @@ Setting triangles(double stroke) {
     st.stroke = stroke;
     return st;
 }
-// A polygon family of stroke 1.5.
-Setting polygon(int facets, double spacing, double offsetX, double offsetY, double turnDeg) {
+// A polygon family of stroke 1.5, at `zoom`.
+Setting polygon(int facets, double spacing, double offsetX, double offsetY, double turnDeg,
+                double zoom = 1.0) {
     Setting st;
+    st.zoom = zoom;
     st.w.facets = facets, st.w.spacing = spacing, st.w.offsetX = offsetX, st.w.offsetY = offsetY,
     st.w.turn = turnDeg * kDeg;
     return st;
@@ -268,14 +270,8 @@ TEST_CASE("walking crowd: a turn of a short period is drawn member by member, ch
     // 0.02 of the exact box mean's, 0.05 on average a point, and 0.2 at any point (the chains
     // are laid over one another as independent inks, and the pixel as a box facing each
     // stroke: strokes that cross within one pixel are neither; 0.19 at worst, measured).
-    struct Case {
-        Setting st;
-        double zoom;
-    };
-    for (const Case& c : {Case{polygon(6, 2, 2, 0, 10), 0.1}, Case{polygon(6, 8, 8, 0, 10), 1.0},
-                          Case{polygon(0, 20, 5.17638, 19.3185, 10), 0.4}}) {
-        Setting st = c.st;
-        st.zoom = c.zoom;
+    for (const Setting& st : {polygon(6, 2, 2, 0, 10, 0.1), polygon(6, 8, 8, 0, 10, 1.0),
+                              polygon(0, 20, 5.17638, 19.3185, 10, 0.4)}) {
         INFO(describe(st));
         Walker& k = walker(st);
         const AgainstExact got = againstExact(k, st, stridedPoints(k, st, 500, 160, 48, 5));
@@ -296,16 +292,9 @@ TEST_CASE("walking crowd: a few turns' crossings are drawn member by member wher
     // points each: within 0.02 a point on average and 0.01 in the mean ink. Drawn as combs
     // they were 0.13, 0.071, 0.049 and 0.090 a point off the exact box mean (the first two
     // 0.04 and 0.03 off in the mean ink); drawn, 0.0005, 0.0004, 0.0067 and 0.013.
-    struct Case {
-        Setting st;
-        double zoom;
-    };
-    for (const Case& c : {Case{polygon(3, 5, 4.54663, 2.625, 0.05), 1.0},
-                          Case{polygon(9, 20, 5.17638, 19.3185, 0.05), 0.4},
-                          Case{polygon(0, 20, 4.1411, 15.4548, 0.2), 0.1},
-                          Case{polygon(6, 40, 42, 0, 0.2), 0.15}}) {
-        Setting st = c.st;
-        st.zoom = c.zoom;
+    for (const Setting& st :
+         {polygon(3, 5, 4.54663, 2.625, 0.05, 1.0), polygon(9, 20, 5.17638, 19.3185, 0.05, 0.4),
+          polygon(0, 20, 4.1411, 15.4548, 0.2, 0.1), polygon(6, 40, 42, 0, 0.2, 0.15)}) {
         INFO(describe(st));
         Walker& k = walker(st);
         const AgainstExact got = againstExact(k, st, stridedPoints(k, st, 600, 800, 32, 11));

@@ -171,13 +171,8 @@ LayerFields LayerLowering::familyFields(const sema::CheckedLayer& layer, const L
     std::optional<int> first = family ? family->first : std::nullopt;
     ValueId near = ir::kNoValue;
     if (first && enc.field == ir::kNoValue) {
-        // The phase a millionth of the radius away, off any fold through the centre (the
-        // direction is along no line a family would fold on): ample for float, whose
-        // resolution there is about 6e-8 of the radius, and the gradient it gives moves
-        // by about a millionth.
-        ValueId e = b.mul(b.hypot(lf.qx, lf.qy), b.constF(1e-6));
-        near =
-            phaseAt(layer, bf, lf, b.add(lf.qx, e), b.add(lf.qy, b.mul(e, b.constF(0.6180339887))));
+        const auto [x, y] = offFold(b, lf.qx, lf.qy);
+        near = phaseAt(layer, bf, lf, x, y);
     }
     LayerFields out = phaseFields(layer, lf, phi, first, enc, near);
     readWhereBent(out, layer, lf, band, first, enc,
@@ -209,14 +204,12 @@ void LayerLowering::readBelowFirst(LayerFields& fields, const LayerFrame& lf,
                                    const PhaseAtPoint& phiAt, const IndexAt& indexAt) {
     ir::Builder& b = ctx_.b;
     const PixelFootprint pixel = pixelOf(band);
-    // Each part's fields as the point-sampled layer's at that point, its phase read a
-    // millionth of the radius away too (off a fold through the part's centre, as familyFields
-    // reads the pixel's).
+    // Each part's fields as the point-sampled layer's at that point, its phase read off a
+    // fold through the part's centre too (offFold), as familyFields reads the pixel's.
     auto at = [&](ir::Builder& bb, ValueId ox, ValueId oy) {
         const auto [x, y] = movedBy(bb, lf, ox, oy);
-        ValueId e = bb.mul(bb.hypot(x, y), bb.constF(1e-6));
-        ValueId near = phiAt(bb.add(x, e), bb.add(y, bb.mul(e, bb.constF(0.6180339887))));
-        return phaseFamilyFields(bb, phiAt(x, y), lf.phase, lf.spacing, first, near);
+        const auto [nx, ny] = offFold(bb, x, y);
+        return phaseFamilyFields(bb, phiAt(x, y), lf.phase, lf.spacing, first, phiAt(nx, ny));
     };
     const Bend bend = bendOf(b, indexAt, fields.footprint, pixel);
     const ValueId below = reachesBelowFirst(b, fields.footprint, pixel);
@@ -230,6 +223,14 @@ void LayerLowering::readBelowFirst(LayerFields& fields, const LayerFrame& lf,
     fields.footprint.bent = bend.weight;
     fields.footprint.bentMean = parts;
     fields.footprint.belowMean = parts;
+}
+
+// The point a millionth of the radius from (x, y), off any fold through it (the direction is
+// along no line a family would fold on): ample for float, whose resolution there is about 6e-8
+// of the radius, and the gradient read there moves by about a millionth.
+std::pair<ValueId, ValueId> LayerLowering::offFold(ir::Builder& b, ValueId x, ValueId y) {
+    ValueId e = b.mul(b.hypot(x, y), b.constF(1e-6));
+    return {b.add(x, e), b.add(y, b.mul(e, b.constF(0.6180339887)))};
 }
 
 // The layer's frame's point for the pixel's point moved by the world offset (ox, oy): the

@@ -71,6 +71,8 @@ class LayerLowering {
     static std::pair<ir::ValueId, ir::ValueId> movedBy(ir::Builder& b, const LayerFrame& lf,
                                                        ir::ValueId ox, ir::ValueId oy);
     PixelFootprint pixelOf(const StrokeBand& band);
+    static std::pair<ir::ValueId, ir::ValueId> offFold(ir::Builder& b, ir::ValueId x,
+                                                       ir::ValueId y);
     SceneContext& ctx_;
 };
 

@@ -98,6 +98,24 @@ namespace {
 // The closed form over a square of side `side` (world units) along the pixel's sides, the index
 // and its gradient (per world unit; `grad` its length) read at its centre; with the index's
 // steps across the square's two sides.
+// The mean of part(ox, oy) over the pixel's n x n parts, (ox, oy) the world offset of a part's
+// centre from the pixel's.
+template <class Part>
+ValueId meanOverParts(ir::Builder& b, const PixelFootprint& pixel, ValueId n, Part part) {
+    const ValueId zero = b.constF(0.0);
+    // Part k, in rows of n.
+    std::vector<ValueId> out = b.loop(
+        {zero, zero},
+        [&](std::span<const ValueId> v) { return std::vector<ValueId>{b.lt(v[0], b.mul(n, n))}; },
+        [&](std::span<const ValueId> v) {
+            const ValueId row = b.floor(b.div(v[0], n));
+            const ValueId col = b.sub(v[0], b.mul(row, n));
+            const Offset o = offsetOf(b, place(b, col, n), place(b, row, n), pixel);
+            return std::vector<ValueId>{b.add(v[0], b.constF(1.0)), b.add(v[1], part(o.ox, o.oy))};
+        });
+    return b.div(out[1], b.mul(n, n));
+}
+
 struct SquareMean {
     ValueId mean, along, across;
 };
@@ -157,30 +175,20 @@ ValueId belowFirstMean(ir::Builder& b, const FieldsAt& at, ValueId halfWidth,
                        const PixelFootprint& pixel, ValueId n) {
     const ValueId zero = b.constF(0.0);
     const PixelFootprint part{b.div(pixel.size, n), pixel.cosTurn, pixel.sinTurn};
-    // Part k, in rows of n.
-    std::vector<ValueId> out = b.loop(
-        {zero, zero},
-        [&](std::span<const ValueId> v) { return std::vector<ValueId>{b.lt(v[0], b.mul(n, n))}; },
-        [&](std::span<const ValueId> v) {
-            const ValueId row = b.floor(b.div(v[0], n));
-            const ValueId col = b.sub(v[0], b.mul(row, n));
-            const Offset o = offsetOf(b, place(b, col, n), place(b, row, n), pixel);
-            const LayerFields f = at(b, o.ox, o.oy);
-            // A part reaching below the first member at all takes its distance: the point rule
-            // measures the first member by its fold distance short of it, wider than the
-            // closed form's first-order one (by (c + phi) / 2 phi), and a stroke thick beside
-            // the centre was drawn too far inwards by the closed form.
-            const Footprint& fp = f.footprint;
-            const ValueId closed =
-                squareMean(b, fp.index, fp.gradX, fp.gradY, fp.grad, halfWidth, part.size, part)
-                    .mean;
-            const ValueId m = b.denan(
-                b.select(reachesBelowFirst(b, fp, part, 0.0),
-                         distanceInk(b, f.distance, halfWidth, fp.gradX, fp.gradY, part), closed),
-                zero);
-            return std::vector<ValueId>{b.add(v[0], b.constF(1.0)), b.add(v[1], m)};
-        });
-    return b.div(out[1], b.mul(n, n));
+    return meanOverParts(b, pixel, n, [&](ValueId ox, ValueId oy) {
+        const LayerFields f = at(b, ox, oy);
+        // A part reaching below the first member at all takes its distance: the point rule
+        // measures the first member by its fold distance short of it, wider than the closed
+        // form's first-order one (by (c + phi) / 2 phi), and a stroke thick beside the centre
+        // was drawn too far inwards by the closed form.
+        const Footprint& fp = f.footprint;
+        const ValueId closed =
+            squareMean(b, fp.index, fp.gradX, fp.gradY, fp.grad, halfWidth, part.size, part).mean;
+        return b.denan(b.select(reachesBelowFirst(b, fp, part, 0.0),
+                                distanceInk(b, f.distance, halfWidth, fp.gradX, fp.gradY, part),
+                                closed),
+                       zero);
+    });
 }
 
 namespace {
@@ -241,20 +249,9 @@ BentIndex bentIndexMean(ir::Builder& b, const IndexAt& at, const Footprint& foot
         b.gt(weight, zero),
         [&] {
             const ValueId side = b.div(pixel.size, n);
-            // Part k, in rows of n.
-            std::vector<ValueId> out = b.loop(
-                {zero, zero},
-                [&](std::span<const ValueId> v) {
-                    return std::vector<ValueId>{b.lt(v[0], b.mul(n, n))};
-                },
-                [&](std::span<const ValueId> v) {
-                    const ValueId row = b.floor(b.div(v[0], n));
-                    const ValueId col = b.sub(v[0], b.mul(row, n));
-                    const Offset o = offsetOf(b, place(b, col, n), place(b, row, n), pixel);
-                    const ValueId m = partMean(b, at(b, o.ox, o.oy), halfWidth, side, pixel);
-                    return std::vector<ValueId>{b.add(v[0], b.constF(1.0)), b.add(v[1], m)};
-                });
-            return std::vector<ValueId>{b.div(out[1], b.mul(n, n))};
+            return std::vector<ValueId>{meanOverParts(b, pixel, n, [&](ValueId ox, ValueId oy) {
+                return partMean(b, at(b, ox, oy), halfWidth, side, pixel);
+            })};
         },
         [&] { return std::vector<ValueId>{zero}; })[0];
     return {weight, mean};

@@ -371,20 +371,13 @@ class Chains {
                 return Vals{b_.sub(b_.add(spread, intervalMean(lo, hi)), overlap)};
             })[0];
     }
-    // The strokes of the members `at(o)`, o in [from, to), sorted along their normal: each
-    // one's mean less that of its overlap with the one before.
+    // The strokes of the members `at(o)`, o in [from, to), sorted along their normal
+    // (sortedStrokesMean).
     template <class At, class HOf>
     ValueId sumStrokes(ValueId from, ValueId to, At at, HOf hOf) {
-        Vals res = b_.loop(
-            {from, c(0.0), c(0.0)},
-            [&](std::span<const ValueId> v) { return Vals{b_.lt(v[0], to)}; },
-            [&](std::span<const ValueId> v) {
-                ValueId hv = hOf(at(v[0]));
-                ValueId overlap = b_.select(b_.gt(v[0], from), overlapMean(v[1], hv), c(0.0));
-                ValueId add = b_.sub(memberMean(b_.abs(hv)), overlap);
-                return Vals{b_.add(v[0], c(1.0)), hv, b_.add(v[2], add)};
-            });
-        return res[2];
+        return sortedStrokesMean(
+            b_, in_->stroke, from, to, [&](ValueId o) { return hOf(at(o)); },
+            [&](ValueId centre, ValueId half) { return bandMean(centre, half); });
     }
     // The footprint mean of the band of residuals [lo, hi] (nothing where hi <= lo).
     ValueId intervalMean(ValueId lo, ValueId hi) {
@@ -424,6 +417,29 @@ std::pair<ValueId, ValueId> memberNormal(ir::Builder& b, const ChainInputs& in, 
     ValueId gy = b.sub(in.residual(n, x, b.add(y, e)), in.residual(n, x, b.sub(y, e)));
     ValueId cs = b.cos(psi), sn = b.sin(psi);
     return {b.sub(b.mul(cs, gx), b.mul(sn, gy)), b.add(b.mul(sn, gx), b.mul(cs, gy))};
+}
+
+ValueId sortedStrokesMean(ir::Builder& b, ValueId stroke, ValueId from, ValueId to,
+                          const std::function<ValueId(ValueId)>& h,
+                          const std::function<ValueId(ValueId, ValueId)>& bandMean) {
+    const ValueId half = b.mul(stroke, b.constF(0.5));
+    // Carried: i, the last stroke's residual, the union so far.
+    Vals res = b.loop(
+        {from, b.constF(0.0), b.constF(0.0)},
+        [&](std::span<const ValueId> v) { return Vals{b.lt(v[0], to)}; },
+        [&](std::span<const ValueId> v) {
+            ValueId hv = h(v[0]);
+            // Two strokes centred at residuals a and b share the stroke of half-width
+            // max(t - |a - b|, 0) / 2 centred on (a + b) / 2.
+            ValueId shared = b.max(b.sub(stroke, b.abs(b.sub(v[1], hv))), b.constF(0.0));
+            ValueId overlap = b.select(
+                b.gt(v[0], from),
+                bandMean(b.mul(b.add(v[1], hv), b.constF(0.5)), b.mul(shared, b.constF(0.5))),
+                b.constF(0.0));
+            ValueId add = b.sub(bandMean(b.abs(hv), half), overlap);
+            return Vals{b.add(v[0], b.constF(1.0)), hv, b.add(v[2], add)};
+        });
+    return res[2];
 }
 
 TurnPeriod turnPeriod(ir::Builder& b, ValueId turn) {

@@ -52,6 +52,15 @@ struct ChainInputs {
 
 struct ChainWindows;
 
+// The footprint mean of the union of strokes of width `stroke` centred at residuals h(i),
+// i in [from, to), sorted along their common normal, by inclusion and exclusion: each stroke's
+// mean less that of its overlap with the one before, exact for strokes of one width (none
+// overlaps past its neighbour what the neighbour does not). bandMean(centre, half) is the
+// footprint mean of the band of residuals `half` either side of `centre`.
+ir::ValueId sortedStrokesMean(ir::Builder& b, ir::ValueId stroke, ir::ValueId from, ir::ValueId to,
+                              const std::function<ir::ValueId(ir::ValueId)>& h,
+                              const std::function<ir::ValueId(ir::ValueId, ir::ValueId)>& bandMean);
+
 // The normal at the pixel of member n turned by psi, grad_p h_p(n), in the frame of the point
 // the residual is read at: grad_p h = Rot(psi) grad_q h, the gradient with respect to the
 // turned point q = Rot(-psi) p, by central differences of step e (in.residual, in.unturn).

@@ -1085,25 +1085,16 @@ class Solver {
         ValueId run = b_.ifThenElse(
             b_.gt(drawn, c(0.0)),
             [&] {
-                ValueId from = b_.sub(z, c(kCrossingRun));
-                ValueId to = b_.add(z, c(kCrossingRun));
-                // Carried: member, the last one's residual, the union so far.
-                Vals res = b_.loop(
-                    {from, c(kFar), c(0.0)},
-                    [&](std::span<const ValueId> v) { return Vals{b_.lt(v[0], to)}; },
-                    [&](std::span<const ValueId> v) {
-                        ValueId h = residual(member(v[0]));
-                        ValueId overlap =
-                            b_.max(b_.sub(in_.stroke, b_.abs(b_.sub(v[1], h))), c(0.0));
-                        ValueId shared = bandMean(b_.mul(b_.add(v[1], h), c(0.5)),
-                                                  b_.mul(overlap, c(0.5)), foot);
-                        ValueId add = b_.sub(bandMean(h, memberHalf(), foot),
-                                             b_.select(b_.gt(v[0], from), shared, c(0.0)));
-                        // Members start at n = 0.
-                        add = b_.select(b_.lt(v[0], c(0.0)), c(0.0), add);
-                        return Vals{b_.add(v[0], c(1.0)), h, b_.add(v[2], add)};
-                    });
-                return Vals{b_.min(res[2], c(1.0))};
+                // Members start at n = 0: none before it reaches the pixel.
+                auto h = [&](ValueId n) {
+                    return b_.select(b_.lt(n, c(0.0)), c(kFar), residual(member(n)));
+                };
+                return Vals{b_.min(sortedStrokesMean(b_, in_.stroke, b_.sub(z, c(kCrossingRun)),
+                                                     b_.add(z, c(kCrossingRun)), h,
+                                                     [&](ValueId centre, ValueId half) {
+                                                         return bandMean(centre, half, foot);
+                                                     }),
+                                   c(1.0))};
             },
             [&] { return Vals{c(0.0)}; })[0];
         return b_.mix(comb, run, drawn);

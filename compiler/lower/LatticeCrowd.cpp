@@ -167,6 +167,68 @@ ValueId dotsInPixel(ir::Builder& b, LatticeKind kind, const LatticeCrowdInputs& 
     });
 }
 
+// The box filter's ripple about a lattice's share of the plane (docs/filtering.md, "The box
+// filter's ripple"). A lattice's ink is periodic in the generators' indices (u, v): f = sum over
+// m of F_m e^(2 pi i m . (u, v)), its harmonic m a wave of world frequency k_m = m1 grad u +
+// m2 grad v, and F_0 the share. The square pixel's mean of a wave is the wave at its centre
+// times sin(pi f) / (pi f) for each of its sides, f the wave's cycles a pixel along it; so the
+// box-filtered ink is the share plus, over the pairs +-m (F_m real: each kind's ink is
+// symmetric about a cell's centre or site), 2 F_m times both sides' factors times
+// cos(2 pi m . (u, v)). `harmonic` gives F_m from m and k_m; the harmonics taken are those with
+// |m1|, |m2| <= kRippleOrders.
+constexpr int kRippleOrders = 2;
+using Harmonic = std::function<ValueId(ValueId m1, ValueId m2, ValueId kx, ValueId ky)>;
+ValueId latticeRipple(ir::Builder& b, const LatticeCrowdInputs& in, const Harmonic& harmonic) {
+    auto c = [&](double v) { return b.constF(v); };
+    const PixelFootprint pixel{in.pixel, in.cosTurn, in.sinTurn};
+    auto sincPi = [&](ValueId f) {
+        ValueId x = b.mul(f, c(kPi));
+        return b.select(b.lt(b.abs(x), c(1e-4)), c(1.0), b.div(b.sin(x), x));
+    };
+    const double side = 2 * kRippleOrders + 1;
+    // Harmonic j of the (2 M + 1)^2 about 0, those after 0 in that order: one of each pair.
+    std::vector<ValueId> out = b.loop(
+        {c((side * side + 1) / 2), c(0.0)},
+        [&](std::span<const ValueId> v) {
+            return std::vector<ValueId>{b.lt(v[0], c(side * side))};
+        },
+        [&](std::span<const ValueId> v) {
+            const ValueId row = b.floor(b.div(v[0], c(side)));
+            const ValueId m1 = b.sub(row, c(kRippleOrders));
+            const ValueId m2 = b.sub(b.sub(v[0], b.mul(row, c(side))), c(kRippleOrders));
+            const ValueId kx = b.add(b.mul(m1, in.genUX), b.mul(m2, in.genVX));
+            const ValueId ky = b.add(b.mul(m1, in.genUY), b.mul(m2, in.genVY));
+            const PixelSides f = onPixelSides(b, kx, ky, pixel);
+            const ValueId box = b.mul(sincPi(b.mul(f.u, in.pixel)), sincPi(b.mul(f.v, in.pixel)));
+            // The wave's phase, its whole cycles dropped first for float's sake far out.
+            const ValueId phase =
+                b.emit(ir::Op::Fract, {b.add(b.mul(m1, in.genU), b.mul(m2, in.genV))});
+            const ValueId wave = b.cos(b.mul(phase, c(2.0 * kPi)));
+            const ValueId term = b.mul(b.mul(c(2.0), harmonic(m1, m2, kx, ky)), b.mul(box, wave));
+            return std::vector<ValueId>{b.add(v[0], c(1.0)), b.add(v[1], term)};
+        });
+    return b.denan(out[1], c(0.0));
+}
+
+// A dot screen's harmonics: F_m = |det(grad u, grad v)| pi r^2 (2 J1(z) / z) S_m at
+// z = 2 pi r |k_m|, each dot's transform (discTransform) times the cells a unit of area holds,
+// and S_m the sum of e^(-2 pi i m . a) over the cell's sites a: 1 for one site, and for the
+// honeycomb's corners at (1/3, 1/3) and (2/3, 2/3), 2 where m1 + m2 is a multiple of 3, else
+// -1. The dots laid apart, as the share takes them.
+ValueId dotRipple(ir::Builder& b, LatticeKind kind, const LatticeCrowdInputs& in, ValueId r) {
+    auto c = [&](double v) { return b.constF(v); };
+    const ValueId cells = b.abs(b.sub(b.mul(in.genUX, in.genVY), b.mul(in.genUY, in.genVX)));
+    const ValueId dot = b.mul(b.mul(cells, c(kPi)), b.mul(r, r));
+    return latticeRipple(b, in, [&](ValueId m1, ValueId m2, ValueId kx, ValueId ky) {
+        const ValueId z = b.mul(b.mul(r, c(2.0 * kPi)), b.hypot(kx, ky));
+        ValueId harmonic = b.mul(dot, discTransform(ir::BuiltValue(b, z)).id);
+        if (kind != LatticeKind::Hex) return harmonic;
+        const ValueId third = b.div(b.add(m1, m2), c(3.0));
+        const ValueId whole = b.lt(b.abs(b.sub(third, b.round(third))), c(0.1));
+        return b.mul(harmonic, b.select(whole, c(2.0), c(-1.0)));
+    });
+}
+
 // The honeycomb's shrunk hexagon's bounds (HoneycombInPixel.h) for strokes of half-width
 // `half`, and its edges' share of the plane, exactly: 1 less the hexagon's area.
 std::array<ir::BuiltValue, 3> hexBoundsOf(ir::Builder& b, const LatticeCrowdInputs& in,
@@ -178,6 +240,38 @@ std::array<ir::BuiltValue, 3> hexBoundsOf(ir::Builder& b, const LatticeCrowdInpu
 ValueId hexEdgeShare(ir::Builder& b, const LatticeCrowdInputs& in, ValueId half) {
     const ValueId paper = insetHexagonArea(hexBoundsOf(b, in, half)).id;
     return b.clamp(b.sub(b.constF(1.0), paper), b.constF(0.0), b.constF(1.0));
+}
+
+// A honeycomb's edges' harmonics (latticeRipple): the ink is 1 less the paper, each cell's
+// hexagon shrunk from its sides about its centre (insetHexagon, in (u, v), where a cell has
+// area 1), so F_m is minus the shrunk hexagon's transform at w = 2 pi m. By the divergence
+// theorem (e^(-i w . q) is the divergence of i w e^(-i w . q) / |w|^2) a polygon's transform is
+// (i / |w|^2) times the sum over its sides of (w . N) sinc(w . e / 2) e^(-i w . c), e the side,
+// c its middle, N = (e_y, -e_x) its outward normal times its length (counterclockwise) and
+// sinc(x) = sin(x) / x; a hexagon's opposite sides pair to
+// (2 / |w|^2) sum over three sides of (w . N) sinc(w . e / 2) sin(w . c).
+ValueId hexEdgeRipple(ir::Builder& b, const LatticeCrowdInputs& in, ValueId half) {
+    auto c = [&](double v) { return b.constF(v); };
+    const auto corners = insetHexagon(hexBoundsOf(b, in, half));
+    auto sinc = [&](ValueId x) {
+        return b.select(b.lt(b.abs(x), c(1e-4)), c(1.0), b.div(b.sin(x), x));
+    };
+    return latticeRipple(b, in, [&](ValueId m1, ValueId m2, ValueId, ValueId) {
+        const ValueId wu = b.mul(m1, c(2.0 * kPi)), wv = b.mul(m2, c(2.0 * kPi));
+        ValueId sum = c(0.0);
+        for (int j = 0; j < 3; ++j) {
+            const auto& p = corners[j];
+            const auto& q = corners[j + 1];
+            const ValueId eu = (q[0] - p[0]).id, ev = (q[1] - p[1]).id;
+            const ValueId cu = ((p[0] + q[0]) * 0.5).id, cv = ((p[1] + q[1]) * 0.5).id;
+            const ValueId normal = b.sub(b.mul(wu, ev), b.mul(wv, eu));
+            const ValueId along = b.mul(b.add(b.mul(wu, eu), b.mul(wv, ev)), c(0.5));
+            const ValueId at = b.add(b.mul(wu, cu), b.mul(wv, cv));
+            sum = b.add(sum, b.mul(b.mul(normal, sinc(along)), b.sin(at)));
+        }
+        const ValueId w2 = b.add(b.mul(wu, wu), b.mul(wv, wv));
+        return b.neg(b.div(b.mul(sum, c(2.0)), w2));
+    });
 }
 
 // A honeycomb's edges over the pixel: 1 less the paper its strokes leave there
@@ -367,6 +461,25 @@ CrowdEstimate latticeCrowd(ir::Builder& b, LatticeKind kind, const LatticeCrowdI
                                 : distanceInk(b, in.distance, half, ir::kNoValue, ir::kNoValue,
                                               PixelFootprint{in.pixel, in.cosTurn, in.sinTurn});
         out.nearest = b.select(in.drawEdges, edge, dot);
+        if (in.genU != ir::kNoValue) {
+            // Where the share is drawn, the box filter's ripple about it (behind a branch):
+            // the dots', and the honeycomb's edges'. The square and triangle lattices' edges
+            // are whole lines, each averaged over the pixel as it is.
+            auto none = [&] { return std::vector<ValueId>{c(0.0)}; };
+            const ValueId ripple = b.ifThenElse(
+                b.gt(out.engaged, c(0.0)),
+                [&] {
+                    return b.ifThenElse(
+                        in.drawEdges,
+                        [&] {
+                            if (!hexCells) return none();
+                            return std::vector<ValueId>{hexEdgeRipple(b, in, half)};
+                        },
+                        [&] { return std::vector<ValueId>{dotRipple(b, kind, in, half)}; });
+                },
+                none)[0];
+            out.mean = b.clamp(b.add(out.mean, ripple), c(0.0), c(1.0));
+        }
         if (hexCells)
             out.strokesCrowded = b.select(
                 in.drawEdges, b.smoothstep(c(kCrowdFrom), c(kCrowdFull), members), out.engaged);

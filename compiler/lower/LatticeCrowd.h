@@ -13,6 +13,7 @@
 #include "compiler/lower/LayerPipeline.h"
 
 #include <cmath>
+#include <numbers>
 
 namespace moire::lower {
 
@@ -58,6 +59,38 @@ T discInSquare(T cu, T cv, T r) {
         sum = sum + chord * w;
     }
     return min(sum * step, one);
+}
+
+// A disc's Fourier transform over its area, 2 J1(z) / z at z = 2 pi r |k| (radius r, frequency
+// k in cycles per unit): 1 at z = 0, the disc's share of each harmonic of a dot screen (the
+// box filter's ripple about the dots' share, dotRipple in the .cpp). Its power series,
+// sum_j (-1)^j (z^2 / 4)^j / (j! (j + 1)!), summed by Horner's rule up to z = 8 (16 terms, to
+// 1e-6; its largest term there is 22, which float carries to a few 1e-6), and Hankel's
+// asymptotic form beyond, J1(z) ~ sqrt(2 / (pi z)) (P cos w - Q sin w) with w = z - 3 pi / 4,
+// P = 1 + 15 / (128 z^2) and Q = 3 / (8 z) - 315 / (3072 z^3) (to 1e-5 from z = 8). A
+// template over IR values here, over double in tests.
+constexpr int kJincTerms = 16;
+constexpr double kJincSeriesUpTo = 8.0;
+template <class T>
+T discTransform(T z) {
+    using ir::literal;
+    using std::cos;
+    using std::max;
+    using std::min;
+    using std::sin;
+    using std::sqrt;
+    const T one = literal(z, 1.0);
+    const T near = min(z, literal(z, kJincSeriesUpTo));
+    const T x = near * near * 0.25;
+    T series = one;
+    for (int j = kJincTerms; j >= 1; --j) series = one - x * (1.0 / (j * (j + 1.0))) * series;
+    const T far = max(z, literal(z, kJincSeriesUpTo));
+    const T w = far - literal(z, 0.75 * std::numbers::pi);
+    const T inv = one / far;
+    const T p = one + inv * inv * (15.0 / 128.0);
+    const T q = inv * (3.0 / 8.0) - inv * inv * inv * (315.0 / 3072.0);
+    const T j1 = sqrt(inv * (2.0 / std::numbers::pi)) * (p * cos(w) - q * sin(w));
+    return ir::select(ir::lessThan(z, literal(z, kJincSeriesUpTo)), series, j1 * inv * 2.0);
 }
 
 // `engaged` from 0 where the densest rows of members stand kCrowdFrom pixels apart or more, to

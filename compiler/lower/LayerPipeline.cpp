@@ -8,16 +8,21 @@ namespace moire::lower {
 using ir::Op;
 using ir::ValueId;
 
+namespace {
+// A non-positive spacing has no members; it is held at a tiny positive pitch instead of
+// dividing by zero, so the layer degrades to solid ink rather than to NaN.
+ValueId heldSpacing(ir::Builder& b, ValueId spacing) {
+    return b.max(spacing, b.constF(1e-6));
+}
+} // namespace
+
 ValueId indexOfPhase(ir::Builder& b, ValueId phi, ValueId phase, ValueId spacing) {
-    // A non-positive spacing has no members; it is held at a tiny positive pitch instead of
-    // dividing by zero, so the layer degrades to solid ink rather than to NaN.
-    ValueId s = b.max(spacing, b.constF(1e-6));
-    return b.mul(b.sub(phi, phase), b.div(b.constF(1.0), s)); // 1/s is per frame
+    return b.mul(b.sub(phi, phase), b.div(b.constF(1.0), heldSpacing(b, spacing))); // per frame
 }
 
 LayerFields phaseFamilyFields(ir::Builder& b, ValueId phi, ValueId phase, ValueId spacing,
                               std::optional<int> first, ValueId phiNear) {
-    ValueId s = b.max(spacing, b.constF(1e-6));
+    ValueId s = heldSpacing(b, spacing);
     ValueId index = indexOfPhase(b, phi, phase, spacing);
     ValueId nearest = b.round(index);
     if (first) nearest = b.max(nearest, b.constF(*first));

@@ -170,7 +170,7 @@ LayerFields LayerLowering::familyFields(const sema::CheckedLayer& layer, const L
     ValueId phi = phaseAt(layer, bf, lf, lf.qx, lf.qy);
     std::optional<int> first = family ? family->first : std::nullopt;
     ValueId near = ir::kNoValue;
-    if (first && enc.field == ir::kNoValue) {
+    if (first) {
         const auto [x, y] = offFold(b, lf.qx, lf.qy);
         near = phaseAt(layer, bf, lf, x, y);
     }
@@ -189,26 +189,23 @@ void LayerLowering::readWhereBent(LayerFields& fields, const sema::CheckedLayer&
     if (ctx_.options.filter != sema::FilterMode::Mean) return;
     ir::Builder& b = ctx_.b;
     const ValueId halfWidth = b.mul(ctx_.layerProp(layer, "stroke")[0], b.constF(0.5));
-    // The phase at the pixel's point moved by the world offset (ox, oy), less a field the
-    // layer encodes, read there too (phaseFields subtracts it at the pixel's point).
-    auto encoded = [&](ir::Builder& bb, ValueId phi, ValueId ox, ValueId oy) {
-        if (enc.field == ir::kNoValue) return phi;
-        return bb.sub(phi, bb.mul(bb.mul(enc.gain, lf.spacing), fieldAt(layer, ox, oy)));
+    // The members' level at the pixel's point moved by the world offset (ox, oy): moved by a
+    // field the layer encodes, read there too (as phaseFields moves it at the pixel's point).
+    auto level = [&](ir::Builder& bb, ValueId ox, ValueId oy) {
+        if (enc.field == ir::kNoValue) return lf.phase;
+        return bb.add(lf.phase, bb.mul(bb.mul(enc.gain, lf.spacing), fieldAt(layer, ox, oy)));
     };
     auto at = [&](ir::Builder& bb, ValueId ox, ValueId oy) {
         const auto [x, y] = movedBy(bb, lf, ox, oy);
-        return indexOfPhase(bb, encoded(bb, phiAt(x, y), ox, oy), lf.phase, lf.spacing);
+        return indexOfPhase(bb, phiAt(x, y), level(bb, ox, oy), lf.spacing);
     };
     if (first) {
-        // Each part's phase, less a field the layer encodes, and where none is, the phase off
-        // a fold through the part (offFold), as familyFields reads the pixel's (an encoded
-        // phase is no square root of a smooth function, which that reading assumes).
+        // Each part's phase, the phase off a fold through it (offFold) as familyFields reads
+        // the pixel's, and the members' level there.
         auto phases = [&](ir::Builder& bb, ValueId ox, ValueId oy) {
             const auto [x, y] = movedBy(bb, lf, ox, oy);
-            if (enc.field != ir::kNoValue)
-                return std::pair{encoded(bb, phiAt(x, y), ox, oy), ir::kNoValue};
             const auto [nx, ny] = offFold(bb, x, y);
-            return std::pair{phiAt(x, y), phiAt(nx, ny)};
+            return PartPhase{phiAt(x, y), phiAt(nx, ny), level(bb, ox, oy)};
         };
         return readBelowFirst(fields, lf, band, halfWidth, *first, phases, at);
     }
@@ -224,8 +221,8 @@ void LayerLowering::readBelowFirst(LayerFields& fields, const LayerFrame& lf,
     const PixelFootprint pixel = pixelOf(band);
     // Each part's fields as the point-sampled layer's at that point.
     auto at = [&](ir::Builder& bb, ValueId ox, ValueId oy) {
-        const auto [phi, near] = phases(bb, ox, oy);
-        return phaseFamilyFields(bb, phi, lf.phase, lf.spacing, first, near);
+        const PartPhase part = phases(bb, ox, oy);
+        return phaseFamilyFields(bb, part.phi, part.level, lf.spacing, first, part.near);
     };
     const Bend bend = bendOf(b, indexAt, fields.footprint, pixel);
     const ValueId below = reachesBelowFirst(b, fields.footprint, pixel);
@@ -275,15 +272,21 @@ PixelFootprint LayerLowering::pixelOf(const StrokeBand& band) {
     return {b.div(band.a, b.constF(kAntialiasPixels)), ctx_.cosTurn, ctx_.sinTurn};
 }
 
-// A phase family (Eq. 5), with the encoded field subtracted first (§10.1): forward-mode AD
-// gives the gradient of the whole phase, field included.
+// A phase family (Eq. 5), its members moved by the field it encodes (§10.1): member n is where
+// phi - gain s f = n s + phase, so the field moves the members' level to phase + gain s f and
+// the family's own phase stays as it is, which a first member's reading needs (it takes phi as
+// the square root of a smooth function: subtracted from phi, the field drew the member the
+// hyperbola leaves out as a hairline along its asymptotes). Forward-mode AD gives the index's
+// gradient, field included.
 LayerFields LayerLowering::phaseFields(const sema::CheckedLayer& layer, const LayerFrame& lf,
                                        ValueId phi, std::optional<int> first, const Encoding& enc,
                                        ValueId near) {
     ir::Builder& b = ctx_.b;
     b.setLoc(layer.decl->range.begin);
-    if (enc.field != ir::kNoValue) phi = b.sub(phi, b.mul(b.mul(enc.gain, lf.spacing), enc.field));
-    return phaseFamilyFields(b, phi, lf.phase, lf.spacing, first, near);
+    ValueId level = lf.phase;
+    if (enc.field != ir::kNoValue)
+        level = b.add(lf.phase, b.mul(b.mul(enc.gain, lf.spacing), enc.field));
+    return phaseFamilyFields(b, phi, level, lf.spacing, first, near);
 }
 
 } // namespace moire::lower

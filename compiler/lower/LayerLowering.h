@@ -59,10 +59,12 @@ class LayerLowering {
     // Under the mean filter, where the footprint of a family with a first member reaches
     // below it or its index bends, the pixel read in parts (Prefilter.h: belowFirstMean):
     // fields.footprint's `belowMean`, `bent` and `bentMean`. `phases` gives a part's phase (at
-    // the world offset from the pixel's point) and the phase off a fold through it (kNoValue:
-    // none), as phaseFamilyFields takes them.
-    using PhasesAt = std::function<std::pair<ir::ValueId, ir::ValueId>(
-        ir::Builder& b, ir::ValueId ox, ir::ValueId oy)>;
+    // the world offset from the pixel's point), the phase off a fold through it and the
+    // members' level there, as phaseFamilyFields takes them.
+    struct PartPhase {
+        ir::ValueId phi, near, level;
+    };
+    using PhasesAt = std::function<PartPhase(ir::Builder& b, ir::ValueId ox, ir::ValueId oy)>;
     void readBelowFirst(LayerFields& fields, const LayerFrame& lf, const StrokeBand& band,
                         ir::ValueId halfWidth, int first, const PhasesAt& phases,
                         const IndexAt& indexAt);

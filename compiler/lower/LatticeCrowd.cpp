@@ -181,10 +181,6 @@ using Harmonic = std::function<ValueId(ValueId m1, ValueId m2, ValueId kx, Value
 ValueId latticeRipple(ir::Builder& b, const LatticeCrowdInputs& in, const Harmonic& harmonic) {
     auto c = [&](double v) { return b.constF(v); };
     const PixelFootprint pixel{in.pixel, in.cosTurn, in.sinTurn};
-    auto sincPi = [&](ValueId f) {
-        ValueId x = b.mul(f, c(kPi));
-        return b.select(b.lt(b.abs(x), c(1e-4)), c(1.0), b.div(b.sin(x), x));
-    };
     const double side = 2 * kRippleOrders + 1;
     // Harmonic j of the (2 M + 1)^2 about 0, those after 0 in that order: one of each pair.
     std::vector<ValueId> out = b.loop(
@@ -198,8 +194,7 @@ ValueId latticeRipple(ir::Builder& b, const LatticeCrowdInputs& in, const Harmon
             const ValueId m2 = b.sub(b.sub(v[0], b.mul(row, c(side))), c(kRippleOrders));
             const ValueId kx = b.add(b.mul(m1, in.genUX), b.mul(m2, in.genVX));
             const ValueId ky = b.add(b.mul(m1, in.genUY), b.mul(m2, in.genVY));
-            const PixelSides f = onPixelSides(b, kx, ky, pixel);
-            const ValueId box = b.mul(sincPi(b.mul(f.u, in.pixel)), sincPi(b.mul(f.v, in.pixel)));
+            const ValueId box = boxTransfer(b, kx, ky, pixel);
             // The wave's phase, its whole cycles dropped first for float's sake far out.
             const ValueId phase =
                 b.emit(ir::Op::Fract, {b.add(b.mul(m1, in.genU), b.mul(m2, in.genV))});
@@ -314,6 +309,15 @@ ValueId hexEdgesInPixel(ir::Builder& b, const LatticeCrowdInputs& in, ValueId ha
 }
 
 } // namespace
+
+ValueId boxTransfer(ir::Builder& b, ValueId kx, ValueId ky, const PixelFootprint& pixel) {
+    auto sincPi = [&](ValueId f) {
+        ValueId x = b.mul(f, b.constF(kPi));
+        return b.select(b.lt(b.abs(x), b.constF(1e-4)), b.constF(1.0), b.div(b.sin(x), x));
+    };
+    const PixelSides f = onPixelSides(b, kx, ky, pixel);
+    return b.mul(sincPi(b.mul(f.u, pixel.size)), sincPi(b.mul(f.v, pixel.size)));
+}
 
 CrowdEstimate latticeCrowd(ir::Builder& b, LatticeKind kind, const LatticeCrowdInputs& in) {
     const Geometry g = geometryOf(kind);

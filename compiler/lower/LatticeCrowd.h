@@ -11,6 +11,7 @@
 #include "compiler/ir/BuiltValue.h"
 #include "compiler/lower/LatticeFamily.h"
 #include "compiler/lower/LayerPipeline.h"
+#include "compiler/lower/Prefilter.h"
 
 #include <cmath>
 #include <numbers>
@@ -92,6 +93,13 @@ T discTransform(T z) {
     const T j1 = sqrt(inv * (2.0 / std::numbers::pi)) * (p * cos(w) - q * sin(w));
     return ir::select(ir::lessThan(z, literal(z, kJincSeriesUpTo)), series, j1 * inv * 2.0);
 }
+
+// The square pixel's mean of a wave of world frequency (kx, ky) (cycles a unit) over the wave's
+// value at the pixel's centre: sin(pi f) / (pi f) for each of the pixel's sides, f the wave's
+// cycles a pixel along it. Unlike footprintTransfer (FineUnion.h) its side lobes are kept:
+// past a cycle a pixel they are all the ripple a lattice leaves.
+ir::ValueId boxTransfer(ir::Builder& b, ir::ValueId kx, ir::ValueId ky,
+                        const PixelFootprint& pixel);
 
 // `engaged` from 0 where the densest rows of members stand kCrowdFrom pixels apart or more, to
 // 1 at kCrowdFull; `mean` the share of the plane the strokes cover; `nearest`, where the

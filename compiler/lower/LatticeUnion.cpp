@@ -1,6 +1,7 @@
 #include "compiler/lower/LatticeUnion.h"
 
 #include "compiler/lower/HoneycombInPixel.h"
+#include "compiler/lower/LatticeCrowd.h"
 
 #include <map>
 #include <numbers>
@@ -74,6 +75,63 @@ ValueId screenShare(ir::Builder& b, const CrowdEstimate::LatticeShape& p) {
     ValueId disc =
         b.mul(b.constF(std::numbers::pi * double(p.sites.size())), b.mul(p.radius, p.radius));
     return b.min(b.mul(disc, cellsPerArea(b, p)), b.constF(1.0));
+}
+
+// A dot screen's harmonics of the first order, m = (m1, m2) with |m1|, |m2| <= 1 and m != 0, as
+// the box filter's ripple takes them (LatticeCrowd.cpp, dotRipple): the amplitude F_m (each
+// dot's transform times the cells a world area holds and the sum of the sites' phases, here a
+// constant: real for every kind's sites), the world frequency k_m = m1 grad u + m2 grad v, and
+// the phase m . (u, v) at the pixel's centre, in cycles.
+struct ScreenHarmonic {
+    ValueId amplitude, kx, ky, phase;
+};
+std::vector<ScreenHarmonic> firstHarmonics(ir::Builder& b, const CrowdEstimate::LatticeShape& p) {
+    auto c = [&](double v) { return b.constF(v); };
+    const ValueId dot =
+        b.mul(b.mul(cellsPerArea(b, p), c(std::numbers::pi)), b.mul(p.radius, p.radius));
+    std::vector<ScreenHarmonic> out;
+    for (int m1 = -1; m1 <= 1; ++m1)
+        for (int m2 = -1; m2 <= 1; ++m2) {
+            if (m1 == 0 && m2 == 0) continue;
+            double sites = 0.0;
+            for (const auto& a : p.sites)
+                sites += std::cos(2.0 * std::numbers::pi * (m1 * a[0] + m2 * a[1]));
+            ScreenHarmonic h;
+            h.kx = b.add(b.mul(c(m1), p.ux), b.mul(c(m2), p.vx));
+            h.ky = b.add(b.mul(c(m1), p.uy), b.mul(c(m2), p.vy));
+            const ValueId z =
+                b.mul(b.mul(p.radius, c(2.0 * std::numbers::pi)), b.hypot(h.kx, h.ky));
+            h.amplitude = b.mul(b.mul(dot, c(sites)), discTransform(ir::BuiltValue(b, z)).id);
+            h.phase = b.add(b.mul(c(m1), p.u), b.mul(c(m2), p.v));
+            out.push_back(h);
+        }
+    return out;
+}
+
+// Two dot screens' first harmonics beating, of whatever kinds: the pixel's mean of the product
+// of f1 = sum F_m e^(2 pi i m . q1) and f2 = sum G_n e^(2 pi i n . q2), less the product of
+// the two screens' own pixel means (each its share and its ripple), is to the first order
+//   sum over m, n != 0 of F_m G_n (T(k_m + k_n) - T(k_m) T(k_n)) cos(2 pi (m . q1 + n . q2)),
+// T the square pixel's transfer (boxTransfer). A pair whose harmonics nearly cancel,
+// k_m + k_n small, passes the pixel whole: the beat of a square screen with a triangle one whose
+// rows stand as far apart, which the screens' matched rows do not read.
+ValueId harmonicCovariance(ir::Builder& b, const CrowdEstimate::LatticeShape& p1,
+                           const CrowdEstimate::LatticeShape& p2, const PixelFootprint& pixel) {
+    const std::vector<ScreenHarmonic> h1 = firstHarmonics(b, p1), h2 = firstHarmonics(b, p2);
+    std::vector<ValueId> t1, t2;
+    for (const ScreenHarmonic& h : h1) t1.push_back(boxTransfer(b, h.kx, h.ky, pixel));
+    for (const ScreenHarmonic& h : h2) t2.push_back(boxTransfer(b, h.kx, h.ky, pixel));
+    ValueId sum = b.constF(0.0);
+    for (size_t i = 0; i < h1.size(); ++i)
+        for (size_t j = 0; j < h2.size(); ++j) {
+            const ValueId together =
+                boxTransfer(b, b.add(h1[i].kx, h2[j].kx), b.add(h1[i].ky, h2[j].ky), pixel);
+            const ValueId weight = b.sub(together, b.mul(t1[i], t2[j]));
+            const ValueId phase = b.emit(ir::Op::Fract, {b.add(h1[i].phase, h2[j].phase)});
+            const ValueId wave = b.cos(b.mul(phase, b.constF(2.0 * std::numbers::pi)));
+            sum = b.add(sum, b.mul(b.mul(h1[i].amplitude, h2[j].amplitude), b.mul(weight, wave)));
+        }
+    return b.denan(sum, b.constF(0.0));
 }
 
 // The offsets at which the pair is sampled over the pixel: kDotPairTaps^2 points, in pixels
@@ -272,6 +330,18 @@ Ink dotCorrelation(ir::Builder& b, const Ink& under, const FineLayer& l1, const 
     const ValueId held = b.sqrt(b.div(b.mul(l1.laid, l2.laid), b.max(b.mul(a1, a2), c(1e-12))));
     const ValueId own = b.mul(l1.laid, l2.laid);
     ValueId cov = b.mul(weight, b.sub(b.mul(e, held), own));
+    // Where the matched rows carry no beat (screens of different kinds, or turned past their
+    // match), the first harmonics' own (harmonicCovariance), as crowded as the two screens are;
+    // behind a branch on that weight.
+    const ValueId crowded = b.min(dotsCrowded(b, p1, pixel), dotsCrowded(b, p2, pixel));
+    const ValueId unmatched = b.max(b.sub(crowded, weight), zero);
+    cov = b.add(cov, b.ifThenElse(
+                         b.gt(unmatched, zero),
+                         [&] {
+                             return std::vector<ValueId>{
+                                 b.mul(unmatched, harmonicCovariance(b, p1, p2, pixel))};
+                         },
+                         [&] { return std::vector<ValueId>{zero}; })[0]);
     cov = b.select(b.emit(ir::Op::And, {p1.dots, p2.dots}), cov, zero);
     return pairCorrection(b, under, l1, l2, cov);
 }

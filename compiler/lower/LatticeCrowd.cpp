@@ -167,6 +167,11 @@ ValueId dotsInPixel(ir::Builder& b, LatticeKind kind, const LatticeCrowdInputs& 
     });
 }
 
+// sin(x) / x, 1 where x is within 1e-4 of 0.
+ValueId sinc(ir::Builder& b, ValueId x) {
+    return b.select(b.lt(b.abs(x), b.constF(1e-4)), b.constF(1.0), b.div(b.sin(x), x));
+}
+
 // The box filter's ripple about a lattice's share of the plane (docs/filtering.md, "The box
 // filter's ripple"). A lattice's ink is periodic in the generators' indices (u, v): f = sum over
 // m of F_m e^(2 pi i m . (u, v)), its harmonic m a wave of world frequency k_m = m1 grad u +
@@ -213,10 +218,8 @@ ValueId latticeRipple(ir::Builder& b, const LatticeCrowdInputs& in, const Harmon
 ValueId dotRipple(ir::Builder& b, LatticeKind kind, const LatticeCrowdInputs& in, ValueId r) {
     auto c = [&](double v) { return b.constF(v); };
     const ValueId cells = b.abs(b.sub(b.mul(in.genUX, in.genVY), b.mul(in.genUY, in.genVX)));
-    const ValueId dot = b.mul(b.mul(cells, c(kPi)), b.mul(r, r));
     return latticeRipple(b, in, [&](ValueId m1, ValueId m2, ValueId kx, ValueId ky) {
-        const ValueId z = b.mul(b.mul(r, c(2.0 * kPi)), b.hypot(kx, ky));
-        ValueId harmonic = b.mul(dot, discTransform(ir::BuiltValue(b, z)).id);
+        const ValueId harmonic = dotHarmonic(b, cells, r, kx, ky);
         if (kind != LatticeKind::Hex) return harmonic;
         const ValueId third = b.div(b.add(m1, m2), c(3.0));
         const ValueId whole = b.lt(b.abs(b.sub(third, b.round(third))), c(0.1));
@@ -248,9 +251,6 @@ ValueId hexEdgeShare(ir::Builder& b, const LatticeCrowdInputs& in, ValueId half)
 ValueId hexEdgeRipple(ir::Builder& b, const LatticeCrowdInputs& in, ValueId half) {
     auto c = [&](double v) { return b.constF(v); };
     const auto corners = insetHexagon(hexBoundsOf(b, in, half));
-    auto sinc = [&](ValueId x) {
-        return b.select(b.lt(b.abs(x), c(1e-4)), c(1.0), b.div(b.sin(x), x));
-    };
     return latticeRipple(b, in, [&](ValueId m1, ValueId m2, ValueId, ValueId) {
         const ValueId wu = b.mul(m1, c(2.0 * kPi)), wv = b.mul(m2, c(2.0 * kPi));
         ValueId sum = c(0.0);
@@ -262,7 +262,7 @@ ValueId hexEdgeRipple(ir::Builder& b, const LatticeCrowdInputs& in, ValueId half
             const ValueId normal = b.sub(b.mul(wu, ev), b.mul(wv, eu));
             const ValueId along = b.mul(b.add(b.mul(wu, eu), b.mul(wv, ev)), c(0.5));
             const ValueId at = b.add(b.mul(wu, cu), b.mul(wv, cv));
-            sum = b.add(sum, b.mul(b.mul(normal, sinc(along)), b.sin(at)));
+            sum = b.add(sum, b.mul(b.mul(normal, sinc(b, along)), b.sin(at)));
         }
         const ValueId w2 = b.add(b.mul(wu, wu), b.mul(wv, wv));
         return b.neg(b.div(b.mul(sum, c(2.0)), w2));
@@ -310,11 +310,14 @@ ValueId hexEdgesInPixel(ir::Builder& b, const LatticeCrowdInputs& in, ValueId ha
 
 } // namespace
 
+ValueId dotHarmonic(ir::Builder& b, ValueId cells, ValueId r, ValueId kx, ValueId ky) {
+    const ValueId dot = b.mul(b.mul(cells, b.constF(kPi)), b.mul(r, r));
+    const ValueId z = b.mul(b.mul(r, b.constF(2.0 * kPi)), b.hypot(kx, ky));
+    return b.mul(dot, discTransform(ir::BuiltValue(b, z)).id);
+}
+
 ValueId boxTransfer(ir::Builder& b, ValueId kx, ValueId ky, const PixelFootprint& pixel) {
-    auto sincPi = [&](ValueId f) {
-        ValueId x = b.mul(f, b.constF(kPi));
-        return b.select(b.lt(b.abs(x), b.constF(1e-4)), b.constF(1.0), b.div(b.sin(x), x));
-    };
+    auto sincPi = [&](ValueId f) { return sinc(b, b.mul(f, b.constF(kPi))); };
     const PixelSides f = onPixelSides(b, kx, ky, pixel);
     return b.mul(sincPi(b.mul(f.u, pixel.size)), sincPi(b.mul(f.v, pixel.size)));
 }

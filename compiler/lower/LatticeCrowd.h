@@ -94,6 +94,12 @@ T discTransform(T z) {
     return ir::select(ir::lessThan(z, literal(z, kJincSeriesUpTo)), series, j1 * inv * 2.0);
 }
 
+// A screen's harmonic of world frequency (kx, ky) from one dot of radius r a cell, `cells` cells
+// a unit of area: cells pi r^2 (2 J1(z) / z) at z = 2 pi r |k| (discTransform). Its sites'
+// phases are the caller's.
+ir::ValueId dotHarmonic(ir::Builder& b, ir::ValueId cells, ir::ValueId r, ir::ValueId kx,
+                        ir::ValueId ky);
+
 // The square pixel's mean of a wave of world frequency (kx, ky) (cycles a unit) over the wave's
 // value at the pixel's centre: sin(pi f) / (pi f) for each of the pixel's sides, f the wave's
 // cycles a pixel along it. Unlike footprintTransfer (FineUnion.h) its side lobes are kept:

@@ -87,8 +87,7 @@ struct ScreenHarmonic {
 };
 std::vector<ScreenHarmonic> firstHarmonics(ir::Builder& b, const CrowdEstimate::LatticeShape& p) {
     auto c = [&](double v) { return b.constF(v); };
-    const ValueId dot =
-        b.mul(b.mul(cellsPerArea(b, p), c(std::numbers::pi)), b.mul(p.radius, p.radius));
+    const ValueId cells = cellsPerArea(b, p);
     std::vector<ScreenHarmonic> out;
     for (int m1 = -1; m1 <= 1; ++m1)
         for (int m2 = -1; m2 <= 1; ++m2) {
@@ -99,9 +98,7 @@ std::vector<ScreenHarmonic> firstHarmonics(ir::Builder& b, const CrowdEstimate::
             ScreenHarmonic h;
             h.kx = b.add(b.mul(c(m1), p.ux), b.mul(c(m2), p.vx));
             h.ky = b.add(b.mul(c(m1), p.uy), b.mul(c(m2), p.vy));
-            const ValueId z =
-                b.mul(b.mul(p.radius, c(2.0 * std::numbers::pi)), b.hypot(h.kx, h.ky));
-            h.amplitude = b.mul(b.mul(dot, c(sites)), discTransform(ir::BuiltValue(b, z)).id);
+            h.amplitude = b.mul(dotHarmonic(b, cells, p.radius, h.kx, h.ky), c(sites));
             h.phase = b.add(b.mul(c(m1), p.u), b.mul(c(m2), p.v));
             out.push_back(h);
         }

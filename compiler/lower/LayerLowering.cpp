@@ -193,7 +193,7 @@ void LayerLowering::readWhereBent(LayerFields& fields, const sema::CheckedLayer&
     // field the layer encodes, read there too (as phaseFields moves it at the pixel's point).
     auto level = [&](ir::Builder& bb, ValueId ox, ValueId oy) {
         if (enc.field == ir::kNoValue) return lf.phase;
-        return bb.add(lf.phase, bb.mul(bb.mul(enc.gain, lf.spacing), fieldAt(layer, ox, oy)));
+        return levelOf(bb, lf, enc, fieldAt(layer, ox, oy));
     };
     auto at = [&](ir::Builder& bb, ValueId ox, ValueId oy) {
         const auto [x, y] = movedBy(bb, lf, ox, oy);
@@ -283,10 +283,14 @@ LayerFields LayerLowering::phaseFields(const sema::CheckedLayer& layer, const La
                                        ValueId near) {
     ir::Builder& b = ctx_.b;
     b.setLoc(layer.decl->range.begin);
-    ValueId level = lf.phase;
-    if (enc.field != ir::kNoValue)
-        level = b.add(lf.phase, b.mul(b.mul(enc.gain, lf.spacing), enc.field));
+    const ValueId level = enc.field == ir::kNoValue ? lf.phase : levelOf(b, lf, enc, enc.field);
     return phaseFamilyFields(b, phi, level, lf.spacing, first, near);
+}
+
+// The members' level where a layer encodes `field` (its value at some point): phase + gain s f.
+ValueId LayerLowering::levelOf(ir::Builder& b, const LayerFrame& lf, const Encoding& enc,
+                               ValueId field) {
+    return b.add(lf.phase, b.mul(b.mul(enc.gain, lf.spacing), field));
 }
 
 } // namespace moire::lower

@@ -79,6 +79,8 @@ class LayerLowering {
                                                        ir::ValueId ox, ir::ValueId oy);
     PixelFootprint pixelOf(const StrokeBand& band);
     ir::ValueId fieldAt(const sema::CheckedLayer& layer, ir::ValueId ox, ir::ValueId oy);
+    static ir::ValueId levelOf(ir::Builder& b, const LayerFrame& lf, const Encoding& enc,
+                               ir::ValueId field);
     static std::pair<ir::ValueId, ir::ValueId> offFold(ir::Builder& b, ir::ValueId x,
                                                        ir::ValueId y);
     SceneContext& ctx_;

@@ -112,6 +112,11 @@ std::vector<Scene> filterScenes() {
     out.push_back({"walking past budget", "walking_budget.moire",
                    "layer a { family = triangles; spacing = 6; stroke = 1; offset = (6, 0); "
                    "turn = 0.5deg }\n"});
+    // Circles drifting by nearly their spacing (7.8 of 8), a degree a member: past the budget
+    // their interval turns a few times to many, and several turns' members are drawn.
+    out.push_back({"walking circles, turns", "walking_turns.moire",
+                   "layer a { family = circles; spacing = 8; stroke = 1.5; offset = (7.8, 0); "
+                   "turn = 1deg }\n"});
     // The same at the marginal drift (offset against the facet it faces): its period of 720
     // is past the chains drawn one by one, and the chains that reach each pixel are picked.
     out.push_back({"walking, chains picked", "walking_picked.moire",

@@ -1,7 +1,7 @@
 // The walking solver's crowd density, where the members past the budget are estimated rather
-// than drawn: few turns' crossings sampled and drawn, many turns' arcsine average with its
-// near field counted or phase-averaged, and the members a period of the turn apart that fall
-// on one another (WalkingCrowd.cpp hands over to it).
+// than drawn: few turns' crossings (drawn in WalkingTurns.cpp), many turns' arcsine average
+// with its near field counted or phase-averaged, and the members a period of the turn apart
+// that fall on one another (WalkingCrowd.cpp hands over to it).
 #include "compiler/ir/Plane.h"
 #include "compiler/ir/Semantics.h"
 #include "compiler/lower/Bisection.h"
@@ -22,8 +22,8 @@ namespace moire::lower::walking {
 // That sum is read two ways, mixed by how many full turns the interval's members make
 // (|theta| x span / 2 pi):
 //  - Few turns: every zero of h over the interval, found by sampling and bisection
-//    (sampledCrossings), each with its 1 / |dh/dn| read by a difference of h across it,
-//    exact where h is linear over one member.
+//    (turnsDrawn, WalkingTurns.cpp), each with its 1 / |dh/dn| read by a difference of h
+//    across it, exact where h is linear over one member; the members about each are drawn.
 //  - Many turns: far out (n ||delta|| >> r) the pulled-back point is -n delta plus a point
 //    circling at radius r, so rho(q_n) = n m + u . Rot(-n theta) p to first order (u the
 //    unit normal of the shape at -delta, m = rho(-delta)), and
@@ -62,19 +62,6 @@ Vals Solver::crowdDensity(ValueId span) {
     ValueId farArcsine = b_.add(arcsineDensity(far, end, k, rr), vertexChange(far, end, k, rr));
     ValueId farShare = crowdCoincidence(far, end, k, rr, 2.0);
     ValueId averaged = b_.add(nearPart, b_.mul(farArcsine, farShare));
-    // Few turns: the crossings of h_p(n) = 0 in n, sampled and drawn (sampledCrossings).
-    // No turn at all is a period of one member, drawn as one chain (chains()), not here.
-    ValueId turns = b_.div(b_.mul(b_.abs(in_.turn), span), c(2.0 * std::numbers::pi));
-    ValueId many = b_.smoothstep(c(kFewTurns), c(2.0 * kFewTurns), turns);
-    counting_ = false;
-    const Vals few = b_.ifThenElse(
-        b_.lt(many, c(1.0)), [&] { return sampledCrossings(crowdLo_, b_.sub(end, c(1.0)), width); },
-        [&] {
-            return Vals{c(0.0), c(0.0)};
-        });
-    counting_ = true;
-    ValueId density = b_.denan(b_.mix(few[0], averaged, many), c(0.0));
-    ValueId twice = branchesInk(width, averaged, farShare, rr);
     // The mirror: where the far members' line offsets c(n) = n (m - s) - phase all stay
     // within the stroke of 0 (the marginal drift at a zero phase), each far member is a
     // line through the origin, and member n + j with j theta = pi (mod 2 pi) draws member
@@ -91,6 +78,44 @@ Vals Solver::crowdDensity(ValueId span) {
     // common tangent at the origin, and counting them as one stroke drew the circles of
     // walking_mean's strided band further from their exact ink (measured), not nearer.
     mirror = b_.select(round_, c(0.0), mirror);
+    // Few turns: the crossings of h_p(n) = 0 in n, sampled and drawn (turnsDrawn), the
+    // arcsine taking over from kFewTurns to twice as many. No turn at all is a period of one
+    // member, drawn as one chain (chains()), not here.
+    ValueId turns = b_.div(b_.mul(b_.abs(in_.turn), span), c(2.0 * std::numbers::pi));
+    ValueId many = b_.smoothstep(c(kFewTurns), c(2.0 * kFewTurns), turns);
+    // Drawn, the passages of successive turns that fall on one another (members a full turn
+    // apart, q = 2 pi / |theta| of them, within the stroke: q |m - s| + r |q theta - 2 pi|
+    // under its width), or a far line and its mirror half a turn on, would each be laid over
+    // the other: the estimate counts them once, so it takes over where the interval holds
+    // both (a square at the marginal drift turning 0.05 degrees a member, nine turns over its
+    // interval, drew 0.98 ink where the exact field has 0.71).
+    ValueId turnMembers = b_.div(c(2.0 * std::numbers::pi), b_.max(b_.abs(in_.turn), c(1e-9)));
+    ValueId fullTurn = b_.round(turnMembers);
+    ValueId returned = b_.add(
+        b_.abs(b_.mul(fullTurn, k)),
+        b_.mul(rr, b_.abs(b_.sub(b_.mul(fullTurn, b_.abs(in_.turn)), c(2.0 * std::numbers::pi)))));
+    ValueId passagesApart = b_.select(
+        b_.gt(span, fullTurn), b_.smoothstep(b_.mul(width, c(0.5)), width, returned), c(1.0));
+    ValueId mirrorApart =
+        b_.select(b_.gt(span, b_.mul(turnMembers, c(0.5))), b_.sub(c(1.0), mirror), c(1.0));
+    ValueId distinct = b_.mul(passagesApart, mirrorApart);
+    many = b_.sub(c(1.0), b_.mul(b_.sub(c(1.0), many), distinct));
+    counting_ = false;
+    // A polygon's residual wiggles once a facet over a turn, on top of the turn's cosine, and
+    // each wiggle's turns want a few samples (nonagons two a pixel at a degree a member drew
+    // 2% light at 24 samples a turn, their exact ink at six a facet).
+    ValueId perTurn =
+        b_.max(c(kCrossingSamplesPerTurn), b_.mul(in_.facets, c(kCrossingSamplesPerFacet)));
+    ValueId samples = b_.max(c(kCrossingSamples), b_.floor(b_.mul(turns, perTurn)));
+    const Vals few = b_.ifThenElse(
+        b_.lt(many, c(1.0)),
+        [&] { return turnsDrawn(crowdLo_, b_.sub(end, c(1.0)), width, samples); },
+        [&] {
+            return Vals{c(0.0), c(0.0)};
+        });
+    counting_ = true;
+    ValueId density = b_.denan(b_.mix(few[0], averaged, many), c(0.0));
+    ValueId twice = branchesInk(width, averaged, farShare, rr);
     Vals mirrored = b_.ifThenElse(
         b_.gt(mirror, c(0.0)),
         [&] {
@@ -128,84 +153,6 @@ ValueId Solver::changesSign(ValueId h0, ValueId h1) {
 // where h is flat.
 ValueId Solver::perResidual(ValueId dh) {
     return b_.div(c(1.0), b_.max(b_.abs(dh), b_.mul(s_, c(1e-6))));
-}
-
-// The ink of the crossing between members z - 1 and z, whose members step 1 / d apart in
-// residual there. Where they stand apart (at most kCrossingRun - 1 of them within reach of
-// the footprint) the members about the crossing are drawn, each at its own residual: h is
-// monotone across a crossing, so kCrossingRun members either side of it are a run sorted
-// along their common normal, nearly parallel (consecutive members differ by one turn), and
-// their union is exact by inclusion and exclusion, each stroke less its overlap with the
-// one before. The footprint is the square pixel across member z's own normal (memberNormal,
-// taken to the pixel's frame). Where they crowd, the comb: an even spread of strokes
-// 1 / d apart inks min(1, width d), which the drawn run hands over to smoothly as the
-// members within reach pass kCrossingRun (drawn as an even comb, a crossing of members two
-// pixels apart drew grey where one member's stroke or paper lies: a triangle of spacing 5
-// walking at 0.05 degrees a member, 0.083 from the exact box mean a pixel on average,
-// drawn 0.001). Not counted in the tally.
-ValueId Solver::crossingInk(ValueId z, ValueId d, ValueId width) {
-    ValueId comb = b_.min(c(1.0), b_.mul(width, d));
-    ValueId psi = b_.mul(z, in_.turn);
-    auto [nx, ny] = memberNormal(b_, pointAccess(), z, psi, b_.max(memberPixel(), c(1e-6)));
-    auto [gx, gy] = toPixelFrame(nx, ny);
-    const Across foot = across(gx, gy);
-    ValueId within = b_.mul(b_.mul(memberReach(foot), c(2.0)), d);
-    ValueId drawn =
-        b_.sub(c(1.0), b_.smoothstep(c(kCrossingRun - 1.0), c(kCrossingRun + 1.0), within));
-    ValueId run = b_.ifThenElse(
-        b_.gt(drawn, c(0.0)),
-        [&] {
-            // Members start at n = 0: none before it reaches the pixel.
-            auto h = [&](ValueId n) {
-                return b_.select(b_.lt(n, c(0.0)), c(kFar), residual(member(n)));
-            };
-            return Vals{b_.min(sortedStrokesMean(b_, in_.stroke, b_.sub(z, c(kCrossingRun)),
-                                                 b_.add(z, c(kCrossingRun)), h,
-                                                 [&](ValueId centre, ValueId half) {
-                                                     return bandMean(centre, half, foot);
-                                                 }),
-                               c(1.0))};
-        },
-        [&] { return Vals{c(0.0)}; })[0];
-    return b_.mix(comb, run, drawn);
-}
-
-// Few turns: where the members turn, h_p(n) is not convex in n (with no turn it is, and
-// chains() draws it), but over a few turns it crosses zero a few times, twice a turn at
-// most for the far members. Sampled at kCrossingSamples members evenly over [lo, hi], each
-// sign change between two samples is refined by bisection to the two members it falls between,
-// and each crossing's members are drawn, or where they crowd taken as a comb of members 1 /
-// |dh/dn| apart in residual (crossingInk). The crossings are laid over one another
-// independently (they cross the pixel at the angles their turns make). A dip below zero
-// narrower than the samples' spacing is missed. Returns {density, ink}.
-Vals Solver::sampledCrossings(ValueId lo, ValueId hi, ValueId width) {
-    ValueId step = b_.div(b_.sub(hi, lo), c(kCrossingSamples));
-    Vals res = b_.loop(
-        {c(1.0), lo, residual(lo), c(0.0), c(1.0)},
-        [&](std::span<const ValueId> v) {
-            return Vals{both(b_.le(v[0], c(kCrossingSamples)), b_.lt(v[1], hi))};
-        },
-        [&](std::span<const ValueId> v) {
-            ValueId n = b_.min(hi, b_.floor(b_.add(lo, b_.mul(v[0], step))));
-            n = b_.max(n, b_.add(v[1], c(1.0)));
-            ValueId h = residual(n);
-            ValueId side = negative(h);
-            ValueId cross = changesSign(v[2], h);
-            Vals got = b_.ifThenElse(
-                cross,
-                [&] {
-                    ValueId z = firstWhere(b_, b_.add(v[1], c(1.0)), n, [&](ValueId m) {
-                        return eq(negative(residual(m)), side);
-                    });
-                    ValueId d = perResidual(b_.sub(residual(z), residual(b_.sub(z, c(1.0)))));
-                    return Vals{d, b_.sub(c(1.0), crossingInk(z, d, width))};
-                },
-                [&] {
-                    return Vals{c(0.0), c(1.0)};
-                });
-            return Vals{b_.add(v[0], c(1.0)), n, h, b_.add(v[3], got[0]), b_.mul(v[4], got[1])};
-        });
-    return Vals{res[3], b_.sub(c(1.0), res[4])};
 }
 
 // The near field past the members counted one by one: the coarea sum of [a, b] with each

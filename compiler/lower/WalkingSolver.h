@@ -10,6 +10,7 @@
 #include "compiler/lower/WalkingFamily.h"
 
 #include <array>
+#include <span>
 #include <utility>
 #include <vector>
 
@@ -121,8 +122,20 @@ class Solver {
     ValueId negative(ValueId h) { return b_.select(b_.lt(h, c(0.0)), c(1.0), c(0.0)); }
     ValueId changesSign(ValueId h0, ValueId h1);
     ValueId perResidual(ValueId dh);
-    ValueId crossingInk(ValueId z, ValueId d, ValueId width);
-    Vals sampledCrossings(ValueId lo, ValueId hi, ValueId width);
+    // Few turns' members drawn over the pixel's cells (WalkingTurns.cpp).
+    static constexpr int kCellsPerSide = 3;
+    static constexpr int kCells = kCellsPerSide * kCellsPerSide;
+    struct CellFrame {
+        std::array<ValueId, kCells> shift; // each cell's centre, in residual from the pixel's
+        Across cell;                       // a cell's extents across the window's normal
+        ValueId reach;                     // past this residual no stroke reaches the pixel
+    };
+    CellFrame cellFrame(ValueId n);
+    Vals addToCells(const CellFrame& f, std::span<const ValueId> unions, ValueId before, ValueId h);
+    ValueId memberResidual(ValueId n);
+    Vals windowCells(ValueId centre, ValueId left, ValueId right, ValueId floor, ValueId steps,
+                     ValueId sigma, ValueId d, ValueId width);
+    Vals turnsDrawn(ValueId lo, ValueId hi, ValueId width, ValueId samples);
     ValueId phaseAveraged(ValueId a, ValueId b);
     ValueId countedCrossings(ValueId lo, ValueId hi, ValueId fade);
     ValueId nearDensity(ValueId lo, ValueId hi, ValueId b);
@@ -166,13 +179,17 @@ class Solver {
     // The size of a closed form's residual terms, in pixels, up to which its crowd is drawn
     // (closedCrowding): 2^12.
     static constexpr double kFloatReach = 4096;
-    // Few turns: h sampled at this many members over the interval (sampledCrossings), and the
-    // arcsine average taking over from kFewTurns to twice as many turns.
+    // Few turns: h sampled at this many members over the interval at least, and at this many a
+    // turn (a polygon: a facet) (turnsDrawn); the arcsine average taking over from kFewTurns
+    // to twice as many turns.
     static constexpr double kCrossingSamples = 64;
-    static constexpr double kFewTurns = 2;
+    static constexpr double kCrossingSamplesPerTurn = 12, kCrossingSamplesPerFacet = 6;
+    static constexpr double kFewTurns = 8;
     // A crossing's members drawn either side of it, and up to how many within reach they are
-    // drawn rather than taken as a comb (crossingInk).
+    // drawn rather than taken as a comb (windowCells).
     static constexpr double kCrossingRun = 4;
+    // Members drawn either side of the one where h turns within reach of 0 (windowCells).
+    static constexpr double kApproachRun = 8;
     std::array<std::pair<ValueId, ValueId>, kCarriedPowers> turnPowers_;
 };
 

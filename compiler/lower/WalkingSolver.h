@@ -127,11 +127,11 @@ class Solver {
     static constexpr int kCells = kCellsPerSide * kCellsPerSide;
     struct CellFrame {
         std::array<ValueId, kCells> shift; // each cell's centre, in residual from the pixel's
-        Across cell;                       // a cell's extents across the window's normal
-        ValueId reach;                     // past this residual no stroke reaches the pixel
+        ValueId side;                      // a cell's side, in residual
     };
     CellFrame cellFrame(ValueId n);
-    Vals addToCells(const CellFrame& f, std::span<const ValueId> unions, ValueId before, ValueId h);
+    Vals addToCells(const CellFrame& f, std::span<const ValueId> unions, ValueId before, ValueId h,
+                    ValueId reach);
     ValueId memberResidual(ValueId n);
     Vals windowCells(ValueId centre, ValueId left, ValueId right, ValueId floor, ValueId steps,
                      ValueId sigma, ValueId d, ValueId width);

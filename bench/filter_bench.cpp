@@ -92,6 +92,14 @@ std::vector<Scene> filterScenes() {
                    "family grid { distance = min(abs(x - spacing * round(x / spacing)), abs(y - "
                    "spacing * round(y / spacing))) }\nlayer a { family = grid; spacing = 0.15; "
                    "stroke = 0.03; rotation = 10deg }\n"});
+    // Two rings given by their distance, 0.2 and 0.21 apart about one centre: each crowd's
+    // index read from its parts' normals and the centre's ray, and the pair's beat in closed
+    // form (DistanceFamily.h, runs; FineUnion.h).
+    out.push_back({"distance rings beating, 0.2", "distance_rings_beat.moire",
+                   "family rings { distance = abs(r - spacing * round(r / spacing)) }\n"
+                   "layer a { family = rings; spacing = 0.2; stroke = 0.05; origin = (30, 10) }\n"
+                   "layer b { family = rings; spacing = 0.21; stroke = 0.06; origin = (30, 10) "
+                   "}\n"});
     out.push_back({"triangle grid, resolved", "lattice_resolved.moire",
                    "layer a { family = triangle_lattice; spacing = 8; stroke = 1.5; edges = 1 }\n"
                    "layer b { family = lines; spacing = 6; stroke = 1; rotation = 5deg }\n"});

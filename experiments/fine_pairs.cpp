@@ -1,16 +1,17 @@
 // The union of fine layers under the mean filter (docs/filtering.md, "Fine layers together"):
 // two fine families whose beat is coarse (upright lines 1 and 1.05 apart, concentric circles
-// as far apart, and a fork grating: lines beside their twin with five members gained around
-// the origin) rendered on the JIT at one sample a pixel over two decades of zoom, point-sampled
-// and with the filtered mean, against a 256-sample box-filtered reference of the exact pair
-// field (ink wherever either family's stroke covers the point), computed here in double from
-// the families' geometry. Two figures: (a) the fringe's contrast, the amplitude of the beat's
-// fundamental in the picture, 2 |mean over the pixels of ink x exp(-2 pi i D)|, D the beat's
-// index at the pixel's centre (the same projection for the reference and the renders), and
-// (b) each pixel's mean absolute error. The mean must keep the fringe where the members are
-// unresolved and the beat is not (within 20% of the reference's contrast), its error must be
-// at least 10 times lower than point sampling's where the members are unresolved, and no
-// worse where they are resolved.
+// as far apart, the same rings given by their distance alone (`family f { distance = ... }`,
+// whose index the mean filter reads from the crowd: DistanceFamily.h), and a fork grating:
+// lines beside their twin with five members gained around the origin) rendered on the JIT at one
+// sample a pixel over two decades of zoom, point-sampled and with the filtered mean, against a
+// 256-sample box-filtered reference of the exact pair field (ink wherever either family's stroke
+// covers the point), computed here in double from the families' geometry. Two figures: (a) the
+// fringe's contrast, the amplitude of the beat's fundamental in the picture, 2 |mean over the
+// pixels of ink x exp(-2 pi i D)|, D the beat's index at the pixel's centre (the same projection
+// for the reference and the renders), and (b) each pixel's mean absolute error. The mean must keep
+// the fringe where the members are unresolved and the beat is not (within 20% of the reference's
+// contrast), its error must be at least 10 times lower than point sampling's where the members are
+// unresolved, and no worse where they are resolved.
 #include "experiments/Harness.h"
 #include "experiments/RenderedInk.h"
 
@@ -28,8 +29,9 @@ namespace {
 constexpr double kSpacing = 1.0, kOther = 1.05, kStroke = 0.3; // each inks 30% of its period
 constexpr double kForkGain = 5.0; // members the fork gains around the origin
 
-enum Pair { kLines, kCircles, kFork, kPairs };
+enum Pair { kLines, kCircles, kRings, kFork, kPairs };
 const char* const kPairNames[kPairs] = {"lines 1 and 1.05", "circles 1 and 1.05",
+                                        "rings given by their distance, 1 and 1.05",
                                         "fork grating, spacing 1"};
 
 std::string sceneText(Pair pair, double zoom, int width, int height, const char* filter) {
@@ -44,6 +46,13 @@ std::string sceneText(Pair pair, double zoom, int width, int height, const char*
                       family, kSpacing, kStroke, family, kOther, kStroke);
         break;
     }
+    case kRings:
+        std::snprintf(layers, sizeof layers,
+                      "family rings { distance = abs(r - spacing * round(r / spacing)) }\n"
+                      "layer a { family = rings; spacing = %g; stroke = %g }\n"
+                      "layer b { family = rings; spacing = %g; stroke = %g }\n",
+                      kSpacing, kStroke, kOther, kStroke);
+        break;
     default:
         std::snprintf(layers, sizeof layers,
                       "layer a { family = lines; spacing = %g; stroke = %g }\n"
@@ -67,6 +76,7 @@ void indices(Pair pair, double x, double y, double& f1, double& f2) {
         f1 = x / kSpacing, f2 = x / kOther;
         return;
     case kCircles:
+    case kRings:
         f1 = std::hypot(x, y) / kSpacing, f2 = std::hypot(x, y) / kOther;
         return;
     default:

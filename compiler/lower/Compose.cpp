@@ -45,17 +45,19 @@ void Compose::layer(const LayerInk& ink) {
     // together (FineUnion.h); any other layer ends the run before it is laid.
     const bool filtered = ink.pixel.size != ir::kNoValue;
     const bool lattice = filtered && joinsAsLattice(ink.fields.crowd);
-    const bool fine =
-        lattice || (filtered && joinsFineUnion(ink.fields.footprint, ink.fields.sample));
-    // A run with a lattice is a pair: its correlation is its strands' (FineUnion.h), which the
-    // sweep of a longer run does not know. Closed at two, it hands its last layer on to the
-    // next run, so that every two consecutive fine layers are correlated (a lattice under two
-    // fine phase families leaves their beat to the second pair).
-    const bool anyLattice =
-        std::any_of(run_.begin(), run_.end(), [](const FineLayer& l) { return l.lattice(); });
+    const bool byDistance = filtered && joinsByDistance(ink.fields.crowd);
+    const bool fine = lattice || byDistance ||
+                      (filtered && joinsFineUnion(ink.fields.footprint, ink.fields.sample));
+    // A run with a lattice, or a family given by its distance, is a pair: its correlation is
+    // its strands' (FineUnion.h), or a pair's in closed form, which the sweep of a longer run
+    // does not know. Closed at two, it hands its last layer on to the next run, so that every
+    // two consecutive fine layers are correlated (a lattice under two fine phase families
+    // leaves their beat to the second pair).
+    const bool anyPairsOnly =
+        std::any_of(run_.begin(), run_.end(), [](const FineLayer& l) { return l.pairsOnly(); });
     if (!fine) {
         closeRun();
-    } else if (run_.size() >= 2 && (lattice || anyLattice)) {
+    } else if (run_.size() >= 2 && (lattice || byDistance || anyPairsOnly)) {
         const FineLayer last = run_.back();
         const Ink beneathLast = lastUnder_;
         closeRun();
@@ -82,6 +84,16 @@ void Compose::layer(const LayerInk& ink) {
                 l.strands.push_back({ink.fields.crowd.strands[i], ink.fields.crowd.strandMeans[i]});
             l.strandsOn = ink.fields.crowd.strandsOn;
             l.shape = ink.fields.crowd.shape;
+        } else if (byDistance) {
+            // As a phase family by the index its crowd runs by, the stroke's half-width across
+            // its members in world units.
+            const CrowdEstimate::Runs& runs = *ink.fields.crowd.runs;
+            l.sweep.halfWidth = runs.halfWidth;
+            l.sweep.gradX = runs.footprint.gradX;
+            l.sweep.gradY = runs.footprint.gradY;
+            l.footprint = runs.footprint;
+            l.byDistance = true;
+            l.strands.push_back({runs.footprint, stroke});
         } else {
             l.strands.push_back({ink.fields.footprint, stroke});
         }

@@ -32,6 +32,16 @@ constexpr double kCrossedGate = 0.5, kParallelGate = 0.5;
 // kSameFacing (a curve).
 constexpr double kSameFoot = 0.25;
 constexpr double kSameFacing = 0.9;
+// The coarse parts' coherence (Parts) over which a crowd's members are taken as running
+// parallel, by a smoothstep from kRunsFrom to kRunsFull: the parts' normals within about 13
+// and 9 degrees of one direction, which rings meet from about 1.3 and 1.8 pixels off their
+// centre (coherence about 1 - 0.16 / R^2, R in pixels). A grid's two directions, or dots'
+// normals running out from several dots, stand near 0: such a crowd is laid as independent.
+constexpr double kRunsFrom = 0.9, kRunsFull = 0.95;
+// How far along its normal the centre looks for the ridge, in pixels: members whose ray runs
+// further stand more than two pixels apart, resolved (under kCrowdFrom members a pixel), and
+// their spacing reads as twice the reach, which is resolved too.
+constexpr double kRunsReach = 1.0;
 
 // A reading whose gradient vanishes (or is NaN), at a kink of the distance such as |f| where f
 // is 0 to the last bit (often so in float), with `stand`'s gradient: the pixel's centre's
@@ -313,18 +323,28 @@ ValueId finePartsMean(ir::Builder& b, const DistanceAt& at, ValueId h, const Pix
 // expression is written out once a row, not once a square), carrying the row below's readings to
 // compare with. `near`: the squares' mean distance to their members in world units, each held
 // to kTubeReach fine parts' sides; `crossed`: the share of neighbouring pairs of which one
-// holds the other's stroke (whether the members may be crowded: DistanceTubes.h).
+// holds the other's stroke (whether the members may be crowded: DistanceTubes.h);
+// `coherence`: how nearly the squares' normals run one way or its opposite, the length of
+// the mean of (cos 2 theta, sin 2 theta) over those with a gradient (1 for parallel members,
+// about 0 for dots or a grid's two directions; a square on a kink, where float meets the
+// gradient's vanishing far more often than double, has no direction and is not counted).
+// `axis`: the direction they run along, as a unit normal along the pixel's sides (its sense
+// unknown): the half angle of that mean.
 struct Parts {
-    ValueId mean, bent, near, crossed;
+    ValueId mean, bent, near, crossed, coherence;
+    Normal axis;
 };
 Parts partsMean(ir::Builder& b, const DistanceAt& at, ValueId h, const PixelFootprint& pixel,
                 const Reading& centre, int n) {
     const ValueId side = b.div(pixel.size, b.constF(n));
     // Carried: the row, the sum of the squares' means, how many pairs hold another's stroke,
-    // the sum of their (held) distances, and the row below's readings, four values a square.
+    // the sum of their (held) distances, the sums of their normals' doubled angles' cosines
+    // and sines and how many have a normal, and the row below's readings, four values a
+    // square.
     const ValueId most =
         b.mul(b.div(pixel.size, b.constF(kDistanceFineTaps)), b.constF(kTubeReach));
-    std::vector<ValueId> init(4 + 4 * n, b.constF(0.0));
+    constexpr size_t kRowAt = 7;
+    std::vector<ValueId> init(kRowAt + 4 * n, b.constF(0.0));
     auto more = [&](std::span<const ValueId> v) {
         return std::vector<ValueId>{b.lt(v[0], b.constF(n))};
     };
@@ -332,10 +352,19 @@ Parts partsMean(ir::Builder& b, const DistanceAt& at, ValueId h, const PixelFoot
         const std::vector<Reading> row = readRow(b, at, pixel, place(b, v[0], n), n);
         ValueId sum = v[1];
         ValueId near = v[3];
+        ValueId cos2 = v[4], sin2 = v[5], directed = v[6];
         for (const Reading& r : row) {
             sum = b.add(sum, firstOrderMean(b, r, h, side, centre));
             const ValueId away = b.div(r.d, heldLength(b, r));
             near = b.add(near, b.min(b.denan(away, most), most));
+            // A vanishing gradient (a kink) has no direction.
+            const ValueId some = b.gt(r.length, b.constF(0.0)); // false on NaN too
+            const ValueId squared = b.max(b.mul(r.length, r.length), b.constF(1e-30));
+            const ValueId c = b.div(b.sub(b.mul(r.gu, r.gu), b.mul(r.gv, r.gv)), squared);
+            const ValueId s2 = b.div(b.mul(b.constF(2.0), b.mul(r.gu, r.gv)), squared);
+            cos2 = b.add(cos2, b.select(some, c, b.constF(0.0)));
+            sin2 = b.add(sin2, b.select(some, s2, b.constF(0.0)));
+            directed = b.add(directed, b.select(some, b.constF(1.0), b.constF(0.0)));
         }
         std::vector<ValueId> flags;
         // The squares r and s, s (da, dc) sides from r: each way round.
@@ -353,17 +382,70 @@ Parts partsMean(ir::Builder& b, const DistanceAt& at, ValueId h, const PixelFoot
         };
         ValueId count = pairsIn(v[2], flags);
         flags.clear();
-        const std::vector<Reading> previous = carriedRow(v, 4, n);
+        const std::vector<Reading> previous = carriedRow(v, kRowAt, n);
         for (int i = 0; i < n; ++i) pair(previous[i], row[i], 0, 1);
         // The first row has none below it.
         count = b.select(b.gt(v[0], b.constF(0.0)), pairsIn(count, flags), count);
-        std::vector<ValueId> next{b.add(v[0], b.constF(1.0)), sum, count, near};
+        std::vector<ValueId> next{
+            b.add(v[0], b.constF(1.0)), sum, count, near, cos2, sin2, directed};
         carry(next, row);
         return next;
     });
     const double each = 1.0 / (n * n);
-    return {b.mul(out[1], b.constF(each)), b.gt(out[2], b.constF(0.0)),
-            b.mul(out[3], b.constF(each)), b.div(out[2], b.constF(2 * n * (n - 1)))};
+    // The half angle of (c, s) = (cos 2 theta, sin 2 theta): (1 + c, s) and (s, 1 - c) both
+    // run along theta, each well away from 0 where the other nears it.
+    const ValueId c = out[4], s2 = out[5], r = b.hypot(c, s2);
+    const ValueId ahead = b.emit(Op::Ge, {c, b.constF(0.0)});
+    const ValueId au = b.select(ahead, b.add(r, c), s2), av = b.select(ahead, s2, b.sub(r, c));
+    const ValueId al = b.max(b.hypot(au, av), b.constF(1e-30));
+    return {b.mul(out[1], b.constF(each)),          b.gt(out[2], b.constF(0.0)),
+            b.mul(out[3], b.constF(each)),          b.div(out[2], b.constF(2 * n * (n - 1))),
+            b.div(r, b.max(out[6], b.constF(1.0))), {b.div(au, al), b.div(av, al)}};
+}
+
+// The index a crowd of parallel members runs by (CrowdEstimate::runs), from the
+// pixel centre's reading: its member's spacing L along the normal is twice the centre's ray
+// (its member's foot to the ridge, DistanceTubes.h: half-way to the next member, for evenly
+// spaced parallel curves), the centre stands t0 = d / |grad d| along the normal n from its
+// member, so the index runs t0 / L there and n / L per world unit across the pixel (members at
+// the integers, the nearest at 0). A centre on a kink (on a member, to the last bit: its
+// gradient vanishes, as float meets far more often than double) stands on its member, the
+// parts' axis for its normal. `trust` scales the footprint (Footprint::trust).
+CrowdEstimate::Runs runsOf(ir::Builder& b, const DistanceAt& at, const Reading& centre, Normal axis,
+                           ValueId halfWidth, const PixelFootprint& pixel, ValueId trust) {
+    const ValueId zero = b.constF(0.0), one = b.constF(1.0);
+    const std::vector<ValueId> index = b.ifThenElse(
+        b.gt(trust, zero),
+        [&] {
+            const ValueId some = b.gt(centre.length, zero); // false on NaN too
+            const Reading r{b.select(some, centre.d, zero), b.select(some, centre.gu, axis.u),
+                            b.select(some, centre.gv, axis.v), b.select(some, centre.length, one)};
+            const RayLength ray =
+                rayThrough(b, at, pixel, r, {zero, zero}, b.mul(pixel.size, b.constF(kRunsReach)));
+            const ValueId spacing = b.mul(ray.ridge, b.constF(2.0));
+            const ValueId length = heldLength(b, r);
+            const ValueId per = b.div(one, b.mul(spacing, length)); // 1 / (L |grad d|)
+            // The gradient along the pixel's sides turned back to the world's axes
+            // (onPixelSides' inverse).
+            ValueId gx = r.gu, gy = r.gv;
+            if (pixel.cosTurn != ir::kNoValue) {
+                gx = b.sub(b.mul(r.gu, pixel.cosTurn), b.mul(r.gv, pixel.sinTurn));
+                gy = b.add(b.mul(r.gu, pixel.sinTurn), b.mul(r.gv, pixel.cosTurn));
+            }
+            return std::vector<ValueId>{b.mul(r.d, per), b.div(one, spacing), b.mul(gx, per),
+                                        b.mul(gy, per), b.div(halfWidth, length)};
+        },
+        [&] {
+            return std::vector<ValueId>{zero, zero, zero, zero, zero};
+        });
+    CrowdEstimate::Runs runs;
+    runs.footprint.index = b.denan(index[0], zero);
+    runs.footprint.grad = b.denan(index[1], zero);
+    runs.footprint.gradX = b.denan(index[2], zero);
+    runs.footprint.gradY = b.denan(index[3], zero);
+    runs.footprint.trust = trust;
+    runs.halfWidth = b.denan(index[4], zero);
+    return runs;
 }
 
 } // namespace
@@ -394,7 +476,8 @@ CrowdEstimate distanceFamilyCrowd(ir::Builder& b, ValueId distance, const Distan
     parts.push_back(b.emit(Op::Not, {b.gt(centre.length, b.constF(0.0))}));
     const ValueId parted = anyOf(b, parts);
     CrowdEstimate out;
-    out.nearest = b.ifThenElse(
+    // [the pixel's mean ink, the coarse parts' coherence and axis]
+    const std::vector<ValueId> read = b.ifThenElse(
         parted,
         [&] {
             Parts coarse = partsMean(b, at, halfWidth, pixel, centre, kDistanceTaps);
@@ -413,24 +496,41 @@ CrowdEstimate distanceFamilyCrowd(ir::Builder& b, ValueId distance, const Distan
             const ValueId mayCrowd =
                 b.emit(Op::And, {b.lt(coarse.near, b.mul(fineSide, b.constF(kTubeGate))), crossed});
             return Vals{b.ifThenElse(
-                coarse.bent,
-                [&] {
-                    return b.ifThenElse(
-                        mayCrowd,
-                        [&] {
-                            const TubeEstimate tubes = distanceTubesMean(b, at, halfWidth, pixel);
-                            const ValueId parts =
-                                b.ifThenElse(b.lt(tubes.crowded, b.constF(1.0)), fine,
-                                             [&] { return Vals{tubes.mean}; })[0];
-                            return Vals{b.mix(parts, tubes.mean, tubes.crowded)};
-                        },
-                        fine);
-                },
-                [&] { return Vals{coarse.mean}; })[0]};
+                            coarse.bent,
+                            [&] {
+                                return b.ifThenElse(
+                                    mayCrowd,
+                                    [&] {
+                                        const TubeEstimate tubes =
+                                            distanceTubesMean(b, at, halfWidth, pixel);
+                                        const ValueId parts =
+                                            b.ifThenElse(b.lt(tubes.crowded, b.constF(1.0)), fine,
+                                                         [&] { return Vals{tubes.mean}; })[0];
+                                        return Vals{b.mix(parts, tubes.mean, tubes.crowded)};
+                                    },
+                                    fine);
+                            },
+                            [&] { return Vals{coarse.mean}; })[0],
+                        coarse.coherence, coarse.axis.u, coarse.axis.v};
         },
         // Not parted, the centre's gradient does not vanish: it stands for itself.
-        [&] { return Vals{firstOrderMean(b, centre, halfWidth, pixel.size, centre)}; })[0];
-    out.strokesCrowded = b.select(parted, b.constF(1.0), b.constF(0.0));
+        [&] {
+            return Vals{firstOrderMean(b, centre, halfWidth, pixel.size, centre), b.constF(0.0),
+                        b.constF(1.0), b.constF(0.0)};
+        });
+    out.nearest = read[0];
+    const ValueId trust = b.smoothstep(b.constF(kRunsFrom), b.constF(kRunsFull), read[1]);
+    out.runs = runsOf(b, at, centre, {read[2], read[3]}, halfWidth, pixel, trust);
+    // Read in parts, the nearest member's stroke is not the layer's strokes where the members
+    // crowd or cross, and stroke pairs take the layer as independent there. Where they run
+    // parallel and stand apart it still is, as a phase family's nearest is: handed over to the
+    // union of fine layers as they crowd (kCrowdFrom to kCrowdFull members a pixel), as a
+    // phase family's is (StrokePairs.cpp).
+    const ValueId members = b.mul(out.runs->footprint.grad, pixel.size);
+    const ValueId alone =
+        b.mul(trust, b.sub(b.constF(1.0),
+                           b.smoothstep(b.constF(kCrowdFrom), b.constF(kCrowdFull), members)));
+    out.strokesCrowded = b.select(parted, b.sub(b.constF(1.0), alone), b.constF(0.0));
     return out;
 }
 

@@ -41,9 +41,15 @@ constexpr int kDistanceTaps = 4;
 constexpr double kStraightSlack = 0.05;
 
 // The crowd estimate of a family given by its distance: `nearest`, the pixel's mean ink read
-// as above (taken by the compose step in place of the distance form), and `strokesCrowded`, 1
-// where the pixel was read in parts (the nearest member's stroke is not the layer's strokes
-// there, which stroke pairs then take as independent: StrokePairs.h).
+// as above (taken by the compose step in place of the distance form); `runs`, where the
+// members crowd and run parallel over the pixel (its 4 x 4 parts' normals agree), the index
+// they run by, read from the centre's distance and its ray to the ridge (half the spacing),
+// with which the union of fine layers lets the family beat with another layer as a phase
+// family does (FineUnion.h); and `strokesCrowded`, 1 where the pixel was read in parts (the
+// nearest member's stroke is not the layer's strokes there, which stroke pairs then take as
+// independent: StrokePairs.h), but where the members run parallel and stand apart, where the
+// nearest stroke stands for them as a phase family's does, handed over to the union as they
+// crowd.
 CrowdEstimate distanceFamilyCrowd(ir::Builder& b, ir::ValueId distance, const DistanceAt& at,
                                   ir::ValueId halfWidth, const PixelFootprint& pixel);
 

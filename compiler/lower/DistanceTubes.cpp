@@ -212,6 +212,32 @@ ValueId tubeShare(ir::Builder& b, ValueId h, ValueId ridge, ValueId kappa0) {
 
 } // namespace
 
+RayLength rayThrough(ir::Builder& b, const DistanceAt& at, const PixelFootprint& pixel,
+                     const Reading& r, PixelPoint p, ValueId cap) {
+    const ValueId zero = b.constF(0.0);
+    const ValueId part = b.div(pixel.size, b.constF(kDistanceFineTaps));
+    Ray ray{p, {}, unitNormal(b, r), b.div(r.d, heldLength(b, r))};
+    ray.f = {b.sub(p.u, b.mul(ray.t0, ray.n.u)), b.sub(p.v, b.mul(ray.t0, ray.n.v))};
+    // A probe at the cap: where it reads the point's own member (or the point stands further
+    // out), the ray is longer than the caller needs to know.
+    const Probe atCap = probeAt(b, at, pixel, ray, cap);
+    const ValueId longer = b.emit(Op::Or, {b.emit(Op::Not, {b.lt(ray.t0, cap)}), atCap.same});
+    const std::vector<ValueId> out = b.ifThenElse(
+        longer,
+        [&] {
+            return std::vector<ValueId>{cap, zero};
+        },
+        [&] {
+            const ValueId step =
+                b.max(b.mul(ray.t0, b.constF(kTurnStep)), b.mul(part, b.constF(kLeastTurnStep)));
+            const ValueId kappa0 = memberCurvature(b, at, pixel, ray, step);
+            const ValueId ridge = ridgeAlong(b, at, pixel, ray, atCap, cap,
+                                             b.mul(part, b.constF(0.02)), b.max(kappa0, zero));
+            return std::vector<ValueId>{ridge, kappa0};
+        });
+    return {out[0], out[1]};
+}
+
 TubeEstimate distanceTubesMean(ir::Builder& b, const DistanceAt& at, ValueId halfWidth,
                                const PixelFootprint& pixel) {
     const ValueId part = b.div(pixel.size, b.constF(kDistanceFineTaps));
@@ -254,34 +280,14 @@ TubeEstimate distanceTubesMean(ir::Builder& b, const DistanceAt& at, ValueId hal
         // A sample on a kink (no gradient) or off the distance's range is not read.
         const ValueId read =
             b.emit(Op::And, {b.gt(r.length, zero), b.emit(Op::Not, {b.lt(r.d, zero)})});
-        const ValueId length = heldLength(b, r);
-        Ray ray{p, {}, unitNormal(b, r), b.div(r.d, length)};
-        ray.f = {b.sub(p.u, b.mul(ray.t0, ray.n.u)), b.sub(p.v, b.mul(ray.t0, ray.n.v))};
         // The stroke's half-width along the ray, in world units.
-        const ValueId h = b.div(halfWidth, length);
-        // A probe at the cap: where it reads the sample's own member (or the sample stands
-        // further out), the ray is longer than the parts need to know.
-        const Probe atCap = probeAt(b, at, pixel, ray, cap);
-        const ValueId longer = b.emit(Op::Or, {b.emit(Op::Not, {b.lt(ray.t0, cap)}), atCap.same});
-        // [ridge, g, kappa0]
-        const std::vector<ValueId> bent = b.ifThenElse(
-            longer,
-            [&] {
-                return std::vector<ValueId>{cap, tubeShare(b, h, cap, zero), zero};
-            },
-            [&] {
-                const ValueId step = b.max(b.mul(ray.t0, b.constF(kTurnStep)),
-                                           b.mul(part, b.constF(kLeastTurnStep)));
-                const ValueId kappa0 = memberCurvature(b, at, pixel, ray, step);
-                const ValueId ridge = ridgeAlong(b, at, pixel, ray, atCap, cap,
-                                                 b.mul(part, b.constF(0.02)), b.max(kappa0, zero));
-                return std::vector<ValueId>{ridge, tubeShare(b, h, ridge, kappa0), kappa0};
-            });
-        const ValueId ridge = bent[0];
-        const ValueId g = bent[1];
+        const ValueId h = b.div(halfWidth, heldLength(b, r));
+        const RayLength ray = rayThrough(b, at, pixel, r, p, cap);
+        const ValueId ridge = ray.ridge;
+        const ValueId g = tubeShare(b, h, ridge, ray.kappa0);
         // The ray's length as the parts see it (kStraightRay, kPointRay).
         const ValueId straight = b.div(b.constF(kStraightRay - kPointRay),
-                                       b.add(one, b.mul(b.max(bent[2], zero), ridge)));
+                                       b.add(one, b.mul(b.max(ray.kappa0, zero), ridge)));
         const ValueId seen = b.mul(ridge, b.add(b.constF(kPointRay), straight));
         const ValueId counted = b.emit(Op::And, {read, b.emit(Op::Eq, {g, g})});
         return std::vector<ValueId>{b.add(v[0], one), b.add(v[1], b.select(counted, g, zero)),

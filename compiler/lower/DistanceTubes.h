@@ -56,6 +56,17 @@ constexpr double kTubeGate = 1.5;
 struct TubeEstimate {
     ir::ValueId mean, crowded;
 };
+// The ray through p (a point of the pixel, read there as r): its length from its member's foot
+// to the ridge, looked for up to `cap` along it (`cap` where it runs further), and kappa0, the
+// member's curvature at the foot (0 where the ray runs past the cap). Each of the tubes'
+// samples reads one; the index a crowd of parallel members runs by reads the pixel centre's
+// (DistanceFamily.cpp: its members' spacing, twice the ray).
+struct RayLength {
+    ir::ValueId ridge, kappa0;
+};
+RayLength rayThrough(ir::Builder& b, const DistanceAt& at, const PixelFootprint& pixel,
+                     const Reading& r, PixelPoint p, ir::ValueId cap);
+
 TubeEstimate distanceTubesMean(ir::Builder& b, const DistanceAt& at, ir::ValueId halfWidth,
                                const PixelFootprint& pixel);
 

@@ -25,6 +25,10 @@ bool joinsAsLattice(const CrowdEstimate& crowd) {
     return joinsAsStrands(crowd) || crowd.shape.has_value();
 }
 
+bool joinsByDistance(const CrowdEstimate& crowd) {
+    return crowd.runs.has_value();
+}
+
 ValueId transfer(ir::Builder& b, const PixelSides& g, const PixelFootprint& pixel) {
     ir::BuiltValue along(b, b.mul(b.abs(g.u), pixel.size));
     ir::BuiltValue across(b, b.mul(b.abs(g.v), pixel.size));
@@ -34,6 +38,7 @@ ValueId transfer(ir::Builder& b, const PixelSides& g, const PixelFootprint& pixe
 ValueId unresolved(ir::Builder& b, const Footprint& f, const PixelFootprint& pixel) {
     ValueId nu = b.mul(f.grad, pixel.size);
     ValueId weight = b.smoothstep(b.constF(kCrowdFrom), b.constF(kCrowdFull), nu);
+    if (f.trust != ir::kNoValue) weight = b.mul(weight, f.trust);
     if (!f.first) return weight;
     ValueId lowest = b.sub(f.index, b.mul(nu, b.constF(0.5)));
     return b.select(b.lt(lowest, b.constF(*f.first - 0.5)), b.constF(0.0), weight);

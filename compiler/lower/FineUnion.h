@@ -46,25 +46,34 @@ struct FineLayer {
     ir::ValueId strandsOn = ir::kNoValue;
     std::optional<CrowdEstimate::LatticeShape> shape;
     ir::ValueId laid = ir::kNoValue; // the layer's own mean ink over the pixel, as laid
+    // A family given by its distance, by the index its crowd runs by (CrowdEstimate::runs).
+    bool byDistance = false;
     bool lattice() const { return strandsOn != ir::kNoValue || shape.has_value(); }
+    // Whether the layer joins a run as a pair alone: the sweep of a longer run knows neither
+    // a lattice's strands and shape nor a family given by its distance (which has no phase
+    // sample), so such a run is closed at two (Compose.cpp).
+    bool pairsOnly() const { return lattice() || byDistance; }
 };
 
 // Whether a layer can join a run: a phase family with a footprint and a one-index phase
-// sample, or a lattice (joinsAsLattice); morphs, walking and distance families are laid over
-// on their own. A lattice joins by its strands, the whole lines of its edges
-// (CrowdEstimate::strands: the square and triangle lattices'), or by its shape, its dots or
-// cells (CrowdEstimate::shape, LatticeUnion.h: every lattice whose generators are known).
+// sample, or a lattice (joinsAsLattice), or a family given by its distance by the index its
+// crowd runs by (joinsByDistance); morphs and walking families are laid over on their own. A
+// lattice joins by its strands, the whole lines of its edges (CrowdEstimate::strands: the square
+// and triangle lattices'), or by its shape, its dots or cells (CrowdEstimate::shape,
+// LatticeUnion.h: every lattice whose generators are known).
 bool joinsFineUnion(const Footprint& footprint, const PhaseSample& sample);
 bool joinsAsStrands(const CrowdEstimate& crowd);
 bool joinsAsLattice(const CrowdEstimate& crowd);
+bool joinsByDistance(const CrowdEstimate& crowd);
 
 // footprintTransfer (below) of an index whose gradient has components (u, v) along the
 // pixel's sides.
 ir::ValueId transfer(ir::Builder& b, const PixelSides& g, const PixelFootprint& pixel);
 
 // How far a family's members are past being resolved: smoothstep(kCrowdFrom, kCrowdFull, nu),
-// nu = |grad index| x pixel, and 0 where its footprint reaches below a first member (as
-// meanInk, which draws such a pixel from its distance).
+// nu = |grad index| x pixel, times the index's trust where it is read from the members
+// (Footprint::trust), and 0 where its footprint reaches below a first member (as meanInk,
+// which draws such a pixel from its distance).
 ir::ValueId unresolved(ir::Builder& b, const Footprint& f, const PixelFootprint& pixel);
 
 // A family that starts at a member has no members below it, which a periodic stroke counts:

@@ -81,6 +81,11 @@ struct Footprint {
     // Where the footprint reaches below the first member: the pixel's mean read in parts
     // (Prefilter.h: belowFirstMean). kNoValue: the nearest member's distance mean instead.
     ir::ValueId belowMean = ir::kNoValue;
+    // How far the index stands for the members over the pixel, 0 to 1, where it is read from
+    // them rather than given (a family given by its distance: CrowdEstimate::runs). The union
+    // of fine layers and the lattices' strands take its crowd as that much past resolved
+    // (FineUnion.h, unresolved). kNoValue: wholly.
+    ir::ValueId trust = ir::kNoValue;
 };
 
 // A family's own estimate of the ink its members lay where it cannot resolve them itself (the
@@ -146,6 +151,16 @@ struct CrowdEstimate {
         std::vector<Cell> cells;
     };
     std::optional<LatticeShape> shape;
+    // A family given by its distance whose members crowd and run parallel over the pixel:
+    // the index they run by, as a phase family's footprint (members at the integers, the
+    // nearest at 0; its `trust` how nearly they run parallel), and the stroke's half-width
+    // across them in world units, which the union of fine layers reads to let the family beat
+    // with another layer (FineUnion.h; DistanceFamily.h derives it). Unset on other families.
+    struct Runs {
+        Footprint footprint;
+        ir::ValueId halfWidth = ir::kNoValue;
+    };
+    std::optional<Runs> runs;
 };
 
 struct LayerFields {

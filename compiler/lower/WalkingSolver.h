@@ -77,6 +77,9 @@ class Solver {
     // what the mean reads.
     ValueId memberPixel() { return b_.div(in_.band.a, c(kAntialiasPixels)); }
     ValueId memberHalf() { return b_.mul(in_.stroke, c(0.5)); }
+    // The residual past which no member's stroke reaches the pixel, however its normal faces:
+    // half the stroke and half the pixel's diagonal.
+    ValueId strokeReach() { return b_.add(memberHalf(), b_.mul(memberPixel(), c(kHalfDiagonal))); }
     ValueId memberMean(ValueId value) { return bandMean(value, memberHalf()); }
     // The square pixel's extents across a member's normal, in residual units: the spans of its
     // two sides along the normal (distanceMeanInk's `along` and `across`).

@@ -87,8 +87,7 @@ ValueId Solver::memberResidual(ValueId n) {
 Vals Solver::windowCells(ValueId centre, ValueId left, ValueId right, ValueId floor, ValueId steps,
                          ValueId sigma, ValueId d, ValueId width) {
     const CellFrame f = cellFrame(centre);
-    // Past this no stroke reaches the pixel, however its normal faces.
-    ValueId reach = b_.add(memberHalf(), b_.mul(memberPixel(), c(kHalfDiagonal)));
+    const ValueId reach = strokeReach();
     ValueId far = b_.mul(sigma, c(kFar));
     auto leftSide = [&](ValueId n) {
         ValueId open = both(b_.gt(n, floor), b_.le(c(0.0), n));
@@ -116,9 +115,10 @@ Vals Solver::windowCells(ValueId centre, ValueId left, ValueId right, ValueId fl
             return out;
         });
     ValueId comb = b_.min(c(1.0), b_.mul(width, d));
-    ValueId within = b_.mul(b_.mul(reach, c(2.0)), d);
+    // How many of the crossing's members reach the pixel.
+    ValueId reaching = b_.mul(b_.mul(reach, c(2.0)), d);
     ValueId drawn =
-        b_.sub(c(1.0), b_.smoothstep(c(kCrossingRun - 1.0), c(kCrossingRun + 1.0), within));
+        b_.sub(c(1.0), b_.smoothstep(c(kCrossingRun - 1.0), c(kCrossingRun + 1.0), reaching));
     Vals out{b_.sub(walk[3], c(1.0))};
     for (int k = 0; k < kCells; ++k)
         out.push_back(b_.mix(comb, b_.min(walk[6 + k], c(1.0)), drawn));
@@ -144,8 +144,7 @@ Vals Solver::windowCells(ValueId centre, ValueId left, ValueId right, ValueId fl
 // crossings' 1 / |dh/dn| (a turn within reach adds none).
 Vals Solver::turnsDrawn(ValueId lo, ValueId hi, ValueId width, ValueId samples) {
     ValueId step = b_.div(b_.sub(hi, lo), samples);
-    // Past this no stroke reaches the pixel, however its normal faces.
-    ValueId reach = b_.add(memberHalf(), b_.mul(memberPixel(), c(kHalfDiagonal)));
+    const ValueId reach = strokeReach();
     ValueId h0 = residual(lo);
     // Carried: the sample, its member and residual, the two before them (member, residual),
     // the last member drawn, the density, and each cell's paper.

@@ -213,7 +213,7 @@ ValueId tubeShare(ir::Builder& b, ValueId h, ValueId ridge, ValueId kappa0) {
 } // namespace
 
 RayLength rayThrough(ir::Builder& b, const DistanceAt& at, const PixelFootprint& pixel,
-                     const Reading& r, PixelPoint p, ValueId cap) {
+                     const Reading& r, PixelPoint p, ValueId cap, bool next) {
     const ValueId zero = b.constF(0.0);
     const ValueId part = b.div(pixel.size, b.constF(kDistanceFineTaps));
     Ray ray{p, {}, unitNormal(b, r), b.div(r.d, heldLength(b, r))};
@@ -235,7 +235,25 @@ RayLength rayThrough(ir::Builder& b, const DistanceAt& at, const PixelFootprint&
                                              b.mul(part, b.constF(0.02)), b.max(kappa0, zero));
             return std::vector<ValueId>{ridge, kappa0};
         });
-    return {out[0], out[1]};
+    RayLength length{out[0], out[1]};
+    if (next) {
+        // Half a ray past the ridge the probe reads the next member (a ridge found to within
+        // a share of itself leaves it well short of the member after), whose foot stands a
+        // spacing along the normal from the ray's own: exact for parallel curves wherever
+        // the ridge settled. Where it reads its own member, or the ray ran past the cap,
+        // twice the ray.
+        const Probe probe = probeAt(b, at, pixel, ray, b.mul(length.ridge, b.constF(1.5)));
+        const ValueId apartAlong = b.abs(b.add(b.mul(b.sub(probe.foot.u, ray.f.u), ray.n.u),
+                                               b.mul(b.sub(probe.foot.v, ray.f.v), ray.n.v)));
+        const ValueId twice = b.mul(length.ridge, b.constF(2.0));
+        // A spacing off twice the ridge by more than a quarter is not the next member's.
+        const ValueId near = b.lt(b.abs(b.sub(apartAlong, twice)), b.mul(twice, b.constF(0.25)));
+        const ValueId read =
+            b.emit(Op::And, {b.emit(Op::And, {b.emit(Op::Not, {probe.same}), near}),
+                             b.lt(length.ridge, cap)});
+        length.next = b.select(read, b.denan(apartAlong, twice), twice);
+    }
+    return length;
 }
 
 TubeEstimate distanceTubesMean(ir::Builder& b, const DistanceAt& at, ValueId halfWidth,

@@ -58,14 +58,16 @@ struct TubeEstimate {
 };
 // The ray through p (a point of the pixel, read there as r): its length from its member's foot
 // to the ridge, looked for up to `cap` along it (`cap` where it runs further), and kappa0, the
-// member's curvature at the foot (0 where the ray runs past the cap). Each of the tubes'
-// samples reads one; the index a crowd of parallel members runs by reads the pixel centre's
-// (DistanceFamily.cpp: its members' spacing, twice the ray).
+// member's curvature at the foot (0 where the ray runs past the cap); with `next`, how far
+// along the normal the next member's foot stands from its own, read by a probe past the ridge
+// (twice the ray where none is read). Each of the tubes' samples reads one; the index a crowd
+// of parallel members runs by reads the pixel centre's (DistanceFamily.cpp: its spacing).
 struct RayLength {
     ir::ValueId ridge, kappa0;
+    ir::ValueId next = ir::kNoValue;
 };
 RayLength rayThrough(ir::Builder& b, const DistanceAt& at, const PixelFootprint& pixel,
-                     const Reading& r, PixelPoint p, ir::ValueId cap);
+                     const Reading& r, PixelPoint p, ir::ValueId cap, bool next = false);
 
 TubeEstimate distanceTubesMean(ir::Builder& b, const DistanceAt& at, ir::ValueId halfWidth,
                                const PixelFootprint& pixel);

@@ -1089,8 +1089,8 @@ TEST_CASE("filter: members given by their distance finer than the parts read the
 // distance's gradient is not 1, and the lines under a square lattice's edges turned 3 degrees.
 // Laid as independent inks the beat was lost, an even grey as far off as the exact field's
 // spread (RMSE 0.067 to 0.099, against spreads of 0.044 to 0.090); each now reads the index its
-// crowd runs by (DistanceFamily.cpp, runsOf) and beats as a phase family does (FineUnion.h):
-// 0.0027 to 0.0097. The exact field is read at 64 x 64 samples a pixel: at 32 x 32 it aliases
+// crowd runs by (DistanceFamily.cpp, runsRead) and beats as a phase family does (FineUnion.h):
+// 0.0026 to 0.0097. The exact field is read at 64 x 64 samples a pixel: at 32 x 32 it aliases
 // with members five a pixel (the same pictures read 0.010 to 0.024 off it).
 TEST_CASE("filter: two families given by their distance show their beat where they crowd") {
     auto backend = test::makeBackendOrSkip("jit");

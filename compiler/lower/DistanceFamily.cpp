@@ -435,7 +435,9 @@ Vals runsRead(ir::Builder& b, const DistanceAt& at, const Reading& centre, Norma
                             b.select(some, centre.gv, axis.v), b.select(some, centre.length, one)};
             const RayLength ray = rayThrough(b, at, pixel, r, {zero, zero},
                                              b.mul(pixel.size, b.constF(kRunsReach)), true);
-            const ValueId spacing = ray.next;
+            // Held above a ten-thousandth of a pixel for the divisions below (a ray's ridge
+            // stands past its first probe, never at 0).
+            const ValueId spacing = b.max(ray.next, b.mul(pixel.size, b.constF(1e-4)));
             const ValueId length = heldLength(b, r);
             const ValueId per = b.div(one, b.mul(spacing, length)); // 1 / (L |grad d|)
             // The gradient along the pixel's sides turned back to the world's axes

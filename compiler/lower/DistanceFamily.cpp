@@ -440,13 +440,8 @@ Vals runsRead(ir::Builder& b, const DistanceAt& at, const Reading& centre, Norma
             const ValueId spacing = b.max(ray.next, b.mul(pixel.size, b.constF(1e-4)));
             const ValueId length = heldLength(b, r);
             const ValueId per = b.div(one, b.mul(spacing, length)); // 1 / (L |grad d|)
-            // The gradient along the pixel's sides turned back to the world's axes
-            // (onPixelSides' inverse).
-            ValueId gx = r.gu, gy = r.gv;
-            if (pixel.cosTurn != ir::kNoValue) {
-                gx = b.sub(b.mul(r.gu, pixel.cosTurn), b.mul(r.gv, pixel.sinTurn));
-                gy = b.add(b.mul(r.gu, pixel.sinTurn), b.mul(r.gv, pixel.cosTurn));
-            }
+            // The gradient along the pixel's sides in the world's axes.
+            const Offset g = worldOf(b, r.gu, r.gv, pixel);
             const ValueId index = b.mul(r.d, per);
             const ValueId half = b.div(halfWidth, length);
             auto value = [&](ValueId v) { return ir::BuiltValue(b, v); };
@@ -457,8 +452,8 @@ Vals runsRead(ir::Builder& b, const DistanceAt& at, const Reading& centre, Norma
                     .id;
             Vals out{index,
                      b.div(one, spacing),
-                     b.mul(gx, per),
-                     b.mul(gy, per),
+                     b.mul(g.ox, per),
+                     b.mul(g.oy, per),
                      half,
                      mean,
                      b.smoothstep(b.constF(kClosedFrom), b.constF(kClosedFull),

@@ -18,11 +18,16 @@ using DistanceAt = std::function<ir::ValueId(ir::Builder&, ir::ValueId ox, ir::V
 struct Offset {
     ir::ValueId ox, oy;
 };
+// Components (a, c) along the pixel's sides as world components: onPixelSides' inverse (the
+// pixel's sides run along the world's axes turned by the camera).
+inline Offset worldOf(ir::Builder& b, ir::ValueId a, ir::ValueId c, const PixelFootprint& pixel) {
+    if (pixel.cosTurn == ir::kNoValue) return {a, c};
+    return {b.sub(b.mul(a, pixel.cosTurn), b.mul(c, pixel.sinTurn)),
+            b.add(b.mul(a, pixel.sinTurn), b.mul(c, pixel.cosTurn))};
+}
 inline Offset offsetOf(ir::Builder& b, ir::ValueId a, ir::ValueId c, const PixelFootprint& pixel) {
-    if (pixel.cosTurn == ir::kNoValue) return {b.mul(pixel.size, a), b.mul(pixel.size, c)};
-    // The pixel's sides run along the world's axes turned by the camera (onPixelSides).
-    return {b.mul(pixel.size, b.sub(b.mul(a, pixel.cosTurn), b.mul(c, pixel.sinTurn))),
-            b.mul(pixel.size, b.add(b.mul(a, pixel.sinTurn), b.mul(c, pixel.cosTurn)))};
+    const Offset o = worldOf(b, a, c, pixel);
+    return {b.mul(pixel.size, o.ox), b.mul(pixel.size, o.oy)};
 }
 
 // The distance at a point and its gradient along the pixel's sides, per world unit.

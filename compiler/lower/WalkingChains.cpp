@@ -4,6 +4,7 @@
 #include "compiler/ir/Plane.h"
 #include "compiler/lower/Bisection.h"
 #include "compiler/lower/ChainSelection.h"
+#include "compiler/lower/Convergents.h"
 #include "compiler/lower/WalkingFamily.h"
 
 #include <numbers>
@@ -24,7 +25,7 @@ namespace {
 constexpr double kFar = 1e30;
 // Convergents of theta / 2 pi looked through for the period: their denominators at least
 // double every two steps, so 24 reach past kMaxSelected.
-constexpr double kPeriodConvergents = 24;
+constexpr int kPeriodConvergents = 24;
 // A run of up to this many members within reach is summed member by member (runUnion).
 constexpr double kChainRun = 12;
 
@@ -54,40 +55,15 @@ class Chains {
             ValueId within = b_.mul(q, c(kChainDrift / (turn * kWalkSpanCap)));
             return both(b_.le(q, c(kMaxSelected)), b_.le(b_.abs(b_.sub(b_.mul(q, x), p)), within));
         };
-        ValueId nearest = b_.round(x); // q = 1: p whole turns
-        ValueId whole = b_.floor(x);
-        ValueId first = fits(nearest, c(1.0));
-        // Carried: step, fract, p, q, the previous p and q, found q (0: none), its p, and the
-        // q before it (p q' - p' q = +-1 for consecutive convergents: p's inverse is +-q').
-        Vals res = b_.loop(
-            {c(0.0), b_.sub(x, whole), whole, c(1.0), c(1.0), c(0.0),
-             b_.select(first, c(1.0), c(0.0)), nearest, c(0.0)},
-            [&](std::span<const ValueId> v) {
-                return Vals{both(both(b_.lt(v[0], c(kPeriodConvergents)), b_.gt(v[1], c(1e-12))),
-                                 both(eq(v[6], c(0.0)), b_.le(v[3], c(kMaxSelected))))};
-            },
-            [&](std::span<const ValueId> v) {
-                ValueId y = b_.div(c(1.0), v[1]);
-                ValueId a = b_.floor(y);
-                ValueId p = b_.add(b_.mul(a, v[2]), v[4]);
-                ValueId q = b_.add(b_.mul(a, v[3]), v[5]);
-                ValueId hit = fits(p, q);
-                return Vals{b_.add(v[0], c(1.0)),
-                            b_.sub(y, a),
-                            p,
-                            q,
-                            v[2],
-                            v[3],
-                            b_.select(hit, q, c(0.0)),
-                            b_.select(hit, p, v[7]),
-                            b_.select(hit, v[3], v[8])};
-            });
+        const Convergent found =
+            firstConvergent(b_, x, kPeriodConvergents, 1e-12, c(kMaxSelected), fits);
         ValueId sign = b_.select(b_.lt(turnAngle, c(0.0)), c(-1.0), c(1.0));
-        ValueId drift = b_.sub(b_.mul(res[6], turnAngle), b_.mul(sign, b_.mul(res[7], c(turn))));
-        ValueId q = b_.max(res[6], c(1.0));
-        ValueId pq = wholeMod(b_, b_.mul(wholeMod(b_, res[7], q), res[8]), q);
-        ValueId inverse = wholeMod(b_, b_.select(eq(pq, c(1.0)), res[8], b_.neg(res[8])), q);
-        return {res[6], res[7], drift, inverse};
+        ValueId drift = b_.sub(b_.mul(found.q, turnAngle), b_.mul(sign, b_.mul(found.p, c(turn))));
+        ValueId q = b_.max(found.q, c(1.0));
+        ValueId pq = wholeMod(b_, b_.mul(wholeMod(b_, found.p, q), found.before), q);
+        ValueId inverse =
+            wholeMod(b_, b_.select(eq(pq, c(1.0)), found.before, b_.neg(found.before)), q);
+        return {found.q, found.p, drift, inverse};
     }
 
     // The crowd drawn chain by chain (above): the chains laid over one another as independent

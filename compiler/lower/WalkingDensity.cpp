@@ -6,6 +6,7 @@
 #include "compiler/ir/Semantics.h"
 #include "compiler/lower/Bisection.h"
 #include "compiler/lower/ChainSelection.h"
+#include "compiler/lower/Convergents.h"
 #include "compiler/lower/WalkingSolver.h"
 
 #include <numbers>
@@ -332,42 +333,11 @@ ValueId Solver::crowdCoincidence(ValueId a, ValueId b, ValueId k, ValueId r, dou
         return b_.add(b_.abs(b_.mul(q, k)),
                       b_.mul(b_.mul(r, c(period)), b_.abs(b_.sub(b_.mul(q, x), p))));
     };
-    auto found = [&](ValueId q, ValueId dev) { return both(b_.le(q, count), b_.lt(dev, width)); };
-    // q = 1, p = 0 first (x < 1/2: its nearest whole number is 0).
-    ValueId dev1 = deviation(c(0.0), c(1.0));
-    ValueId first = found(c(1.0), dev1);
-    // Carried: step, fract, p, q, the previous p and q, found q (0: none), its dev.
-    Vals init = {c(0.0),
-                 x,
-                 c(0.0),
-                 c(1.0),
-                 c(1.0),
-                 c(0.0),
-                 b_.select(first, c(1.0), c(0.0)),
-                 b_.select(first, dev1, c(0.0))};
-    Vals res = b_.loop(
-        init,
-        [&](std::span<const ValueId> v) {
-            return Vals{both(both(b_.lt(v[0], c(kCrowdConvergents)), b_.gt(v[1], c(1e-7))),
-                             eq(v[6], c(0.0)))};
-        },
-        [&](std::span<const ValueId> v) {
-            ValueId y = b_.div(c(1.0), v[1]);
-            ValueId a = b_.floor(y);
-            ValueId p = b_.add(b_.mul(a, v[2]), v[4]);
-            ValueId q = b_.add(b_.mul(a, v[3]), v[5]);
-            ValueId dev = deviation(p, q);
-            ValueId hit = found(q, dev);
-            return Vals{b_.add(v[0], c(1.0)),
-                        b_.sub(y, a),
-                        p,
-                        q,
-                        v[2],
-                        v[3],
-                        b_.select(hit, q, c(0.0)),
-                        b_.select(hit, dev, c(0.0))};
-        });
-    ValueId q = res[6], dev = res[7];
+    auto fits = [&](ValueId p, ValueId q) {
+        return both(b_.le(q, count), b_.lt(deviation(p, q), width));
+    };
+    const Convergent found = firstConvergent(b_, x, kCrowdConvergents, 1e-7, count, fits);
+    ValueId q = found.q, dev = deviation(found.p, q);
     ValueId safe = b_.max(count, c(1.0));
     ValueId bend = b_.select(
         round_, b_.div(b_.mul(b_.mul(r, r), q), b_.mul(b_.max(len_, c(1e-9)), c(2.0))), c(0.0));

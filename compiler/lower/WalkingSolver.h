@@ -165,7 +165,7 @@ class Solver {
     static constexpr int kCarriedPowers = 3;
     // Convergents of theta / 2 pi the crowd estimate looks through for a period of the turn:
     // their denominators at least double every two steps, so 24 reach past the span cap.
-    static constexpr double kCrowdConvergents = 24;
+    static constexpr int kCrowdConvergents = 24;
     // Near members counted one by one (countedCrossings); beyond, the phase average.
     static constexpr double kNearCounted = 256;
     // Picked chains (ChainSelection.h): the near members drawn one by one, at most, and how

@@ -182,10 +182,11 @@ Vals Solver::turnsDrawn(ValueId lo, ValueId hi, ValueId width, ValueId samples) 
             Vals turn = b_.ifThenElse(
                 turns,
                 [&] {
+                    // The first member from which h no longer falls (sigma 1) or rises
+                    // (-1): every j here is past the interval's start, a member already.
                     ValueId m = firstWhere(b_, v[3], b_.sub(n, c(1.0)), [&](ValueId j) {
-                        ValueId rise =
-                            b_.sub(residual(member(b_.add(j, c(1.0)))), residual(member(j)));
-                        return b_.le(c(0.0), b_.mul(sigma, rise));
+                        ValueId slope = b_.sub(residual(b_.add(j, c(1.0))), residual(j));
+                        return b_.le(c(0.0), b_.mul(sigma, slope));
                     });
                     return Vals{m, residual(m)};
                 },

@@ -26,8 +26,8 @@ struct Convergent {
 // terms, where the remainder r falls to `least` (x is that near p / q, and the float's next
 // terms are noise), or once q passes `most` (every later q is larger still).
 template <class Fits>
-Convergent firstConvergent(ir::Builder& b, ir::ValueId x, int steps, double least,
-                           ir::ValueId most, Fits fits) {
+Convergent firstConvergent(ir::Builder& b, ir::ValueId x, int steps, double least, ir::ValueId most,
+                           Fits fits) {
     using ir::Op;
     using ir::ValueId;
     using Vals = std::vector<ValueId>;
@@ -37,15 +37,9 @@ Convergent firstConvergent(ir::Builder& b, ir::ValueId x, int steps, double leas
     const ValueId first = fits(nearest, c(1.0));
     // Carried: the term, the remainder, p and q, the two before them, the found q (0: none),
     // its p and the q before it.
-    Vals init{c(0.0),
-              b.sub(x, whole),
-              whole,
-              c(1.0),
-              c(1.0),
-              c(0.0),
-              b.select(first, c(1.0), c(0.0)),
-              nearest,
-              c(0.0)};
+    Vals init{
+        c(0.0),  b.sub(x, whole), whole, c(1.0), c(1.0), c(0.0), b.select(first, c(1.0), c(0.0)),
+        nearest, c(0.0)};
     Vals res = b.loop(
         init,
         [&](std::span<const ValueId> v) {

@@ -1,6 +1,7 @@
 #include "compiler/lower/DistanceFamily.h"
 
 #include "compiler/ir/BuiltValue.h"
+#include "compiler/lower/DistanceGrid.h"
 #include "compiler/lower/DistanceTubes.h"
 #include "compiler/lower/LowerExpr.h"
 #include "compiler/lower/StrokePairs.h"
@@ -337,9 +338,13 @@ ValueId finePartsMean(ir::Builder& b, const DistanceAt& at, ValueId h, const Pix
 // gradient's vanishing far more often than double, has no direction and is not counted).
 // `axis`: the direction they run along, as a unit normal along the pixel's sides (its sense
 // unknown): the half angle of that mean.
+// `cos2`, `sin2`, `directed`: the sums of those doubled angles and how many there are, and
+// `twoWays` the parts' two directions as a grid's lines run (DistanceGrid.h).
 struct Parts {
     ValueId mean, bent, near, crossed, coherence;
     Normal axis;
+    ValueId cos2, sin2, directed;
+    std::vector<ValueId> twoWays;
 };
 Parts partsMean(ir::Builder& b, const DistanceAt& at, ValueId h, const PixelFootprint& pixel,
                 const Reading& centre, int n) {
@@ -350,8 +355,11 @@ Parts partsMean(ir::Builder& b, const DistanceAt& at, ValueId h, const PixelFoot
     // square.
     const ValueId most =
         b.mul(b.div(pixel.size, b.constF(kDistanceFineTaps)), b.constF(kTubeReach));
-    constexpr size_t kRowAt = 7;
+    const TwoDirections ways(b, centre);
+    constexpr size_t kWaysAt = 7, kRowAt = kWaysAt + TwoDirections::kCarried;
     std::vector<ValueId> init(kRowAt + 4 * n, b.constF(0.0));
+    const std::vector<ValueId> waysStart = ways.start();
+    std::copy(waysStart.begin(), waysStart.end(), init.begin() + kWaysAt);
     auto more = [&](std::span<const ValueId> v) {
         return std::vector<ValueId>{b.lt(v[0], b.constF(n))};
     };
@@ -360,7 +368,10 @@ Parts partsMean(ir::Builder& b, const DistanceAt& at, ValueId h, const PixelFoot
         ValueId sum = v[1];
         ValueId near = v[3];
         ValueId cos2 = v[4], sin2 = v[5], directed = v[6];
-        for (const Reading& r : row) {
+        std::vector<ValueId> twoWays(v.begin() + kWaysAt, v.begin() + kRowAt);
+        const ValueId rowAt = b.mul(place(b, v[0], n), pixel.size);
+        for (int i = 0; i < n; ++i) {
+            const Reading& r = row[i];
             sum = b.add(sum, firstOrderMean(b, r, h, side, centre));
             const ValueId away = b.div(r.d, heldLength(b, r));
             near = b.add(near, b.min(b.denan(away, most), most));
@@ -372,6 +383,8 @@ Parts partsMean(ir::Builder& b, const DistanceAt& at, ValueId h, const PixelFoot
             cos2 = b.add(cos2, b.select(some, c, b.constF(0.0)));
             sin2 = b.add(sin2, b.select(some, s2, b.constF(0.0)));
             directed = b.add(directed, b.select(some, b.constF(1.0), b.constF(0.0)));
+            const PixelPoint at{b.mul(place(b, b.constF(i), n), pixel.size), rowAt};
+            twoWays = ways.add(twoWays, away, c, s2, some, at);
         }
         std::vector<ValueId> flags;
         // The squares r and s, s (da, dc) sides from r: each way round.
@@ -395,6 +408,7 @@ Parts partsMean(ir::Builder& b, const DistanceAt& at, ValueId h, const PixelFoot
         count = b.select(b.gt(v[0], b.constF(0.0)), pairsIn(count, flags), count);
         std::vector<ValueId> next{
             b.add(v[0], b.constF(1.0)), sum, count, near, cos2, sin2, directed};
+        next.insert(next.end(), twoWays.begin(), twoWays.end());
         carry(next, row);
         return next;
     });
@@ -405,9 +419,16 @@ Parts partsMean(ir::Builder& b, const DistanceAt& at, ValueId h, const PixelFoot
     const ValueId ahead = b.emit(Op::Ge, {c, b.constF(0.0)});
     const ValueId au = b.select(ahead, b.add(r, c), s2), av = b.select(ahead, s2, b.sub(r, c));
     const ValueId al = b.max(b.hypot(au, av), b.constF(1e-30));
-    return {b.mul(out[1], b.constF(each)),          b.gt(out[2], b.constF(0.0)),
-            b.mul(out[3], b.constF(each)),          b.div(out[2], b.constF(2 * n * (n - 1))),
-            b.div(r, b.max(out[6], b.constF(1.0))), {b.div(au, al), b.div(av, al)}};
+    return {b.mul(out[1], b.constF(each)),
+            b.gt(out[2], b.constF(0.0)),
+            b.mul(out[3], b.constF(each)),
+            b.div(out[2], b.constF(2 * n * (n - 1))),
+            b.div(r, b.max(out[6], b.constF(1.0))),
+            {b.div(au, al), b.div(av, al)},
+            out[4],
+            out[5],
+            out[6],
+            std::vector<ValueId>(out.begin() + kWaysAt, out.begin() + kRowAt)};
 }
 
 // The index a crowd of parallel members runs by (CrowdEstimate::runs), from the pixel centre's
@@ -422,8 +443,10 @@ Parts partsMean(ir::Builder& b, const DistanceAt& at, ValueId h, const PixelFoot
 // Returns kRunsRead values: the index, |grad index|, its world components, the stroke's
 // half-width across the members in world units, the pixel's mean ink as a phase family's in
 // closed form (Prefilter.h, squareMeanInk: exact for straight evenly spaced members), and how
-// far that is taken over the parts (kClosedFrom to kClosedFull members a pixel).
-constexpr size_t kRunsRead = 7;
+// far that is taken over the parts (kClosedFrom to kClosedFull members a pixel); and 1 where
+// the probe past the centre's ray read a member crossing it (RayLength::across), with that
+// probe's place.
+constexpr size_t kRunsRead = 10;
 Vals runsRead(ir::Builder& b, const DistanceAt& at, const Reading& centre, Normal axis,
               ValueId halfWidth, const PixelFootprint& pixel, ValueId trust) {
     const ValueId zero = b.constF(0.0), one = b.constF(1.0);
@@ -457,7 +480,10 @@ Vals runsRead(ir::Builder& b, const DistanceAt& at, const Reading& centre, Norma
                      half,
                      mean,
                      b.smoothstep(b.constF(kClosedFrom), b.constF(kClosedFull),
-                                  b.div(pixel.size, spacing))};
+                                  b.div(pixel.size, spacing)),
+                     b.select(ray.across, one, zero),
+                     ray.acrossAt.u,
+                     ray.acrossAt.v};
             for (ValueId& v : out) v = b.denan(v, zero);
             return out;
         },
@@ -497,9 +523,29 @@ CrowdEstimate distanceFamilyCrowd(ir::Builder& b, ValueId distance, const Distan
         parted,
         [&] {
             Parts coarse = partsMean(b, at, halfWidth, pixel, centre, kDistanceTaps);
-            const ValueId trust =
+            // Parts that all read one way may be a grid whose lines alias with the parts'
+            // lattice (at zooms where the parts stand nearly a whole number of lines apart):
+            // not parallel where a few points off that lattice (crossingSeen), or the probe
+            // past the centre's ray, read a member crossing them. Its place is where the
+            // grid's second way is read from (gridRead).
+            const ValueId oneWay =
                 b.smoothstep(b.constF(kRunsFrom), b.constF(kRunsFull), coarse.coherence);
-            const Vals runs = runsRead(b, at, centre, coarse.axis, halfWidth, pixel, trust);
+            const Vals looked = b.ifThenElse(
+                b.gt(oneWay, b.constF(0.0)),
+                [&] {
+                    const CrossingStart seen = crossingSeen(b, at, pixel, coarse.cos2, coarse.sin2);
+                    return Vals{b.select(seen.found, b.constF(1.0), b.constF(0.0)), seen.at.u,
+                                seen.at.v};
+                },
+                [&] { return Vals(3, b.constF(0.0)); });
+            const ValueId seen = b.gt(looked[0], b.constF(0.5));
+            const ValueId parallel = b.select(seen, b.constF(0.0), oneWay);
+            const Vals runs = runsRead(b, at, centre, coarse.axis, halfWidth, pixel, parallel);
+            const ValueId crossedRay = b.gt(runs[7], b.constF(0.5));
+            const ValueId trust = b.select(crossedRay, b.constF(0.0), parallel);
+            const CrossingStart crossing{
+                b.emit(Op::Or, {seen, crossedRay}),
+                {b.select(seen, looked[1], runs[8]), b.select(seen, looked[2], runs[9])}};
             // Members closer than the parts: finer parts, behind their own branch; members
             // finer than those, their tubes (DistanceTubes.h), the fine parts handing over to
             // them as the samples' rays shorten; and where they run parallel (`trust`), the
@@ -516,6 +562,21 @@ CrowdEstimate distanceFamilyCrowd(ir::Builder& b, ValueId distance, const Distan
                                 b.lt(coarse.near, b.mul(fineSide, b.constF(kParallelGate)))});
             const ValueId mayCrowd =
                 b.emit(Op::And, {b.lt(coarse.near, b.mul(fineSide, b.constF(kTubeGate))), crossed});
+            // Where the members run two ways (a grid's lines) rather than one, each way's
+            // index and the pair's mean in closed form (DistanceGrid.h), read where the
+            // index the members run by is not wholly trusted. The closed forms, parallel
+            // members' or a grid's, are trusted `closedTrust` over the tubes, and taken over
+            // the parts by `closedCrowded`.
+            const GridRead grid =
+                gridRead(b, at, pixel, halfWidth, coarse.twoWays, coarse.cos2, coarse.sin2,
+                         coarse.directed, b.lt(trust, b.constF(1.0)), crossing);
+            auto closedHandOver = [&](ValueId members) {
+                return b.smoothstep(b.constF(kClosedFrom), b.constF(kClosedFull), members);
+            };
+            const ValueId closedTrust =
+                b.add(trust, b.mul(b.sub(b.constF(1.0), trust), grid.trust));
+            const ValueId closedMean = b.mix(grid.mean, runs[5], trust);
+            const ValueId closedCrowded = b.mix(closedHandOver(grid.members), runs[6], trust);
             // The fine parts handing over to a crowd's mean by `crowded`.
             auto partsOr = [&](ValueId mean, ValueId crowded) {
                 const ValueId parts =
@@ -524,7 +585,7 @@ CrowdEstimate distanceFamilyCrowd(ir::Builder& b, ValueId distance, const Distan
             };
             auto crowd = [&] {
                 const Vals tubes = b.ifThenElse(
-                    b.lt(trust, b.constF(1.0)),
+                    b.lt(closedTrust, b.constF(1.0)),
                     [&] {
                         const TubeEstimate t = distanceTubesMean(b, at, halfWidth, pixel);
                         return Vals{t.mean, t.crowded};
@@ -532,9 +593,10 @@ CrowdEstimate distanceFamilyCrowd(ir::Builder& b, ValueId distance, const Distan
                     [&] {
                         return Vals{b.constF(0.0), b.constF(0.0)};
                     });
-                return partsOr(b.mix(tubes[0], runs[5], trust), b.mix(tubes[1], runs[6], trust));
+                return partsOr(b.mix(tubes[0], closedMean, closedTrust),
+                               b.mix(tubes[1], closedCrowded, closedTrust));
             };
-            auto apart = [&] { return partsOr(runs[5], b.mul(trust, runs[6])); };
+            auto apart = [&] { return partsOr(closedMean, b.mul(closedTrust, closedCrowded)); };
             Vals out{b.ifThenElse(
                 coarse.bent, [&] { return b.ifThenElse(mayCrowd, crowd, apart); },
                 [&] { return Vals{coarse.mean}; })[0]};

@@ -20,7 +20,8 @@
 // such stroke as well, the two strokes' union by inclusion and exclusion, and its own stroke's
 // near edge moved in by the lens a straight edge adds where it bends (its curvature read from
 // how the neighbours' normals turn). Members finer than those parts are read by their tubes
-// (DistanceTubes.h), handing over from the parts as they crowd.
+// (DistanceTubes.h), handing over from the parts as they crowd; where they run parallel, or
+// two ways as a grid's lines do (DistanceGrid.h), in closed form by the index they run by.
 #pragma once
 
 #include "compiler/ir/Builder.h"

@@ -58,6 +58,31 @@ struct PixelPoint {
     ir::ValueId u, v;
 };
 
+inline ir::ValueId fract(ir::Builder& b, ir::ValueId v) {
+    return b.sub(v, b.floor(v));
+}
+
+// A shift in [0, 1)^2 that runs over the frame's pixels as an R2 sequence does (its steps
+// the plastic number's inverse and its square), the same on every backend: points of the
+// pixel moved by it from pixel to pixel do not line up with a family's rows as the same points
+// in every pixel would.
+inline PixelPoint pixelShift(ir::Builder& b) {
+    constexpr double kR2a = 0.7548776662466927, kR2b = 0.5698402909980532;
+    const ir::ValueId px = b.leaf(ir::Op::PixelX), py = b.leaf(ir::Op::PixelY);
+    return {fract(b, b.add(b.mul(px, b.constF(kR2a)), b.mul(py, b.constF(kR2b)))),
+            fract(b, b.add(b.mul(px, b.constF(kR2b)), b.mul(py, b.constF(kR2a))))};
+}
+
+// The reading at p, a point of the pixel. Where p stands depends on other readings'
+// gradients (a probe along a normal), so it is detached: the gradient read there is the
+// distance's at p, not a derivative of a derivative.
+inline Reading readThere(ir::Builder& b, const DistanceAt& at, const PixelFootprint& pixel,
+                         PixelPoint p) {
+    const ir::ValueId u = b.emit(ir::Op::Detach, {p.u}), v = b.emit(ir::Op::Detach, {p.v});
+    const Offset o = offsetOf(b, b.div(u, pixel.size), b.div(v, pixel.size), pixel);
+    return readAt(b, at(b, o.ox, o.oy), pixel);
+}
+
 // The foot of a reading's member from its point p, the nearest point of its centre line to
 // first order: p - d grad d / |grad d|^2. Where the gradient vanishes the foot is NaN, or, with
 // `held` (the denominator held above 1e-30), p itself.

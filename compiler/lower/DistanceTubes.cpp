@@ -44,20 +44,9 @@ constexpr double kTurnStep = 0.1, kLeastTurnStep = 0.01;
 // (0.1984 of a share of 0.1963 at four and eight a pixel; 0.1964 with these).
 constexpr double kNearerTurnStep = 1.0 / 16;
 
-// The R2 sequence's steps (the plastic number's inverse and its square).
-constexpr double kR2a = 0.7548776662466927, kR2b = 0.5698402909980532;
-
-ValueId fract(ir::Builder& b, ValueId v) {
-    return b.sub(v, b.floor(v));
-}
-
-// The reading at p. Where p stands depends on other readings' gradients, so it is detached:
-// the gradient read there is the distance's at p, not a derivative of a derivative.
-Reading readThere(ir::Builder& b, const DistanceAt& at, const PixelFootprint& pixel, PixelPoint p) {
-    const ValueId u = b.emit(Op::Detach, {p.u}), v = b.emit(Op::Detach, {p.v});
-    Offset o = offsetOf(b, b.div(u, pixel.size), b.div(v, pixel.size), pixel);
-    return readAt(b, at(b, o.ox, o.oy), pixel);
-}
+// The next member a ray's probe reads past its ridge runs parallel to the ray's own where
+// their normals are within about 25 degrees.
+constexpr double kNextParallel = 0.9;
 
 ValueId apart(ir::Builder& b, PixelPoint a, PixelPoint c) {
     return b.hypot(b.sub(a.u, c.u), b.sub(a.v, c.v));
@@ -252,6 +241,11 @@ RayLength rayThrough(ir::Builder& b, const DistanceAt& at, const PixelFootprint&
             b.emit(Op::And, {b.emit(Op::And, {b.emit(Op::Not, {probe.same}), near}),
                              b.lt(length.ridge, cap)});
         length.next = b.select(read, b.denan(apartAlong, twice), twice);
+        const ValueId facing = b.abs(b.add(b.mul(ray.n.u, probe.n.u), b.mul(ray.n.v, probe.n.v)));
+        length.across =
+            b.emit(Op::And, {b.emit(Op::Not, {probe.same}), b.lt(facing, b.constF(kNextParallel))});
+        const ValueId s = b.mul(length.ridge, b.constF(1.5));
+        length.acrossAt = {b.add(ray.f.u, b.mul(s, ray.n.u)), b.add(ray.f.v, b.mul(s, ray.n.v))};
     }
     return length;
 }
@@ -266,9 +260,8 @@ TubeEstimate distanceTubesMean(ir::Builder& b, const DistanceAt& at, ValueId hal
     // grid's lines 1/8 of a pixel apart read 5% light, 8/px in the tests); moved, what is left
     // is a grain of the samples' spread, the same on every backend (a product, a sum and a
     // floor of the pixel's coordinates).
-    const ValueId px = b.leaf(Op::PixelX), py = b.leaf(Op::PixelY);
-    const ValueId shiftU = fract(b, b.add(b.mul(px, b.constF(kR2a)), b.mul(py, b.constF(kR2b))));
-    const ValueId shiftV = fract(b, b.add(b.mul(px, b.constF(kR2b)), b.mul(py, b.constF(kR2a))));
+    const PixelPoint shift = pixelShift(b);
+    const ValueId shiftU = shift.u, shiftV = shift.v;
     // Carried: the sample, the sums of g and of the (capped) ridges, and the samples read.
     std::vector<ValueId> init{zero, zero, zero, zero};
     // On past the first kFirstSamples while their rays' mean length (as the parts see it)

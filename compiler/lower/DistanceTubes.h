@@ -62,9 +62,13 @@ struct TubeEstimate {
 // along the normal the next member's foot stands from its own, read by a probe past the ridge
 // (twice the ray where none is read). Each of the tubes' samples reads one; the index a crowd
 // of parallel members runs by reads the pixel centre's (DistanceFamily.cpp: its spacing).
+// `across`, with `next`: where the probe past the ridge read a member whose normal is not
+// parallel to the ray's (a grid's crossing line, not the next of the ray's own), and that
+// probe's place, a point whose nearest member is that one.
 struct RayLength {
     ir::ValueId ridge, kappa0;
-    ir::ValueId next = ir::kNoValue;
+    ir::ValueId next = ir::kNoValue, across = ir::kNoValue;
+    PixelPoint acrossAt{ir::kNoValue, ir::kNoValue};
 };
 RayLength rayThrough(ir::Builder& b, const DistanceAt& at, const PixelFootprint& pixel,
                      const Reading& r, PixelPoint p, ir::ValueId cap, bool next = false);

@@ -93,7 +93,12 @@ void Compose::layer(const LayerInk& ink) {
             l.sweep.gradY = runs.footprint.gradY;
             l.footprint = runs.footprint;
             l.byDistance = true;
-            l.strands.push_back({runs.footprint, stroke});
+            // One strand where the members run one way (the layer's ink); a grid's two ways,
+            // each with its own mean, where they run two (FineUnion.cpp reads them then).
+            const ValueId grid = b_.gt(runs.twoWays, zero_);
+            l.strands.push_back({runs.footprint, b_.select(grid, runs.means[0], stroke)});
+            l.strands.push_back({runs.second, b_.select(grid, runs.means[1], zero_)});
+            l.twoWays = runs.twoWays;
         } else {
             l.strands.push_back({ink.fields.footprint, stroke});
         }

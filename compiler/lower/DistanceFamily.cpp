@@ -447,6 +447,12 @@ Parts partsMean(ir::Builder& b, const DistanceAt& at, ValueId h, const PixelFoot
 // the probe past the centre's ray read a member crossing it (RayLength::across), with that
 // probe's place.
 constexpr size_t kRunsRead = 10;
+// The grid's values distanceFamilyCrowd carries out of its branches: its trust, half-width,
+// and each way's index, gradient (length and components) and mean.
+constexpr size_t kGridValues = 12;
+// The gradient (per world unit) of a second strand that stands for no lines: a beat with it
+// is never the slowest (FineUnion.cpp, strandCorrelation).
+constexpr double kNoWay = 1e6;
 Vals runsRead(ir::Builder& b, const DistanceAt& at, const Reading& centre, Normal axis,
               ValueId halfWidth, const PixelFootprint& pixel, ValueId trust) {
     const ValueId zero = b.constF(0.0), one = b.constF(1.0);
@@ -602,23 +608,40 @@ CrowdEstimate distanceFamilyCrowd(ir::Builder& b, ValueId distance, const Distan
                 [&] { return Vals{coarse.mean}; })[0]};
             out.push_back(trust);
             out.insert(out.end(), runs.begin(), runs.end());
+            out.insert(out.end(), {grid.trust, grid.halfWidth});
+            for (const GridRead::Way& w : grid.ways)
+                out.insert(out.end(), {w.index, w.grad, w.gradX, w.gradY, w.mean});
             return out;
         },
         // Not parted, the centre's gradient does not vanish: it stands for itself.
         [&] {
-            Vals out(2 + kRunsRead, b.constF(0.0));
+            Vals out(2 + kRunsRead + kGridValues, b.constF(0.0));
             out[0] = firstOrderMean(b, centre, halfWidth, pixel.size, centre);
             return out;
         });
     out.nearest = read[0];
     const ValueId trust = read[1];
+    // Where the grid's two ways are trusted over the parallel members' one, its first way's
+    // index stands for the layer's, and its second is the layer's second strand.
+    const size_t g = 2 + kRunsRead;
+    const ValueId twoWays = read[g];
+    const ValueId grid = b.gt(twoWays, trust);
+    auto way = [&](size_t w, size_t k) { return read[g + 2 + 5 * w + k]; };
     CrowdEstimate::Runs runs;
-    runs.footprint.index = read[2];
-    runs.footprint.grad = read[3];
-    runs.footprint.gradX = read[4];
-    runs.footprint.gradY = read[5];
-    runs.footprint.trust = trust;
-    runs.halfWidth = read[6];
+    runs.footprint.index = b.select(grid, way(0, 0), read[2]);
+    runs.footprint.grad = b.select(grid, way(0, 1), read[3]);
+    runs.footprint.gradX = b.select(grid, way(0, 2), read[4]);
+    runs.footprint.gradY = b.select(grid, way(0, 3), read[5]);
+    runs.footprint.trust = b.max(trust, twoWays);
+    runs.halfWidth = b.select(grid, read[g + 1], read[6]);
+    const ValueId steep = b.constF(kNoWay);
+    runs.second.index = way(1, 0);
+    runs.second.grad = b.select(grid, way(1, 1), steep);
+    runs.second.gradX = b.select(grid, way(1, 2), steep);
+    runs.second.gradY = b.select(grid, way(1, 3), steep);
+    runs.second.trust = b.select(grid, twoWays, b.constF(0.0));
+    runs.twoWays = b.select(grid, twoWays, b.constF(0.0));
+    runs.means = {way(0, 4), way(1, 4)};
     out.runs = runs;
     // Read in parts, the nearest member's stroke is not the layer's strokes where the members
     // crowd or cross, and stroke pairs take the layer as independent there. Where they run

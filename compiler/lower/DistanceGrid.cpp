@@ -11,8 +11,9 @@ using Vals = std::vector<ValueId>;
 
 namespace {
 
-// How nearly each family's parts run one way (the length of their doubled angles' mean) before the grid is trusted, by a smoothstep: as for parallel members
-// (DistanceFamily.cpp, kRunsFrom), and dots, whose normals run every way, stand near 1/2.
+// How nearly each family's parts run one way (the length of their doubled angles' mean) before the
+// grid is trusted, by a smoothstep: as for parallel members (DistanceFamily.cpp, kRunsFrom), and
+// dots, whose normals run every way, stand near 1/2.
 constexpr double kTwoWaysFrom = 0.9, kTwoWaysFull = 0.95;
 // The least share of the parts each family must hold, by a smoothstep: one part of the 16
 // (the parts alias with a grid at zooms where they stand nearly a whole number of lines
@@ -38,12 +39,25 @@ constexpr double kParallel = 0.95;
 // turned by under about 2.5 degrees (straightAt).
 constexpr double kStraight = 0.999;
 
+// The values the grid's branch returns: trust, mean, members, half-width, and five a way.
+constexpr size_t kGridRead = 14;
+
 // The points crossingSeen reads.
 constexpr int kCrossingLooks = 8;
 
 // Carried: how many parts are the other family's and the sums of their doubled angles, and
 // each family's part furthest from its line: its distance and place.
-enum Slot : size_t { kOthers, kCos, kSin, kFirstAway, kFirstU, kFirstV, kOtherAway, kOtherU, kOtherV };
+enum Slot : size_t {
+    kOthers,
+    kCos,
+    kSin,
+    kFirstAway,
+    kFirstU,
+    kFirstV,
+    kOtherAway,
+    kOtherU,
+    kOtherV
+};
 
 // A family's spacing along the normal of the reading r at p, probed along the lines of the
 // other family (its unit normal `other`): whether it was found, the spacing L, and the
@@ -87,13 +101,11 @@ Spacing spacingAlong(ir::Builder& b, const DistanceAt& at, const PixelFootprint&
         const ValueId parallel =
             b.gt(b.abs(b.add(b.mul(n.u, m.u), b.mul(n.v, m.v))), b.constF(kParallel));
         const PixelPoint foot = footFrom(b, there, q, true);
-        const ValueId along =
-            b.add(b.mul(b.sub(foot.u, f.u), n.u), b.mul(b.sub(foot.v, f.v), n.v));
+        const ValueId along = b.add(b.mul(b.sub(foot.u, f.u), n.u), b.mul(b.sub(foot.v, f.v), n.v));
         // Its own line 0 stands at 0 along n, the next one at L >= 2 t: t clears it. NaN (a
         // probe on a kink) compares false.
-        const ValueId hit =
-            b.emit(Op::And, {b.emit(Op::And, {parallel, b.gt(there.length, zero)}),
-                             b.gt(along, step)});
+        const ValueId hit = b.emit(
+            Op::And, {b.emit(Op::And, {parallel, b.gt(there.length, zero)}), b.gt(along, step)});
         return std::vector<ValueId>{b.add(v[0], one), b.select(hit, one, zero),
                                     b.select(hit, along, v[2])};
     });
@@ -128,7 +140,8 @@ ValueId straightAt(ir::Builder& b, const DistanceAt& at, const PixelFootprint& p
             b.abs(b.add(b.mul(b.sub(foot.u, f.u), n.u), b.mul(b.sub(foot.v, f.v), n.v)));
         const ValueId facing = b.abs(b.add(b.mul(n.u, m.u), b.mul(n.v, m.v)));
         const ValueId same = b.lt(off, b.mul(t, b.constF(0.1)));
-        straight = b.emit(Op::And, {straight, b.emit(Op::And, {same, b.gt(facing, b.constF(kStraight))})});
+        straight =
+            b.emit(Op::And, {straight, b.emit(Op::And, {same, b.gt(facing, b.constF(kStraight))})});
     }
     return straight;
 }
@@ -157,8 +170,8 @@ std::vector<ValueId> TwoDirections::add(std::span<const ValueId> v, ValueId away
     // centre's (its normal within 45 degrees of the centre's), else the other's.
     const ValueId cosine = b.add(b.mul(cos2, cos2_), b.mul(sin2, sin2_));
     const ValueId first = b.emit(Op::Ge, {cosine, zero});
-    const ValueId weight = b.select(b.emit(Op::And, {some, b.emit(Op::Not, {first})}),
-                                    b.constF(1.0), zero);
+    const ValueId weight =
+        b.select(b.emit(Op::And, {some, b.emit(Op::Not, {first})}), b.constF(1.0), zero);
     std::vector<ValueId> out(v.begin(), v.end());
     out[kOthers] = b.add(v[kOthers], weight);
     out[kCos] = b.add(v[kCos], b.mul(weight, cos2));
@@ -184,8 +197,8 @@ CrossingStart crossingSeen(ir::Builder& b, const DistanceAt& at, const PixelFoot
     // Carried: the point, whether one crossed, its place.
     std::vector<ValueId> init{zero, zero, zero, zero};
     auto more = [&](std::span<const ValueId> v) {
-        return std::vector<ValueId>{b.emit(
-            Op::And, {b.lt(v[0], b.constF(kCrossingLooks)), b.lt(v[1], half)})};
+        return std::vector<ValueId>{
+            b.emit(Op::And, {b.lt(v[0], b.constF(kCrossingLooks)), b.lt(v[1], half)})};
     };
     std::vector<ValueId> out = b.loop(init, more, [&](std::span<const ValueId> v) {
         // Point k of a rank-1 lattice of kCrossingLooks, moved by the pixel's shift.
@@ -200,8 +213,8 @@ CrossingStart crossingSeen(ir::Builder& b, const DistanceAt& at, const PixelFoot
         const ValueId s2 = b.div(b.mul(b.constF(2.0), b.mul(r.gu, r.gv)), squared);
         // Its doubled angle more than a right angle from the axis's: a direction more than
         // 45 degrees off.
-        const ValueId crossed = b.emit(Op::And, {b.gt(r.length, zero),
-                                                 b.lt(b.add(b.mul(c, cos2), b.mul(s2, sin2)), zero)});
+        const ValueId crossed = b.emit(
+            Op::And, {b.gt(r.length, zero), b.lt(b.add(b.mul(c, cos2), b.mul(s2, sin2)), zero)});
         return std::vector<ValueId>{b.add(k, one), b.select(crossed, one, zero),
                                     b.select(crossed, p.u, v[2]), b.select(crossed, p.v, v[3])};
     });
@@ -217,8 +230,8 @@ GridRead gridRead(ir::Builder& b, const DistanceAt& at, const PixelFootprint& pi
     const ValueId count = b.max(directed, one);
     const ValueId otherWeight = v[kOthers], firstWeight = b.sub(directed, v[kOthers]);
     const ValueId otherRuns = b.div(b.hypot(v[kCos], v[kSin]), b.max(otherWeight, tiny));
-    const ValueId firstRuns = b.div(b.hypot(b.sub(cos2, v[kCos]), b.sub(sin2, v[kSin])),
-                                    b.max(firstWeight, tiny));
+    const ValueId firstRuns =
+        b.div(b.hypot(b.sub(cos2, v[kCos]), b.sub(sin2, v[kSin])), b.max(firstWeight, tiny));
     auto share = [&](ValueId weight) {
         return b.smoothstep(b.constF(kShareFrom), b.constF(kShareFull), b.div(weight, count));
     };
@@ -229,10 +242,10 @@ GridRead gridRead(ir::Builder& b, const DistanceAt& at, const PixelFootprint& pi
     const ValueId trust =
         b.mul(b.smoothstep(b.constF(kTwoWaysFrom), b.constF(kTwoWaysFull), runs),
               b.select(partsOther, b.mul(share(otherWeight), share(firstWeight)), one));
-    const ValueId both = b.emit(
-        Op::And, {b.emit(Op::And, {wanted, b.gt(trust, zero)}),
-                  b.emit(Op::And, {b.emit(Op::Ge, {v[kFirstAway], zero}),
-                                   b.emit(Op::Or, {partsOther, fromRay})})});
+    const ValueId both =
+        b.emit(Op::And, {b.emit(Op::And, {wanted, b.gt(trust, zero)}),
+                         b.emit(Op::And, {b.emit(Op::Ge, {v[kFirstAway], zero}),
+                                          b.emit(Op::Or, {partsOther, fromRay})})});
     const Vals read = b.ifThenElse(
         both,
         [&] {
@@ -260,15 +273,28 @@ GridRead gridRead(ir::Builder& b, const DistanceAt& at, const PixelFootprint& pi
             const auto [other, otherMean] = family(otherRead, otherAt, firstRead);
             // Two families of lines crossing: over a pixel that holds two of each or more,
             // the union of independent inks.
-            const ValueId mean =
-                b.sub(b.add(firstMean, otherMean), b.mul(firstMean, otherMean));
+            const ValueId mean = b.sub(b.add(firstMean, otherMean), b.mul(firstMean, otherMean));
             const ValueId found = b.emit(Op::And, {first.found, other.found});
             Vals out{b.select(found, one, zero), b.denan(mean, zero),
-                     b.div(pixel.size, b.max(first.spacing, other.spacing))};
+                     b.div(pixel.size, b.max(first.spacing, other.spacing)),
+                     b.denan(b.div(halfWidth, heldLength(b, firstRead)), zero)};
+            for (const auto& [s, m] : {std::pair{first, firstMean}, std::pair{other, otherMean}}) {
+                // The index runs n / L a world unit: n along the pixel's sides turned back to
+                // the world's axes.
+                const Offset g = worldOf(b, s.n.u, s.n.v, pixel);
+                for (ValueId x : {s.index, b.div(one, s.spacing), b.div(g.ox, s.spacing),
+                                  b.div(g.oy, s.spacing), m})
+                    out.push_back(b.denan(x, zero));
+            }
             return out;
         },
-        [&] { return Vals{zero, zero, zero}; });
-    return {b.mul(trust, read[0]), read[1], read[2]};
+        [&] { return Vals(kGridRead, zero); });
+    GridRead out{b.mul(trust, read[0]), read[1], read[2], {}, read[3]};
+    for (int w = 0; w < 2; ++w) {
+        const size_t k = 4 + 5 * w;
+        out.ways[w] = {read[k], read[k + 1], read[k + 2], read[k + 3], read[k + 4]};
+    }
+    return out;
 }
 
 } // namespace moire::lower

@@ -46,9 +46,18 @@ class TwoDirections {
 
 // The grid's reading: `trust`, how far the parts run two ways and both families' spacings
 // were found (0 to 1); `mean`, the pixel's mean ink in closed form; `members`, the sparser
-// family's lines a pixel (by which the caller hands over to the closed form).
+// family's lines a pixel (by which the caller hands over to the closed form); and each way's
+// index as a phase family's (members at its integers): its value at the pixel's centre, its
+// gradient's length and world components per world unit, and its mean ink over the pixel
+// (with which the union of fine layers lets the grid beat with another layer, as a lattice's
+// lines do); `halfWidth`, the stroke's half-width across the lines in world units.
 struct GridRead {
     ir::ValueId trust, mean, members;
+    struct Way {
+        ir::ValueId index, grad, gradX, gradY, mean;
+    };
+    Way ways[2];
+    ir::ValueId halfWidth;
 };
 // A point whose nearest member crosses the centre's (where `found`), taken as the second
 // family's start where no part reads that family (the parts alias with the grid).

@@ -303,10 +303,11 @@ Ink strandUnion(ir::Builder& b, const Ink& under, const Ink& independent,
 // T_D (for each harmonic its own), so it takes the weight 1 - T_1 T_2 / T_D: the same for the
 // fundamental. With T_D = 0 and T_1 T_2 = 0 (members and beat unresolved) that weight is 1,
 // and E's mean over whole beats is a b, the independent stack's.
-Ink fineUnion(ir::Builder& b, const Ink& under, const Ink& independent,
-              const std::vector<FineLayer>& run, const PixelFootprint& pixel) {
-    if (run.size() < 2) return independent;
-    if (run[0].lattice() || run[1].lattice()) return strandUnion(b, under, independent, run, pixel);
+namespace {
+
+// A run of phase families (and families given by their distance, by their index), as above.
+Ink phaseUnion(ir::Builder& b, const Ink& under, const Ink& independent,
+               const std::vector<FineLayer>& run, const PixelFootprint& pixel) {
     std::vector<EnvelopeLayer> layers;
     for (const FineLayer& l : run) layers.push_back(l.sweep);
     ValueId engaged = b.constF(1.0);
@@ -366,6 +367,27 @@ Ink fineUnion(ir::Builder& b, const Ink& under, const Ink& independent,
         [&] {
             return std::vector<ValueId>{independent.r, independent.g, independent.b, independent.a};
         });
+    return {out[0], out[1], out[2], out[3]};
+}
+
+} // namespace
+
+Ink fineUnion(ir::Builder& b, const Ink& under, const Ink& independent,
+              const std::vector<FineLayer>& run, const PixelFootprint& pixel) {
+    if (run.size() < 2) return independent;
+    if (run[0].lattice() || run[1].lattice()) return strandUnion(b, under, independent, run, pixel);
+    // A grid given by its distance, where its members run two ways, beats by its two ways'
+    // strands, as a lattice's lines do; elsewhere by its index, as a phase family.
+    ValueId twoWays = ir::kNoValue;
+    for (const FineLayer& l : run)
+        if (l.twoWays != ir::kNoValue)
+            twoWays = twoWays == ir::kNoValue ? l.twoWays : b.max(twoWays, l.twoWays);
+    if (twoWays == ir::kNoValue) return phaseUnion(b, under, independent, run, pixel);
+    auto values = [](const Ink& i) { return std::vector<ValueId>{i.r, i.g, i.b, i.a}; };
+    const std::vector<ValueId> out = b.ifThenElse(
+        b.gt(twoWays, b.constF(0.0)),
+        [&] { return values(strandUnion(b, under, independent, run, pixel)); },
+        [&] { return values(phaseUnion(b, under, independent, run, pixel)); });
     return {out[0], out[1], out[2], out[3]};
 }
 

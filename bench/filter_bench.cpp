@@ -82,8 +82,9 @@ std::vector<Scene> filterScenes() {
                    "family dots { distance = hypot(x - spacing * round(x / spacing), y - spacing * "
                    "round(y / spacing)) }\nlayer a { family = dots; spacing = 0.7; stroke = 0.3; "
                    "rotation = 10deg }\n"});
-    // Members given by their distance finer than the 8 x 8 parts, read by their tubes
-    // (DistanceTubes.h): dots and a grid's lines 0.15 apart.
+    // Members given by their distance finer than the 8 x 8 parts: dots 0.15 apart, read by
+    // their tubes (DistanceTubes.h), and a grid's lines, by its two ways in closed form
+    // (DistanceGrid.h).
     out.push_back({"distance dots, 0.15", "distance_dots_fine.moire",
                    "family dots { distance = hypot(x - spacing * round(x / spacing), y - spacing * "
                    "round(y / spacing)) }\nlayer a { family = dots; spacing = 0.15; stroke = 0.07; "
@@ -92,6 +93,14 @@ std::vector<Scene> filterScenes() {
                    "family grid { distance = min(abs(x - spacing * round(x / spacing)), abs(y - "
                    "spacing * round(y / spacing))) }\nlayer a { family = grid; spacing = 0.15; "
                    "stroke = 0.03; rotation = 10deg }\n"});
+    // A grid given by its distance under a phase family's lines turned 3 degrees off one of
+    // its ways, both 0.2 apart: the grid's two ways beat with the lines as a lattice's do
+    // (FineUnion.cpp, strandCorrelation).
+    out.push_back({"distance grid beating, 0.2", "distance_grid_beat.moire",
+                   "family grid { distance = min(abs(x - spacing * round(x / spacing)), abs(y - "
+                   "spacing * round(y / spacing))) }\nlayer a { family = grid; spacing = 0.2; "
+                   "stroke = 0.04; rotation = 10deg }\nlayer b { family = lines; spacing = 0.2; "
+                   "stroke = 0.05; rotation = 13deg }\n"});
     // Two rings given by their distance, 0.2 and 0.21 apart about one centre: each crowd's
     // index read from its parts' normals and the centre's ray, and the pair's beat in closed
     // form (DistanceFamily.h, runs; FineUnion.h).

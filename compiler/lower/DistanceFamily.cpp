@@ -377,9 +377,8 @@ Parts partsMean(ir::Builder& b, const DistanceAt& at, ValueId h, const PixelFoot
             near = b.add(near, b.min(b.denan(away, most), most));
             // A vanishing gradient (a kink) has no direction.
             const ValueId some = b.gt(r.length, b.constF(0.0)); // false on NaN too
-            const ValueId squared = b.max(b.mul(r.length, r.length), b.constF(1e-30));
-            const ValueId c = b.div(b.sub(b.mul(r.gu, r.gu), b.mul(r.gv, r.gv)), squared);
-            const ValueId s2 = b.div(b.mul(b.constF(2.0), b.mul(r.gu, r.gv)), squared);
+            const DoubledAngle a = doubledAngle(b, r);
+            const ValueId c = a.cos2, s2 = a.sin2;
             cos2 = b.add(cos2, b.select(some, c, b.constF(0.0)));
             sin2 = b.add(sin2, b.select(some, s2, b.constF(0.0)));
             directed = b.add(directed, b.select(some, b.constF(1.0), b.constF(0.0)));

@@ -72,7 +72,7 @@ Spacing spacingAlong(ir::Builder& b, const DistanceAt& at, const PixelFootprint&
     const ValueId zero = b.constF(0.0), one = b.constF(1.0);
     const Normal n = unitNormal(b, r);
     const ValueId t = b.div(r.d, heldLength(b, r));
-    const PixelPoint f{b.sub(p.u, b.mul(t, n.u)), b.sub(p.v, b.mul(t, n.v))};
+    const PixelPoint f = footFrom(b, r, p, true);
     // The other family's lines run along (-other.v, other.u); taken the way n points, each
     // unit along it is `rate` along n.
     const ValueId rate0 = b.sub(b.mul(n.v, other.u), b.mul(n.u, other.v));
@@ -101,7 +101,7 @@ Spacing spacingAlong(ir::Builder& b, const DistanceAt& at, const PixelFootprint&
         const ValueId parallel =
             b.gt(b.abs(b.add(b.mul(n.u, m.u), b.mul(n.v, m.v))), b.constF(kParallel));
         const PixelPoint foot = footFrom(b, there, q, true);
-        const ValueId along = b.add(b.mul(b.sub(foot.u, f.u), n.u), b.mul(b.sub(foot.v, f.v), n.v));
+        const ValueId along = offsetAlong(b, f, foot, n);
         // Its own line 0 stands at 0 along n, the next one at L >= 2 t: t clears it. NaN (a
         // probe on a kink) compares false.
         const ValueId hit = b.emit(
@@ -111,7 +111,7 @@ Spacing spacingAlong(ir::Builder& b, const DistanceAt& at, const PixelFootprint&
     });
     const ValueId spacing = b.max(out[2], b.mul(pixel.size, b.constF(1e-4)));
     // The centre (0, 0) stands -f . n from the line through f.
-    const ValueId offset = b.neg(b.add(b.mul(f.u, n.u), b.mul(f.v, n.v)));
+    const ValueId offset = offsetAlong(b, f, {b.constF(0.0), b.constF(0.0)}, n);
     const ValueId found =
         b.emit(Op::And, {b.gt(out[1], b.constF(0.5)), b.gt(rate, b.constF(kLeastCrossing))});
     return {found, spacing, b.div(offset, spacing), n};
@@ -126,7 +126,7 @@ ValueId straightAt(ir::Builder& b, const DistanceAt& at, const PixelFootprint& p
                    const Reading& r, PixelPoint p) {
     const Normal n = unitNormal(b, r);
     const ValueId t = b.div(r.d, heldLength(b, r));
-    const PixelPoint f{b.sub(p.u, b.mul(t, n.u)), b.sub(p.v, b.mul(t, n.v))};
+    const PixelPoint f = footFrom(b, r, p, true);
     const ValueId in = b.mul(t, b.constF(0.5)), side = b.mul(t, b.constF(0.1));
     ValueId straight = b.constB(true);
     for (double sense : {-1.0, 1.0}) {
@@ -136,8 +136,7 @@ ValueId straightAt(ir::Builder& b, const DistanceAt& at, const PixelFootprint& p
         const Reading there = readThere(b, at, pixel, q);
         const Normal m = unitNormal(b, there);
         const PixelPoint foot = footFrom(b, there, q, true);
-        const ValueId off =
-            b.abs(b.add(b.mul(b.sub(foot.u, f.u), n.u), b.mul(b.sub(foot.v, f.v), n.v)));
+        const ValueId off = b.abs(offsetAlong(b, f, foot, n));
         const ValueId facing = b.abs(b.add(b.mul(n.u, m.u), b.mul(n.v, m.v)));
         const ValueId same = b.lt(off, b.mul(t, b.constF(0.1)));
         straight =
@@ -149,10 +148,9 @@ ValueId straightAt(ir::Builder& b, const DistanceAt& at, const PixelFootprint& p
 } // namespace
 
 TwoDirections::TwoDirections(ir::Builder& b, const Reading& centre) : b_(b) {
-    some_ = b.gt(centre.length, b.constF(0.0)); // false on NaN too
-    const ValueId squared = b.max(b.mul(centre.length, centre.length), b.constF(1e-30));
-    cos2_ = b.div(b.sub(b.mul(centre.gu, centre.gu), b.mul(centre.gv, centre.gv)), squared);
-    sin2_ = b.div(b.mul(b.constF(2.0), b.mul(centre.gu, centre.gv)), squared);
+    const DoubledAngle a = doubledAngle(b, centre);
+    cos2_ = a.cos2;
+    sin2_ = a.sin2;
 }
 
 std::vector<ValueId> TwoDirections::start() const {
@@ -208,13 +206,12 @@ CrossingStart crossingSeen(ir::Builder& b, const DistanceAt& at, const PixelFoot
         const PixelPoint p{b.mul(b.sub(fract(b, across), half), pixel.size),
                            b.mul(b.sub(fract(b, up), half), pixel.size)};
         const Reading r = readThere(b, at, pixel, p);
-        const ValueId squared = b.max(b.mul(r.length, r.length), b.constF(1e-30));
-        const ValueId c = b.div(b.sub(b.mul(r.gu, r.gu), b.mul(r.gv, r.gv)), squared);
-        const ValueId s2 = b.div(b.mul(b.constF(2.0), b.mul(r.gu, r.gv)), squared);
+        const DoubledAngle a = doubledAngle(b, r);
         // Its doubled angle more than a right angle from the axis's: a direction more than
         // 45 degrees off.
-        const ValueId crossed = b.emit(
-            Op::And, {b.gt(r.length, zero), b.lt(b.add(b.mul(c, cos2), b.mul(s2, sin2)), zero)});
+        const ValueId crossed =
+            b.emit(Op::And, {b.gt(r.length, zero),
+                             b.lt(b.add(b.mul(a.cos2, cos2), b.mul(a.sin2, sin2)), zero)});
         return std::vector<ValueId>{b.add(k, one), b.select(crossed, one, zero),
                                     b.select(crossed, p.u, v[2]), b.select(crossed, p.v, v[3])};
     });

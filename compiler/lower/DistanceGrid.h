@@ -41,7 +41,7 @@ class TwoDirections {
 
   private:
     ir::Builder& b_;
-    ir::ValueId cos2_, sin2_, some_;
+    ir::ValueId cos2_, sin2_;
 };
 
 // The grid's reading: `trust`, how far the parts run two ways and both families' spacings

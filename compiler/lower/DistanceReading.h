@@ -93,6 +93,22 @@ inline PixelPoint footFrom(ir::Builder& b, const Reading& r, PixelPoint p, bool 
     return {b.sub(p.u, b.mul(k, r.gu)), b.sub(p.v, b.mul(k, r.gv))};
 }
 
+// How far `to` stands from `from` along the unit normal n.
+inline ir::ValueId offsetAlong(ir::Builder& b, PixelPoint from, PixelPoint to, Normal n) {
+    return b.add(b.mul(b.sub(to.u, from.u), n.u), b.mul(b.sub(to.v, from.v), n.v));
+}
+
+// A reading's normal as a doubled angle, (cos 2 theta, sin 2 theta): a normal and its opposite
+// are one direction. (0, 0) where the gradient vanishes.
+struct DoubledAngle {
+    ir::ValueId cos2, sin2;
+};
+inline DoubledAngle doubledAngle(ir::Builder& b, const Reading& r) {
+    const ir::ValueId squared = b.max(b.mul(r.length, r.length), b.constF(1e-30));
+    return {b.div(b.sub(b.mul(r.gu, r.gu), b.mul(r.gv, r.gv)), squared),
+            b.div(b.mul(b.constF(2.0), b.mul(r.gu, r.gv)), squared)};
+}
+
 // How far the unit normal m has turned from the unit normal n: their cosine, and the angle's
 // tangent (n x m) / (n . m), its denominator held above 1e-6 (a normal turned a right angle or
 // more is another side's, which a caller tells by the cosine).

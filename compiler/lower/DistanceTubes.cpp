@@ -232,8 +232,7 @@ RayLength rayThrough(ir::Builder& b, const DistanceAt& at, const PixelFootprint&
         // the ridge settled. Where it reads its own member, or the ray ran past the cap,
         // twice the ray.
         const Probe probe = probeAt(b, at, pixel, ray, b.mul(length.ridge, b.constF(1.5)));
-        const ValueId apartAlong = b.abs(b.add(b.mul(b.sub(probe.foot.u, ray.f.u), ray.n.u),
-                                               b.mul(b.sub(probe.foot.v, ray.f.v), ray.n.v)));
+        const ValueId apartAlong = b.abs(offsetAlong(b, ray.f, probe.foot, ray.n));
         const ValueId twice = b.mul(length.ridge, b.constF(2.0));
         // A spacing off twice the ridge by more than a quarter is not the next member's.
         const ValueId near = b.lt(b.abs(b.sub(apartAlong, twice)), b.mul(twice, b.constF(0.25)));

@@ -82,13 +82,19 @@ std::vector<Scene> filterScenes() {
                    "family dots { distance = hypot(x - spacing * round(x / spacing), y - spacing * "
                    "round(y / spacing)) }\nlayer a { family = dots; spacing = 0.7; stroke = 0.3; "
                    "rotation = 10deg }\n"});
-    // Members given by their distance finer than the 8 x 8 parts: dots 0.15 apart, read by
-    // their tubes (DistanceTubes.h), and a grid's lines, by its two ways in closed form
-    // (DistanceGrid.h).
+    // Members given by their distance finer than the 8 x 8 parts: dots 0.15 and 0.05 apart,
+    // read as a dot screen (DistanceDots.h: two rays out of a dot's cell, nine looks at its
+    // edge and three at its cell, in place of 34 rays by their tubes), and a grid's lines, by
+    // its two ways in closed form (DistanceGrid.h).
     out.push_back({"distance dots, 0.15", "distance_dots_fine.moire",
                    "family dots { distance = hypot(x - spacing * round(x / spacing), y - spacing * "
                    "round(y / spacing)) }\nlayer a { family = dots; spacing = 0.15; stroke = 0.07; "
                    "rotation = 10deg }\n"});
+    out.push_back(
+        {"distance dots, 0.05", "distance_dots_finer.moire",
+         "family dots { distance = hypot(x - spacing * round(x / spacing), y - spacing * "
+         "round(y / spacing)) }\nlayer a { family = dots; spacing = 0.05; stroke = 0.023; "
+         "rotation = 10deg }\n"});
     out.push_back({"distance grid, 0.15", "distance_grid_fine.moire",
                    "family grid { distance = min(abs(x - spacing * round(x / spacing)), abs(y - "
                    "spacing * round(y / spacing))) }\nlayer a { family = grid; spacing = 0.15; "

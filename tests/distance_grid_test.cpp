@@ -6,6 +6,7 @@
 // and densities, a grid whose two spacings differ, and one whose lines cross at 60 degrees;
 // and the window's mean ink against the share of the plane the strokes cover.
 #include "runtime/output/Render.h"
+#include "tests/support/BoxReference.h"
 #include "tests/support/Support.h"
 
 #include <cmath>
@@ -20,9 +21,6 @@ using namespace moire;
 namespace {
 
 constexpr int kW = 48, kH = 32;
-// A Fibonacci lattice: N = F(21), its generator F(20).
-constexpr int kSamples = 10946, kGenerator = 6765;
-
 // Lines along two directions, (cos a, sin a) and (cos b, sin b) their normals, `first` and
 // `second` apart, each stroke `stroke` wide; drawn at `zoom` pixels a world unit.
 struct Grid {
@@ -48,22 +46,9 @@ struct Grid {
         };
         return near(a, first) || near(b, second);
     }
-    // Each pixel's share of the lattice's samples that the stroke inks.
     std::vector<double> bruteForce() const {
-        std::vector<double> out(size_t(kW) * kH);
-        for (int py = 0; py < kH; ++py)
-            for (int px = 0; px < kW; ++px) {
-                int n = 0;
-                for (int j = 0; j < kSamples; ++j) {
-                    const double sx = (j + 0.5) / kSamples;
-                    const double t = (double(j) * kGenerator + 0.5) / kSamples;
-                    const double sy = t - std::floor(t);
-                    const double x = (px + sx - 0.5 * kW) / zoom, y = (0.5 * kH - py - sy) / zoom;
-                    n += inked(x, y);
-                }
-                out[size_t(py) * kW + px] = double(n) / kSamples;
-            }
-        return out;
+        return test::boxReference(
+            kW, kH, zoom, [&](double x, double y) { return inked(x, y); }, test::kFibonacci10946);
     }
     // The share of the plane within half a stroke of a line: the two families' strokes
     // cross at every offset alike, each covering stroke / spacing of the plane.
@@ -103,20 +88,11 @@ TEST_CASE("distance grid: a crowded grid's mean against the box filter of its ex
         const Image img = test::renderScene(*drawn, *backend);
         REQUIRE(img.width == kW);
         const std::vector<double> want = g.bruteForce();
-        double sq = 0.0, ink = 0.0, exact = 0.0;
-        for (int py = 0; py < kH; ++py)
-            for (int px = 0; px < kW; ++px) {
-                const double got = 1.0 - img.at(px, py, 0), w = want[size_t(py) * kW + px];
-                sq += (got - w) * (got - w);
-                ink += got;
-                exact += w;
-            }
-        const double n = double(kW) * kH;
-        const double rmse = std::sqrt(sq / n);
+        const test::InkError e = test::inkError(img, want);
         if (std::getenv("MOIRE_FILTER_REPORT"))
-            MESSAGE("RMSE ", rmse, " ink ", ink / n, " brute force ", exact / n, " share ",
+            MESSAGE("RMSE ", e.rmse, " ink ", e.ink, " brute force ", e.exact, " share ",
                     g.share());
-        CHECK(rmse <= g.rmse);
-        CHECK(std::abs(ink / n - g.share()) <= 0.01 * g.share());
+        CHECK(e.rmse <= g.rmse);
+        CHECK(std::abs(e.ink - g.share()) <= 0.01 * g.share());
     }
 }

@@ -192,7 +192,7 @@ TEST_CASE("filter: the JIT and the GPU draw the mean the interpreter draws") {
         "layer a { family = square_lattice; spacing = 0.52; stroke = 0.26 }\n"
         "layer b { family = triangle_lattice; spacing = 0.6; stroke = 0.3; rotation = 2deg; "
         "color = #a02020 }\n",
-        // Dots eight a pixel, read by their tubes (DistanceTubes.h), under a turned camera.
+        // Dots eight a pixel, read as a dot screen (DistanceDots.h), under a turned camera.
         "family dots { distance = hypot(x - spacing * round(x / spacing), y - spacing * "
         "round(y / spacing)) }\n"
         "camera { rotation = 25deg }\n"
@@ -1017,8 +1017,10 @@ TEST_CASE("filter: a family given by its distance reads the ink of its exact fie
 // samples a pixel (the window's RMSE), and the window's mean ink against the share of the
 // plane the strokes cover, pi h^2 / L^2 for dots, 2h / L for rings, 1 - (1 - 2h / L)^2 for a
 // grid (which the 64 x 64 reference itself misses by up to 2% at 8 a pixel). Before, and now:
-//   dots 4 a pixel:   RMSE 0.106 (ink 0.302) -> 0.0036 (0.1964 against 0.1963)
-//   dots 8 a pixel:   0.480 (0.681) -> 0.0062 (0.1964)
+//   dots 4 a pixel:   RMSE 0.106 (ink 0.302) -> 0.0036 (0.1964 against 0.1963); as a dot
+//     screen in closed form (DistanceDots.h) 0.0012 (0.1964)
+//   dots 8 a pixel:   0.480 (0.681) -> 0.0062 (0.1964); as a dot screen 0.0048 (0.1963),
+//     what is left mostly the 64 x 64 reference's own aliasing
 //   rings 12 a pixel: 0.039 (0.222) -> 0.0004 (0.2500 against 0.250)
 //   a grid 6 a pixel: 0.024 (0.333) -> 0.0066 (0.360 against 0.360); in closed form by its
 //     two ways' indices (DistanceGrid.h) 0.0034 (0.360)
@@ -1040,10 +1042,11 @@ TEST_CASE("filter: members given by their distance finer than the parts read the
         double ink;  // the most error in ink as a share of the share
     };
     const Case kCases[] = {
-        // The dots' ink within half a percent: 1% heavy where a sample near where four dots'
-        // cells meet read its ray as a straight member's (DistanceTubes.cpp, kNearerTurnStep).
-        {Dots, 0.25, 0.125, 0.01, 0.005},
-        {Dots, 0.125, 0.0625, 0.012, 0.005},
+        // The dots' ink within half a percent (by their tubes, 1% heavy where a sample near
+        // where four dots' cells meet read its ray as a straight member's: DistanceTubes.cpp,
+        // kNearerTurnStep); read as a dot screen (DistanceDots.h) where they are round.
+        {Dots, 0.25, 0.125, 0.003, 0.005},
+        {Dots, 0.125, 0.0625, 0.008, 0.005},
         {Dots, 0.08, 0.04, 0.0, 0.005},
         {Rings, 1.0 / 12, 1.0 / 48, 0.01, 0.005},
         {Rings, 0.05, 0.0125, 0.0, 0.01},

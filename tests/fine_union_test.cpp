@@ -9,6 +9,7 @@
 // composite, and drawn against the 24-tap sweep a longer run still takes.
 #include "compiler/lower/FineUnion.h"
 #include "runtime/output/Render.h"
+#include "tests/support/BoxReference.h"
 #include "tests/support/Support.h"
 
 #include <cmath>
@@ -24,7 +25,6 @@ namespace {
 
 constexpr int kW = 96, kH = 64; // the frame
 constexpr double kStroke = 0.3; // every layer's stroke
-constexpr int kSamples = 256;   // the brute force's samples a pixel
 
 // Upright-or-turned lines: members where (x cos a + y sin a) / spacing is whole.
 struct Lines {
@@ -72,19 +72,8 @@ struct Pair {
     }
     // Each pixel's share of 256 samples (a rank-1 lattice) that either stroke inks.
     std::vector<double> bruteForce() const {
-        std::vector<double> out(size_t(kW) * kH);
-        for (int py = 0; py < kH; ++py)
-            for (int px = 0; px < kW; ++px) {
-                int n = 0;
-                for (int j = 0; j < kSamples; ++j) {
-                    double v = j * 0.6180339887498949 + 0.5;
-                    double x, y;
-                    world(px + (j + 0.5) / kSamples, py + v - std::floor(v), x, y);
-                    n += inked(x, y);
-                }
-                out[size_t(py) * kW + px] = double(n) / kSamples;
-            }
-        return out;
+        return test::boxReference(
+            kW, kH, zoom, [&](double x, double y) { return inked(x, y); }, test::kGolden256);
     }
     // The amplitude of the beat's fundamental in a picture: 2 |mean of ink exp(-2 pi i D)|,
     // D = f_a - f_b at the pixel's centre.

@@ -1,6 +1,7 @@
 #include "compiler/lower/DistanceFamily.h"
 
 #include "compiler/ir/BuiltValue.h"
+#include "compiler/lower/DistanceDots.h"
 #include "compiler/lower/DistanceGrid.h"
 #include "compiler/lower/DistanceTubes.h"
 #include "compiler/lower/LowerExpr.h"
@@ -565,8 +566,8 @@ CrowdEstimate distanceFamilyCrowd(ir::Builder& b, ValueId distance, const Distan
             const ValueId crossed =
                 b.emit(Op::Or, {b.emit(Op::Ge, {coarse.crossed, b.constF(kCrossedGate)}),
                                 b.lt(coarse.near, b.mul(fineSide, b.constF(kParallelGate)))});
-            const ValueId mayCrowd =
-                b.emit(Op::And, {b.lt(coarse.near, b.mul(fineSide, b.constF(kTubeGate))), crossed});
+            const ValueId near = b.lt(coarse.near, b.mul(fineSide, b.constF(kTubeGate)));
+            const ValueId mayCrowd = b.emit(Op::And, {near, crossed});
             // Where the members run two ways (a grid's lines) rather than one, each way's
             // index and the pair's mean in closed form (DistanceGrid.h), read where the
             // index the members run by is not wholly trusted. The closed forms, parallel
@@ -578,10 +579,26 @@ CrowdEstimate distanceFamilyCrowd(ir::Builder& b, ValueId distance, const Distan
             auto closedHandOver = [&](ValueId members) {
                 return b.smoothstep(b.constF(kClosedFrom), b.constF(kClosedFull), members);
             };
-            const ValueId closedTrust =
-                b.add(trust, b.mul(b.sub(b.constF(1.0), trust), grid.trust));
-            const ValueId closedMean = b.mix(grid.mean, runs[5], trust);
-            const ValueId closedCrowded = b.mix(closedHandOver(grid.members), runs[6], trust);
+            const ValueId one = b.constF(1.0);
+            const ValueId linesTrust = b.add(trust, b.mul(b.sub(one, trust), grid.trust));
+            // Where neither reads them, round dots on a lattice (DistanceDots.h), read where
+            // they may crowd: a dot screen's mean in closed form.
+            const DotsRead dots = dotsRead(b, at, pixel, halfWidth, centre,
+                                           b.emit(Op::And, {b.lt(linesTrust, one), near}));
+            // Each closed form weighed by the trust the ones before it leave.
+            const ValueId gridWeight = b.mul(b.sub(one, trust), grid.trust);
+            const ValueId dotsWeight = b.mul(b.sub(one, linesTrust), dots.trust);
+            const ValueId closedTrust = b.add(linesTrust, dotsWeight);
+            auto weighed = [&](ValueId runsValue, ValueId gridValue, ValueId dotsValue) {
+                const ValueId sum =
+                    b.add(b.add(b.mul(trust, runsValue), b.mul(gridWeight, gridValue)),
+                          b.mul(dotsWeight, dotsValue));
+                return b.select(b.gt(closedTrust, b.constF(0.0)), b.div(sum, closedTrust),
+                                b.constF(0.0));
+            };
+            const ValueId closedMean = weighed(runs[5], grid.mean, dots.mean);
+            const ValueId closedCrowded =
+                weighed(runs[6], closedHandOver(grid.members), closedHandOver(dots.members));
             // The fine parts handing over to a crowd's mean by `crowded`.
             auto partsOr = [&](ValueId mean, ValueId crowded) {
                 const ValueId parts =
@@ -604,7 +621,10 @@ CrowdEstimate distanceFamilyCrowd(ir::Builder& b, ValueId distance, const Distan
             auto apart = [&] { return partsOr(closedMean, b.mul(closedTrust, closedCrowded)); };
             Vals out{b.ifThenElse(
                 coarse.bent, [&] { return b.ifThenElse(mayCrowd, crowd, apart); },
-                [&] { return Vals{coarse.mean}; })[0]};
+                [&] {
+                    return Vals{b.mix(coarse.mean, dots.mean,
+                                      b.mul(dotsWeight, closedHandOver(dots.members)))};
+                })[0]};
             out.push_back(trust);
             out.insert(out.end(), runs.begin(), runs.end());
             out.insert(out.end(), {grid.trust, grid.halfWidth});

@@ -322,6 +322,13 @@ ValueId boxTransfer(ir::Builder& b, ValueId kx, ValueId ky, const PixelFootprint
     return b.mul(sincPi(b.mul(f.u, pixel.size)), sincPi(b.mul(f.v, pixel.size)));
 }
 
+ValueId dotScreenMean(ir::Builder& b, const LatticeCrowdInputs& in, ValueId r) {
+    const ValueId cells = b.abs(b.sub(b.mul(in.genUX, in.genVY), b.mul(in.genUY, in.genVX)));
+    const ValueId share = b.mul(b.mul(cells, b.constF(kPi)), b.mul(r, r));
+    return b.clamp(b.add(share, dotRipple(b, LatticeKind::Square, in, r)), b.constF(0.0),
+                   b.constF(1.0));
+}
+
 CrowdEstimate latticeCrowd(ir::Builder& b, LatticeKind kind, const LatticeCrowdInputs& in) {
     const Geometry g = geometryOf(kind);
     auto c = [&](double v) { return b.constF(v); };

@@ -107,6 +107,13 @@ ir::ValueId dotHarmonic(ir::Builder& b, ir::ValueId cells, ir::ValueId r, ir::Va
 ir::ValueId boxTransfer(ir::Builder& b, ir::ValueId kx, ir::ValueId ky,
                         const PixelFootprint& pixel);
 
+// The box-filtered mean of a screen of round dots of radius r (world units), one at each whole
+// (genU, genV): the dots' share of the plane, |det(grad u, grad v)| pi r^2, and the box filter's
+// ripple about it (the harmonics with |m1|, |m2| <= 2, each the dot's transform times the
+// pixel's). The dots laid apart (2 r under the nearest two points' distance). Reads the
+// generators, their world gradients and the pixel (size and turn) of `in`.
+ir::ValueId dotScreenMean(ir::Builder& b, const LatticeCrowdInputs& in, ir::ValueId r);
+
 // `engaged` from 0 where the densest rows of members stand kCrowdFrom pixels apart or more, to
 // 1 at kCrowdFull; `mean` the share of the plane the strokes cover; `nearest`, where the
 // lattice draws its points, the nearest dot's mean over the pixel (discInSquare) in place of

@@ -1,0 +1,275 @@
+#include "compiler/lower/DistanceDots.h"
+
+#include "compiler/lower/LatticeCrowd.h"
+
+#include <cmath>
+#include <numbers>
+#include <span>
+#include <vector>
+
+namespace moire::lower {
+
+using ir::Op;
+using ir::ValueId;
+using Vals = std::vector<ValueId>;
+
+namespace {
+
+// Probes a ray spends finding the dot across its cell's edge: from a sixteenth of a pixel
+// out it doubles until it leaves the cell (three doublings reach half a pixel, past the cell
+// of dots two a pixel), then each probe past a bisector halves the number of cells it stood
+// past, about.
+constexpr int kRayProbes = 10;
+// A probe stands this share past the bisector it steps back to: well past float's rounding of
+// the world's coordinates (with the frame's centre 600 units out and dots 0.05 apart, a
+// thousandth of the bisector fell within it, and 6% of the rays read c0's own dot there).
+// Where one still reads c0's own dot, the next stands kOnwards further out.
+constexpr double kPastBisector = 0.02, kOnwards = 1.1;
+// A ray settles where a probe reads the dot the last one read (its foot within kSameDot of
+// the vector to it), or where it stands within kNearBisector of the bisector of the dot it
+// reads: a ray through a corner of c0's cell (where three cells meet) reads either of two dots
+// as far, and both are c0's neighbours.
+constexpr double kSameDot = 0.25, kNearBisector = 0.05;
+// The second ray's turn from the first dot's direction: square to it, it would run through a
+// corner of a triangular lattice's hexagonal cell, and a square lattice's where the first ray
+// read a diagonal neighbour.
+constexpr double kSecondTurn = 75.0;
+// A probe reads c0's own dot while its foot stands within this share of its step.
+constexpr double kSameFoot = 0.5;
+// The dots' edge: kRoundLooks points a radius from c0, a ninth of a turn apart. Their
+// distances less the circle that fits them best (their mean, and c0 moved: the centre is read
+// in float to a few units of the world's coordinates' last place, which is a share of a fine
+// dot's radius) must stand within kRoundFrom of h to be trusted, and not at all past
+// kRoundFull. Nine looks: a dot with k-fold faces departs from its circle as cos k theta, and
+// over nine looks only k = 1 or 8 mod 9 reads as c0 moved (a square's k = 4 and a hexagon's
+// 6 do not; over five, 4 would; over seven, 6).
+constexpr int kRoundLooks = 9;
+constexpr double kRoundFrom = 0.01, kRoundFull = 0.02;
+// The half-steps of the cell read their distance to the nearest corner to within this share,
+// and a point of a finer lattice where under kFinerBelow of it.
+constexpr double kLatticeSlack = 0.02, kFinerBelow = 0.5;
+// The basis's two vectors must stand at more than about 6 degrees (their cross product over
+// their lengths' product).
+constexpr double kLeastSine = 0.1;
+// The dots' strokes apart: a diameter under this share of the nearest dots' distance.
+constexpr double kApart = 0.95;
+// Lagrange's reduction steps: the basis read is two relevant vectors, one step from reduced.
+constexpr int kReduceSteps = 3;
+
+struct Vec {
+    ValueId u, v;
+};
+ValueId dot(ir::Builder& b, Vec a, Vec c) {
+    return b.add(b.mul(a.u, c.u), b.mul(a.v, c.v));
+}
+ValueId cross(ir::Builder& b, Vec a, Vec c) {
+    return b.sub(b.mul(a.u, c.v), b.mul(a.v, c.u));
+}
+Vec plus(ir::Builder& b, Vec a, Vec c) {
+    return {b.add(a.u, c.u), b.add(a.v, c.v)};
+}
+Vec scaled(ir::Builder& b, Vec a, ValueId k) {
+    return {b.mul(a.u, k), b.mul(a.v, k)};
+}
+Vec chosen(ir::Builder& b, ValueId c, Vec a, Vec other) {
+    return {b.select(c, a.u, other.u), b.select(c, a.v, other.v)};
+}
+
+// The dot across c0's cell's edge along the unit direction a: `found` where the ray settled
+// (a probe just past the bisector of c0 and the dot it read read that dot again), and the
+// vector from c0 to that dot, and the distance's gradient length read there. `start`: the first
+// probe's distance from c0.
+struct Across {
+    ValueId found;
+    Vec w;
+    ValueId length;
+};
+Across acrossAlong(ir::Builder& b, const DistanceAt& at, const PixelFootprint& pixel,
+                   PixelPoint c0, Vec a, ValueId start) {
+    const ValueId zero = b.constF(0.0), one = b.constF(1.0);
+    // Carried: the probe, its distance, the vector read (and whether one was), settled, and
+    // the gradient's length read. Settled where a probe reads the dot the last one read:
+    // it stepped back to just past that dot's bisector with c0.
+    Vals init{zero, start, zero, zero, zero, zero, zero};
+    auto more = [&](std::span<const ValueId> v) {
+        return Vals{b.emit(Op::And, {b.lt(v[0], b.constF(kRayProbes)), b.lt(v[5], b.constF(0.5))})};
+    };
+    const Vals out = b.loop(init, more, [&](std::span<const ValueId> v) {
+        const ValueId s = v[1];
+        const PixelPoint q{b.add(c0.u, b.mul(s, a.u)), b.add(c0.v, b.mul(s, a.v))};
+        const Reading r = readThere(b, at, pixel, q);
+        const PixelPoint f = footFrom(b, r, q, false); // NaN on a kink: read again further
+        const Vec w{b.sub(f.u, c0.u), b.sub(f.v, c0.v)};
+        const ValueId length = b.hypot(w.u, w.v);
+        const ValueId ahead = dot(b, w, a);
+        const ValueId other = b.emit(
+            Op::And, {b.emit(Op::Ge, {length, b.mul(s, b.constF(kSameFoot))}), b.gt(ahead, zero)});
+        // The bisector of c0 and the dot read, along the ray: the probe stands past it.
+        const ValueId bisector = b.div(b.mul(length, length), b.mul(ahead, b.constF(2.0)));
+        const ValueId back = b.mul(bisector, b.constF(1.0 + kPastBisector));
+        const ValueId again =
+            b.lt(b.hypot(b.sub(w.u, v[3]), b.sub(w.v, v[4])), b.mul(length, b.constF(kSameDot)));
+        const ValueId nearBisector = b.le(s, b.mul(bisector, b.constF(1.0 + kNearBisector)));
+        const ValueId settled = b.emit(
+            Op::And,
+            {other, b.emit(Op::Or, {b.emit(Op::And, {b.gt(v[2], b.constF(0.5)), again}),
+                                    nearBisector})});
+        const ValueId valid = b.emit(Op::Eq, {length, length});
+        const ValueId stepped =
+            b.emit(Op::And, {valid, b.emit(Op::Not, {b.gt(v[2], b.constF(0.5))})});
+        const ValueId further =
+            b.mul(s, b.select(stepped, b.constF(2.0), b.constF(kOnwards)));
+        return Vals{b.add(v[0], one),
+                    b.select(other, back, further),
+                    b.select(other, one, v[2]),
+                    b.select(other, w.u, v[3]),
+                    b.select(other, w.v, v[4]),
+                    b.select(settled, one, zero),
+                    b.select(other, r.length, v[6])};
+    });
+    return {b.gt(out[5], b.constF(0.5)), {out[3], out[4]}, out[6]};
+}
+
+// Lagrange's reduction of the basis (p, q): the shorter first, the second less the whole
+// multiple of the first nearest its projection.
+void reduce(ir::Builder& b, Vec& p, Vec& q) {
+    for (int i = 0; i < kReduceSteps; ++i) {
+        const ValueId swap = b.lt(dot(b, q, q), dot(b, p, p));
+        const Vec first = chosen(b, swap, q, p), second = chosen(b, swap, p, q);
+        const ValueId k =
+            b.round(b.div(dot(b, first, second), b.max(dot(b, first, first), b.constF(1e-30))));
+        p = first;
+        q = plus(b, second, scaled(b, first, b.neg(k)));
+    }
+}
+
+} // namespace
+
+DotsRead dotsRead(ir::Builder& b, const DistanceAt& at, const PixelFootprint& pixel,
+                  ValueId halfWidth, const Reading& centre, ValueId wanted) {
+    const ValueId zero = b.constF(0.0), one = b.constF(1.0), half = b.constF(0.5);
+    constexpr size_t kValues = 10;
+    const Vals read = b.ifThenElse(
+        wanted,
+        [&] {
+            // A centre on its dot's centre, to the last bit, has no gradient: it is c0, and
+            // its first ray runs along the pixel's first side.
+            const ValueId some = b.gt(centre.length, zero); // false on NaN too
+            const Normal unit = unitNormal(b, centre);
+            const Normal n{b.select(some, unit.u, one), b.select(some, unit.v, zero)};
+            const ValueId t0 = b.select(some, b.div(centre.d, heldLength(b, centre)), zero);
+            const PixelPoint c0{b.neg(b.mul(t0, n.u)), b.neg(b.mul(t0, n.v))};
+            const ValueId start =
+                b.max(b.mul(b.abs(t0), b.constF(1.5)), b.div(pixel.size, b.constF(16.0)));
+            const Across first = acrossAlong(b, at, pixel, c0, {n.u, n.v}, start);
+            const ValueId firstLength = b.max(b.hypot(first.w.u, first.w.v), b.constF(1e-30));
+            const double turn = kSecondTurn * std::numbers::pi / 180.0;
+            const ValueId tc = b.constF(std::cos(turn)), ts = b.constF(std::sin(turn));
+            const Vec turned{b.div(b.sub(b.mul(first.w.u, tc), b.mul(first.w.v, ts)), firstLength),
+                             b.div(b.add(b.mul(first.w.u, ts), b.mul(first.w.v, tc)), firstLength)};
+            const Across second = acrossAlong(b, at, pixel, c0, turned, start);
+            // The distance's gradient length: the centre's, else the first ray's.
+            const ValueId length =
+                b.max(b.select(some, centre.length, first.length), b.constF(1e-30));
+            Vec p = first.w, q = second.w;
+            reduce(b, p, q);
+            // The three half-steps of the cell, each its distance to the nearest corner
+            // away from it (the reduced basis's corners: |p| / 2, |q| / 2, and the shorter
+            // diagonal's half): a point of a finer lattice there reads far nearer, and the
+            // basis takes it in place of the vector it halves.
+            const Vec diagonal = plus(b, p, q);
+            const Vec halves[3] = {scaled(b, p, half), scaled(b, q, half),
+                                   scaled(b, diagonal, half)};
+            const ValueId across = b.hypot(b.sub(p.u, q.u), b.sub(p.v, q.v));
+            const ValueId corners[3] = {b.mul(b.hypot(p.u, p.v), half),
+                                        b.mul(b.hypot(q.u, q.v), half),
+                                        b.mul(b.min(b.hypot(diagonal.u, diagonal.v), across), half)};
+            ValueId lattice = b.constB(true);
+            ValueId finer[3];
+            for (int k = 0; k < 3; ++k) {
+                const Reading r = readThere(
+                    b, at, pixel, {b.add(c0.u, halves[k].u), b.add(c0.v, halves[k].v)});
+                const ValueId ratio = b.div(b.div(r.d, length), corners[k]);
+                finer[k] = b.lt(ratio, b.constF(kFinerBelow));
+                const ValueId fits = b.lt(b.abs(b.sub(ratio, one)), b.constF(kLatticeSlack));
+                lattice = b.emit(Op::And, {lattice, b.emit(Op::Or, {fits, finer[k]})});
+            }
+            // A finer lattice: its point halves p, q, or the diagonal (in q's place).
+            const Vec halfQ = chosen(b, finer[1], halves[1], halves[2]);
+            const ValueId halvesQ = b.emit(Op::Or, {finer[1], finer[2]});
+            p = chosen(b, finer[0], halves[0], p);
+            q = chosen(b, b.emit(Op::And, {b.emit(Op::Not, {finer[0]}), halvesQ}), halfQ, q);
+            reduce(b, p, q);
+            const ValueId area = b.abs(cross(b, p, q));
+            const ValueId shortest = b.hypot(p.u, p.v);
+            const ValueId sine = b.div(
+                area, b.max(b.mul(shortest, b.hypot(q.u, q.v)), b.constF(1e-30)));
+            // The dots' edge, a radius from c0 in kRoundLooks directions (turned from c0's
+            // ray), and the circle that fits their distances best: a constant and a first
+            // harmonic in the look's angle (equally spaced looks: the harmonics' means).
+            const ValueId radius = b.div(halfWidth, length);
+            std::vector<ValueId> looks;
+            ValueId sum = zero, sumCos = zero, sumSin = zero;
+            for (int k = 0; k < kRoundLooks; ++k) {
+                const double turn = 2.0 * std::numbers::pi * (k + 0.25) / kRoundLooks;
+                const ValueId cu = b.constF(std::cos(turn)), cv = b.constF(std::sin(turn));
+                const Vec e{b.sub(b.mul(n.u, cu), b.mul(n.v, cv)),
+                            b.add(b.mul(n.u, cv), b.mul(n.v, cu))};
+                const Reading r = readThere(
+                    b, at, pixel,
+                    {b.add(c0.u, b.mul(radius, e.u)), b.add(c0.v, b.mul(radius, e.v))});
+                looks.push_back(r.d);
+                sum = b.add(sum, r.d);
+                sumCos = b.add(sumCos, b.mul(r.d, cu));
+                sumSin = b.add(sumSin, b.mul(r.d, cv));
+            }
+            const ValueId fitted = b.mul(sum, b.constF(1.0 / kRoundLooks));
+            const ValueId shiftCos = b.mul(sumCos, b.constF(2.0 / kRoundLooks));
+            const ValueId shiftSin = b.mul(sumSin, b.constF(2.0 / kRoundLooks));
+            ValueId worst = b.abs(b.sub(fitted, halfWidth));
+            for (int k = 0; k < kRoundLooks; ++k) {
+                const double turn = 2.0 * std::numbers::pi * (k + 0.25) / kRoundLooks;
+                const ValueId circle =
+                    b.add(fitted, b.add(b.mul(shiftCos, b.constF(std::cos(turn))),
+                                        b.mul(shiftSin, b.constF(std::sin(turn)))));
+                worst = b.max(worst, b.abs(b.sub(looks[k], circle)));
+            }
+            const ValueId off = b.denan(b.div(worst, b.max(halfWidth, b.constF(1e-30))), one);
+            const ValueId round = b.sub(
+                one, b.smoothstep(b.constF(kRoundFrom), b.constF(kRoundFull), off));
+            ValueId ok = b.emit(Op::And, {first.found, second.found});
+            ok = b.emit(Op::And, {ok, lattice});
+            ok = b.emit(Op::And, {ok, b.gt(sine, b.constF(kLeastSine))});
+            ok = b.emit(Op::And, {ok, b.lt(b.mul(radius, b.constF(2.0)),
+                                           b.mul(shortest, b.constF(kApart)))});
+            // The generators: c0 + u p + v q is the point (u, v); at the pixel's centre,
+            // (u, v) solves u p + v q = -c0, and their gradients along the pixel's sides are
+            // the rows of [p q]^-1, turned to the world's axes.
+            const ValueId det = cross(b, p, q);
+            const ValueId u = b.div(cross(b, {b.neg(c0.u), b.neg(c0.v)}, q), det);
+            const ValueId v = b.div(cross(b, p, {b.neg(c0.u), b.neg(c0.v)}), det);
+            const Offset gu = worldOf(b, b.div(q.v, det), b.div(b.neg(q.u), det), pixel);
+            const Offset gv = worldOf(b, b.div(b.neg(p.v), det), b.div(p.u, det), pixel);
+            LatticeCrowdInputs in;
+            in.genU = u, in.genUX = gu.ox, in.genUY = gu.oy;
+            in.genV = v, in.genVX = gv.ox, in.genVY = gv.oy;
+            in.pixel = pixel.size, in.cosTurn = pixel.cosTurn, in.sinTurn = pixel.sinTurn;
+            const ValueId mean = dotScreenMean(b, in, radius);
+            Vals out{b.select(ok, round, zero),
+                     mean,
+                     b.div(pixel.size, b.sqrt(b.max(area, b.constF(1e-30)))),
+                     u,
+                     gu.ox,
+                     gu.oy,
+                     v,
+                     gv.ox,
+                     gv.oy,
+                     radius};
+            for (ValueId& x : out) x = b.denan(x, zero);
+            return out;
+        },
+        [&] { return Vals(kValues, zero); });
+    return {read[0], read[1], read[2], read[3], read[4], read[5], read[6], read[7], read[8], read[9]};
+}
+
+} // namespace moire::lower

@@ -1,0 +1,42 @@
+// A crowd of members given by their distance that are round dots on a lattice (docs/filtering.md,
+// "Dots given by their distance"): read as a dot screen, by the two generators whose whole
+// values are the dots' centres, and its mean in closed form (LatticeCrowd.h, dotScreenMean),
+// where the tubes (DistanceTubes.h) spend 34 rays a pixel and leave a grain of their samples.
+//
+// A dot's distance grows radially from its centre, so the pixel centre's foot is its nearest
+// dot's centre c0. Every point of c0's cell (its Voronoi cell) reads c0 as its foot, and a
+// point just past the cell's edge reads the dot across that edge: a relevant vector of the
+// lattice. A ray out from c0 is probed until it reads another dot, then stepped back to just
+// past the bisector of c0 and that dot, until the dot read there is the same (the two cells
+// meet there). A second ray square to the first dot's direction cannot leave through the
+// first's edges, so it reads a dot in another direction; two relevant vectors that are not
+// parallel are a basis of a plane lattice (its relevant vectors are b1, b2 and b1 + b2 of an
+// obtuse superbase, up to sign, and any two of those span it). Reduced (Lagrange), the basis is
+// checked at the three half-steps of its cell, where a lattice twice as fine would have its
+// further points (a ray past a corner of the cell reads a dot two cells on), and the dots'
+// roundness at their stroke's edge: the distance at kRoundLooks points a radius r = h / |grad d|
+// from c0 must read h (a square dot, a ring about a point, an ellipse read off).
+#pragma once
+
+#include "compiler/ir/Builder.h"
+#include "compiler/lower/DistanceReading.h"
+
+namespace moire::lower {
+
+// The dots' reading: `trust`, 0 to 1, how far the members read as round dots of one lattice
+// whose strokes stand apart; `mean`, the pixel's mean ink in closed form; `members`, the
+// pixel's side over the square root of a cell's area (cells along a side), by which the caller
+// hands over to the closed form; the generators at the pixel's centre, with their gradients
+// per world unit along the world's axes (dots at their whole values); and the dots' radius
+// in world units.
+struct DotsRead {
+    ir::ValueId trust, mean, members;
+    ir::ValueId u, ux, uy, v, vx, vy;
+    ir::ValueId radius;
+};
+// Read where `wanted` (else 0s). `centre`: the pixel centre's reading; `halfWidth`: the
+// stroke's half-width in the distance's units.
+DotsRead dotsRead(ir::Builder& b, const DistanceAt& at, const PixelFootprint& pixel,
+                  ir::ValueId halfWidth, const Reading& centre, ir::ValueId wanted);
+
+} // namespace moire::lower

@@ -107,6 +107,14 @@ std::vector<Scene> filterScenes() {
                    "spacing * round(y / spacing))) }\nlayer a { family = grid; spacing = 0.2; "
                    "stroke = 0.04; rotation = 10deg }\nlayer b { family = lines; spacing = 0.2; "
                    "stroke = 0.05; rotation = 13deg }\n"});
+    // Dots given by their distance under a phase family's lines turned 3 degrees off their
+    // rows, both 0.2 apart: the screen read by its lattice beats with the lines as a
+    // lattice's dots do (LatticeUnion.h, dotLineCorrelation).
+    out.push_back({"distance dots beating, 0.2", "distance_dots_beat.moire",
+                   "family dots { distance = hypot(x - spacing * round(x / spacing), y - spacing * "
+                   "round(y / spacing)) }\nlayer a { family = dots; spacing = 0.2; stroke = 0.1; "
+                   "rotation = 10deg }\nlayer b { family = lines; spacing = 0.2; stroke = 0.05; "
+                   "rotation = 13deg }\n"});
     // Two rings given by their distance, 0.2 and 0.21 apart about one centre: each crowd's
     // index read from its parts' normals and the centre's ray, and the pair's beat in closed
     // form (DistanceFamily.h, runs; FineUnion.h).

@@ -31,9 +31,9 @@ enum class Shape { Round, Square, Ring };
 struct Dots {
     double a1, a2, b1, b2, stroke, zoom;
     Shape shape;
-    double rmse;        // the most RMSE against the brute force
-    double ring = 0.0;  // a ring's radius
-    double ink = 0.01;  // the most error in the window's ink, as a share of the exact ink
+    double rmse;       // the most RMSE against the brute force
+    double ring = 0.0; // a ring's radius
+    double ink = 0.01; // the most error in the window's ink, as a share of the exact ink
     // The corner (i, j) of the cell the point's lattice coordinates floor to, its offset.
     void corner(double x, double y, int di, int dj, double& dx, double& dy) const {
         const double det = a1 * b2 - a2 * b1;
@@ -44,9 +44,12 @@ struct Dots {
     }
     double member(double dx, double dy) const {
         switch (shape) {
-        case Shape::Round: return std::hypot(dx, dy);
-        case Shape::Square: return std::max(std::abs(dx), std::abs(dy));
-        case Shape::Ring: return std::abs(std::hypot(dx, dy) - ring);
+        case Shape::Round:
+            return std::hypot(dx, dy);
+        case Shape::Square:
+            return std::max(std::abs(dx), std::abs(dy));
+        case Shape::Ring:
+            return std::abs(std::hypot(dx, dy) - ring);
         }
         return 0.0;
     }
@@ -76,11 +79,12 @@ struct Dots {
             for (int dj = 0; dj <= 1; ++dj) {
                 const std::string i = "(fu + " + std::to_string(di) + ")";
                 const std::string j = "(fv + " + std::to_string(dj) + ")";
-                const std::string dx = "(x - " + i + " * " + num(a1) + " - " + j + " * " + num(b1) + ")";
-                const std::string dy = "(y - " + i + " * " + num(a2) + " - " + j + " * " + num(b2) + ")";
-                std::string d = shape == Shape::Square
-                                    ? "max(abs" + dx + ", abs" + dy + ")"
-                                    : "hypot(" + dx + ", " + dy + ")";
+                const std::string dx =
+                    "(x - " + i + " * " + num(a1) + " - " + j + " * " + num(b1) + ")";
+                const std::string dy =
+                    "(y - " + i + " * " + num(a2) + " - " + j + " * " + num(b2) + ")";
+                std::string d = shape == Shape::Square ? "max(abs" + dx + ", abs" + dy + ")"
+                                                       : "hypot(" + dx + ", " + dy + ")";
                 if (shape == Shape::Ring) d = "abs(" + d + " - " + num(ring) + ")";
                 nearest = nearest.empty() ? d : "min(" + nearest + ", " + d + ")";
             }
@@ -93,8 +97,16 @@ struct Dots {
 // A square lattice of side `side` turned `turn`.
 Dots square(double side, double turn, double stroke, double zoom, double rmse,
             Shape shape = Shape::Round, double ring = 0.0, double ink = 0.01) {
-    return {side * std::cos(turn), side * std::sin(turn), -side * std::sin(turn),
-            side * std::cos(turn), stroke, zoom, shape, rmse, ring, ink};
+    return {side * std::cos(turn),
+            side * std::sin(turn),
+            -side * std::sin(turn),
+            side * std::cos(turn),
+            stroke,
+            zoom,
+            shape,
+            rmse,
+            ring,
+            ink};
 }
 
 } // namespace

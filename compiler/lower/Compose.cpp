@@ -99,6 +99,7 @@ void Compose::layer(const LayerInk& ink) {
             l.strands.push_back({runs.footprint, b_.select(grid, runs.means[0], stroke)});
             l.strands.push_back({runs.second, b_.select(grid, runs.means[1], zero_)});
             l.twoWays = runs.twoWays;
+            l.shape = runs.screen;
         } else {
             l.strands.push_back({ink.fields.footprint, stroke});
         }

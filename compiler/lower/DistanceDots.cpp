@@ -84,8 +84,8 @@ struct Across {
     Vec w;
     ValueId length;
 };
-Across acrossAlong(ir::Builder& b, const DistanceAt& at, const PixelFootprint& pixel,
-                   PixelPoint c0, Vec a, ValueId start) {
+Across acrossAlong(ir::Builder& b, const DistanceAt& at, const PixelFootprint& pixel, PixelPoint c0,
+                   Vec a, ValueId start) {
     const ValueId zero = b.constF(0.0), one = b.constF(1.0);
     // Carried: the probe, its distance, the vector read (and whether one was), settled, and
     // the gradient's length read. Settled where a probe reads the dot the last one read:
@@ -111,14 +111,12 @@ Across acrossAlong(ir::Builder& b, const DistanceAt& at, const PixelFootprint& p
             b.lt(b.hypot(b.sub(w.u, v[3]), b.sub(w.v, v[4])), b.mul(length, b.constF(kSameDot)));
         const ValueId nearBisector = b.le(s, b.mul(bisector, b.constF(1.0 + kNearBisector)));
         const ValueId settled = b.emit(
-            Op::And,
-            {other, b.emit(Op::Or, {b.emit(Op::And, {b.gt(v[2], b.constF(0.5)), again}),
-                                    nearBisector})});
+            Op::And, {other, b.emit(Op::Or, {b.emit(Op::And, {b.gt(v[2], b.constF(0.5)), again}),
+                                             nearBisector})});
         const ValueId valid = b.emit(Op::Eq, {length, length});
         const ValueId stepped =
             b.emit(Op::And, {valid, b.emit(Op::Not, {b.gt(v[2], b.constF(0.5))})});
-        const ValueId further =
-            b.mul(s, b.select(stepped, b.constF(2.0), b.constF(kOnwards)));
+        const ValueId further = b.mul(s, b.select(stepped, b.constF(2.0), b.constF(kOnwards)));
         return Vals{b.add(v[0], one),
                     b.select(other, back, further),
                     b.select(other, one, v[2]),
@@ -181,14 +179,14 @@ DotsRead dotsRead(ir::Builder& b, const DistanceAt& at, const PixelFootprint& pi
             const Vec halves[3] = {scaled(b, p, half), scaled(b, q, half),
                                    scaled(b, diagonal, half)};
             const ValueId across = b.hypot(b.sub(p.u, q.u), b.sub(p.v, q.v));
-            const ValueId corners[3] = {b.mul(b.hypot(p.u, p.v), half),
-                                        b.mul(b.hypot(q.u, q.v), half),
-                                        b.mul(b.min(b.hypot(diagonal.u, diagonal.v), across), half)};
+            const ValueId corners[3] = {
+                b.mul(b.hypot(p.u, p.v), half), b.mul(b.hypot(q.u, q.v), half),
+                b.mul(b.min(b.hypot(diagonal.u, diagonal.v), across), half)};
             ValueId lattice = b.constB(true);
             ValueId finer[3];
             for (int k = 0; k < 3; ++k) {
-                const Reading r = readThere(
-                    b, at, pixel, {b.add(c0.u, halves[k].u), b.add(c0.v, halves[k].v)});
+                const Reading r =
+                    readThere(b, at, pixel, {b.add(c0.u, halves[k].u), b.add(c0.v, halves[k].v)});
                 const ValueId ratio = b.div(b.div(r.d, length), corners[k]);
                 finer[k] = b.lt(ratio, b.constF(kFinerBelow));
                 const ValueId fits = b.lt(b.abs(b.sub(ratio, one)), b.constF(kLatticeSlack));
@@ -202,8 +200,8 @@ DotsRead dotsRead(ir::Builder& b, const DistanceAt& at, const PixelFootprint& pi
             reduce(b, p, q);
             const ValueId area = b.abs(cross(b, p, q));
             const ValueId shortest = b.hypot(p.u, p.v);
-            const ValueId sine = b.div(
-                area, b.max(b.mul(shortest, b.hypot(q.u, q.v)), b.constF(1e-30)));
+            const ValueId sine =
+                b.div(area, b.max(b.mul(shortest, b.hypot(q.u, q.v)), b.constF(1e-30)));
             // The dots' edge, a radius from c0 in kRoundLooks directions (turned from c0's
             // ray), and the circle that fits their distances best: a constant and a first
             // harmonic in the look's angle (equally spaced looks: the harmonics' means).
@@ -215,9 +213,9 @@ DotsRead dotsRead(ir::Builder& b, const DistanceAt& at, const PixelFootprint& pi
                 const ValueId cu = b.constF(std::cos(turn)), cv = b.constF(std::sin(turn));
                 const Vec e{b.sub(b.mul(n.u, cu), b.mul(n.v, cv)),
                             b.add(b.mul(n.u, cv), b.mul(n.v, cu))};
-                const Reading r = readThere(
-                    b, at, pixel,
-                    {b.add(c0.u, b.mul(radius, e.u)), b.add(c0.v, b.mul(radius, e.v))});
+                const Reading r =
+                    readThere(b, at, pixel,
+                              {b.add(c0.u, b.mul(radius, e.u)), b.add(c0.v, b.mul(radius, e.v))});
                 looks.push_back(r.d);
                 sum = b.add(sum, r.d);
                 sumCos = b.add(sumCos, b.mul(r.d, cu));
@@ -235,13 +233,14 @@ DotsRead dotsRead(ir::Builder& b, const DistanceAt& at, const PixelFootprint& pi
                 worst = b.max(worst, b.abs(b.sub(looks[k], circle)));
             }
             const ValueId off = b.denan(b.div(worst, b.max(halfWidth, b.constF(1e-30))), one);
-            const ValueId round = b.sub(
-                one, b.smoothstep(b.constF(kRoundFrom), b.constF(kRoundFull), off));
+            const ValueId round =
+                b.sub(one, b.smoothstep(b.constF(kRoundFrom), b.constF(kRoundFull), off));
             ValueId ok = b.emit(Op::And, {first.found, second.found});
             ok = b.emit(Op::And, {ok, lattice});
             ok = b.emit(Op::And, {ok, b.gt(sine, b.constF(kLeastSine))});
-            ok = b.emit(Op::And, {ok, b.lt(b.mul(radius, b.constF(2.0)),
-                                           b.mul(shortest, b.constF(kApart)))});
+            ok =
+                b.emit(Op::And,
+                       {ok, b.lt(b.mul(radius, b.constF(2.0)), b.mul(shortest, b.constF(kApart)))});
             // The generators: c0 + u p + v q is the point (u, v); at the pixel's centre,
             // (u, v) solves u p + v q = -c0, and their gradients along the pixel's sides are
             // the rows of [p q]^-1, turned to the world's axes.
@@ -269,7 +268,8 @@ DotsRead dotsRead(ir::Builder& b, const DistanceAt& at, const PixelFootprint& pi
             return out;
         },
         [&] { return Vals(kValues, zero); });
-    return {read[0], read[1], read[2], read[3], read[4], read[5], read[6], read[7], read[8], read[9]};
+    return {read[0], read[1], read[2], read[3], read[4],
+            read[5], read[6], read[7], read[8], read[9]};
 }
 
 } // namespace moire::lower

@@ -450,6 +450,9 @@ constexpr size_t kRunsRead = 10;
 // The grid's values distanceFamilyCrowd carries out of its branches: its trust, half-width,
 // and each way's index, gradient (length and components) and mean.
 constexpr size_t kGridValues = 12;
+// The dots' values distanceFamilyCrowd carries out of its branches: how far the dot screen
+// is weighed, its generators with their gradients, and its dots' radius.
+constexpr size_t kDotsValues = 8;
 // The gradient (per world unit) of a second strand that stands for no lines: a beat with it
 // is never the slowest (FineUnion.cpp, strandCorrelation).
 constexpr double kNoWay = 1e6;
@@ -630,11 +633,13 @@ CrowdEstimate distanceFamilyCrowd(ir::Builder& b, ValueId distance, const Distan
             out.insert(out.end(), {grid.trust, grid.halfWidth});
             for (const GridRead::Way& w : grid.ways)
                 out.insert(out.end(), {w.index, w.grad, w.gradX, w.gradY, w.mean});
+            out.insert(out.end(), {dotsWeight, dots.u, dots.ux, dots.uy, dots.v, dots.vx, dots.vy,
+                                   dots.radius});
             return out;
         },
         // Not parted, the centre's gradient does not vanish: it stands for itself.
         [&] {
-            Vals out(2 + kRunsRead + kGridValues, b.constF(0.0));
+            Vals out(2 + kRunsRead + kGridValues + kDotsValues, b.constF(0.0));
             out[0] = firstOrderMean(b, centre, halfWidth, pixel.size, centre);
             return out;
         });
@@ -661,6 +666,18 @@ CrowdEstimate distanceFamilyCrowd(ir::Builder& b, ValueId distance, const Distan
     runs.second.trust = b.select(grid, twoWays, b.constF(0.0));
     runs.twoWays = b.select(grid, twoWays, b.constF(0.0));
     runs.means = {way(0, 4), way(1, 4)};
+    // Where the members are read as a screen of round dots, that screen's shape, one dot at
+    // each whole (u, v): its shortest rows are among (1, 0), (0, 1) and the two diagonals
+    // (the basis is reduced), and the union matches another layer's rows with the nearest.
+    const size_t d = g + kGridValues;
+    CrowdEstimate::LatticeShape screen;
+    screen.u = read[d + 1], screen.ux = read[d + 2], screen.uy = read[d + 3];
+    screen.v = read[d + 4], screen.vx = read[d + 5], screen.vy = read[d + 6];
+    screen.sites = {{{0.0, 0.0}}};
+    screen.shortest = {{{1, 0}}, {{0, 1}}, {{1, 1}}, {{1, -1}}};
+    screen.radius = read[d + 7];
+    screen.dots = b.gt(read[d], b.constF(0.5));
+    runs.screen = screen;
     out.runs = runs;
     // Read in parts, the nearest member's stroke is not the layer's strokes where the members
     // crowd or cross, and stroke pairs take the layer as independent there. Where they run

@@ -377,16 +377,21 @@ Ink fineUnion(ir::Builder& b, const Ink& under, const Ink& independent,
     if (run.size() < 2) return independent;
     if (run[0].lattice() || run[1].lattice()) return strandUnion(b, under, independent, run, pixel);
     // A grid given by its distance, where its members run two ways, beats by its two ways'
-    // strands, as a lattice's lines do; elsewhere by its index, as a phase family.
-    ValueId twoWays = ir::kNoValue;
-    for (const FineLayer& l : run)
-        if (l.twoWays != ir::kNoValue)
-            twoWays = twoWays == ir::kNoValue ? l.twoWays : b.max(twoWays, l.twoWays);
-    if (twoWays == ir::kNoValue) return phaseUnion(b, under, independent, run, pixel);
+    // strands, as a lattice's lines do, and dots given by their distance, where they are read
+    // as a screen, by its shape, as a lattice's dots do; elsewhere by its index, as a phase
+    // family.
+    ValueId asLattice = ir::kNoValue;
+    auto either = [&](ValueId flag) {
+        asLattice = asLattice == ir::kNoValue ? flag : b.emit(Op::Or, {asLattice, flag});
+    };
+    for (const FineLayer& l : run) {
+        if (l.twoWays != ir::kNoValue) either(b.gt(l.twoWays, b.constF(0.0)));
+        if (l.byDistance && l.shape) either(l.shape->dots);
+    }
+    if (asLattice == ir::kNoValue) return phaseUnion(b, under, independent, run, pixel);
     auto values = [](const Ink& i) { return std::vector<ValueId>{i.r, i.g, i.b, i.a}; };
     const std::vector<ValueId> out = b.ifThenElse(
-        b.gt(twoWays, b.constF(0.0)),
-        [&] { return values(strandUnion(b, under, independent, run, pixel)); },
+        asLattice, [&] { return values(strandUnion(b, under, independent, run, pixel)); },
         [&] { return values(phaseUnion(b, under, independent, run, pixel)); });
     return {out[0], out[1], out[2], out[3]};
 }

@@ -48,10 +48,11 @@ struct FineLayer {
     ir::ValueId laid = ir::kNoValue; // the layer's own mean ink over the pixel, as laid
     // A family given by its distance, by the index its crowd runs by (CrowdEstimate::runs):
     // where its members run two ways (`twoWays` > 0, a grid's lines), by its two strands as
-    // a lattice's lines are, else as a phase family by the first.
+    // a lattice's lines are; where they are a screen of round dots (`shape`, its `dots`), by
+    // that shape as a lattice's dots are; else as a phase family by the first.
     bool byDistance = false;
     ir::ValueId twoWays = ir::kNoValue;
-    bool lattice() const { return strandsOn != ir::kNoValue || shape.has_value(); }
+    bool lattice() const { return !byDistance && (strandsOn != ir::kNoValue || shape.has_value()); }
     // Whether the layer joins a run as a pair alone: the sweep of a longer run knows neither
     // a lattice's strands and shape nor a family given by its distance (which has no phase
     // sample), so such a run is closed at two (Compose.cpp).

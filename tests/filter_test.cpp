@@ -197,6 +197,11 @@ TEST_CASE("filter: the JIT and the GPU draw the mean the interpreter draws") {
         "round(y / spacing)) }\n"
         "camera { rotation = 25deg }\n"
         "layer a { family = dots; spacing = 0.125; stroke = 0.0625; rotation = 10deg }\n",
+        // Square dots a pixel apart, a Chebyshev distance: past each square's diagonal a
+        // part's stroke is cut by its neighbour's (DistanceFamily.cpp, boundedBy).
+        "family cheb { distance = max(abs(x - spacing * round(x / spacing)), abs(y - spacing * "
+        "round(y / spacing))) }\n"
+        "layer a { family = cheb; spacing = 1; stroke = 0.5; rotation = 10deg }\n",
     };
     for (const std::string& text : scenes) {
         auto program = test::compileOk(text);
@@ -961,6 +966,8 @@ TEST_CASE("filter: a family given by its distance reads the ink of its exact fie
     if (!backend) backend = test::makeBackendOrSkip("interp");
     REQUIRE(backend);
     const std::string rings = kDistanceRings, grid = kDistanceGrid, dots = kDistanceDots;
+    const std::string cheb = "family cheb { distance = max(abs(x - spacing * round(x / spacing)), "
+                             "abs(y - spacing * round(y / spacing))) }\n";
     struct Case {
         std::string layers;
         double rmse, ink; // the most RMSE, and the most error in ink as a share of the exact ink
@@ -986,8 +993,10 @@ TEST_CASE("filter: a family given by its distance reads the ink of its exact fie
         // Dots 0.7 apart: 0.159 -> 0.008 with each part reading its dot's edge as straight
         // (ink 0.275 -> 0.153 against 0.145), 0.0008 with the edge's curvature (0.1444).
         // Dots 0.4 apart, 0.024 (ink 12% heavy) -> 0.0026 (0.0018 in parts alone, where the
-        // tubes now take a little); 1.5 apart, 0.0018 -> 0.0003; all but touching a pixel
-        // apart, 0.0052 -> 0.0017.
+        // tubes took a little), 0.0008 where the dot screen's closed form takes a little
+        // (DistanceDots.h); 1.5 apart, 0.0018 -> 0.0003; all but touching a pixel apart,
+        // 0.0052 -> 0.0017 (0.0015 with a square's corner read in parts where it reads
+        // further than the centre says).
         {dots + "layer a { family = dots; spacing = 0.7; stroke = 0.3; rotation = 10deg }\n",
          0.0015, 0.01},
         {dots + "layer a { family = dots; spacing = 0.4; stroke = 0.2; rotation = 10deg }\n", 0.003,
@@ -996,6 +1005,18 @@ TEST_CASE("filter: a family given by its distance reads the ink of its exact fie
          0.005},
         {dots + "layer a { family = dots; spacing = 1; stroke = 0.9; rotation = 10deg }\n", 0.003,
          0.005},
+        // Square dots, a Chebyshev distance max(|dx|, |dy|): past a square's diagonal the
+        // distance is the greater of two, whose stroke is two first-order strokes'
+        // intersection, not their union (boundedBy), and a pixel whose corner reads further
+        // than its centre says is read in parts. 4 apart: 0.015 -> 0.0011 (ink 0.256 ->
+        // 0.250 against 0.250); a pixel apart, 0.083 -> 0.0038 (0.333 -> 0.252); 0.7 apart,
+        // 0.168 -> 0.0057 (0.418 -> 0.255).
+        {cheb + "layer a { family = cheb; spacing = 4; stroke = 2; rotation = 10deg }\n", 0.002,
+         0.005},
+        {cheb + "layer a { family = cheb; spacing = 1; stroke = 0.5; rotation = 10deg }\n", 0.006,
+         0.015},
+        {cheb + "layer a { family = cheb; spacing = 0.7; stroke = 0.35; rotation = 10deg }\n",
+         0.009, 0.03},
         // Distances whose gradient is not 1: waves 0.5 apart (|grad d| to 1.17), 0.092 ->
         // 0.0001 (ink 0.108 -> 0.200); petals (to 1.4), one member resolved, 0.0117 -> 0.0009.
         {"family waves {\n let f = y - 3 * sin(x / 5)\n distance = abs(f - spacing * round(f / "

@@ -116,6 +116,28 @@ ValueId reachesInto(ir::Builder& b, const Reading& m, double da, double dc, Valu
     return b.lt(least, b.add(h, slack));
 }
 
+// Whether the distance about r's square is the greater of r's first-order reading and that of
+// `s` (da, dc) sides away, near the stroke's edge: s's reading at r's point stands below r's by
+// more than kStraightSlack of a side's change, facing another way (a box's or a Chebyshev
+// dot's distance past the diagonal where its normal turns), and r's distance within a side's
+// change of h. Its stroke is then the two first-order strokes' intersection (unionMean).
+ValueId boundedBy(ir::Builder& b, const Reading& r, const Reading& s, double da, double dc,
+                  ValueId side, ValueId h) {
+    const ValueId back = b.mul(side, b.add(b.mul(s.gu, b.constF(da)), b.mul(s.gv, b.constF(dc))));
+    const ValueId change = b.mul(r.length, side);
+    const ValueId model = b.sub(s.d, back);
+    // A model below 0 has crossed its own centre line (|f|'s kink), which says nothing of a
+    // greater distance.
+    const ValueId below =
+        b.emit(Op::And, {b.lt(model, b.sub(r.d, b.mul(b.constF(kStraightSlack), change))),
+                         b.gt(model, b.constF(0.0))});
+    const ValueId cosine = b.div(b.add(b.mul(r.gu, s.gu), b.mul(r.gv, s.gv)),
+                                 b.max(b.mul(r.length, s.length), b.constF(1e-30)));
+    const ValueId turned = b.lt(b.abs(cosine), b.constF(kSameFacing));
+    const ValueId edge = b.lt(b.abs(b.sub(r.d, h)), change);
+    return b.emit(Op::And, {b.emit(Op::And, {below, turned}), edge});
+}
+
 // Whether the square of reading `r` holds the stroke of a member other than its own, as read
 // from `s`, (da, dc) sides away: `s` stands off r's first-order reading (bends) and its member's
 // stroke, read straight from `s`, reaches into r's square.
@@ -229,6 +251,14 @@ ValueId unionMean(ir::Builder& b, const Reading& read, const std::vector<Neighbo
     const PixelPoint ownFoot = foot(own, 0, 0);
     const ValueId ownLength = heldLength(b, own);
     Curvature bend(b, own, side);
+    // A neighbour whose first-order distance at the square's centre stands below the square's
+    // own reading, facing another way: the distance there is the greater of the two (a box's
+    // or a Chebyshev dot's, max(|dx|, |dy|), past the diagonal where its normal turns), whose
+    // stroke is the two first-order strokes' intersection, not their union (d is the lesser of
+    // two members' distances where members meet). The greatest such bound.
+    ValueId clipFound = b.constB(false), clipBest = b.constF(-kNoMember);
+    Reading clip{b.constF(kNoMember), centre.gu, centre.gv, centre.length};
+    const ValueId clipSlack = b.mul(b.constF(kStraightSlack), b.mul(own.length, side));
     for (const Neighbour& neighbour : others) {
         Neighbour n = neighbour;
         n.r = steady(b, n.r, centre);
@@ -258,25 +288,46 @@ ValueId unionMean(ir::Builder& b, const Reading& read, const std::vector<Neighbo
         ValueId back =
             b.mul(side, b.add(b.mul(n.r.gu, b.constF(n.da)), b.mul(n.r.gv, b.constF(n.dc))));
         ValueId f = b.sub(n.r.d, back);
+        const ValueId below =
+            b.emit(Op::And, {b.emit(Op::And, {neighbour.there, b.emit(Op::Not, {same})}),
+                             b.emit(Op::And, {b.emit(Op::And, {b.lt(f, b.sub(own.d, clipSlack)),
+                                                               b.gt(f, b.constF(0.0))}),
+                                              b.emit(Op::Not, {facing})})});
+        const ValueId binds = b.emit(Op::And, {below, b.gt(f, clipBest)});
+        clipBest = b.select(binds, f, clipBest);
+        clip = {b.select(binds, f, clip.d), b.select(binds, n.r.gu, clip.gu),
+                b.select(binds, n.r.gv, clip.gv), b.select(binds, n.r.length, clip.length)};
+        clipFound = b.emit(Op::Or, {clipFound, binds});
+        crosses = b.emit(Op::And, {crosses, b.emit(Op::Not, {below})});
         ValueId nearer = b.emit(Op::And, {crosses, b.lt(b.abs(f), best)});
         best = b.select(nearer, b.abs(f), best);
         other = {b.select(nearer, f, other.d), b.select(nearer, n.r.gu, other.gu),
                  b.select(nearer, n.r.gv, other.gv), b.select(nearer, n.r.length, other.length)};
         found = b.emit(Op::Or, {found, nearer});
     }
-    // The own stroke's near edge, moved in where it bends away from the square (a dot's).
-    const ValueId a1 = firstOrderMean(b, own, h, side, centre, bend.edgeIn(b, h));
+    // The own stroke's near edge, moved in where it bends away from the square (a dot's), and
+    // cut by the bound where there is one.
+    const ValueId own1 = firstOrderMean(b, own, h, side, centre, bend.edgeIn(b, h));
+    auto across = [&](const Reading& r) { // the stroke in the square's units
+        const ValueId length = heldLength(b, r);
+        ValueId scale = b.mul(length, side);
+        return StrokeAcross{b.div(r.gu, length), b.div(r.gv, length), b.div(r.d, scale),
+                            b.div(h, scale),     b.constF(1.0),       b.constB(true)};
+    };
+    const ValueId a1 = b.ifThenElse(
+        clipFound,
+        [&] {
+            const ValueId bound = firstOrderMean(b, clip, h, side, centre);
+            const ValueId both =
+                b.add(b.mul(own1, bound), strokeCovariance(b, across(own), across(clip)));
+            return Vals{b.denan(b.clamp(both, b.constF(0.0), b.min(own1, bound)), own1)};
+        },
+        [&] { return Vals{own1}; })[0];
     // Behind a branch: most squares hold one member's stroke or none.
     return b.ifThenElse(
         found,
         [&] {
             const ValueId a2 = firstOrderMean(b, other, h, side, centre);
-            auto across = [&](const Reading& r) { // the stroke in the square's units
-                const ValueId length = heldLength(b, r);
-                ValueId scale = b.mul(length, side);
-                return StrokeAcross{b.div(r.gu, length), b.div(r.gv, length), b.div(r.d, scale),
-                                    b.div(h, scale),     b.constF(1.0),       b.constB(true)};
-            };
             const ValueId cov = strokeCovariance(b, across(own), across(other));
             const ValueId both = b.sub(b.add(a1, a2), b.add(b.mul(a1, a2), cov));
             const ValueId bounded =
@@ -352,12 +403,12 @@ Parts partsMean(ir::Builder& b, const DistanceAt& at, ValueId h, const PixelFoot
     const ValueId side = b.div(pixel.size, b.constF(n));
     // Carried: the row, the sum of the squares' means, how many pairs hold another's stroke,
     // the sum of their (held) distances, the sums of their normals' doubled angles' cosines
-    // and sines and how many have a normal, and the row below's readings, four values a
-    // square.
+    // and sines and how many have a normal, whether a pair's distance is the greater of the
+    // two readings (boundedBy), and the row below's readings, four values a square.
     const ValueId most =
         b.mul(b.div(pixel.size, b.constF(kDistanceFineTaps)), b.constF(kTubeReach));
     const TwoDirections ways(b, centre);
-    constexpr size_t kWaysAt = 7, kRowAt = kWaysAt + TwoDirections::kCarried;
+    constexpr size_t kWaysAt = 8, kRowAt = kWaysAt + TwoDirections::kCarried;
     std::vector<ValueId> init(kRowAt + 4 * n, b.constF(0.0));
     const std::vector<ValueId> waysStart = ways.start();
     std::copy(waysStart.begin(), waysStart.end(), init.begin() + kWaysAt);
@@ -387,12 +438,16 @@ Parts partsMean(ir::Builder& b, const DistanceAt& at, ValueId h, const PixelFoot
             twoWays = ways.add(twoWays, away, c, s2, some, at);
         }
         std::vector<ValueId> flags;
+        ValueId bounded = v[7];
         // The squares r and s, s (da, dc) sides from r: each way round.
-        auto pair = [&](const Reading& r, const Reading& s, double da, double dc) {
+        auto pair = [&](const Reading& r, const Reading& s, double da, double dc, ValueId counts) {
             flags.push_back(otherReaches(b, r, s, da, dc, side, h));
             flags.push_back(otherReaches(b, s, r, -da, -dc, side, h));
+            const ValueId either = b.emit(Op::Or, {boundedBy(b, r, s, da, dc, side, h),
+                                                   boundedBy(b, s, r, -da, -dc, side, h)});
+            bounded = b.select(b.emit(Op::And, {counts, either}), b.constF(1.0), bounded);
         };
-        for (int i = 0; i + 1 < n; ++i) pair(row[i], row[i + 1], 1, 0);
+        for (int i = 0; i + 1 < n; ++i) pair(row[i], row[i + 1], 1, 0, b.constB(true));
         // How many pairs hold another's stroke, each way round counted once.
         auto pairsIn = [&](ValueId count, const std::vector<ValueId>& each) {
             for (size_t k = 0; k + 1 < each.size(); k += 2)
@@ -403,11 +458,12 @@ Parts partsMean(ir::Builder& b, const DistanceAt& at, ValueId h, const PixelFoot
         ValueId count = pairsIn(v[2], flags);
         flags.clear();
         const std::vector<Reading> previous = carriedRow(v, kRowAt, n);
-        for (int i = 0; i < n; ++i) pair(previous[i], row[i], 0, 1);
+        const ValueId hasPrevious = b.gt(v[0], b.constF(0.0));
+        for (int i = 0; i < n; ++i) pair(previous[i], row[i], 0, 1, hasPrevious);
         // The first row has none below it.
         count = b.select(b.gt(v[0], b.constF(0.0)), pairsIn(count, flags), count);
         std::vector<ValueId> next{
-            b.add(v[0], b.constF(1.0)), sum, count, near, cos2, sin2, directed};
+            b.add(v[0], b.constF(1.0)), sum, count, near, cos2, sin2, directed, bounded};
         next.insert(next.end(), twoWays.begin(), twoWays.end());
         carry(next, row);
         return next;
@@ -420,7 +476,7 @@ Parts partsMean(ir::Builder& b, const DistanceAt& at, ValueId h, const PixelFoot
     const ValueId au = b.select(ahead, b.add(r, c), s2), av = b.select(ahead, s2, b.sub(r, c));
     const ValueId al = b.max(b.hypot(au, av), b.constF(1e-30));
     return {b.mul(out[1], b.constF(each)),
-            b.gt(out[2], b.constF(0.0)),
+            b.emit(Op::Or, {b.gt(out[2], b.constF(0.0)), b.gt(out[7], b.constF(0.5))}),
             b.mul(out[3], b.constF(each)),
             b.div(out[2], b.constF(2 * n * (n - 1))),
             b.div(r, b.max(out[6], b.constF(1.0))),
@@ -519,8 +575,15 @@ CrowdEstimate distanceFamilyCrowd(ir::Builder& b, ValueId distance, const Distan
         for (double c : {-0.5, 0.5}) {
             Offset o = offsetOf(b, b.constF(a), b.constF(c), pixel);
             ValueId there = at(b, o.ox, o.oy);
-            parts.push_back(
-                b.emit(Op::And, {bends(b, centre, there, a, c, pixel.size), b.lt(there, reach)}));
+            // Where the corner reads further than the centre's reading says, and that
+            // reading's stroke reaches the corner, the stroke stops short of where the
+            // centre's reading puts it (a box's or a Chebyshev dot's corner: the greater of
+            // two distances, DistanceFamily.cpp boundedBy).
+            const ValueId said =
+                b.abs(b.add(centre.d, b.mul(pixel.size, b.add(b.mul(centre.gu, b.constF(a)),
+                                                              b.mul(centre.gv, b.constF(c))))));
+            parts.push_back(b.emit(Op::And, {bends(b, centre, there, a, c, pixel.size),
+                                             b.lt(b.min(there, said), reach)}));
         }
     // Where the centre's gradient vanishes (a kink met to the last bit) there is no reading to
     // trust: the parts.

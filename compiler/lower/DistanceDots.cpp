@@ -36,22 +36,29 @@ constexpr double kSameDot = 0.25, kNearBisector = 0.05;
 constexpr double kSecondTurn = 75.0;
 // A probe reads c0's own dot while its foot stands within this share of its step.
 constexpr double kSameFoot = 0.5;
-// The dots' edge: kRoundLooks points a radius from c0, a ninth of a turn apart. Their
-// distances less the circle that fits them best (their mean, and c0 moved: the centre is read
-// in float to a few units of the world's coordinates' last place, which is a share of a fine
-// dot's radius) must stand within kRoundFrom of h to be trusted, and not at all past
-// kRoundFull. Nine looks: a dot with k-fold faces departs from its circle as cos k theta, and
-// over nine looks only k = 1 or 8 mod 9 reads as c0 moved (a square's k = 4 and a hexagon's
-// 6 do not; over five, 4 would; over seven, 6).
-constexpr int kRoundLooks = 9;
-constexpr double kRoundFrom = 0.01, kRoundFull = 0.02;
-// The half-steps of the cell read their distance to the nearest corner to within this share,
-// and a point of a finer lattice where under kFinerBelow of it.
-constexpr double kLatticeSlack = 0.02, kFinerBelow = 0.5;
+// The dots' shape: kShapeLooks points a radius r from c0, a thirteenth of a turn apart, read
+// the distance's gauge there, N(theta) = d / r (a dot's distance grows linearly along every
+// ray from its centre: a disc's, a square's Chebyshev max(|dx|, |dy|), a diamond's, an
+// ellipse's), and the stroke's edge stands h / N(theta) out, so the dot's area is the mean of
+// (h / N)^2 / 2 over the turn: within 0.5% for a square, a hexagon or a diamond at any turn over
+// thirteen looks (1% to 2.6% over nine; exact for a disc). kGaugeLooks of them again at r / 2
+// must read half as far, within kGaugeFrom to be trusted and not at all past kGaugeFull: a
+// distance that does not grow so about c0 (a ring about the point, whose c0 is on the ring)
+// is not a screen of dots.
+constexpr int kShapeLooks = 13, kGaugeLooks = 3;
+// The furthest edge of a dot read as a screen's, in pixels: dots two a pixel (where the closed
+// form begins to take over) stand half a pixel apart, and their strokes apart.
+constexpr double kMostEdge = 0.25;
+constexpr double kGaugeFrom = 0.02, kGaugeFull = 0.04;
+// A point of a finer lattice at a half-step of the cell: the dot read there within this share
+// of the shorter step. A dot read elsewhere must stand on the lattice's points within
+// kOnLattice of a step.
+constexpr double kFinerWithin = 0.25, kOnLattice = 0.1;
 // The basis's two vectors must stand at more than about 6 degrees (their cross product over
 // their lengths' product).
 constexpr double kLeastSine = 0.1;
-// The dots' strokes apart: a diameter under this share of the nearest dots' distance.
+// The dots' strokes apart: the dot's furthest edge under this share of half the nearest dots'
+// distance.
 constexpr double kApart = 0.95;
 // Lagrange's reduction steps: the basis read is two relevant vectors, one step from reduced.
 constexpr int kReduceSteps = 3;
@@ -75,22 +82,31 @@ Vec chosen(ir::Builder& b, ValueId c, Vec a, Vec other) {
     return {b.select(c, a.u, other.u), b.select(c, a.v, other.v)};
 }
 
+// The centre of the dot nearest p, read there as r: the foot of p's reading, and the foot of
+// the reading at that foot. A disc's foot is its centre; a square's (a Chebyshev distance) is
+// on one of its centre lines, whose own foot is the centre. Where the second reading has no
+// gradient (the foot on the centre to the last bit), the first foot.
+PixelPoint dotCentre(ir::Builder& b, const DistanceAt& at, const PixelFootprint& pixel,
+                     const Reading& r, PixelPoint p) {
+    const PixelPoint f = footFrom(b, r, p, false);
+    const PixelPoint g = footFrom(b, readThere(b, at, pixel, f), f, false);
+    return {b.denan(g.u, f.u), b.denan(g.v, f.v)};
+}
+
 // The dot across c0's cell's edge along the unit direction a: `found` where the ray settled
 // (a probe just past the bisector of c0 and the dot it read read that dot again), and the
-// vector from c0 to that dot, and the distance's gradient length read there. `start`: the first
-// probe's distance from c0.
+// vector from c0 to that dot. `start`: the first probe's distance from c0.
 struct Across {
     ValueId found;
     Vec w;
-    ValueId length;
 };
 Across acrossAlong(ir::Builder& b, const DistanceAt& at, const PixelFootprint& pixel, PixelPoint c0,
                    Vec a, ValueId start) {
     const ValueId zero = b.constF(0.0), one = b.constF(1.0);
-    // Carried: the probe, its distance, the vector read (and whether one was), settled, and
-    // the gradient's length read. Settled where a probe reads the dot the last one read:
-    // it stepped back to just past that dot's bisector with c0.
-    Vals init{zero, start, zero, zero, zero, zero, zero};
+    // Carried: the probe, its distance, the vector read (and whether one was), and settled:
+    // where a probe reads the dot the last one read, it stepped back to just past that dot's
+    // bisector with c0.
+    Vals init{zero, start, zero, zero, zero, zero};
     auto more = [&](std::span<const ValueId> v) {
         return Vals{b.emit(Op::And, {b.lt(v[0], b.constF(kRayProbes)), b.lt(v[5], b.constF(0.5))})};
     };
@@ -98,7 +114,7 @@ Across acrossAlong(ir::Builder& b, const DistanceAt& at, const PixelFootprint& p
         const ValueId s = v[1];
         const PixelPoint q{b.add(c0.u, b.mul(s, a.u)), b.add(c0.v, b.mul(s, a.v))};
         const Reading r = readThere(b, at, pixel, q);
-        const PixelPoint f = footFrom(b, r, q, false); // NaN on a kink: read again further
+        const PixelPoint f = dotCentre(b, at, pixel, r, q); // NaN on a kink: read again further
         const Vec w{b.sub(f.u, c0.u), b.sub(f.v, c0.v)};
         const ValueId length = b.hypot(w.u, w.v);
         const ValueId ahead = dot(b, w, a);
@@ -117,15 +133,11 @@ Across acrossAlong(ir::Builder& b, const DistanceAt& at, const PixelFootprint& p
         const ValueId stepped =
             b.emit(Op::And, {valid, b.emit(Op::Not, {b.gt(v[2], b.constF(0.5))})});
         const ValueId further = b.mul(s, b.select(stepped, b.constF(2.0), b.constF(kOnwards)));
-        return Vals{b.add(v[0], one),
-                    b.select(other, back, further),
-                    b.select(other, one, v[2]),
-                    b.select(other, w.u, v[3]),
-                    b.select(other, w.v, v[4]),
-                    b.select(settled, one, zero),
-                    b.select(other, r.length, v[6])};
+        return Vals{b.add(v[0], one),           b.select(other, back, further),
+                    b.select(other, one, v[2]), b.select(other, w.u, v[3]),
+                    b.select(other, w.v, v[4]), b.select(settled, one, zero)};
     });
-    return {b.gt(out[5], b.constF(0.5)), {out[3], out[4]}, out[6]};
+    return {b.gt(out[5], b.constF(0.5)), {out[3], out[4]}};
 }
 
 // Lagrange's reduction of the basis (p, q): the shorter first, the second less the whole
@@ -156,116 +168,142 @@ DotsRead dotsRead(ir::Builder& b, const DistanceAt& at, const PixelFootprint& pi
             const Normal unit = unitNormal(b, centre);
             const Normal n{b.select(some, unit.u, one), b.select(some, unit.v, zero)};
             const ValueId t0 = b.select(some, b.div(centre.d, heldLength(b, centre)), zero);
-            const PixelPoint c0{b.neg(b.mul(t0, n.u)), b.neg(b.mul(t0, n.v))};
-            const ValueId start =
-                b.max(b.mul(b.abs(t0), b.constF(1.5)), b.div(pixel.size, b.constF(16.0)));
-            const Across first = acrossAlong(b, at, pixel, c0, {n.u, n.v}, start);
-            const ValueId firstLength = b.max(b.hypot(first.w.u, first.w.v), b.constF(1e-30));
-            const double turn = kSecondTurn * std::numbers::pi / 180.0;
-            const ValueId tc = b.constF(std::cos(turn)), ts = b.constF(std::sin(turn));
-            const Vec turned{b.div(b.sub(b.mul(first.w.u, tc), b.mul(first.w.v, ts)), firstLength),
-                             b.div(b.add(b.mul(first.w.u, ts), b.mul(first.w.v, tc)), firstLength)};
-            const Across second = acrossAlong(b, at, pixel, c0, turned, start);
-            // The distance's gradient length: the centre's, else the first ray's.
+            const PixelPoint origin{zero, zero};
+            const PixelPoint read0 = dotCentre(b, at, pixel, centre, origin);
+            const PixelPoint c0{b.select(some, read0.u, zero), b.select(some, read0.v, zero)};
+            // The distance's gradient length: the centre's, else (a centre on its dot's centre)
+            // a reading beside it.
+            const Reading beside =
+                readThere(b, at, pixel, {b.div(pixel.size, b.constF(64.0)), zero});
             const ValueId length =
-                b.max(b.select(some, centre.length, first.length), b.constF(1e-30));
-            Vec p = first.w, q = second.w;
-            reduce(b, p, q);
-            // The three half-steps of the cell, each its distance to the nearest corner
-            // away from it (the reduced basis's corners: |p| / 2, |q| / 2, and the shorter
-            // diagonal's half): a point of a finer lattice there reads far nearer, and the
-            // basis takes it in place of the vector it halves.
-            const Vec diagonal = plus(b, p, q);
-            const Vec halves[3] = {scaled(b, p, half), scaled(b, q, half),
-                                   scaled(b, diagonal, half)};
-            const ValueId across = b.hypot(b.sub(p.u, q.u), b.sub(p.v, q.v));
-            const ValueId corners[3] = {
-                b.mul(b.hypot(p.u, p.v), half), b.mul(b.hypot(q.u, q.v), half),
-                b.mul(b.min(b.hypot(diagonal.u, diagonal.v), across), half)};
-            ValueId lattice = b.constB(true);
-            ValueId finer[3];
-            for (int k = 0; k < 3; ++k) {
-                const Reading r =
-                    readThere(b, at, pixel, {b.add(c0.u, halves[k].u), b.add(c0.v, halves[k].v)});
-                const ValueId ratio = b.div(b.div(r.d, length), corners[k]);
-                finer[k] = b.lt(ratio, b.constF(kFinerBelow));
-                const ValueId fits = b.lt(b.abs(b.sub(ratio, one)), b.constF(kLatticeSlack));
-                lattice = b.emit(Op::And, {lattice, b.emit(Op::Or, {fits, finer[k]})});
-            }
-            // A finer lattice: its point halves p, q, or the diagonal (in q's place).
-            const Vec halfQ = chosen(b, finer[1], halves[1], halves[2]);
-            const ValueId halvesQ = b.emit(Op::Or, {finer[1], finer[2]});
-            p = chosen(b, finer[0], halves[0], p);
-            q = chosen(b, b.emit(Op::And, {b.emit(Op::Not, {finer[0]}), halvesQ}), halfQ, q);
-            reduce(b, p, q);
-            const ValueId area = b.abs(cross(b, p, q));
-            const ValueId shortest = b.hypot(p.u, p.v);
-            const ValueId sine =
-                b.div(area, b.max(b.mul(shortest, b.hypot(q.u, q.v)), b.constF(1e-30)));
-            // The dots' edge, a radius from c0 in kRoundLooks directions (turned from c0's
-            // ray), and the circle that fits their distances best: a constant and a first
-            // harmonic in the look's angle (equally spaced looks: the harmonics' means).
+                b.max(b.select(some, centre.length, beside.length), b.constF(1e-30));
+            // The dot's shape: its gauge in kShapeLooks directions (turned from c0's ray) a
+            // radius r out, and kGaugeLooks of them again at r / 2; its area, the mean of
+            // (h / N)^2 / 2 over the turn, and its furthest edge.
             const ValueId radius = b.div(halfWidth, length);
-            std::vector<ValueId> looks;
-            ValueId sum = zero, sumCos = zero, sumSin = zero;
-            for (int k = 0; k < kRoundLooks; ++k) {
-                const double turn = 2.0 * std::numbers::pi * (k + 0.25) / kRoundLooks;
-                const ValueId cu = b.constF(std::cos(turn)), cv = b.constF(std::sin(turn));
+            ValueId dotArea = zero, furthest = zero, gaugeOff = zero;
+            for (int k = 0; k < kShapeLooks; ++k) {
+                const double angle = 2.0 * std::numbers::pi * (k + 0.25) / kShapeLooks;
+                const ValueId cu = b.constF(std::cos(angle)), cv = b.constF(std::sin(angle));
                 const Vec e{b.sub(b.mul(n.u, cu), b.mul(n.v, cv)),
                             b.add(b.mul(n.u, cv), b.mul(n.v, cu))};
-                const Reading r =
-                    readThere(b, at, pixel,
-                              {b.add(c0.u, b.mul(radius, e.u)), b.add(c0.v, b.mul(radius, e.v))});
-                looks.push_back(r.d);
-                sum = b.add(sum, r.d);
-                sumCos = b.add(sumCos, b.mul(r.d, cu));
-                sumSin = b.add(sumSin, b.mul(r.d, cv));
+                auto distanceAt = [&](ValueId out) {
+                    return readThere(b, at, pixel,
+                                     {b.add(c0.u, b.mul(out, e.u)), b.add(c0.v, b.mul(out, e.v))})
+                        .d;
+                };
+                const ValueId d = distanceAt(radius);
+                const ValueId edge = b.div(b.mul(halfWidth, radius), b.max(d, b.constF(1e-30)));
+                dotArea = b.add(dotArea, b.mul(edge, edge));
+                furthest = b.max(furthest, edge);
+                if (k % (kShapeLooks / kGaugeLooks) == 0 &&
+                    k / (kShapeLooks / kGaugeLooks) < kGaugeLooks) {
+                    const ValueId inner = distanceAt(b.mul(radius, half));
+                    gaugeOff = b.max(gaugeOff, b.div(b.abs(b.sub(b.mul(inner, b.constF(2.0)), d)),
+                                                     b.max(d, b.constF(1e-30))));
+                }
             }
-            const ValueId fitted = b.mul(sum, b.constF(1.0 / kRoundLooks));
-            const ValueId shiftCos = b.mul(sumCos, b.constF(2.0 / kRoundLooks));
-            const ValueId shiftSin = b.mul(sumSin, b.constF(2.0 / kRoundLooks));
-            ValueId worst = b.abs(b.sub(fitted, halfWidth));
-            for (int k = 0; k < kRoundLooks; ++k) {
-                const double turn = 2.0 * std::numbers::pi * (k + 0.25) / kRoundLooks;
-                const ValueId circle =
-                    b.add(fitted, b.add(b.mul(shiftCos, b.constF(std::cos(turn))),
-                                        b.mul(shiftSin, b.constF(std::sin(turn)))));
-                worst = b.max(worst, b.abs(b.sub(looks[k], circle)));
-            }
-            const ValueId off = b.denan(b.div(worst, b.max(halfWidth, b.constF(1e-30))), one);
-            const ValueId round =
-                b.sub(one, b.smoothstep(b.constF(kRoundFrom), b.constF(kRoundFull), off));
-            ValueId ok = b.emit(Op::And, {first.found, second.found});
-            ok = b.emit(Op::And, {ok, lattice});
-            ok = b.emit(Op::And, {ok, b.gt(sine, b.constF(kLeastSine))});
-            ok =
-                b.emit(Op::And,
-                       {ok, b.lt(b.mul(radius, b.constF(2.0)), b.mul(shortest, b.constF(kApart)))});
-            // The generators: c0 + u p + v q is the point (u, v); at the pixel's centre,
-            // (u, v) solves u p + v q = -c0, and their gradients along the pixel's sides are
-            // the rows of [p q]^-1, turned to the world's axes.
-            const ValueId det = cross(b, p, q);
-            const ValueId u = b.div(cross(b, {b.neg(c0.u), b.neg(c0.v)}, q), det);
-            const ValueId v = b.div(cross(b, p, {b.neg(c0.u), b.neg(c0.v)}), det);
-            const Offset gu = worldOf(b, b.div(q.v, det), b.div(b.neg(q.u), det), pixel);
-            const Offset gv = worldOf(b, b.div(b.neg(p.v), det), b.div(p.u, det), pixel);
-            LatticeCrowdInputs in;
-            in.genU = u, in.genUX = gu.ox, in.genUY = gu.oy;
-            in.genV = v, in.genVX = gv.ox, in.genVY = gv.oy;
-            in.pixel = pixel.size, in.cosTurn = pixel.cosTurn, in.sinTurn = pixel.sinTurn;
-            const ValueId mean = dotScreenMean(b, in, radius);
-            Vals out{b.select(ok, round, zero),
-                     mean,
-                     b.div(pixel.size, b.sqrt(b.max(area, b.constF(1e-30)))),
-                     u,
-                     gu.ox,
-                     gu.oy,
-                     v,
-                     gv.ox,
-                     gv.oy,
-                     radius};
-            for (ValueId& x : out) x = b.denan(x, zero);
-            return out;
+            dotArea = b.mul(dotArea, b.constF(std::numbers::pi / kShapeLooks));
+            // The disc of the dot's area, which the closed form's ripple and the union take
+            // for the dot's shape (exact for a round dot; for another, its share is exact
+            // and its harmonics a disc's).
+            const ValueId equal = b.sqrt(b.div(dotArea, b.constF(std::numbers::pi)));
+            const ValueId gauged =
+                b.sub(one, b.smoothstep(b.constF(kGaugeFrom), b.constF(kGaugeFull),
+                                        b.denan(gaugeOff, one)));
+            // The rays and the lattice's checks only where the shape is a dot's, and crowded:
+            // its furthest edge under a quarter of the pixel (dots two a pixel stand half a
+            // pixel apart). A grid's or a ring's c0 is on a line, whose distance does not grow
+            // along it: its edge there is far off.
+            const ValueId shaped =
+                b.emit(Op::And, {b.gt(gauged, zero),
+                                 b.lt(furthest, b.mul(pixel.size, b.constF(kMostEdge)))});
+            return b.ifThenElse(
+                shaped,
+                [&] {
+                    const ValueId start =
+                        b.max(b.mul(b.abs(t0), b.constF(1.5)), b.div(pixel.size, b.constF(16.0)));
+                    const Across first = acrossAlong(b, at, pixel, c0, {n.u, n.v}, start);
+                    const ValueId firstLength =
+                        b.max(b.hypot(first.w.u, first.w.v), b.constF(1e-30));
+                    const double turn = kSecondTurn * std::numbers::pi / 180.0;
+                    const ValueId tc = b.constF(std::cos(turn)), ts = b.constF(std::sin(turn));
+                    const Vec turned{
+                        b.div(b.sub(b.mul(first.w.u, tc), b.mul(first.w.v, ts)), firstLength),
+                        b.div(b.add(b.mul(first.w.u, ts), b.mul(first.w.v, tc)), firstLength)};
+                    const Across second = acrossAlong(b, at, pixel, c0, turned, start);
+                    Vec p = first.w, q = second.w;
+                    reduce(b, p, q);
+                    // The three half-steps of the cell: the dot read there is a corner of the cell,
+                    // or, where the lattice is twice as fine, a point at the half-step itself,
+                    // which the basis takes in place of the vector it halves. A dot read anywhere
+                    // else is off the lattice.
+                    const Vec diagonal = plus(b, p, q);
+                    const Vec halves[3] = {scaled(b, p, half), scaled(b, q, half),
+                                           scaled(b, diagonal, half)};
+                    const ValueId det0 = cross(b, p, q);
+                    const ValueId step = b.hypot(p.u, p.v);
+                    ValueId lattice = b.constB(true);
+                    ValueId finer[3];
+                    for (int k = 0; k < 3; ++k) {
+                        const PixelPoint at_{b.add(c0.u, halves[k].u), b.add(c0.v, halves[k].v)};
+                        const PixelPoint dot_ =
+                            dotCentre(b, at, pixel, readThere(b, at, pixel, at_), at_);
+                        const Vec fromHalf{b.sub(dot_.u, at_.u), b.sub(dot_.v, at_.v)};
+                        finer[k] = b.lt(b.hypot(fromHalf.u, fromHalf.v),
+                                        b.mul(step, b.constF(kFinerWithin)));
+                        // The dot's place in the basis's coordinates, whole on the lattice.
+                        const Vec fromC0{b.sub(dot_.u, c0.u), b.sub(dot_.v, c0.v)};
+                        const ValueId cu = b.div(cross(b, fromC0, q), det0);
+                        const ValueId cv = b.div(cross(b, p, fromC0), det0);
+                        const ValueId whole = b.emit(
+                            Op::And, {b.lt(b.abs(b.sub(cu, b.round(cu))), b.constF(kOnLattice)),
+                                      b.lt(b.abs(b.sub(cv, b.round(cv))), b.constF(kOnLattice))});
+                        lattice = b.emit(Op::And, {lattice, b.emit(Op::Or, {whole, finer[k]})});
+                    }
+                    // A finer lattice: its point halves p, q, or the diagonal (in q's place).
+                    const Vec halfQ = chosen(b, finer[1], halves[1], halves[2]);
+                    const ValueId halvesQ = b.emit(Op::Or, {finer[1], finer[2]});
+                    p = chosen(b, finer[0], halves[0], p);
+                    q = chosen(b, b.emit(Op::And, {b.emit(Op::Not, {finer[0]}), halvesQ}), halfQ,
+                               q);
+                    reduce(b, p, q);
+                    const ValueId area = b.abs(cross(b, p, q));
+                    const ValueId shortest = b.hypot(p.u, p.v);
+                    const ValueId sine =
+                        b.div(area, b.max(b.mul(shortest, b.hypot(q.u, q.v)), b.constF(1e-30)));
+                    ValueId ok = b.emit(Op::And, {first.found, second.found});
+                    ok = b.emit(Op::And, {ok, lattice});
+                    ok = b.emit(Op::And, {ok, b.gt(sine, b.constF(kLeastSine))});
+                    ok = b.emit(Op::And,
+                                {ok, b.lt(furthest, b.mul(shortest, b.constF(0.5 * kApart)))});
+                    // The generators: c0 + u p + v q is the point (u, v); at the pixel's centre,
+                    // (u, v) solves u p + v q = -c0, and their gradients along the pixel's sides
+                    // are the rows of [p q]^-1, turned to the world's axes.
+                    const ValueId det = cross(b, p, q);
+                    const ValueId u = b.div(cross(b, {b.neg(c0.u), b.neg(c0.v)}, q), det);
+                    const ValueId v = b.div(cross(b, p, {b.neg(c0.u), b.neg(c0.v)}), det);
+                    const Offset gu = worldOf(b, b.div(q.v, det), b.div(b.neg(q.u), det), pixel);
+                    const Offset gv = worldOf(b, b.div(b.neg(p.v), det), b.div(p.u, det), pixel);
+                    LatticeCrowdInputs in;
+                    in.genU = u, in.genUX = gu.ox, in.genUY = gu.oy;
+                    in.genV = v, in.genVX = gv.ox, in.genVY = gv.oy;
+                    in.pixel = pixel.size, in.cosTurn = pixel.cosTurn, in.sinTurn = pixel.sinTurn;
+                    const ValueId mean = dotScreenMean(b, in, equal);
+                    Vals out{b.select(ok, gauged, zero),
+                             mean,
+                             b.div(pixel.size, b.sqrt(b.max(area, b.constF(1e-30)))),
+                             u,
+                             gu.ox,
+                             gu.oy,
+                             v,
+                             gv.ox,
+                             gv.oy,
+                             equal};
+                    for (ValueId& x : out) x = b.denan(x, zero);
+                    return out;
+                },
+                [&] { return Vals(kValues, zero); });
         },
         [&] { return Vals(kValues, zero); });
     return {read[0], read[1], read[2], read[3], read[4],

@@ -1,21 +1,25 @@
-// A crowd of members given by their distance that are round dots on a lattice (docs/filtering.md,
+// A crowd of members given by their distance that are dots on a lattice (docs/filtering.md,
 // "Dots given by their distance"): read as a dot screen, by the two generators whose whole
 // values are the dots' centres, and its mean in closed form (LatticeCrowd.h, dotScreenMean),
 // where the tubes (DistanceTubes.h) spend 34 rays a pixel and leave a grain of their samples.
 //
-// A dot's distance grows radially from its centre, so the pixel centre's foot is its nearest
-// dot's centre c0. Every point of c0's cell (its Voronoi cell) reads c0 as its foot, and a
-// point just past the cell's edge reads the dot across that edge: a relevant vector of the
-// lattice. A ray out from c0 is probed until it reads another dot, then stepped back to just
-// past the bisector of c0 and that dot, until the dot read there is the same (the two cells
-// meet there). A second ray square to the first dot's direction cannot leave through the
-// first's edges, so it reads a dot in another direction; two relevant vectors that are not
+// A dot's centre is the foot of a point's foot: a disc's distance grows radially from its
+// centre, so a point's foot is the centre; a square's Chebyshev distance max(|dx|, |dy|) puts
+// the foot on one of its centre lines, whose own foot is the centre. The dot's shape comes
+// first: its distance grows linearly along every ray from its centre (a gauge), read at
+// kShapeLooks points about the centre c0 of the pixel centre's dot and again nearer, and its
+// area is the gauge's integral; a ring about a point, or a grid's or a ring's line, through
+// which the c0 read runs, is no such dot. Then the lattice: every point of c0's cell reads c0,
+// and a point just past the cell's edge reads the dot across that edge, a relevant vector of
+// the lattice. A ray out from c0 is probed until it reads another dot, then stepped back to
+// just past the bisector of c0 and that dot, until the dot read there is the same (the two
+// cells meet there). A second ray 75 degrees from the first dot's direction cannot leave through
+// the first's edges, so it reads a dot in another direction; two relevant vectors that are not
 // parallel are a basis of a plane lattice (its relevant vectors are b1, b2 and b1 + b2 of an
 // obtuse superbase, up to sign, and any two of those span it). Reduced (Lagrange), the basis is
 // checked at the three half-steps of its cell, where a lattice twice as fine would have its
-// further points (a ray past a corner of the cell reads a dot two cells on), and the dots'
-// roundness at their stroke's edge: the distance at kRoundLooks points a radius r = h / |grad d|
-// from c0 must read h (a square dot, a ring about a point, an ellipse read off).
+// further points (a ray past a corner of the cell reads a dot two cells on) and where any other
+// dot read is off the lattice.
 #pragma once
 
 #include "compiler/ir/Builder.h"
@@ -23,12 +27,12 @@
 
 namespace moire::lower {
 
-// The dots' reading: `trust`, 0 to 1, how far the members read as round dots of one lattice
-// whose strokes stand apart; `mean`, the pixel's mean ink in closed form; `members`, the
-// pixel's side over the square root of a cell's area (cells along a side), by which the caller
-// hands over to the closed form; the generators at the pixel's centre, with their gradients
-// per world unit along the world's axes (dots at their whole values); and the dots' radius
-// in world units.
+// The dots' reading: `trust`, 0 to 1, how far the members read as dots of one lattice whose
+// strokes stand apart; `mean`, the pixel's mean ink in closed form; `members`, the pixel's
+// side over the square root of a cell's area (cells along a side), by which the caller hands
+// over to the closed form; the generators at the pixel's centre, with their gradients per
+// world unit along the world's axes (dots at their whole values); and the radius in world
+// units of the disc of a dot's area (a round dot's own radius).
 struct DotsRead {
     ir::ValueId trust, mean, members;
     ir::ValueId u, ux, uy, v, vx, vy;

@@ -634,27 +634,29 @@ CrowdEstimate distanceFamilyCrowd(ir::Builder& b, ValueId distance, const Distan
                                 b.lt(coarse.near, b.mul(fineSide, b.constF(kParallelGate)))});
             const ValueId near = b.lt(coarse.near, b.mul(fineSide, b.constF(kTubeGate)));
             const ValueId mayCrowd = b.emit(Op::And, {near, crossed});
+            // Where the members are dots on a lattice (DistanceDots.h), read where the index
+            // the members run by is not wholly trusted and they may crowd: a dot screen's mean
+            // in closed form. Read before a grid's: a square dot's faces run two ways, as a
+            // grid's lines do, but a grid is no screen of dots (along its lines its distance
+            // does not grow).
+            const ValueId one = b.constF(1.0);
+            const DotsRead dots = dotsRead(b, at, pixel, halfWidth, centre,
+                                           b.emit(Op::And, {b.lt(trust, one), near}));
             // Where the members run two ways (a grid's lines) rather than one, each way's
-            // index and the pair's mean in closed form (DistanceGrid.h), read where the
-            // index the members run by is not wholly trusted. The closed forms, parallel
-            // members' or a grid's, are trusted `closedTrust` over the tubes, and taken over
-            // the parts by `closedCrowded`.
+            // index and the pair's mean in closed form (DistanceGrid.h), read where neither
+            // the index the members run by nor the dots are wholly trusted. The closed forms
+            // are trusted `closedTrust` over the tubes, each weighed by the trust the ones
+            // before it leave, and taken over the parts by `closedCrowded`.
+            const ValueId dotsWeight = b.mul(b.sub(one, trust), dots.trust);
+            const ValueId pointsTrust = b.add(trust, dotsWeight);
             const GridRead grid =
                 gridRead(b, at, pixel, halfWidth, coarse.twoWays, coarse.cos2, coarse.sin2,
-                         coarse.directed, b.lt(trust, b.constF(1.0)), crossing);
+                         coarse.directed, b.lt(pointsTrust, one), crossing);
             auto closedHandOver = [&](ValueId members) {
                 return b.smoothstep(b.constF(kClosedFrom), b.constF(kClosedFull), members);
             };
-            const ValueId one = b.constF(1.0);
-            const ValueId linesTrust = b.add(trust, b.mul(b.sub(one, trust), grid.trust));
-            // Where neither reads them, round dots on a lattice (DistanceDots.h), read where
-            // they may crowd: a dot screen's mean in closed form.
-            const DotsRead dots = dotsRead(b, at, pixel, halfWidth, centre,
-                                           b.emit(Op::And, {b.lt(linesTrust, one), near}));
-            // Each closed form weighed by the trust the ones before it leave.
-            const ValueId gridWeight = b.mul(b.sub(one, trust), grid.trust);
-            const ValueId dotsWeight = b.mul(b.sub(one, linesTrust), dots.trust);
-            const ValueId closedTrust = b.add(linesTrust, dotsWeight);
+            const ValueId gridWeight = b.mul(b.sub(one, pointsTrust), grid.trust);
+            const ValueId closedTrust = b.add(pointsTrust, gridWeight);
             auto weighed = [&](ValueId runsValue, ValueId gridValue, ValueId dotsValue) {
                 const ValueId sum =
                     b.add(b.add(b.mul(trust, runsValue), b.mul(gridWeight, gridValue)),
@@ -729,7 +731,7 @@ CrowdEstimate distanceFamilyCrowd(ir::Builder& b, ValueId distance, const Distan
     runs.second.trust = b.select(grid, twoWays, b.constF(0.0));
     runs.twoWays = b.select(grid, twoWays, b.constF(0.0));
     runs.means = {way(0, 4), way(1, 4)};
-    // Where the members are read as a screen of round dots, that screen's shape, one dot at
+    // Where the members are read as a screen of dots, that screen's shape, one dot at
     // each whole (u, v): its shortest rows are among (1, 0), (0, 1) and the two diagonals
     // (the basis is reduced), and the union matches another layer's rows with the nearest.
     const size_t d = g + kGridValues;

@@ -48,7 +48,7 @@ struct FineLayer {
     ir::ValueId laid = ir::kNoValue; // the layer's own mean ink over the pixel, as laid
     // A family given by its distance, by the index its crowd runs by (CrowdEstimate::runs):
     // where its members run two ways (`twoWays` > 0, a grid's lines), by its two strands as
-    // a lattice's lines are; where they are a screen of round dots (`shape`, its `dots`), by
+    // a lattice's lines are; where they are a screen of dots (`shape`, its `dots`), by
     // that shape as a lattice's dots are; else as a phase family by the first.
     bool byDistance = false;
     ir::ValueId twoWays = ir::kNoValue;

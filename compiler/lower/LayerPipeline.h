@@ -161,7 +161,7 @@ struct CrowdEstimate {
     // lattice's lines are (FineUnion.h), `twoWays` how far that is trusted (0 where they run
     // one way) and `means` each way's mean ink over the pixel. Where `twoWays` is 0, `second`
     // stands for no lines (its trust 0, its gradient too steep for any beat to be slow).
-    // Where the members are round dots on a lattice (DistanceDots.h), `screen` is that dot
+    // Where the members are dots on a lattice (DistanceDots.h), `screen` is that dot
     // screen's shape, its `dots` true where it is read so, which the union of fine layers
     // correlates as a lattice's dots (LatticeUnion.h).
     struct Runs {

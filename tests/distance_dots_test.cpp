@@ -136,10 +136,10 @@ TEST_CASE("distance dots: crowded round dots' mean against the box filter of the
         // Square dots, a Chebyshev distance: each read's foot is on a centre line of its
         // square, whose own foot is the centre, and the square's area from its gauge. By
         // their tubes, and in parts (the faces read as a grid's lines), 0.28 (ink 0.53 of
-        // 0.25) four a pixel and 0.22 (0.41) 2.9 a pixel; now 0.0011 and 0.0052 (ink 0.255,
-        // in the hand-over from the parts).
+        // 0.25) four a pixel and 0.22 (0.41) 2.9 a pixel, in the hand-over from the parts;
+        // now 0.0011 and 0.0018.
         square(1, 10 * kDeg, 0.5, 0.25, 0.003, Shape::Square),
-        square(1, 10 * kDeg, 0.5, 0.35, 0.007, Shape::Square, 0.0, 0.025),
+        square(1, 10 * kDeg, 0.5, 0.35, 0.003, Shape::Square),
         // Not read as a dot screen, and so as before: rings about the points (0.0102, ink
         // 0.149 of 0.157 by their tubes), and dots that overlap their neighbours (0.0077).
         square(1, 10 * kDeg, 0.1, 0.25, 0.012, Shape::Ring, 0.25, 0.06),

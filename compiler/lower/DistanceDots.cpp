@@ -181,28 +181,44 @@ DotsRead dotsRead(ir::Builder& b, const DistanceAt& at, const PixelFootprint& pi
             // radius r out, and kGaugeLooks of them again at r / 2; its area, the mean of
             // (h / N)^2 / 2 over the turn, and its furthest edge.
             const ValueId radius = b.div(halfWidth, length);
-            ValueId dotArea = zero, furthest = zero, gaugeOff = zero;
-            for (int k = 0; k < kShapeLooks; ++k) {
-                const double angle = 2.0 * std::numbers::pi * (k + 0.25) / kShapeLooks;
-                const ValueId cu = b.constF(std::cos(angle)), cv = b.constF(std::sin(angle));
-                const Vec e{b.sub(b.mul(n.u, cu), b.mul(n.v, cv)),
-                            b.add(b.mul(n.u, cv), b.mul(n.v, cu))};
-                auto distanceAt = [&](ValueId out) {
-                    return readThere(b, at, pixel,
-                                     {b.add(c0.u, b.mul(out, e.u)), b.add(c0.v, b.mul(out, e.v))})
-                        .d;
-                };
-                const ValueId d = distanceAt(radius);
-                const ValueId edge = b.div(b.mul(halfWidth, radius), b.max(d, b.constF(1e-30)));
-                dotArea = b.add(dotArea, b.mul(edge, edge));
-                furthest = b.max(furthest, edge);
-                if (k % (kShapeLooks / kGaugeLooks) == 0 &&
-                    k / (kShapeLooks / kGaugeLooks) < kGaugeLooks) {
-                    const ValueId inner = distanceAt(b.mul(radius, half));
-                    gaugeOff = b.max(gaugeOff, b.div(b.abs(b.sub(b.mul(inner, b.constF(2.0)), d)),
-                                                     b.max(d, b.constF(1e-30))));
-                }
-            }
+            // A loop over the looks, the family's expression written out once for the look and
+            // once for the nearer one (behind a branch), not once a look.
+            const ValueId every = b.constF(double(kShapeLooks / kGaugeLooks));
+            const Vals shape = b.loop(
+                {zero, zero, zero, zero},
+                [&](std::span<const ValueId> v) { return Vals{b.lt(v[0], b.constF(kShapeLooks))}; },
+                [&](std::span<const ValueId> v) {
+                    const ValueId angle = b.mul(b.add(v[0], b.constF(0.25)),
+                                                b.constF(2.0 * std::numbers::pi / kShapeLooks));
+                    const ValueId cu = b.cos(angle), cv = b.sin(angle);
+                    const Vec e{b.sub(b.mul(n.u, cu), b.mul(n.v, cv)),
+                                b.add(b.mul(n.u, cv), b.mul(n.v, cu))};
+                    auto distanceAt = [&](ValueId out) {
+                        return readThere(
+                                   b, at, pixel,
+                                   {b.add(c0.u, b.mul(out, e.u)), b.add(c0.v, b.mul(out, e.v))})
+                            .d;
+                    };
+                    const ValueId d = distanceAt(radius);
+                    const ValueId edge = b.div(b.mul(halfWidth, radius), b.max(d, b.constF(1e-30)));
+                    // Every (kShapeLooks / kGaugeLooks)-th look, kGaugeLooks of them.
+                    const ValueId slot = b.div(v[0], every);
+                    const ValueId nearer =
+                        b.emit(Op::And, {b.lt(b.abs(b.sub(slot, b.round(slot))), b.constF(0.01)),
+                                         b.lt(slot, b.constF(kGaugeLooks - 0.5))});
+                    const ValueId off = b.ifThenElse(
+                        nearer,
+                        [&] {
+                            const ValueId inner = distanceAt(b.mul(radius, half));
+                            return Vals{b.div(b.abs(b.sub(b.mul(inner, b.constF(2.0)), d)),
+                                              b.max(d, b.constF(1e-30)))};
+                        },
+                        [&] { return Vals{zero}; })[0];
+                    return Vals{b.add(v[0], one), b.add(v[1], b.mul(edge, edge)), b.max(v[2], edge),
+                                b.max(v[3], b.denan(off, one))};
+                });
+            ValueId dotArea = shape[1];
+            const ValueId furthest = shape[2], gaugeOff = shape[3];
             dotArea = b.mul(dotArea, b.constF(std::numbers::pi / kShapeLooks));
             // The disc of the dot's area, which the closed form's ripple and the union take
             // for the dot's shape (exact for a round dot; for another, its share is exact

@@ -305,34 +305,31 @@ ValueId unionMean(ir::Builder& b, const Reading& read, const std::vector<Neighbo
                  b.select(nearer, n.r.gv, other.gv), b.select(nearer, n.r.length, other.length)};
         found = b.emit(Op::Or, {found, nearer});
     }
-    // The own stroke's near edge, moved in where it bends away from the square (a dot's), and
-    // cut by the bound where there is one.
-    const ValueId own1 = firstOrderMean(b, own, h, side, centre, bend.edgeIn(b, h));
-    auto across = [&](const Reading& r) { // the stroke in the square's units
-        const ValueId length = heldLength(b, r);
-        ValueId scale = b.mul(length, side);
-        return StrokeAcross{b.div(r.gu, length), b.div(r.gv, length), b.div(r.d, scale),
-                            b.div(h, scale),     b.constF(1.0),       b.constB(true)};
-    };
-    const ValueId a1 = b.ifThenElse(
-        clipFound,
-        [&] {
-            const ValueId bound = firstOrderMean(b, clip, h, side, centre);
-            const ValueId both =
-                b.add(b.mul(own1, bound), strokeCovariance(b, across(own), across(clip)));
-            return Vals{b.denan(b.clamp(both, b.constF(0.0), b.min(own1, bound)), own1)};
-        },
-        [&] { return Vals{own1}; })[0];
-    // Behind a branch: most squares hold one member's stroke or none.
+    // The own stroke's near edge, moved in where it bends away from the square (a dot's).
+    const ValueId a1 = firstOrderMean(b, own, h, side, centre, bend.edgeIn(b, h));
+    // Behind a branch: most squares hold one member's stroke or none. One partner a square,
+    // its covariance written out once: the bound where there is one (the strokes'
+    // intersection), else the other member's stroke (their union).
+    const Reading partner{
+        b.select(clipFound, clip.d, other.d), b.select(clipFound, clip.gu, other.gu),
+        b.select(clipFound, clip.gv, other.gv), b.select(clipFound, clip.length, other.length)};
     return b.ifThenElse(
-        found,
+        b.emit(Op::Or, {found, clipFound}),
         [&] {
-            const ValueId a2 = firstOrderMean(b, other, h, side, centre);
-            const ValueId cov = strokeCovariance(b, across(own), across(other));
-            const ValueId both = b.sub(b.add(a1, a2), b.add(b.mul(a1, a2), cov));
-            const ValueId bounded =
+            const ValueId a2 = firstOrderMean(b, partner, h, side, centre);
+            auto across = [&](const Reading& r) { // the stroke in the square's units
+                const ValueId length = heldLength(b, r);
+                ValueId scale = b.mul(length, side);
+                return StrokeAcross{b.div(r.gu, length), b.div(r.gv, length), b.div(r.d, scale),
+                                    b.div(h, scale),     b.constF(1.0),       b.constB(true)};
+            };
+            const ValueId cov = strokeCovariance(b, across(own), across(partner));
+            const ValueId overlap = b.add(b.mul(a1, a2), cov);
+            const ValueId both = b.sub(b.add(a1, a2), overlap);
+            const ValueId joined =
                 b.min(b.max(both, b.max(a1, a2)), b.min(b.add(a1, a2), b.constF(1.0)));
-            return Vals{b.denan(bounded, a1)};
+            const ValueId cut = b.clamp(overlap, b.constF(0.0), b.min(a1, a2));
+            return Vals{b.denan(b.select(clipFound, cut, joined), a1)};
         },
         [&] { return Vals{a1}; })[0];
 }

@@ -121,16 +121,20 @@ ValueId reachesInto(ir::Builder& b, const Reading& m, double da, double dc, Valu
 // more than kStraightSlack of a side's change, facing another way (a box's or a Chebyshev
 // dot's distance past the diagonal where its normal turns), and r's distance within a side's
 // change of h. Its stroke is then the two first-order strokes' intersection (unionMean).
+// Whether `model`, a neighbour's first-order distance at a point whose own reading is `own`,
+// stands below it by more than `slack`: the distance there is the greater of the two. A model
+// below 0 has crossed its own centre line (|f|'s kink), which says nothing of a greater
+// distance.
+ValueId greaterThere(ir::Builder& b, ValueId model, ValueId own, ValueId slack) {
+    return b.emit(Op::And, {b.lt(model, b.sub(own, slack)), b.gt(model, b.constF(0.0))});
+}
+
 ValueId boundedBy(ir::Builder& b, const Reading& r, const Reading& s, double da, double dc,
                   ValueId side, ValueId h) {
     const ValueId back = b.mul(side, b.add(b.mul(s.gu, b.constF(da)), b.mul(s.gv, b.constF(dc))));
     const ValueId change = b.mul(r.length, side);
-    const ValueId model = b.sub(s.d, back);
-    // A model below 0 has crossed its own centre line (|f|'s kink), which says nothing of a
-    // greater distance.
     const ValueId below =
-        b.emit(Op::And, {b.lt(model, b.sub(r.d, b.mul(b.constF(kStraightSlack), change))),
-                         b.gt(model, b.constF(0.0))});
+        greaterThere(b, b.sub(s.d, back), r.d, b.mul(b.constF(kStraightSlack), change));
     const ValueId cosine = b.div(b.add(b.mul(r.gu, s.gu), b.mul(r.gv, s.gv)),
                                  b.max(b.mul(r.length, s.length), b.constF(1e-30)));
     const ValueId turned = b.lt(b.abs(cosine), b.constF(kSameFacing));
@@ -288,11 +292,10 @@ ValueId unionMean(ir::Builder& b, const Reading& read, const std::vector<Neighbo
         ValueId back =
             b.mul(side, b.add(b.mul(n.r.gu, b.constF(n.da)), b.mul(n.r.gv, b.constF(n.dc))));
         ValueId f = b.sub(n.r.d, back);
-        const ValueId below =
-            b.emit(Op::And, {b.emit(Op::And, {neighbour.there, b.emit(Op::Not, {same})}),
-                             b.emit(Op::And, {b.emit(Op::And, {b.lt(f, b.sub(own.d, clipSlack)),
-                                                               b.gt(f, b.constF(0.0))}),
-                                              b.emit(Op::Not, {facing})})});
+        const ValueId below = b.emit(
+            Op::And,
+            {b.emit(Op::And, {neighbour.there, b.emit(Op::Not, {same})}),
+             b.emit(Op::And, {greaterThere(b, f, own.d, clipSlack), b.emit(Op::Not, {facing})})});
         const ValueId binds = b.emit(Op::And, {below, b.gt(f, clipBest)});
         clipBest = b.select(binds, f, clipBest);
         clip = {b.select(binds, f, clip.d), b.select(binds, n.r.gu, clip.gu),

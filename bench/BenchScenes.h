@@ -20,6 +20,7 @@ namespace moire::bench {
 
 struct Scene {
     std::string name, path, text;
+    double time = 0.0; // the clock's time of the frame measured
 };
 
 // A scene file named by the user; exits with a message when it cannot be read.

@@ -128,16 +128,22 @@ std::vector<Scene> filterScenes() {
                    "layer b { family = lines; spacing = 6; stroke = 1; rotation = 5deg }\n"});
     // A morph across kinds: a square grid of edges to circles, 0.6 apart (crowded: the
     // families' distributions of distance) and 7 apart (resolved: the blend sampled over the
-    // pixel). The frame is the change's start; the kernel does the same work at every point
-    // of the change.
+    // pixel), at the change's start (where the morph holds the grid) and half-way, where the
+    // crowded form reads the beat of the grid's lines with the circles (MorphBeat.h); the frame
+    // one pixel a world unit, as in the tests.
     for (const char* spacing : {"0.6", "7"})
-        out.push_back(
-            {std::string("morph across kinds, ") + spacing,
-             std::string("morph_kinds_") + spacing + ".moire",
-             std::string("timing change { period = 2 }\nlayer a { family = "
-                         "morph(change, square_lattice, circles); edges = 1; spacing = ") +
-                 spacing + "; stroke = " + (spacing[0] == '0' ? "0.12" : "1.5") +
-                 "; morph_time = 1 }\n"});
+        for (double time : {0.0, 0.5}) {
+            std::string name = std::string("morph across kinds, ") + spacing;
+            if (time > 0) name += ", half-way";
+            out.push_back(
+                {name, std::string("morph_kinds_") + spacing + ".moire",
+                 std::string("scene { size = (1920, 1080) }\ntiming change { period = 2 }\n"
+                             "layer a { family = morph(change, square_lattice, circles); "
+                             "edges = 1; spacing = ") +
+                     spacing + "; stroke = " + (spacing[0] == '0' ? "0.12" : "1.5") +
+                     "; morph_time = 1 }\n",
+                 time});
+        }
     // A walking family whose drift equals its spacing, turned half a degree a member: the
     // solver's interval is wider than its budget over most of the frame.
     out.push_back({"walking past budget", "walking_budget.moire",
@@ -186,6 +192,7 @@ std::optional<Compiled> compileWith(const Scene& s, sema::FilterMode filter, int
     FrameRequest req;
     req.width = w;
     req.height = h;
+    req.time = s.time;
     std::string diags;
     if (!evaluateFrame(*out.program, req, out.values, diags)) {
         fmt::print(stderr, "{}", diags);

@@ -8,7 +8,8 @@
 # tests/filtering_pictures_test.cpp renders every scene again the same way and fails when a
 # picture is missing or no longer what its scene draws: run this script after changing the
 # filter or a scene here. The box filter is ffmpeg's `area` scaler, which averages each 6x6
-# block of a whole-number reduction.
+# block of a whole-number reduction. A scene whose comment holds a line `// render: FLAGS` (a
+# morph half-way through its change: `--time 0.5`) is drawn with those flags too.
 set -euo pipefail
 moire=${MOIRE:-build/bin/moire}
 ffmpeg=${FFMPEG:-ffmpeg}
@@ -17,9 +18,10 @@ size=480x320
 rm -f docs/images/filtering-*.png
 for scene in docs/filtering/*.moire; do
     name=$(basename "$scene" .moire)
+    read -r -a flags <<<"$(sed -n 's|^// render: ||p' "$scene")"
     for filter in point mean; do
-        "$moire" render -q --compression 9 --size "$size" --filter "$filter" "$scene" \
-            -o "docs/images/filtering-$name-$filter.png"
+        "$moire" render -q --compression 9 --size "$size" --filter "$filter" "${flags[@]}" \
+            "$scene" -o "docs/images/filtering-$name-$filter.png"
     done
 done
 

@@ -842,15 +842,20 @@ TEST_CASE("filter: dots about a pixel wide read their exact ink") {
 // which the distance form read as a distance to its nearest member's centre line: where the
 // members crowd, one member's ink (0.12 here, whatever the families), and resolved, 0.08 off
 // half-way through a change. Crowded, the morph reads the chance that D < h from its families'
-// shares of the plane within a distance; resolved, the blend sampled over the pixel from each
-// family's nearest lines or dot (MorphFamily.cpp). Against the exact field at 32 x 32 samples a
-// pixel, before (the distance form) and after:
-//   a square grid to circles, 0.6 apart, half-way: 0.055 -> 0.043 (the circles' centre is in
-//     the window, where their members run along the grid's lines: the two distances are not
-//     independent there, a moire of the morph's own), and with the centre far off 0.029 ->
-//     0.015; at the change's start, 0.241 -> 0.0014;
+// shares of the plane within a distance, with the beat of two lines of the families that run
+// together added (MorphBeat.h); resolved, the blend sampled over the pixel from each family's
+// nearest lines or dot (MorphFamily.cpp). Against the exact field at 32 x 32 samples a pixel,
+// the distance form -> the families independent -> with their beat:
+//   a square grid to circles, 0.6 apart, half-way: 0.055 -> 0.043 -> 0.0128 (the circles'
+//     centre is in the window, where their members run along the grid's lines), the other way
+//     round 0.043 -> 0.0132, and with the centre far off 0.029 -> 0.015 -> 0.0086; at the
+//     change's start, 0.241 -> 0.0014 -> 0.0017; 0.45 apart, 70% of the way, 0.0084 -> 0.0027;
+//   lines to a square grid that holds them, half-way: 0.082 (ink 0.138 against 0.220) ->
+//     0.0102; turned 2 degrees, 30% of the way, 0.0185 -> 0.0039, and at the change's start
+//     exact, as the families alone are (the beat adds nothing where D is one family's);
+//   a square grid to a triangle grid, half-way: 0.0288 -> 0.028;
 //   circles to a honeycomb's dots, 0.5 apart, a third of the way: 0.019 -> 0.013 (ink 0.100
-//     -> 0.090 against 0.086);
+//     -> 0.090 against 0.086; the honeycomb's dots have no lines);
 //   lines to a triangle grid at the change's end: 0.356 -> 0.0072;
 //   a square grid to circles 7 apart (resolved), half-way: 0.078 -> 0.0074.
 TEST_CASE("filter: a morph across kinds reads the ink of its exact field") {
@@ -862,14 +867,27 @@ TEST_CASE("filter: a morph across kinds reads the ink of its exact field") {
         double time;      // of a change from 0 to 1 s
         double rmse, ink; // the most RMSE, and the most error in ink as a share of the exact ink
     };
+    const char* kGridCircles =
+        "morph(change, square_lattice, circles); edges = 1; spacing = 0.6; stroke = 0.12";
+    const char* kLinesGrid =
+        "morph(change, lines, square_lattice); edges = 1; spacing = 0.6; stroke = 0.12";
+    const char* kLinesGridTurned = "morph(change, lines, square_lattice); edges = 1; spacing = "
+                                   "0.6; stroke = 0.12; rotation = 2deg";
     const Case kCases[] = {
-        {"morph(change, square_lattice, circles); edges = 1; spacing = 0.6; stroke = 0.12", 0.5,
-         0.05, 0.1},
-        {"morph(change, square_lattice, circles); edges = 1; spacing = 0.6; stroke = 0.12", 0.0,
-         0.005, 0.01},
+        {kGridCircles, 0.5, 0.016, 0.03},
+        {kGridCircles, 0.0, 0.005, 0.01},
         {"morph(change, square_lattice, circles); edges = 1; spacing = 0.6; stroke = 0.12; "
          "origin = (300, 200)",
-         0.5, 0.02, 0.04},
+         0.5, 0.011, 0.03},
+        {"morph(change, circles, square_lattice); edges = 1; spacing = 0.6; stroke = 0.12", 0.5,
+         0.016, 0.035},
+        {"morph(change, square_lattice, circles); edges = 1; spacing = 0.45; stroke = 0.1", 0.7,
+         0.004, 0.01},
+        {kLinesGrid, 0.5, 0.013, 0.025},
+        {kLinesGridTurned, 0.3, 0.006, 0.015},
+        {kLinesGridTurned, 0.0, 0.001, 0.005},
+        {"morph(change, square_lattice, triangle_lattice); edges = 1; spacing = 0.6; stroke = 0.12",
+         0.5, 0.032, 0.04},
         {"morph(change, circles, hex_lattice); spacing = 0.5; stroke = 0.1", 0.33, 0.016, 0.06},
         {"morph(change, lines, triangle_lattice); edges = 1; spacing = 0.55; stroke = 0.08", 1.0,
          0.01, 0.02},

@@ -41,6 +41,18 @@ Image boxDownsample(const Image& big, int k) {
     return out;
 }
 
+// The flags a scene's comment asks it to be drawn with, `// render: FLAGS` (a morph half-way
+// through its change: `--time 0.5`), as scripts/render-filtering.sh reads them; "" for none.
+std::string renderFlags(const std::string& name) {
+    const std::string text =
+        "\n" + test::readFile(test::sourcePath("docs/filtering/" + name + ".moire"));
+    const std::string mark = "// render: ";
+    const size_t at = text.find("\n" + mark);
+    if (at == std::string::npos) return "";
+    const size_t from = at + 1 + mark.size();
+    return " " + text.substr(from, text.find('\n', from) - from);
+}
+
 } // namespace
 
 TEST_CASE("filtering pictures: every scene has both pictures, and the page shows them") {
@@ -64,10 +76,10 @@ TEST_CASE("filtering pictures: each is what its scene draws today") {
         for (const char* filter : {"point", "mean"}) {
             CAPTURE(name);
             CAPTURE(filter);
-            Image fresh = test::renderWithMoire("docs/filtering/" + name + ".moire --size " +
-                                                    std::to_string(kWidth) + "x" +
-                                                    std::to_string(kHeight) + " --filter " + filter,
-                                                dir, name + "-" + filter);
+            Image fresh = test::renderWithMoire(
+                "docs/filtering/" + name + ".moire --size " + std::to_string(kWidth) + "x" +
+                    std::to_string(kHeight) + " --filter " + filter + renderFlags(name),
+                dir, name + "-" + filter);
             test::checkSameAsStored(
                 fresh, test::sourcePath("docs/images/filtering-" + name + "-" + filter + ".png"));
         }

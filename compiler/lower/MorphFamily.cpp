@@ -1,5 +1,6 @@
 #include "compiler/lower/MorphFamily.h"
 
+#include "compiler/lower/MorphBeat.h"
 #include "compiler/lower/Prefilter.h"
 
 #include <functional>
@@ -185,6 +186,8 @@ CrowdEstimate blendedCrowd(SceneContext& ctx, const sema::CheckedLayer& layer,
         [&] {
             ValueId first = b.le(w, c(0.5));
             ValueId mean = b.select(first, chance(k, next, b.sub(c(1.0), w)), chance(next, k, w));
+            // Where a line of one family runs along a line of the other, their beat.
+            mean = morphBeat(b, fields, k, next, w, half, pixel, pick, mean);
             // At either end of a change the morph is one family, whose own mean over the
             // pixel (layerMeanInk) is exact where its crowded share is the plane's average:
             // each family's difference from its share enters with its weight in the blend.

@@ -153,11 +153,131 @@ void reduce(ir::Builder& b, Vec& p, Vec& q) {
     }
 }
 
+// The dot about c0 (its distance's gradient `length` a distance unit, the stroke's half-width
+// `halfWidth`): its gauge in kShapeLooks directions turned from n, a radius r out, and
+// kGaugeLooks of them again at r / 2. Its area is the mean of (h / N)^2 / 2 over the turn.
+struct DotShape {
+    // The radius of the disc of the dot's area, which the closed form's ripple and the union
+    // take for the dot's shape (exact for a round dot; for another, its share is exact and its
+    // harmonics a disc's); its furthest edge from c0; and how far its distance grows linearly
+    // from c0 (1 trusted, 0 not: a ring about the point, a grid's or a ring's line).
+    ValueId equal, furthest, gauged;
+};
+DotShape dotShape(ir::Builder& b, const DistanceAt& at, const PixelFootprint& pixel, PixelPoint c0,
+                  Normal n, ValueId length, ValueId halfWidth) {
+    const ValueId zero = b.constF(0.0), one = b.constF(1.0), half = b.constF(0.5);
+    const ValueId radius = b.div(halfWidth, length);
+    // A loop over the looks, the family's expression written out once for the look and
+    // once for the nearer one (behind a branch), not once a look.
+    const ValueId every = b.constF(double(kShapeLooks / kGaugeLooks));
+    const Vals shape = b.loop(
+        {zero, zero, zero, zero},
+        [&](std::span<const ValueId> v) { return Vals{b.lt(v[0], b.constF(kShapeLooks))}; },
+        [&](std::span<const ValueId> v) {
+            const ValueId angle =
+                b.mul(b.add(v[0], b.constF(0.25)), b.constF(2.0 * std::numbers::pi / kShapeLooks));
+            const ValueId cu = b.cos(angle), cv = b.sin(angle);
+            const Vec e{b.sub(b.mul(n.u, cu), b.mul(n.v, cv)),
+                        b.add(b.mul(n.u, cv), b.mul(n.v, cu))};
+            auto distanceAt = [&](ValueId out) {
+                return readThere(b, at, pixel,
+                                 {b.add(c0.u, b.mul(out, e.u)), b.add(c0.v, b.mul(out, e.v))})
+                    .d;
+            };
+            const ValueId d = distanceAt(radius);
+            const ValueId edge = b.div(b.mul(halfWidth, radius), b.max(d, b.constF(1e-30)));
+            // Every (kShapeLooks / kGaugeLooks)-th look, kGaugeLooks of them.
+            const ValueId slot = b.div(v[0], every);
+            const ValueId nearer =
+                b.emit(Op::And, {b.lt(b.abs(b.sub(slot, b.round(slot))), b.constF(0.01)),
+                                 b.lt(slot, b.constF(kGaugeLooks - 0.5))});
+            const ValueId off = b.ifThenElse(
+                nearer,
+                [&] {
+                    const ValueId inner = distanceAt(b.mul(radius, half));
+                    return Vals{b.div(b.abs(b.sub(b.mul(inner, b.constF(2.0)), d)),
+                                      b.max(d, b.constF(1e-30)))};
+                },
+                [&] { return Vals{zero}; })[0];
+            return Vals{b.add(v[0], one), b.add(v[1], b.mul(edge, edge)), b.max(v[2], edge),
+                        b.max(v[3], b.denan(off, one))};
+        });
+    ValueId dotArea = shape[1];
+    const ValueId furthest = shape[2], gaugeOff = shape[3];
+    dotArea = b.mul(dotArea, b.constF(std::numbers::pi / kShapeLooks));
+    const ValueId equal = b.sqrt(b.div(dotArea, b.constF(std::numbers::pi)));
+    const ValueId gauged = b.sub(
+        one, b.smoothstep(b.constF(kGaugeFrom), b.constF(kGaugeFull), b.denan(gaugeOff, one)));
+    return {equal, furthest, gauged};
+}
+
+// The lattice of the dots about c0 (n the first ray's direction, t0 the pixel centre's distance
+// over its gradient, `furthest` the dot's furthest edge): two rays out of c0's cell, their
+// dots' vectors Lagrange-reduced, and the cell's half-steps checked. `ok` where both rays
+// settled, the dots read at the half-steps are on the lattice, its basis is not flat and the
+// dots' strokes stand apart.
+struct DotLattice {
+    Vec p, q;
+    ValueId area, ok; // the cell's area, in pixels squared
+};
+DotLattice dotLattice(ir::Builder& b, const DistanceAt& at, const PixelFootprint& pixel,
+                      PixelPoint c0, Normal n, ValueId t0, ValueId furthest) {
+    const ValueId half = b.constF(0.5);
+    const ValueId start = b.max(b.mul(b.abs(t0), b.constF(1.5)), b.div(pixel.size, b.constF(16.0)));
+    const Across first = acrossAlong(b, at, pixel, c0, {n.u, n.v}, start);
+    const ValueId firstLength = b.max(b.hypot(first.w.u, first.w.v), b.constF(1e-30));
+    const double turn = kSecondTurn * std::numbers::pi / 180.0;
+    const ValueId tc = b.constF(std::cos(turn)), ts = b.constF(std::sin(turn));
+    const Vec turned{b.div(b.sub(b.mul(first.w.u, tc), b.mul(first.w.v, ts)), firstLength),
+                     b.div(b.add(b.mul(first.w.u, ts), b.mul(first.w.v, tc)), firstLength)};
+    const Across second = acrossAlong(b, at, pixel, c0, turned, start);
+    Vec p = first.w, q = second.w;
+    reduce(b, p, q);
+    // The three half-steps of the cell: the dot read there is a corner of the cell,
+    // or, where the lattice is twice as fine, a point at the half-step itself,
+    // which the basis takes in place of the vector it halves. A dot read anywhere
+    // else is off the lattice.
+    const Vec diagonal = plus(b, p, q);
+    const Vec halves[3] = {scaled(b, p, half), scaled(b, q, half), scaled(b, diagonal, half)};
+    const ValueId det0 = cross(b, p, q);
+    const ValueId step = b.hypot(p.u, p.v);
+    ValueId lattice = b.constB(true);
+    ValueId finer[3];
+    for (int k = 0; k < 3; ++k) {
+        const PixelPoint at_{b.add(c0.u, halves[k].u), b.add(c0.v, halves[k].v)};
+        const PixelPoint dot_ = dotCentre(b, at, pixel, readThere(b, at, pixel, at_), at_);
+        const Vec fromHalf{b.sub(dot_.u, at_.u), b.sub(dot_.v, at_.v)};
+        finer[k] = b.lt(b.hypot(fromHalf.u, fromHalf.v), b.mul(step, b.constF(kFinerWithin)));
+        // The dot's place in the basis's coordinates, whole on the lattice.
+        const Vec fromC0{b.sub(dot_.u, c0.u), b.sub(dot_.v, c0.v)};
+        const ValueId cu = b.div(cross(b, fromC0, q), det0);
+        const ValueId cv = b.div(cross(b, p, fromC0), det0);
+        const ValueId whole =
+            b.emit(Op::And, {b.lt(b.abs(b.sub(cu, b.round(cu))), b.constF(kOnLattice)),
+                             b.lt(b.abs(b.sub(cv, b.round(cv))), b.constF(kOnLattice))});
+        lattice = b.emit(Op::And, {lattice, b.emit(Op::Or, {whole, finer[k]})});
+    }
+    // A finer lattice: its point halves p, q, or the diagonal (in q's place).
+    const Vec halfQ = chosen(b, finer[1], halves[1], halves[2]);
+    const ValueId halvesQ = b.emit(Op::Or, {finer[1], finer[2]});
+    p = chosen(b, finer[0], halves[0], p);
+    q = chosen(b, b.emit(Op::And, {b.emit(Op::Not, {finer[0]}), halvesQ}), halfQ, q);
+    reduce(b, p, q);
+    const ValueId area = b.abs(cross(b, p, q));
+    const ValueId shortest = b.hypot(p.u, p.v);
+    const ValueId sine = b.div(area, b.max(b.mul(shortest, b.hypot(q.u, q.v)), b.constF(1e-30)));
+    ValueId ok = b.emit(Op::And, {first.found, second.found});
+    ok = b.emit(Op::And, {ok, lattice});
+    ok = b.emit(Op::And, {ok, b.gt(sine, b.constF(kLeastSine))});
+    ok = b.emit(Op::And, {ok, b.lt(furthest, b.mul(shortest, b.constF(0.5 * kApart)))});
+    return {p, q, area, ok};
+}
+
 } // namespace
 
 DotsRead dotsRead(ir::Builder& b, const DistanceAt& at, const PixelFootprint& pixel,
                   ValueId halfWidth, const Reading& centre, ValueId wanted) {
-    const ValueId zero = b.constF(0.0), one = b.constF(1.0), half = b.constF(0.5);
+    const ValueId zero = b.constF(0.0), one = b.constF(1.0);
     constexpr size_t kValues = 10;
     const Vals read = b.ifThenElse(
         wanted,
@@ -177,56 +297,8 @@ DotsRead dotsRead(ir::Builder& b, const DistanceAt& at, const PixelFootprint& pi
                 readThere(b, at, pixel, {b.div(pixel.size, b.constF(64.0)), zero});
             const ValueId length =
                 b.max(b.select(some, centre.length, beside.length), b.constF(1e-30));
-            // The dot's shape: its gauge in kShapeLooks directions (turned from c0's ray) a
-            // radius r out, and kGaugeLooks of them again at r / 2; its area, the mean of
-            // (h / N)^2 / 2 over the turn, and its furthest edge.
-            const ValueId radius = b.div(halfWidth, length);
-            // A loop over the looks, the family's expression written out once for the look and
-            // once for the nearer one (behind a branch), not once a look.
-            const ValueId every = b.constF(double(kShapeLooks / kGaugeLooks));
-            const Vals shape = b.loop(
-                {zero, zero, zero, zero},
-                [&](std::span<const ValueId> v) { return Vals{b.lt(v[0], b.constF(kShapeLooks))}; },
-                [&](std::span<const ValueId> v) {
-                    const ValueId angle = b.mul(b.add(v[0], b.constF(0.25)),
-                                                b.constF(2.0 * std::numbers::pi / kShapeLooks));
-                    const ValueId cu = b.cos(angle), cv = b.sin(angle);
-                    const Vec e{b.sub(b.mul(n.u, cu), b.mul(n.v, cv)),
-                                b.add(b.mul(n.u, cv), b.mul(n.v, cu))};
-                    auto distanceAt = [&](ValueId out) {
-                        return readThere(
-                                   b, at, pixel,
-                                   {b.add(c0.u, b.mul(out, e.u)), b.add(c0.v, b.mul(out, e.v))})
-                            .d;
-                    };
-                    const ValueId d = distanceAt(radius);
-                    const ValueId edge = b.div(b.mul(halfWidth, radius), b.max(d, b.constF(1e-30)));
-                    // Every (kShapeLooks / kGaugeLooks)-th look, kGaugeLooks of them.
-                    const ValueId slot = b.div(v[0], every);
-                    const ValueId nearer =
-                        b.emit(Op::And, {b.lt(b.abs(b.sub(slot, b.round(slot))), b.constF(0.01)),
-                                         b.lt(slot, b.constF(kGaugeLooks - 0.5))});
-                    const ValueId off = b.ifThenElse(
-                        nearer,
-                        [&] {
-                            const ValueId inner = distanceAt(b.mul(radius, half));
-                            return Vals{b.div(b.abs(b.sub(b.mul(inner, b.constF(2.0)), d)),
-                                              b.max(d, b.constF(1e-30)))};
-                        },
-                        [&] { return Vals{zero}; })[0];
-                    return Vals{b.add(v[0], one), b.add(v[1], b.mul(edge, edge)), b.max(v[2], edge),
-                                b.max(v[3], b.denan(off, one))};
-                });
-            ValueId dotArea = shape[1];
-            const ValueId furthest = shape[2], gaugeOff = shape[3];
-            dotArea = b.mul(dotArea, b.constF(std::numbers::pi / kShapeLooks));
-            // The disc of the dot's area, which the closed form's ripple and the union take
-            // for the dot's shape (exact for a round dot; for another, its share is exact
-            // and its harmonics a disc's).
-            const ValueId equal = b.sqrt(b.div(dotArea, b.constF(std::numbers::pi)));
-            const ValueId gauged =
-                b.sub(one, b.smoothstep(b.constF(kGaugeFrom), b.constF(kGaugeFull),
-                                        b.denan(gaugeOff, one)));
+            const DotShape shape = dotShape(b, at, pixel, c0, n, length, halfWidth);
+            const ValueId equal = shape.equal, furthest = shape.furthest, gauged = shape.gauged;
             // The rays and the lattice's checks only where the shape is a dot's, and crowded:
             // its furthest edge under a quarter of the pixel (dots two a pixel stand half a
             // pixel apart). A grid's or a ring's c0 is on a line, whose distance does not grow
@@ -237,62 +309,9 @@ DotsRead dotsRead(ir::Builder& b, const DistanceAt& at, const PixelFootprint& pi
             return b.ifThenElse(
                 shaped,
                 [&] {
-                    const ValueId start =
-                        b.max(b.mul(b.abs(t0), b.constF(1.5)), b.div(pixel.size, b.constF(16.0)));
-                    const Across first = acrossAlong(b, at, pixel, c0, {n.u, n.v}, start);
-                    const ValueId firstLength =
-                        b.max(b.hypot(first.w.u, first.w.v), b.constF(1e-30));
-                    const double turn = kSecondTurn * std::numbers::pi / 180.0;
-                    const ValueId tc = b.constF(std::cos(turn)), ts = b.constF(std::sin(turn));
-                    const Vec turned{
-                        b.div(b.sub(b.mul(first.w.u, tc), b.mul(first.w.v, ts)), firstLength),
-                        b.div(b.add(b.mul(first.w.u, ts), b.mul(first.w.v, tc)), firstLength)};
-                    const Across second = acrossAlong(b, at, pixel, c0, turned, start);
-                    Vec p = first.w, q = second.w;
-                    reduce(b, p, q);
-                    // The three half-steps of the cell: the dot read there is a corner of the cell,
-                    // or, where the lattice is twice as fine, a point at the half-step itself,
-                    // which the basis takes in place of the vector it halves. A dot read anywhere
-                    // else is off the lattice.
-                    const Vec diagonal = plus(b, p, q);
-                    const Vec halves[3] = {scaled(b, p, half), scaled(b, q, half),
-                                           scaled(b, diagonal, half)};
-                    const ValueId det0 = cross(b, p, q);
-                    const ValueId step = b.hypot(p.u, p.v);
-                    ValueId lattice = b.constB(true);
-                    ValueId finer[3];
-                    for (int k = 0; k < 3; ++k) {
-                        const PixelPoint at_{b.add(c0.u, halves[k].u), b.add(c0.v, halves[k].v)};
-                        const PixelPoint dot_ =
-                            dotCentre(b, at, pixel, readThere(b, at, pixel, at_), at_);
-                        const Vec fromHalf{b.sub(dot_.u, at_.u), b.sub(dot_.v, at_.v)};
-                        finer[k] = b.lt(b.hypot(fromHalf.u, fromHalf.v),
-                                        b.mul(step, b.constF(kFinerWithin)));
-                        // The dot's place in the basis's coordinates, whole on the lattice.
-                        const Vec fromC0{b.sub(dot_.u, c0.u), b.sub(dot_.v, c0.v)};
-                        const ValueId cu = b.div(cross(b, fromC0, q), det0);
-                        const ValueId cv = b.div(cross(b, p, fromC0), det0);
-                        const ValueId whole = b.emit(
-                            Op::And, {b.lt(b.abs(b.sub(cu, b.round(cu))), b.constF(kOnLattice)),
-                                      b.lt(b.abs(b.sub(cv, b.round(cv))), b.constF(kOnLattice))});
-                        lattice = b.emit(Op::And, {lattice, b.emit(Op::Or, {whole, finer[k]})});
-                    }
-                    // A finer lattice: its point halves p, q, or the diagonal (in q's place).
-                    const Vec halfQ = chosen(b, finer[1], halves[1], halves[2]);
-                    const ValueId halvesQ = b.emit(Op::Or, {finer[1], finer[2]});
-                    p = chosen(b, finer[0], halves[0], p);
-                    q = chosen(b, b.emit(Op::And, {b.emit(Op::Not, {finer[0]}), halvesQ}), halfQ,
-                               q);
-                    reduce(b, p, q);
-                    const ValueId area = b.abs(cross(b, p, q));
-                    const ValueId shortest = b.hypot(p.u, p.v);
-                    const ValueId sine =
-                        b.div(area, b.max(b.mul(shortest, b.hypot(q.u, q.v)), b.constF(1e-30)));
-                    ValueId ok = b.emit(Op::And, {first.found, second.found});
-                    ok = b.emit(Op::And, {ok, lattice});
-                    ok = b.emit(Op::And, {ok, b.gt(sine, b.constF(kLeastSine))});
-                    ok = b.emit(Op::And,
-                                {ok, b.lt(furthest, b.mul(shortest, b.constF(0.5 * kApart)))});
+                    const DotLattice lattice = dotLattice(b, at, pixel, c0, n, t0, furthest);
+                    const Vec p = lattice.p, q = lattice.q;
+                    const ValueId area = lattice.area, ok = lattice.ok;
                     // The generators: c0 + u p + v q is the point (u, v); at the pixel's centre,
                     // (u, v) solves u p + v q = -c0, and their gradients along the pixel's sides
                     // are the rows of [p q]^-1, turned to the world's axes.

@@ -87,12 +87,16 @@ ValueId firstOrderMean(ir::Builder& b, const Reading& reading, ValueId h, ValueI
     return b.denan(mean, b.constF(0.0));
 }
 
-// Whether the distance at `there` (pixel units (da, dc) from `r`'s point) stands off the
-// first-order reading from `r`, |d + grad d . o|, by more than kStraightSlack of the change
-// across `span` pixels.
-ValueId bends(ir::Builder& b, const Reading& r, ValueId there, double da, double dc, ValueId span) {
+// The first-order reading from `r` at o, (da, dc) sides of `span` pixels from its point:
+// |d + grad d . o|.
+ValueId firstOrderAt(ir::Builder& b, const Reading& r, double da, double dc, ValueId span) {
     ValueId along = b.mul(span, b.add(b.mul(r.gu, b.constF(da)), b.mul(r.gv, b.constF(dc))));
-    ValueId predicted = b.abs(b.add(r.d, along));
+    return b.abs(b.add(r.d, along));
+}
+
+// Whether the distance read `there` stands off the first-order reading from `r` there
+// (`predicted`, firstOrderAt) by more than kStraightSlack of the change across `span` pixels.
+ValueId bends(ir::Builder& b, const Reading& r, ValueId there, ValueId predicted, ValueId span) {
     ValueId slack = b.mul(b.constF(kStraightSlack), b.mul(r.length, span));
     return b.gt(b.abs(b.sub(there, predicted)), slack);
 }
@@ -147,7 +151,8 @@ ValueId boundedBy(ir::Builder& b, const Reading& r, const Reading& s, double da,
 // stroke, read straight from `s`, reaches into r's square.
 ValueId otherReaches(ir::Builder& b, const Reading& r, const Reading& s, double da, double dc,
                      ValueId side, ValueId h) {
-    return b.emit(Op::And, {bends(b, r, s.d, da, dc, side), reachesInto(b, s, -da, -dc, side, h)});
+    return b.emit(Op::And, {bends(b, r, s.d, firstOrderAt(b, r, da, dc, side), side),
+                            reachesInto(b, s, -da, -dc, side, h)});
 }
 
 // The readings of a row of n squares whose centres stand `c` pixel units up from the pixel's.
@@ -579,10 +584,8 @@ CrowdEstimate distanceFamilyCrowd(ir::Builder& b, ValueId distance, const Distan
             // reading's stroke reaches the corner, the stroke stops short of where the
             // centre's reading puts it (a box's or a Chebyshev dot's corner: the greater of
             // two distances, DistanceFamily.cpp boundedBy).
-            const ValueId said =
-                b.abs(b.add(centre.d, b.mul(pixel.size, b.add(b.mul(centre.gu, b.constF(a)),
-                                                              b.mul(centre.gv, b.constF(c))))));
-            parts.push_back(b.emit(Op::And, {bends(b, centre, there, a, c, pixel.size),
+            const ValueId said = firstOrderAt(b, centre, a, c, pixel.size);
+            parts.push_back(b.emit(Op::And, {bends(b, centre, there, said, pixel.size),
                                              b.lt(b.min(there, said), reach)}));
         }
     // Where the centre's gradient vanishes (a kink met to the last bit) there is no reading to

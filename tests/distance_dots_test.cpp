@@ -123,8 +123,8 @@ TEST_CASE("distance dots: crowded round dots' mean against the box filter of the
         // Square to the pixels, 3.3 a pixel (every third pixel's centre on a dot's centre,
         // where the distance has no gradient): 0.019 -> 0.0011.
         square(1, 0, 0.5, 0.3, 0.0025),
-        // Twenty a pixel turned 30 degrees, 0.0032 -> 0.0005; 2.5 a pixel, inside the
-        // hand-over from the parts, 0.0035 -> 0.0016.
+        // Twenty a pixel turned 30 degrees, 0.0032 -> 0.0005; 2.5 a pixel, 0.0035 -> 0.0008
+        // (0.0016 where the closed form took over from 2 to 3 a pixel).
         square(1, 30 * kDeg, 0.5, 0.05, 0.0015),
         square(1, 10 * kDeg, 0.5, 0.4, 0.003),
         // A triangular lattice, four a pixel along its rows, which run along the pixels (the
@@ -136,10 +136,23 @@ TEST_CASE("distance dots: crowded round dots' mean against the box filter of the
         // Square dots, a Chebyshev distance: each read's foot is on a centre line of its
         // square, whose own foot is the centre, and the square's area from its gauge. By
         // their tubes, and in parts (the faces read as a grid's lines), 0.28 (ink 0.53 of
-        // 0.25) four a pixel and 0.22 (0.41) 2.9 a pixel, in the hand-over from the parts;
-        // now 0.0011 and 0.0018.
+        // 0.25) four a pixel and 0.22 (0.41) 2.9 a pixel; now 0.0011 and 0.0015.
         square(1, 10 * kDeg, 0.5, 0.25, 0.003, Shape::Square),
         square(1, 10 * kDeg, 0.5, 0.35, 0.003, Shape::Square),
+        // Square dots fewer a pixel, read in parts or handed over to the closed form from 1.8
+        // to 2 a pixel. Square to the pixels 1.33 a pixel, every square's corners on parts'
+        // centres, where the two faces read alike: 0.057 (ink 22% heavy) -> 0.0007; two a
+        // pixel, every coarse part's centre on a corner: 0.25 (twice the ink) -> 0.0006.
+        // Turned 10 degrees 1.54 and 2.2 a pixel, 0.0100 and 0.0048 -> 0.0012 and 0.0018;
+        // turned 30 degrees 2.5 a pixel, 0.0076 -> 0.0020.
+        square(1, 0, 0.5, 0.75, 0.0015, Shape::Square),
+        square(1, 0, 0.5, 0.5, 0.0015, Shape::Square),
+        square(1, 10 * kDeg, 0.5, 0.65, 0.0025, Shape::Square),
+        square(1, 10 * kDeg, 0.5, 0.45, 0.003, Shape::Square),
+        square(1, 30 * kDeg, 0.5, 0.4, 0.003, Shape::Square),
+        // Round dots two a pixel square to the pixels, now in closed form: 0.0001 -> 0.0019
+        // (the closed form's ripple, to the second harmonics).
+        square(1, 0, 0.5, 0.5, 0.003),
         // Not read as a dot screen, and so as before: rings about the points (0.0102, ink
         // 0.149 of 0.157 by their tubes), and dots that overlap their neighbours (0.0077).
         square(1, 10 * kDeg, 0.1, 0.25, 0.012, Shape::Ring, 0.25, 0.06),

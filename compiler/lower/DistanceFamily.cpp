@@ -47,6 +47,13 @@ constexpr double kRunsFrom = 0.9, kRunsFull = 0.95;
 // centre 0.0007, 0.0005 in parts; from 1/12 apart, where the tubes read them, 0.0001, 0.0004
 // by the tubes), at a ray's cost where the parts read 80 points and the tubes 34 rays.
 constexpr double kClosedFrom = 2.0, kClosedFull = 3.0;
+// A dot screen's closed form (DistanceDots.h) takes over sooner, from kDotsClosedFrom to
+// kDotsClosedFull cells a pixel along a side: dots two a pixel square to the pixels put every
+// part's centre on a square dot's corner, where no reading tells the corner (such squares were
+// drawn with twice their ink), and over square dots 2.2 to 2.5 a pixel, turned, the parts read
+// 0.0042 to 0.0076 RMSE where the closed form reads 0.0008 to 0.0020 (round dots alike within
+// 0.001 either way; tests/distance_dots_test.cpp).
+constexpr double kDotsClosedFrom = 1.8, kDotsClosedFull = 2.0;
 // How far along its normal the centre looks for the ridge, in pixels: members whose ray runs
 // further stand more than two pixels apart, resolved (under kCrowdFrom members a pixel), and
 // their spacing reads as twice the reach, which is resolved too.
@@ -120,25 +127,39 @@ ValueId reachesInto(ir::Builder& b, const Reading& m, double da, double dc, Valu
     return b.lt(least, b.add(h, slack));
 }
 
-// Whether the distance about r's square is the greater of r's first-order reading and that of
-// `s` (da, dc) sides away, near the stroke's edge: s's reading at r's point stands below r's by
-// more than kStraightSlack of a side's change, facing another way (a box's or a Chebyshev
-// dot's distance past the diagonal where its normal turns), and r's distance within a side's
-// change of h. Its stroke is then the two first-order strokes' intersection (unionMean).
 // Whether `model`, a neighbour's first-order distance at a point whose own reading is `own`,
-// stands below it by more than `slack`: the distance there is the greater of the two. A model
-// below 0 has crossed its own centre line (|f|'s kink), which says nothing of a greater
-// distance.
+// stands below it by more than `slack` (a negative slack: not above it by more than -slack):
+// the distance there is the greater of the two. A model below 0 has crossed its own centre
+// line (|f|'s kink), which says nothing of a greater distance.
 ValueId greaterThere(ir::Builder& b, ValueId model, ValueId own, ValueId slack) {
     return b.emit(Op::And, {b.lt(model, b.sub(own, slack)), b.gt(model, b.constF(0.0))});
 }
 
+// The same, or `model` level with `own` (within `slack`) where the neighbour's own reading
+// (`there`) stands further than the point's first-order reading puts it there (`predicted`,
+// firstOrderAt): the greater of two met on its diagonal, where the two read alike (a
+// lattice square to the parts puts its squares' corners on the parts' centres). The lesser of
+// two (a grid's crossing) met on its diagonal reads nearer there instead.
+ValueId greaterOrLevel(ir::Builder& b, ValueId model, ValueId own, ValueId slack, ValueId there,
+                       ValueId predicted) {
+    const ValueId level = b.emit(
+        Op::And, {greaterThere(b, model, own, b.neg(slack)), b.gt(there, b.add(predicted, slack))});
+    return b.emit(Op::Or, {greaterThere(b, model, own, slack), level});
+}
+
+// Whether the distance about r's square is the greater of r's first-order reading and that of
+// `s` (da, dc) sides away, near the stroke's edge: s's reading at r's point stands below r's by
+// more than kStraightSlack of a side's change, or level with it (greaterOrLevel), facing
+// another way (a box's or a Chebyshev dot's distance past the diagonal where its normal
+// turns), and r's distance within a side's change of h. Its stroke is then the two
+// first-order strokes' intersection (unionMean).
 ValueId boundedBy(ir::Builder& b, const Reading& r, const Reading& s, double da, double dc,
                   ValueId side, ValueId h) {
     const ValueId back = b.mul(side, b.add(b.mul(s.gu, b.constF(da)), b.mul(s.gv, b.constF(dc))));
     const ValueId change = b.mul(r.length, side);
+    const ValueId slack = b.mul(b.constF(kStraightSlack), change);
     const ValueId below =
-        greaterThere(b, b.sub(s.d, back), r.d, b.mul(b.constF(kStraightSlack), change));
+        greaterOrLevel(b, b.sub(s.d, back), r.d, slack, s.d, firstOrderAt(b, r, da, dc, side));
     const ValueId cosine = b.div(b.add(b.mul(r.gu, s.gu), b.mul(r.gv, s.gv)),
                                  b.max(b.mul(r.length, s.length), b.constF(1e-30)));
     const ValueId turned = b.lt(b.abs(cosine), b.constF(kSameFacing));
@@ -264,7 +285,9 @@ ValueId unionMean(ir::Builder& b, const Reading& read, const std::vector<Neighbo
     // own reading, facing another way: the distance there is the greater of the two (a box's
     // or a Chebyshev dot's, max(|dx|, |dy|), past the diagonal where its normal turns), whose
     // stroke is the two first-order strokes' intersection, not their union (d is the lesser of
-    // two members' distances where members meet). The greatest such bound.
+    // two members' distances where members meet). The greatest such bound. Also level with it
+    // (greaterOrLevel): taken below only, squares 1.3 a pixel square to the pixels were drawn
+    // 22% heavy, their corners' parts half inked.
     ValueId clipFound = b.constB(false), clipBest = b.constF(-kNoMember);
     Reading clip{b.constF(kNoMember), centre.gu, centre.gv, centre.length};
     const ValueId clipSlack = b.mul(b.constF(kStraightSlack), b.mul(own.length, side));
@@ -297,10 +320,11 @@ ValueId unionMean(ir::Builder& b, const Reading& read, const std::vector<Neighbo
         ValueId back =
             b.mul(side, b.add(b.mul(n.r.gu, b.constF(n.da)), b.mul(n.r.gv, b.constF(n.dc))));
         ValueId f = b.sub(n.r.d, back);
-        const ValueId below = b.emit(
-            Op::And,
-            {b.emit(Op::And, {neighbour.there, b.emit(Op::Not, {same})}),
-             b.emit(Op::And, {greaterThere(b, f, own.d, clipSlack), b.emit(Op::Not, {facing})})});
+        const ValueId greater =
+            greaterOrLevel(b, f, own.d, clipSlack, n.r.d, firstOrderAt(b, own, n.da, n.dc, side));
+        const ValueId below =
+            b.emit(Op::And, {b.emit(Op::And, {neighbour.there, b.emit(Op::Not, {same})}),
+                             b.emit(Op::And, {greater, b.emit(Op::Not, {facing})})});
         const ValueId binds = b.emit(Op::And, {below, b.gt(f, clipBest)});
         clipBest = b.select(binds, f, clipBest);
         clip = {b.select(binds, f, clip.d), b.select(binds, n.r.gu, clip.gu),
@@ -658,6 +682,9 @@ CrowdEstimate distanceFamilyCrowd(ir::Builder& b, ValueId distance, const Distan
             auto closedHandOver = [&](ValueId members) {
                 return b.smoothstep(b.constF(kClosedFrom), b.constF(kClosedFull), members);
             };
+            auto dotsHandOver = [&](ValueId members) {
+                return b.smoothstep(b.constF(kDotsClosedFrom), b.constF(kDotsClosedFull), members);
+            };
             const ValueId gridWeight = b.mul(b.sub(one, pointsTrust), grid.trust);
             const ValueId closedTrust = b.add(pointsTrust, gridWeight);
             auto weighed = [&](ValueId runsValue, ValueId gridValue, ValueId dotsValue) {
@@ -669,7 +696,7 @@ CrowdEstimate distanceFamilyCrowd(ir::Builder& b, ValueId distance, const Distan
             };
             const ValueId closedMean = weighed(runs[5], grid.mean, dots.mean);
             const ValueId closedCrowded =
-                weighed(runs[6], closedHandOver(grid.members), closedHandOver(dots.members));
+                weighed(runs[6], closedHandOver(grid.members), dotsHandOver(dots.members));
             // The fine parts handing over to a crowd's mean by `crowded`.
             auto partsOr = [&](ValueId mean, ValueId crowded) {
                 const ValueId parts =
@@ -694,7 +721,7 @@ CrowdEstimate distanceFamilyCrowd(ir::Builder& b, ValueId distance, const Distan
                 coarse.bent, [&] { return b.ifThenElse(mayCrowd, crowd, apart); },
                 [&] {
                     return Vals{b.mix(coarse.mean, dots.mean,
-                                      b.mul(dotsWeight, closedHandOver(dots.members)))};
+                                      b.mul(dotsWeight, dotsHandOver(dots.members)))};
                 })[0]};
             out.push_back(trust);
             out.insert(out.end(), runs.begin(), runs.end());

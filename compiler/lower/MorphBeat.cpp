@@ -117,10 +117,7 @@ ValueId beatOf(ir::Builder& b, const std::vector<Way>& from, const std::vector<W
                 beatU = b.select(better, bu, beatU);
                 beatV = b.select(better, bv, beatV);
             }
-    // The chance below is read through the first family's distribution at (h - w2 t2) / w1,
-    // which is steep where w1 is small: the family of the larger weight goes first (the pair's
-    // roles, weights and offset changing places, E -> -E), and the tap integral over the
-    // second family's other lines is taken only where it has any.
+    // The family of the larger weight goes first (above: "The chance at an offset").
     const ValueId swap = b.gt(w, c(0.5));
     auto swapped = [&](ValueId x, ValueId y) {
         return std::pair{b.select(swap, y, x), b.select(swap, x, y)};
@@ -129,8 +126,12 @@ ValueId beatOf(ir::Builder& b, const std::vector<Way>& from, const std::vector<W
     const auto [a, wb] = swapped(b.sub(one, w), w);
     std::tie(g1, g2) = swapped(g1, g2);
     offset = b.select(swap, b.neg(offset), offset);
-    // Each family's other lines (the pair's own slot off), and whether it has any.
-    std::vector<Way> first(kWays), second(kWays);
+    // Each family's other lines (the pair's own slot off), and whether it has any: only their
+    // periods a pixel and whether each is drawn are read.
+    struct Other {
+        ValueId g, on;
+    };
+    std::vector<Other> first(kWays), second(kWays);
     ValueId firstHas = zero, secondHas = zero;
     for (size_t q = 0; q < kWays; ++q) {
         std::tie(first[q].g, second[q].g) = swapped(from[q].g, to[q].g);
@@ -144,7 +145,7 @@ ValueId beatOf(ir::Builder& b, const std::vector<Way>& from, const std::vector<W
         secondHas = b.add(secondHas, second[q].on);
     }
     // A family's other lines: the chance that the nearest is within r.
-    auto rest = [&](const std::vector<Way>& ways, ValueId r) {
+    auto rest = [&](const std::vector<Other>& ways, ValueId r) {
         ValueId clear = one;
         const ValueId reach = b.mul(b.max(r, zero), c(2.0));
         for (size_t q = 0; q < kWays; ++q)

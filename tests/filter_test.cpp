@@ -853,7 +853,11 @@ TEST_CASE("filter: dots about a pixel wide read their exact ink") {
 //   lines to a square grid that holds them, half-way: 0.082 (ink 0.138 against 0.220) ->
 //     0.0102; turned 2 degrees, 30% of the way, 0.0185 -> 0.0039, and at the change's start
 //     exact, as the families alone are (the beat adds nothing where D is one family's);
-//   a square grid to a triangle grid, half-way: 0.0288 -> 0.028;
+//   a square grid to a triangle grid, half-way: 0.0288 -> 0.028 -> 0.024 with the triangle's
+//     other two lines meeting on the line of the pair (ink 0.360 against 0.350). The rest is
+//     the lattices' common period: the grid's lines run through every other column of the
+//     triangle's points, and the exact ink over the plane goes from 0.34 to 0.39 as one
+//     lattice is shifted across the other (0.36 on average, what the model reads);
 //   circles to a honeycomb's dots, 0.5 apart, a third of the way: 0.019 -> 0.013 (ink 0.100
 //     -> 0.090 against 0.086; the honeycomb's dots have no lines);
 //   lines to a triangle grid at the change's end: 0.356 -> 0.0072;
@@ -871,6 +875,8 @@ TEST_CASE("filter: a morph across kinds reads the ink of its exact field") {
         "morph(change, square_lattice, circles); edges = 1; spacing = 0.6; stroke = 0.12";
     const char* kLinesGrid =
         "morph(change, lines, square_lattice); edges = 1; spacing = 0.6; stroke = 0.12";
+    const char* kGridTriangle =
+        "morph(change, square_lattice, triangle_lattice); edges = 1; spacing = 0.6; stroke = 0.12";
     const char* kLinesGridTurned = "morph(change, lines, square_lattice); edges = 1; spacing = "
                                    "0.6; stroke = 0.12; rotation = 2deg";
     const Case kCases[] = {
@@ -886,8 +892,13 @@ TEST_CASE("filter: a morph across kinds reads the ink of its exact field") {
         {kLinesGrid, 0.5, 0.013, 0.025},
         {kLinesGridTurned, 0.3, 0.006, 0.015},
         {kLinesGridTurned, 0.0, 0.001, 0.005},
-        {"morph(change, square_lattice, triangle_lattice); edges = 1; spacing = 0.6; stroke = 0.12",
-         0.5, 0.032, 0.04},
+        {kGridTriangle, 0.5, 0.027, 0.035},
+        // Near either end of the change (w = 0.99 and 0.06) the blend is all but one family:
+        // read in one integral over the family of the larger weight, 0.0168 (ink 2.6% heavy)
+        // and 0.0049; split in two, each family's share stepped over its own range, 0.0088
+        // and 0.0028, where the triangle grid alone reads 0.0089.
+        {kGridTriangle, 0.85, 0.011, 0.01},
+        {kGridTriangle, 0.25, 0.004, 0.006},
         {"morph(change, circles, hex_lattice); spacing = 0.5; stroke = 0.1", 0.33, 0.016, 0.06},
         {"morph(change, lines, triangle_lattice); edges = 1; spacing = 0.55; stroke = 0.08", 1.0,
          0.01, 0.02},

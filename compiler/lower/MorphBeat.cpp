@@ -54,8 +54,9 @@ std::vector<Way> waysOf(ir::Builder& b, const LayerFields& f, const PixelFootpri
 // The chance at an offset. Over a pixel where f_i runs over many periods and E stands still,
 // the two lines' distances are t1 = tri(u) / g_i and t2 = tri(u - E) / g_j at f_i = u, u
 // uniform (tri the distance to the nearest whole number, g the index's periods a pixel,
-// distances in pixels), and each family's other lines stand at R1, R2, independent of the
-// pair and of each other, distributed as their share within r, F(r) = 1 - prod(1 - 2 r g).
+// distances in pixels), and each family's other lines stand at R1, R2, independent of each
+// other, distributed as their share within r given the pair's line's place (`rest` below: a
+// square lattice's other line 2 r g, a triangle lattice's two met on the pair's line).
 // With a = 1 - w, the pixel's ink at E is
 //   C(E) = integral over u of P(a min(t1, R1) + w min(t2, R2) < h),
 // and given t1 and t2, with Q(r) = P(a min(t1, R1) + w r < h), which is 1 where
@@ -144,14 +145,39 @@ ValueId beatOf(ir::Builder& b, const std::vector<Way>& from, const std::vector<W
         firstHas = b.add(firstHas, first[q].on);
         secondHas = b.add(secondHas, second[q].on);
     }
-    // A family's other lines: the chance that the nearest is within r.
-    auto rest = [&](const std::vector<Other>& ways, ValueId r) {
-        ValueId clear = one;
+    // A family's other lines: the chance that the nearest is within r, where the pair's own
+    // line of it is `residual` periods off. A phase family has none, a square lattice one
+    // (within r of it: 2 r g of its period). A triangle lattice has two, whose lines meet the
+    // pair's at its points: along a line of the pair's strand its other two strands' lines
+    // sit a period apart each, the one set `residual` of a period off the other (the strands'
+    // indices are u, v and u + v), so within r of them is the union of intervals 2 r g wide
+    // about each, over a period of the line; laid as independent, the two counted their
+    // overlap as if spread over the plane. Read from their periods a pixel summed and the
+    // least of them, taken once.
+    struct Rest {
+        ValueId has, sum, least;
+    };
+    auto restOf = [&](const std::vector<Other>& ways, ValueId has) {
+        ValueId sum = zero, least = c(1e30);
+        for (size_t q = 0; q < kWays; ++q) {
+            sum = b.add(sum, b.mul(ways[q].on, ways[q].g));
+            least = b.min(least, b.select(b.gt(ways[q].on, zero), ways[q].g, c(1e30)));
+        }
+        return Rest{b.gt(has, c(1.5)), sum, least};
+    };
+    const Rest firstRest = restOf(first, firstHas), secondRest = restOf(second, secondHas);
+    auto rest = [&](const Rest& ways, ValueId r, ValueId residual) {
         const ValueId reach = b.mul(b.max(r, zero), c(2.0));
-        for (size_t q = 0; q < kWays; ++q)
-            clear =
-                b.mul(clear, b.sub(one, b.mul(ways[q].on, b.min(b.mul(reach, ways[q].g), one))));
-        return b.sub(one, clear);
+        const ValueId width = b.mul(reach, ways.sum);
+        // The two sets' intervals overlap across each gap between them, |residual| and its
+        // complement, by as much as their half-widths pass the gap, at most the narrower's
+        // width.
+        const ValueId gap = b.abs(residual);
+        auto overlap = [&](ValueId apart) {
+            return b.clamp(b.sub(b.mul(width, c(0.5)), apart), zero, b.mul(reach, ways.least));
+        };
+        const ValueId met = b.sub(width, b.add(overlap(gap), overlap(b.sub(one, gap))));
+        return b.min(b.select(ways.has, met, width), one);
     };
     const ValueId wFloor = b.max(wb, c(1e-6)); // a >= 1/2
     g1 = b.max(g1, c(1e-9));
@@ -179,7 +205,7 @@ ValueId beatOf(ir::Builder& b, const std::vector<Way>& from, const std::vector<W
         auto within = [&](ValueId r) {
             const ValueId in = inside(r);
             if (!firstOthers) return in;
-            const ValueId other = rest(first, b.min(b.div(b.sub(h, b.mul(wb, r)), a), t1));
+            const ValueId other = rest(firstRest, b.min(b.div(b.sub(h, b.mul(wb, r)), a), t1), r1);
             return b.add(in, b.mul(b.sub(one, in), other));
         };
         // The second family's distance, min(t2, R2): t2 where its other lines are further,
@@ -188,11 +214,11 @@ ValueId beatOf(ir::Builder& b, const std::vector<Way>& from, const std::vector<W
         return b.ifThenElse(
             b.gt(secondHas, zero),
             [&] {
-                ValueId p = b.mul(b.sub(one, rest(second, t2)), within(t2));
+                ValueId p = b.mul(b.sub(one, rest(secondRest, t2, r2)), within(t2));
                 const ValueId top = b.min(t2, b.div(h, wFloor));
                 ValueId below = zero;
                 for (int m = 1; m <= kRestTaps; ++m) {
-                    const ValueId at = rest(second, b.mul(top, c(double(m) / kRestTaps)));
+                    const ValueId at = rest(secondRest, b.mul(top, c(double(m) / kRestTaps)), r2);
                     p = b.add(
                         p, b.mul(b.sub(at, below), within(b.mul(top, c((m - 0.5) / kRestTaps)))));
                     below = at;

@@ -113,13 +113,22 @@ ValueId sampledBlend(ir::Builder& b, const std::vector<LayerFields>& fields, Val
 
 // Under the mean filter a morph across kinds draws its blended distance from its nearest
 // member alone (the distance form), too light where the members crowd. There the blend is
-// D = (1 - w) d1 + w d2 of two families' distances that run independently across the pixel,
-// each distributed as its family's share of the plane within a distance (CrowdEstimate::share;
-// a phase family's is 2 h |grad f|), and the pixel's ink is the chance that D < h:
-//   P(D < h) = integral over d1 of F2((h - (1 - w) d1) / w) dF1(d1),
-// taken over the family with the larger weight (its distance then runs over at most 2 h) in
-// kMorphTaps steps of its share. Exact at either end of a change, where it is one family's
-// own share. Handed over to by members per pixel (kCrowdFrom to kCrowdFull), a family's own
+// D = a d1 + b d2 (a = 1 - w, b = w) of two families' distances that run independently across
+// the pixel, each distributed as its family's share of the plane within a distance
+// (CrowdEstimate::share; a phase family's is 2 h |grad f|), and the pixel's ink is the chance
+// that D < h. Split where the line a d1 + b d2 = h crosses d1 = h / 2a, d2 = h / 2b (a pixel
+// cannot be past both), it is
+//   P(D < h) = int_0^{h/2a} F2((h - a x) / b) dF1(x) + int_0^{h/2b} F1((h - b y) / a) dF2(y)
+//              - F1(h / 2a) F2(h / 2b),
+// each integral in kMorphTaps steps of its own family's share, and each integrand the other
+// family's share over a range of distance no longer than h / 2 of the blend. Read in one
+// integral over the family of the larger weight, a near-finished change put its last step's
+// integrand over the other family's whole range of distance and drew 1.2% of ink too much
+// (a grid to a triangle lattice 99% of the way). The steps' ends grow as the square of
+// their count, so that where a family's weight is small (its range long: h / 2b) the first
+// steps hold its distances, whose integrand is read at the step's lower end in the first and
+// at its middle beyond: exact at either end of a change, where it is one family's own share.
+// Handed over to by members per pixel (kCrowdFrom to kCrowdFull), a family's own
 // where it has an index gradient, else by the layer's spacing, mixed as the morph mixes the
 // families: where members are resolved the blend's strokes travel from one shape to the
 // other, and `nearest` samples them over the pixel (sampledBlend). Unset where a family gives
@@ -162,19 +171,21 @@ CrowdEstimate blendedCrowd(SceneContext& ctx, const sema::CheckedLayer& layer,
         for (const Share& sh : shares) at.push_back(sh(b, h));
         return pick(which, at);
     };
-    // P((1 - w) d1 + w d2 < h) over d1 (weight a = 1 - w >= 1/2) with F1, F2.
-    auto chance = [&](ValueId from, ValueId to, ValueId a) {
-        ValueId other = b.max(b.sub(c(1.0), a), c(1e-6));
-        ValueId reach = b.div(half, a); // d1 beyond it leaves no room for d2
-        ValueId sum = c(0.0), below = c(0.0);
+    // int_0^{h/2 own} F_other((h - own x) / weight) dF_which(x), and F_which at its end.
+    auto halfIntegral = [&](ValueId which, ValueId other, ValueId own, ValueId weight) {
+        const ValueId top = b.div(half, b.mul(b.max(own, c(1e-6)), c(2.0)));
+        const ValueId apart = b.max(weight, c(1e-6));
+        ValueId sum = c(0.0), below = shareOf(which, c(0.0));
         for (int t = 1; t <= kMorphTaps; ++t) {
-            ValueId at = shareOf(from, b.mul(reach, c(double(t) / kMorphTaps)));
-            ValueId mid = b.mul(reach, c((t - 0.5) / kMorphTaps));
-            ValueId rest = b.div(b.sub(half, b.mul(a, mid)), other);
-            sum = b.add(sum, b.mul(b.sub(at, below), shareOf(to, rest)));
+            const double n2 = double(kMorphTaps) * kMorphTaps;
+            const ValueId at = shareOf(which, b.mul(top, c(t * t / n2)));
+            const ValueId mid =
+                b.mul(top, c(t == 1 ? 0.0 : ((t - 1) * (t - 1) + t * t) / (2 * n2)));
+            sum = b.add(sum, b.mul(b.sub(at, below),
+                                   shareOf(other, b.div(b.sub(half, b.mul(own, mid)), apart))));
             below = at;
         }
-        return sum;
+        return std::pair{sum, below};
     };
     CrowdEstimate out;
     out.engaged = b.mix(pick(k, crowded), pick(next, crowded), w);
@@ -184,8 +195,9 @@ CrowdEstimate blendedCrowd(SceneContext& ctx, const sema::CheckedLayer& layer,
     out.mean = b.ifThenElse(
         b.gt(out.engaged, c(0.0)),
         [&] {
-            ValueId first = b.le(w, c(0.5));
-            ValueId mean = b.select(first, chance(k, next, b.sub(c(1.0), w)), chance(next, k, w));
+            const auto [one, oneEnd] = halfIntegral(k, next, b.sub(c(1.0), w), w);
+            const auto [two, twoEnd] = halfIntegral(next, k, w, b.sub(c(1.0), w));
+            ValueId mean = b.sub(b.add(one, two), b.mul(oneEnd, twoEnd));
             // Where a line of one family runs along a line of the other, their beat.
             mean = morphBeat(b, fields, k, next, w, half, pixel, pick, mean);
             // At either end of a change the morph is one family, whose own mean over the

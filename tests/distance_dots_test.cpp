@@ -153,10 +153,25 @@ TEST_CASE("distance dots: crowded round dots' mean against the box filter of the
         // Round dots two a pixel square to the pixels, now in closed form: 0.0001 -> 0.0019
         // (the closed form's ripple, to the second harmonics).
         square(1, 0, 0.5, 0.5, 0.003),
-        // Not read as a dot screen, and so as before: rings about the points (0.0102, ink
-        // 0.149 of 0.157 by their tubes), and dots that overlap their neighbours (0.0077).
-        square(1, 10 * kDeg, 0.1, 0.25, 0.012, Shape::Ring, 0.25, 0.06),
+        // Not read as a dot screen: dots that overlap their neighbours (0.0077), and rings
+        // about the points, read by their tubes. Those were 5% light: a tube's curvature
+        // probes counted a probe as on the sample's member only where its foot moved under
+        // two steps, but inside a ring it moves further than the probe (by R / (R - t0)),
+        // and the inner half of each ring's inside was read as on straight members. Four
+        // rings a pixel, radius 0.25, stroke 0.1: 0.0102 (ink 0.1494 of 0.1571) -> 0.0076
+        // (0.1571); twenty a pixel 0.0133 (0.1493) -> 0.0113 (0.1569); radius 0.35, 0.0123
+        // (0.2096 of 0.2199) -> 0.0040; radius 0.3, stroke 0.05, 0.0069 (0.0889 of 0.0942)
+        // -> 0.0030. Rings narrower than their stroke (radius 0.08, stroke 0.2, inked
+        // through their centres) read the ridge of a ray through the centre at the next
+        // ring's, past the ring's far side: now no further than the centre of curvature,
+        // 0.0165 (ink 0.0973 of 0.1018) -> 0.0181 (0.1021), the grain of the tubes' samples
+        // left (a ring's inside is all ink, its outside a twelfth).
         square(1, 10 * kDeg, 1.2, 0.25, 0.01),
+        square(1, 10 * kDeg, 0.1, 0.25, 0.009, Shape::Ring, 0.25),
+        square(1, 10 * kDeg, 0.1, 0.05, 0.013, Shape::Ring, 0.25),
+        square(1, 10 * kDeg, 0.1, 0.25, 0.005, Shape::Ring, 0.35),
+        square(1, 10 * kDeg, 0.05, 0.25, 0.004, Shape::Ring, 0.3),
+        square(1, 10 * kDeg, 0.2, 0.1, 0.021, Shape::Ring, 0.08),
     };
     for (const Dots& d : kDots) {
         const std::string text = d.scene();

@@ -43,6 +43,13 @@ constexpr double kTurnStep = 0.1, kLeastTurnStep = 0.01;
 // straight member there read its ray's share as h / M for h^2 / M^2, and left dots 1% heavy
 // (0.1984 of a share of 0.1963 at four and eight a pixel; 0.1964 with these).
 constexpr double kNearerTurnStep = 1.0 / 16;
+// The most turn (its tangent: 60 degrees) of a curvature probe's normal over which its foot's
+// move is read from the turn (memberCurvature): a chord of the member's circle, 0.58 of the
+// move to first order there.
+constexpr double kConcaveTurn = 1.732;
+// A ray whose member bends towards it ends within this many times its centre of curvature's
+// distance (rayThrough): the curvature is read over a step, not at the foot.
+constexpr double kFocusMargin = 1.25;
 
 // The next member a ray's probe reads past its ridge runs parallel to the ray's own where
 // their normals are within about 25 degrees.
@@ -169,10 +176,25 @@ ValueId memberCurvature(ir::Builder& b, const DistanceAt& at, const PixelFootpri
                                b.add(ray.p.v, b.mul(along, ray.n.u))};
             const Reading r = readThere(b, at, pixel, q);
             const Turn turn = turnOf(b, ray.n, unitNormal(b, r));
-            const ValueId same = b.emit(
-                Op::And, {b.lt(apart(b, footFrom(b, r, q, false), ray.f), b.mul(by, b.constF(2.0))),
-                          b.gt(turn.cosine, zero)});
-            turned = b.add(turned, b.select(same, b.mul(turn.tangent, b.constF(side)), zero));
+            // Along the same member its foot moves by (1 - kappa_t t0), kappa_t = the turn
+            // over the step: further than the probe where the level set bends towards the
+            // member's centre of curvature (inside a ring, by R / (R - t0)). Counted where it
+            // stands within two steps of the sample's foot, or, bending so by under
+            // kConcaveTurn, within half the move of it (the inner half of a ring's inside
+            // failed two steps: read as on straight members, and rings about a lattice's
+            // points 5% light). A crossing member's foot read across a right angle stands
+            // nowhere the turn says.
+            const ValueId bent = b.mul(turn.tangent, b.constF(side));
+            const ValueId moved = b.abs(b.sub(by, b.mul(bent, ray.t0)));
+            const ValueId apartBy = apart(b, footFrom(b, r, q, false), ray.f);
+            const ValueId concave = b.emit(
+                Op::And, {b.lt(bent, zero), b.lt(b.abs(turn.tangent), b.constF(kConcaveTurn))});
+            const ValueId near =
+                b.emit(Op::Or, {b.lt(apartBy, b.mul(by, b.constF(2.0))),
+                                b.emit(Op::And, {concave, b.lt(b.abs(b.sub(apartBy, moved)),
+                                                               b.mul(moved, b.constF(0.5)))})});
+            const ValueId same = b.emit(Op::And, {near, b.gt(turn.cosine, zero)});
+            turned = b.add(turned, b.select(same, bent, zero));
             counted = b.add(counted, b.select(same, b.constF(1.0), zero));
         }
         return std::vector<ValueId>{turned, counted, by};
@@ -220,7 +242,16 @@ RayLength rayThrough(ir::Builder& b, const DistanceAt& at, const PixelFootprint&
             const ValueId step =
                 b.max(b.mul(ray.t0, b.constF(kTurnStep)), b.mul(part, b.constF(kLeastTurnStep)));
             const ValueId kappa0 = memberCurvature(b, at, pixel, ray, step);
-            const ValueId ridge = ridgeAlong(b, at, pixel, ray, atCap, cap,
+            // A member bending towards the ray (kappa0 < 0) sends its normals through its
+            // centre of curvature, 1 / |kappa0| along: no ray of it runs further. Past it a
+            // probe may read the member's far side (a ring's, through its centre), whose foot
+            // stands 2 / |kappa0| ahead along the ray and reads as the sample's own once the
+            // probe is twice as far out: rings a fifth of a stroke across inside read their
+            // ridge at the next ring's.
+            const ValueId focus =
+                b.select(b.lt(kappa0, zero),
+                         b.div(b.constF(kFocusMargin), b.max(b.neg(kappa0), b.constF(1e-30))), cap);
+            const ValueId ridge = ridgeAlong(b, at, pixel, ray, atCap, b.min(cap, focus),
                                              b.mul(part, b.constF(0.02)), b.max(kappa0, zero));
             return std::vector<ValueId>{ridge, kappa0};
         });

@@ -246,8 +246,8 @@ RayLength rayThrough(ir::Builder& b, const DistanceAt& at, const PixelFootprint&
             // centre of curvature, 1 / |kappa0| along: no ray of it runs further. Past it a
             // probe may read the member's far side (a ring's, through its centre), whose foot
             // stands 2 / |kappa0| ahead along the ray and reads as the sample's own once the
-            // probe is twice as far out: rings a fifth of a stroke across inside read their
-            // ridge at the next ring's.
+            // probe is twice that far out: the rays through the centres of rings narrower than
+            // their stroke (radius 0.08, stroke 0.2) read their ridge at the next ring's.
             const ValueId focus =
                 b.select(b.lt(kappa0, zero),
                          b.div(b.constF(kFocusMargin), b.max(b.neg(kappa0), b.constF(1e-30))), cap);

@@ -42,7 +42,10 @@ constexpr double kStraight = 0.999;
 // The values the grid's branch returns: trust, mean, members, half-width, and five a way.
 constexpr size_t kGridRead = 14;
 
-// The points crossingSeen reads.
+// The points crossingSeen reads, the first of an R2 sequence: a lattice of them (a rank-1
+// lattice of 8, 1/8 of a pixel apart across) read the same few places of a grid's cells at 20
+// lines a pixel, where it aliased as the parts do, and left 0.0043 RMSE there (0.0022 now);
+// a sequence has no rows to alias with any grid.
 constexpr int kCrossingLooks = 8;
 
 // Carried: how many parts are the other family's and the sums of their doubled angles, and
@@ -199,10 +202,10 @@ CrossingStart crossingSeen(ir::Builder& b, const DistanceAt& at, const PixelFoot
             b.emit(Op::And, {b.lt(v[0], b.constF(kCrossingLooks)), b.lt(v[1], half)})};
     };
     std::vector<ValueId> out = b.loop(init, more, [&](std::span<const ValueId> v) {
-        // Point k of a rank-1 lattice of kCrossingLooks, moved by the pixel's shift.
+        // Point k of an R2 sequence (the plastic number's steps), moved by the pixel's shift.
         const ValueId k = v[0];
-        const ValueId across = b.add(b.div(b.add(k, half), b.constF(kCrossingLooks)), shift.u);
-        const ValueId up = b.add(b.mul(k, b.constF(0.6180339887498949)), b.add(shift.v, half));
+        const ValueId across = b.add(b.mul(k, b.constF(0.7548776662466927)), shift.u);
+        const ValueId up = b.add(b.mul(k, b.constF(0.5698402909980532)), b.add(shift.v, half));
         const PixelPoint p{b.mul(b.sub(fract(b, across), half), pixel.size),
                            b.mul(b.sub(fract(b, up), half), pixel.size)};
         const Reading r = readThere(b, at, pixel, p);

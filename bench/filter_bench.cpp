@@ -115,6 +115,13 @@ std::vector<Scene> filterScenes() {
                    "round(y / spacing)) }\nlayer a { family = dots; spacing = 0.2; stroke = 0.1; "
                    "rotation = 10deg }\nlayer b { family = lines; spacing = 0.2; stroke = 0.05; "
                    "rotation = 13deg }\n"});
+    // Rings given by their distance about a lattice's points, 0.15 apart (five a pixel), radius
+    // 0.045: read as the difference of two dot screens (DistanceRings.h), where the tubes read
+    // 34 rays a pixel.
+    out.push_back({"distance rings on a lattice, 0.15", "distance_rings_lattice.moire",
+                   "family rings { distance = abs(hypot(x - spacing * round(x / spacing), y - "
+                   "spacing * round(y / spacing)) - 0.3 * spacing) }\nlayer a { family = rings; "
+                   "spacing = 0.15; stroke = 0.03; rotation = 10deg }\n"});
     // Two rings given by their distance, 0.2 and 0.21 apart about one centre: each crowd's
     // index read from its parts' normals and the centre's ray, and the pair's beat in closed
     // form (DistanceFamily.h, runs; FineUnion.h).

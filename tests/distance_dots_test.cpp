@@ -3,8 +3,9 @@
 // nearest dot's cell, and the pixel's mean is a dot screen's in closed form. Drawn at one sample
 // a pixel against a brute-force box filter of the exact field (10946 samples a pixel), for
 // square, triangular and oblique lattices at several turns and densities, square dots (a
-// Chebyshev distance); and rings about a lattice's points and dots that overlap, which the
-// closed form must leave to the tubes.
+// Chebyshev distance); rings about a lattice's points, two dot screens' difference
+// (compiler/lower/DistanceRings.h); and dots that overlap, which the closed form must leave to
+// the tubes.
 #include "runtime/output/Render.h"
 #include "tests/support/BoxReference.h"
 #include "tests/support/Support.h"
@@ -153,25 +154,26 @@ TEST_CASE("distance dots: crowded round dots' mean against the box filter of the
         // Round dots two a pixel square to the pixels, now in closed form: 0.0001 -> 0.0019
         // (the closed form's ripple, to the second harmonics).
         square(1, 0, 0.5, 0.5, 0.003),
-        // Not read as a dot screen: dots that overlap their neighbours (0.0077), and rings
-        // about the points, read by their tubes. Those were 5% light: a tube's curvature
-        // probes counted a probe as on the sample's member only where its foot moved under
-        // two steps, but inside a ring it moves further than the probe (by R / (R - t0)),
-        // and the inner half of each ring's inside was read as on straight members. Four
-        // rings a pixel, radius 0.25, stroke 0.1: 0.0102 (ink 0.1494 of 0.1571) -> 0.0076
-        // (0.1571); twenty a pixel 0.0133 (0.1493) -> 0.0113 (0.1569); radius 0.35, 0.0123
-        // (0.2096 of 0.2199) -> 0.0040; radius 0.3, stroke 0.05, 0.0069 (0.0889 of 0.0942)
-        // -> 0.0030. Rings narrower than their stroke (radius 0.08, stroke 0.2, inked
-        // through their centres) read the ridge of a ray through the centre at the next
-        // ring's, past the ring's far side: now no further than the centre of curvature,
-        // 0.0165 (ink 0.0973 of 0.1018) -> 0.0181 (0.1021), the grain of the tubes' samples
-        // left (a ring's inside is all ink, its outside a twelfth).
+        // Not read as a dot screen: dots that overlap their neighbours (0.0077).
         square(1, 10 * kDeg, 1.2, 0.25, 0.01),
-        square(1, 10 * kDeg, 0.1, 0.25, 0.009, Shape::Ring, 0.25),
-        square(1, 10 * kDeg, 0.1, 0.05, 0.013, Shape::Ring, 0.25),
-        square(1, 10 * kDeg, 0.1, 0.25, 0.005, Shape::Ring, 0.35),
-        square(1, 10 * kDeg, 0.05, 0.25, 0.004, Shape::Ring, 0.3),
-        square(1, 10 * kDeg, 0.2, 0.1, 0.021, Shape::Ring, 0.08),
+        // Rings about the points, read as two dot screens' difference (DistanceRings.h), the
+        // discs within their outer edges less those within their inner edges. By their tubes
+        // they were: four a pixel, radius 0.25, stroke 0.1, 0.0076; twenty a pixel 0.0113;
+        // radius 0.35, 0.0040; radius 0.3, stroke 0.05, 0.0030; radius 0.08, stroke 0.2 (inked
+        // through their centres) 0.0182. Now 0.0010, 0.0011, 0.0013, 0.0011 and 0.0005.
+        square(1, 10 * kDeg, 0.1, 0.25, 0.002, Shape::Ring, 0.25, 0.005),
+        square(1, 10 * kDeg, 0.1, 0.05, 0.0025, Shape::Ring, 0.25, 0.005),
+        square(1, 10 * kDeg, 0.1, 0.25, 0.0025, Shape::Ring, 0.35, 0.005),
+        square(1, 10 * kDeg, 0.05, 0.25, 0.002, Shape::Ring, 0.3, 0.005),
+        square(1, 10 * kDeg, 0.2, 0.1, 0.0015, Shape::Ring, 0.08, 0.005),
+        // 2.5 a pixel, where the parts hand over to the closed form, 0.0017; square to the
+        // pixels 3.3 a pixel, every third pixel centre on a ring's centre (no gradient there),
+        // 0.0007; a triangular lattice along the pixels, 0.0013; an oblique one, 0.0016.
+        square(1, 10 * kDeg, 0.1, 0.4, 0.003, Shape::Ring, 0.25, 0.005),
+        square(1, 0, 0.1, 0.3, 0.0015, Shape::Ring, 0.25, 0.005),
+        {1, 0, 0.5, std::sqrt(3.0) / 2, 0.1, 0.25, Shape::Ring, 0.0025, 0.3, 0.005},
+        {std::cos(20 * kDeg), std::sin(20 * kDeg), 1.5 * std::cos(95 * kDeg),
+         1.5 * std::sin(95 * kDeg), 0.1, 0.25, Shape::Ring, 0.003, 0.4, 0.005},
     };
     for (const Dots& d : kDots) {
         const std::string text = d.scene();

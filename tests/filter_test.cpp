@@ -216,13 +216,13 @@ TEST_CASE("filter: the JIT and the GPU draw the mean the interpreter draws") {
             CHECK(d.meanAbs <= 0.5 / 255.0);
         }
     }
-    // Rings about a lattice's points four a pixel, read by their tubes (DistanceTubes.h): the
-    // curvature probes inside each ring and the rays through its centre, in a smaller window
-    // (the interpreter reads 34 rays a pixel slowly). Each probe branches on a bound (whether
-    // its foot is the sample's), and a float's rounding may take the other way from a
-    // double's, moving that sample's share: 0.15% of a 160 x 120 window's pixels were off by
-    // more than 2/255 on the JIT and lavapipe (0.25% before the curvature probes' rule for a
-    // concave member; 0.08% of this window), the mean within 0.5/255.
+    // Rings about a lattice's points four a pixel, read as two dot screens' difference
+    // (DistanceRings.h), in a smaller window (the interpreter reads them slowly). Read by
+    // their tubes, whose probes branch on bounds a float may take the other way from a double,
+    // 0.08% of this window's pixels were off by more than 2/255 on the JIT and lavapipe; with
+    // the rings' centres of curvature alone, 400 units out from the frame's centre, 2.3%
+    // (float's rounding spoiled the centre by a percent, and the roundness check failed),
+    // before the centre was moved to the distance's peak: 0.016% now.
     const std::string rings =
         "family ringdots { distance = abs(hypot(x - spacing * round(x / spacing), y - spacing * "
         "round(y / spacing)) - 0.25 * spacing) }\n"
@@ -238,7 +238,7 @@ TEST_CASE("filter: the JIT and the GPU draw the mean the interpreter draws") {
         if (std::getenv("MOIRE_FILTER_REPORT"))
             MESSAGE(std::string(name), ": ", d.fractionWithin(), " within 2/255, mean ",
                     d.meanAbs * 255);
-        CHECK(d.fractionWithin() >= 0.995);
+        CHECK(d.fractionWithin() >= 0.999);
         CHECK(d.meanAbs <= 0.5 / 255.0);
     }
 }

@@ -100,8 +100,8 @@ struct Across {
     ValueId found;
     Vec w;
 };
-Across acrossAlong(ir::Builder& b, const DistanceAt& at, const PixelFootprint& pixel, PixelPoint c0,
-                   Vec a, ValueId start) {
+Across acrossAlong(ir::Builder& b, const DistanceAt& at, const PixelFootprint& pixel,
+                   const CentreOf& centreOf, PixelPoint c0, Vec a, ValueId start) {
     const ValueId zero = b.constF(0.0), one = b.constF(1.0);
     // Carried: the probe, its distance, the vector read (and whether one was), and settled:
     // where a probe reads the dot the last one read, it stepped back to just past that dot's
@@ -114,7 +114,7 @@ Across acrossAlong(ir::Builder& b, const DistanceAt& at, const PixelFootprint& p
         const ValueId s = v[1];
         const PixelPoint q{b.add(c0.u, b.mul(s, a.u)), b.add(c0.v, b.mul(s, a.v))};
         const Reading r = readThere(b, at, pixel, q);
-        const PixelPoint f = dotCentre(b, at, pixel, r, q); // NaN on a kink: read again further
+        const PixelPoint f = centreOf(b, r, q); // NaN on a kink: read again further
         const Vec w{b.sub(f.u, c0.u), b.sub(f.v, c0.v)};
         const ValueId length = b.hypot(w.u, w.v);
         const ValueId ahead = dot(b, w, a);
@@ -211,26 +211,19 @@ DotShape dotShape(ir::Builder& b, const DistanceAt& at, const PixelFootprint& pi
     return {equal, furthest, gauged};
 }
 
-// The lattice of the dots about c0 (n the first ray's direction, t0 the pixel centre's distance
-// over its gradient, `furthest` the dot's furthest edge): two rays out of c0's cell, their
-// dots' vectors Lagrange-reduced, and the cell's half-steps checked. `ok` where both rays
-// settled, the dots read at the half-steps are on the lattice, its basis is not flat and the
-// dots' strokes stand apart.
-struct DotLattice {
-    Vec p, q;
-    ValueId area, ok; // the cell's area, in pixels squared
-};
+} // namespace
+
 DotLattice dotLattice(ir::Builder& b, const DistanceAt& at, const PixelFootprint& pixel,
-                      PixelPoint c0, Normal n, ValueId t0, ValueId furthest) {
+                      const CentreOf& centreOf, PixelPoint c0, Normal n, ValueId start,
+                      ValueId furthest) {
     const ValueId half = b.constF(0.5);
-    const ValueId start = b.max(b.mul(b.abs(t0), b.constF(1.5)), b.div(pixel.size, b.constF(16.0)));
-    const Across first = acrossAlong(b, at, pixel, c0, {n.u, n.v}, start);
+    const Across first = acrossAlong(b, at, pixel, centreOf, c0, {n.u, n.v}, start);
     const ValueId firstLength = b.max(b.hypot(first.w.u, first.w.v), b.constF(1e-30));
     const double turn = kSecondTurn * std::numbers::pi / 180.0;
     const ValueId tc = b.constF(std::cos(turn)), ts = b.constF(std::sin(turn));
     const Vec turned{b.div(b.sub(b.mul(first.w.u, tc), b.mul(first.w.v, ts)), firstLength),
                      b.div(b.add(b.mul(first.w.u, ts), b.mul(first.w.v, tc)), firstLength)};
-    const Across second = acrossAlong(b, at, pixel, c0, turned, start);
+    const Across second = acrossAlong(b, at, pixel, centreOf, c0, turned, start);
     Vec p = first.w, q = second.w;
     reduce(b, p, q);
     // The three half-steps of the cell: the dot read there is a corner of the cell,
@@ -245,7 +238,7 @@ DotLattice dotLattice(ir::Builder& b, const DistanceAt& at, const PixelFootprint
     ValueId finer[3];
     for (int k = 0; k < 3; ++k) {
         const PixelPoint at_{b.add(c0.u, halves[k].u), b.add(c0.v, halves[k].v)};
-        const PixelPoint dot_ = dotCentre(b, at, pixel, readThere(b, at, pixel, at_), at_);
+        const PixelPoint dot_ = centreOf(b, readThere(b, at, pixel, at_), at_);
         const Vec fromHalf{b.sub(dot_.u, at_.u), b.sub(dot_.v, at_.v)};
         finer[k] = b.lt(b.hypot(fromHalf.u, fromHalf.v), b.mul(step, b.constF(kFinerWithin)));
         // The dot's place in the basis's coordinates, whole on the lattice.
@@ -270,10 +263,25 @@ DotLattice dotLattice(ir::Builder& b, const DistanceAt& at, const PixelFootprint
     ok = b.emit(Op::And, {ok, lattice});
     ok = b.emit(Op::And, {ok, b.gt(sine, b.constF(kLeastSine))});
     ok = b.emit(Op::And, {ok, b.lt(furthest, b.mul(shortest, b.constF(0.5 * kApart)))});
-    return {p, q, area, ok};
+    return {{p.u, p.v}, {q.u, q.v}, area, ok};
 }
 
-} // namespace
+ScreenOf screenOf(ir::Builder& b, const PixelFootprint& pixel, PixelPoint c0,
+                  const DotLattice& lattice) {
+    const Vec p{lattice.p.u, lattice.p.v}, q{lattice.q.u, lattice.q.v};
+    // c0 + u p + v q is the point (u, v); at the pixel's centre, (u, v) solves u p + v q = -c0,
+    // and their gradients along the pixel's sides are the rows of [p q]^-1, turned to the
+    // world's axes.
+    const ValueId det = cross(b, p, q);
+    const Vec back{b.neg(c0.u), b.neg(c0.v)};
+    const Offset gu = worldOf(b, b.div(q.v, det), b.div(b.neg(q.u), det), pixel);
+    const Offset gv = worldOf(b, b.div(b.neg(p.v), det), b.div(p.u, det), pixel);
+    LatticeCrowdInputs in;
+    in.genU = b.div(cross(b, back, q), det), in.genUX = gu.ox, in.genUY = gu.oy;
+    in.genV = b.div(cross(b, p, back), det), in.genVX = gv.ox, in.genVY = gv.oy;
+    in.pixel = pixel.size, in.cosTurn = pixel.cosTurn, in.sinTurn = pixel.sinTurn;
+    return {in, b.div(pixel.size, b.sqrt(b.max(lattice.area, b.constF(1e-30))))};
+}
 
 DotsRead dotsRead(ir::Builder& b, const DistanceAt& at, const PixelFootprint& pixel,
                   ValueId halfWidth, const Reading& centre, ValueId wanted) {
@@ -289,7 +297,10 @@ DotsRead dotsRead(ir::Builder& b, const DistanceAt& at, const PixelFootprint& pi
             const Normal n{b.select(some, unit.u, one), b.select(some, unit.v, zero)};
             const ValueId t0 = b.select(some, b.div(centre.d, heldLength(b, centre)), zero);
             const PixelPoint origin{zero, zero};
-            const PixelPoint read0 = dotCentre(b, at, pixel, centre, origin);
+            const CentreOf centreOf = [&](ir::Builder& bb, const Reading& r, PixelPoint p) {
+                return dotCentre(bb, at, pixel, r, p);
+            };
+            const PixelPoint read0 = centreOf(b, centre, origin);
             const PixelPoint c0{b.select(some, read0.u, zero), b.select(some, read0.v, zero)};
             // The distance's gradient length: the centre's, else (a centre on its dot's centre)
             // a reading beside it.
@@ -309,31 +320,21 @@ DotsRead dotsRead(ir::Builder& b, const DistanceAt& at, const PixelFootprint& pi
             return b.ifThenElse(
                 shaped,
                 [&] {
-                    const DotLattice lattice = dotLattice(b, at, pixel, c0, n, t0, furthest);
-                    const Vec p = lattice.p, q = lattice.q;
-                    const ValueId area = lattice.area, ok = lattice.ok;
-                    // The generators: c0 + u p + v q is the point (u, v); at the pixel's centre,
-                    // (u, v) solves u p + v q = -c0, and their gradients along the pixel's sides
-                    // are the rows of [p q]^-1, turned to the world's axes.
-                    const ValueId det = cross(b, p, q);
-                    const ValueId u = b.div(cross(b, {b.neg(c0.u), b.neg(c0.v)}, q), det);
-                    const ValueId v = b.div(cross(b, p, {b.neg(c0.u), b.neg(c0.v)}), det);
-                    const Offset gu = worldOf(b, b.div(q.v, det), b.div(b.neg(q.u), det), pixel);
-                    const Offset gv = worldOf(b, b.div(b.neg(p.v), det), b.div(p.u, det), pixel);
-                    LatticeCrowdInputs in;
-                    in.genU = u, in.genUX = gu.ox, in.genUY = gu.oy;
-                    in.genV = v, in.genVX = gv.ox, in.genVY = gv.oy;
-                    in.pixel = pixel.size, in.cosTurn = pixel.cosTurn, in.sinTurn = pixel.sinTurn;
-                    const ValueId mean = dotScreenMean(b, in, equal);
-                    Vals out{b.select(ok, gauged, zero),
-                             mean,
-                             b.div(pixel.size, b.sqrt(b.max(area, b.constF(1e-30)))),
-                             u,
-                             gu.ox,
-                             gu.oy,
-                             v,
-                             gv.ox,
-                             gv.oy,
+                    const ValueId start =
+                        b.max(b.mul(b.abs(t0), b.constF(1.5)), b.div(pixel.size, b.constF(16.0)));
+                    const DotLattice lattice =
+                        dotLattice(b, at, pixel, centreOf, c0, n, start, furthest);
+                    const ScreenOf screen = screenOf(b, pixel, c0, lattice);
+                    const LatticeCrowdInputs& in = screen.in;
+                    Vals out{b.select(lattice.ok, gauged, zero),
+                             dotScreenMean(b, in, equal),
+                             screen.members,
+                             in.genU,
+                             in.genUX,
+                             in.genUY,
+                             in.genV,
+                             in.genVX,
+                             in.genVY,
                              equal};
                     for (ValueId& x : out) x = b.denan(x, zero);
                     return out;

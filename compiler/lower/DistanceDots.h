@@ -24,6 +24,7 @@
 
 #include "compiler/ir/Builder.h"
 #include "compiler/lower/DistanceReading.h"
+#include "compiler/lower/LatticeCrowd.h"
 
 namespace moire::lower {
 
@@ -42,5 +43,33 @@ struct DotsRead {
 // stroke's half-width in the distance's units.
 DotsRead dotsRead(ir::Builder& b, const DistanceAt& at, const PixelFootprint& pixel,
                   ir::ValueId halfWidth, const Reading& centre, ir::ValueId wanted);
+
+// The centre of the member nearest the pixel's point p, whose reading there is r: NaN where it
+// cannot be read (a kink met to the last bit). A dot's is the foot of p's foot; a ring's its
+// level set's centre of curvature (DistanceRings.h).
+using CentreOf = std::function<PixelPoint(ir::Builder&, const Reading&, PixelPoint)>;
+
+// The lattice of the centres about c0, read by `centreOf` (n the first ray's direction, `start`
+// the rays' first probe's distance from c0, `furthest` a member's furthest edge from its
+// centre): two rays out of c0's cell, their centres' vectors Lagrange-reduced, and the cell's
+// half-steps checked. `ok` where both rays settled, the centres read at the half-steps are on
+// the lattice, its basis is not flat and the members' strokes stand apart.
+struct DotLattice {
+    PixelPoint p, q;      // the reduced basis, along the pixel's sides
+    ir::ValueId area, ok; // the cell's area
+};
+DotLattice dotLattice(ir::Builder& b, const DistanceAt& at, const PixelFootprint& pixel,
+                      const CentreOf& centreOf, PixelPoint c0, Normal n, ir::ValueId start,
+                      ir::ValueId furthest);
+
+// The screen a lattice about c0 makes: its generators at the pixel's centre, whole at the
+// centres, with their world gradients and the pixel (dotScreenMean's inputs), and the pixel's
+// side over the square root of a cell's area (cells along a side).
+struct ScreenOf {
+    LatticeCrowdInputs in;
+    ir::ValueId members;
+};
+ScreenOf screenOf(ir::Builder& b, const PixelFootprint& pixel, PixelPoint c0,
+                  const DotLattice& lattice);
 
 } // namespace moire::lower

@@ -3,6 +3,7 @@
 #include "compiler/ir/BuiltValue.h"
 #include "compiler/lower/DistanceDots.h"
 #include "compiler/lower/DistanceGrid.h"
+#include "compiler/lower/DistanceRings.h"
 #include "compiler/lower/DistanceTubes.h"
 #include "compiler/lower/LowerExpr.h"
 #include "compiler/lower/StrokePairs.h"
@@ -679,24 +680,34 @@ CrowdEstimate distanceFamilyCrowd(ir::Builder& b, ValueId distance, const Distan
             const GridRead grid =
                 gridRead(b, at, pixel, halfWidth, coarse.twoWays, coarse.cos2, coarse.sin2,
                          coarse.directed, b.lt(pointsTrust, one), crossing);
+            const ValueId gridWeight = b.mul(b.sub(one, pointsTrust), grid.trust);
+            // Where the members are rings about a lattice's points (DistanceRings.h), read
+            // where none of those is wholly trusted (read before the grid, they cost a grid's
+            // pixels a fifth more): two dot screens' difference in closed form. Laid over
+            // other layers as independent: the union takes no ring screen.
+            const ValueId othersTrust = b.add(pointsTrust, gridWeight);
+            const RingsRead rings = ringsRead(b, at, pixel, halfWidth, centre,
+                                              b.emit(Op::And, {b.lt(othersTrust, one), near}));
+            const ValueId ringsWeight = b.mul(b.sub(one, othersTrust), rings.trust);
+            const ValueId closedTrust = b.add(othersTrust, ringsWeight);
             auto closedHandOver = [&](ValueId members) {
                 return b.smoothstep(b.constF(kClosedFrom), b.constF(kClosedFull), members);
             };
             auto dotsHandOver = [&](ValueId members) {
                 return b.smoothstep(b.constF(kDotsClosedFrom), b.constF(kDotsClosedFull), members);
             };
-            const ValueId gridWeight = b.mul(b.sub(one, pointsTrust), grid.trust);
-            const ValueId closedTrust = b.add(pointsTrust, gridWeight);
-            auto weighed = [&](ValueId runsValue, ValueId gridValue, ValueId dotsValue) {
+            auto weighed = [&](ValueId runsValue, ValueId gridValue, ValueId dotsValue,
+                               ValueId ringsValue) {
                 const ValueId sum =
                     b.add(b.add(b.mul(trust, runsValue), b.mul(gridWeight, gridValue)),
-                          b.mul(dotsWeight, dotsValue));
+                          b.add(b.mul(dotsWeight, dotsValue), b.mul(ringsWeight, ringsValue)));
                 return b.select(b.gt(closedTrust, b.constF(0.0)), b.div(sum, closedTrust),
                                 b.constF(0.0));
             };
-            const ValueId closedMean = weighed(runs[5], grid.mean, dots.mean);
+            const ValueId closedMean = weighed(runs[5], grid.mean, dots.mean, rings.mean);
             const ValueId closedCrowded =
-                weighed(runs[6], closedHandOver(grid.members), dotsHandOver(dots.members));
+                weighed(runs[6], closedHandOver(grid.members), dotsHandOver(dots.members),
+                        dotsHandOver(rings.members));
             // The fine parts handing over to a crowd's mean by `crowded`.
             auto partsOr = [&](ValueId mean, ValueId crowded) {
                 const ValueId parts =
@@ -720,8 +731,10 @@ CrowdEstimate distanceFamilyCrowd(ir::Builder& b, ValueId distance, const Distan
             Vals out{b.ifThenElse(
                 coarse.bent, [&] { return b.ifThenElse(mayCrowd, crowd, apart); },
                 [&] {
-                    return Vals{b.mix(coarse.mean, dots.mean,
-                                      b.mul(dotsWeight, dotsHandOver(dots.members)))};
+                    const ValueId withDots = b.mix(coarse.mean, dots.mean,
+                                                   b.mul(dotsWeight, dotsHandOver(dots.members)));
+                    return Vals{b.mix(withDots, rings.mean,
+                                      b.mul(ringsWeight, dotsHandOver(rings.members)))};
                 })[0]};
             out.push_back(trust);
             out.insert(out.end(), runs.begin(), runs.end());

@@ -219,12 +219,28 @@ RingsRead ringsRead(ir::Builder& b, const DistanceAt& at, const PixelFootprint& 
                     const DotLattice lattice =
                         dotLattice(b, at, pixel, centreOf, c0, n, start, outer);
                     const ScreenOf screen = screenOf(b, pixel, c0, lattice);
+                    // The closed form takes every ring for c0's: the rings about its four
+                    // nearest neighbours must read its radius (a distance that peaks at R
+                    // there), as its own looks must read half of it.
+                    ValueId otherRadius = zero;
+                    for (const double k : {1.0, -1.0})
+                        for (const PixelPoint step : {lattice.p, lattice.q}) {
+                            const ValueId su = b.mul(step.u, b.constF(k));
+                            const ValueId sv = b.mul(step.v, b.constF(k));
+                            const ValueId d =
+                                readThere(b, at, pixel, {b.add(c0.u, su), b.add(c0.v, sv)}).d;
+                            const ValueId off =
+                                b.div(b.abs(b.sub(b.div(d, length), radius)), radius);
+                            otherRadius = b.max(otherRadius, b.denan(off, one));
+                        }
+                    const ValueId same = b.sub(
+                        one, b.smoothstep(b.constF(kRoundFrom), b.constF(kRoundFull), otherRadius));
                     // The ring's stroke is the disc within its outer edge less the disc
                     // within its inner one, where the stroke leaves one (R > h).
                     const ValueId inner = b.sub(radius, h);
                     const ValueId innerMean = b.select(
                         b.gt(inner, zero), dotScreenMean(b, screen.in, b.max(inner, zero)), zero);
-                    Vals out{b.select(lattice.ok, round, zero),
+                    Vals out{b.select(lattice.ok, b.mul(round, same), zero),
                              b.sub(dotScreenMean(b, screen.in, outer), innerMean), screen.members};
                     for (ValueId& x : out) x = b.denan(x, zero);
                     return out;

@@ -203,18 +203,25 @@ TEST_CASE("filter: the JIT and the GPU draw the mean the interpreter draws") {
         "round(y / spacing))) }\n"
         "layer a { family = cheb; spacing = 1; stroke = 0.5; rotation = 10deg }\n",
     };
-    for (const std::string& text : scenes) {
-        auto program = test::compileOk(text);
-        Image ref = fineWindow(*program, *interp);
+    // Every backend's window of `program` against the interpreter's, drawn by `window`.
+    auto holdToInterpreter = [&](const SceneProgram& program, auto window) {
+        const Image ref = window(program, *interp);
         for (const char* name : {"jit", "vulkan"}) {
             CAPTURE(name);
-            CAPTURE(text);
             auto backend = test::makeBackendOrSkip(name);
             if (!backend) continue;
-            test::ImageDiff d = test::compareImages(ref, fineWindow(*program, *backend), 2.0 / 255);
+            const test::ImageDiff d =
+                test::compareImages(ref, window(program, *backend), 2.0 / 255);
+            if (std::getenv("MOIRE_FILTER_REPORT"))
+                MESSAGE(std::string(name), ": ", d.fractionWithin(), " within 2/255, mean ",
+                        d.meanAbs * 255);
             CHECK(d.fractionWithin() >= 0.999);
             CHECK(d.meanAbs <= 0.5 / 255.0);
         }
+    };
+    for (const std::string& text : scenes) {
+        CAPTURE(text);
+        holdToInterpreter(*test::compileOk(text), fineWindow);
     }
     // Rings about a lattice's points four a pixel, read as two dot screens' difference
     // (DistanceRings.h), in a smaller window (the interpreter reads them slowly). Read by
@@ -227,20 +234,9 @@ TEST_CASE("filter: the JIT and the GPU draw the mean the interpreter draws") {
         "family ringdots { distance = abs(hypot(x - spacing * round(x / spacing), y - spacing * "
         "round(y / spacing)) - 0.25 * spacing) }\n"
         "layer a { family = ringdots; spacing = 0.25; stroke = 0.025; rotation = 10deg }\n";
-    auto program = test::compileOk(rings);
-    const Image ref = test::renderWindow(*program, *interp, 800, 560, 80, 60);
-    for (const char* name : {"jit", "vulkan"}) {
-        CAPTURE(name);
-        auto backend = test::makeBackendOrSkip(name);
-        if (!backend) continue;
-        const test::ImageDiff d = test::compareImages(
-            ref, test::renderWindow(*program, *backend, 800, 560, 80, 60), 2.0 / 255);
-        if (std::getenv("MOIRE_FILTER_REPORT"))
-            MESSAGE(std::string(name), ": ", d.fractionWithin(), " within 2/255, mean ",
-                    d.meanAbs * 255);
-        CHECK(d.fractionWithin() >= 0.999);
-        CHECK(d.meanAbs <= 0.5 / 255.0);
-    }
+    holdToInterpreter(*test::compileOk(rings), [](const SceneProgram& program, Backend& backend) {
+        return test::renderWindow(program, backend, 800, 560, 80, 60);
+    });
 }
 
 TEST_CASE("filter: --filter on render, and a bad value named") {

@@ -46,9 +46,6 @@ constexpr double kSameFoot = 0.5;
 // distance that does not grow so about c0 (a ring about the point, whose c0 is on the ring)
 // is not a screen of dots.
 constexpr int kShapeLooks = 13, kGaugeLooks = 3;
-// The furthest edge of a dot read as a screen's, in pixels: dots two a pixel (where the closed
-// form begins to take over) stand half a pixel apart, and their strokes apart.
-constexpr double kMostEdge = 0.25;
 constexpr double kGaugeFrom = 0.02, kGaugeFull = 0.04;
 // A point of a finer lattice at a half-step of the cell: the dot read there within this share
 // of the shorter step. A dot read elsewhere must stand on the lattice's points within
@@ -316,7 +313,7 @@ DotsRead dotsRead(ir::Builder& b, const DistanceAt& at, const PixelFootprint& pi
             // along it: its edge there is far off.
             const ValueId shaped =
                 b.emit(Op::And, {b.gt(gauged, zero),
-                                 b.lt(furthest, b.mul(pixel.size, b.constF(kMostEdge)))});
+                                 b.lt(furthest, b.mul(pixel.size, b.constF(kScreenMostEdge)))});
             return b.ifThenElse(
                 shaped,
                 [&] {

@@ -44,6 +44,11 @@ struct DotsRead {
 DotsRead dotsRead(ir::Builder& b, const DistanceAt& at, const PixelFootprint& pixel,
                   ir::ValueId halfWidth, const Reading& centre, ir::ValueId wanted);
 
+// The furthest edge, in pixels, of a screen's member from its centre where the screen is read
+// in closed form: members two a pixel (where the closed form begins to take over) stand half a
+// pixel apart, and their strokes apart.
+constexpr double kScreenMostEdge = 0.25;
+
 // The centre of the member nearest the pixel's point p, whose reading there is r: NaN where it
 // cannot be read (a kink met to the last bit). A dot's is the foot of p's foot; a ring's its
 // level set's centre of curvature (DistanceRings.h).

@@ -204,8 +204,8 @@ CrossingStart crossingSeen(ir::Builder& b, const DistanceAt& at, const PixelFoot
     std::vector<ValueId> out = b.loop(init, more, [&](std::span<const ValueId> v) {
         // Point k of an R2 sequence (the plastic number's steps), moved by the pixel's shift.
         const ValueId k = v[0];
-        const ValueId across = b.add(b.mul(k, b.constF(0.7548776662466927)), shift.u);
-        const ValueId up = b.add(b.mul(k, b.constF(0.5698402909980532)), b.add(shift.v, half));
+        const ValueId across = b.add(b.mul(k, b.constF(kR2a)), shift.u);
+        const ValueId up = b.add(b.mul(k, b.constF(kR2b)), b.add(shift.v, half));
         const PixelPoint p{b.mul(b.sub(fract(b, across), half), pixel.size),
                            b.mul(b.sub(fract(b, up), half), pixel.size)};
         const Reading r = readThere(b, at, pixel, p);

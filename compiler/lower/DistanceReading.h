@@ -62,12 +62,14 @@ inline ir::ValueId fract(ir::Builder& b, ir::ValueId v) {
     return b.sub(v, b.floor(v));
 }
 
-// A shift in [0, 1)^2 that runs over the frame's pixels as an R2 sequence does (its steps
-// the plastic number's inverse and its square), the same on every backend: points of the
-// pixel moved by it from pixel to pixel do not line up with a family's rows as the same points
-// in every pixel would.
+// The R2 sequence's steps: the plastic number's inverse and its square. Its points have no
+// rows for a family's rows to alias with.
+constexpr double kR2a = 0.7548776662466927, kR2b = 0.5698402909980532;
+
+// A shift in [0, 1)^2 that runs over the frame's pixels as an R2 sequence does, the same on
+// every backend: points of the pixel moved by it from pixel to pixel do not line up with a
+// family's rows as the same points in every pixel would.
 inline PixelPoint pixelShift(ir::Builder& b) {
-    constexpr double kR2a = 0.7548776662466927, kR2b = 0.5698402909980532;
     const ir::ValueId px = b.leaf(ir::Op::PixelX), py = b.leaf(ir::Op::PixelY);
     return {fract(b, b.add(b.mul(px, b.constF(kR2a)), b.mul(py, b.constF(kR2b)))),
             fract(b, b.add(b.mul(px, b.constF(kR2b)), b.mul(py, b.constF(kR2a))))};

@@ -32,9 +32,6 @@ constexpr double kRoundFrom = 0.02, kRoundFull = 0.04;
 // A ring whose radius is under this share of the stroke's half-width is a dot (DistanceDots.h
 // reads it); its radius read from a centre a rounding off is no ring's.
 constexpr double kLeastRadius = 0.1;
-// The rings' outer edge must stand under this share of a pixel from their centres (rings two
-// a pixel stand half a pixel apart, and their strokes apart), as a dot screen's do.
-constexpr double kMostEdge = 0.25;
 
 // The unit normal of a reading, NaN where its gradient vanishes.
 Normal rawNormal(ir::Builder& b, const Reading& r) {
@@ -208,7 +205,7 @@ RingsRead ringsRead(ir::Builder& b, const DistanceAt& at, const PixelFootprint& 
             const ValueId shaped =
                 b.emit(Op::And, {b.emit(Op::And, {b.gt(round, zero),
                                                   b.gt(radius, b.mul(h, b.constF(kLeastRadius)))}),
-                                 b.lt(outer, b.mul(pixel.size, b.constF(kMostEdge)))});
+                                 b.lt(outer, b.mul(pixel.size, b.constF(kScreenMostEdge)))});
             return b.ifThenElse(
                 shaped,
                 [&] {

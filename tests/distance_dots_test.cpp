@@ -168,15 +168,18 @@ TEST_CASE("distance dots: crowded round dots' mean against the box filter of the
         // discs within their outer edges less those within their inner edges. By their tubes
         // they were: four a pixel, radius 0.25, stroke 0.1, 0.0076; twenty a pixel 0.0113;
         // radius 0.35, 0.0040; radius 0.3, stroke 0.05, 0.0030; radius 0.08, stroke 0.2 (inked
-        // through their centres) 0.0182. Now 0.0010, 0.0011, 0.0013, 0.0011 and 0.0005.
+        // through their centres) 0.0182. Now 0.0010, 0.0010, 0.0013, 0.0011 and 0.0005 (the
+        // second 0.0011 with each ring's centre of curvature read at the pixel's centre rather
+        // than half-way to its ring).
         square(1, 10 * kDeg, 0.1, 0.25, 0.002, Shape::Ring, 0.25, 0.005),
         square(1, 10 * kDeg, 0.1, 0.05, 0.0025, Shape::Ring, 0.25, 0.005),
         square(1, 10 * kDeg, 0.1, 0.25, 0.0025, Shape::Ring, 0.35, 0.005),
         square(1, 10 * kDeg, 0.05, 0.25, 0.002, Shape::Ring, 0.3, 0.005),
         square(1, 10 * kDeg, 0.2, 0.1, 0.0015, Shape::Ring, 0.08, 0.005),
-        // 2.5 a pixel, where the parts hand over to the closed form, 0.0017; square to the
-        // pixels 3.3 a pixel, every third pixel centre on a ring's centre (no gradient there),
-        // 0.0007; a triangular lattice along the pixels, 0.0013; an oblique one, 0.0016.
+        // 2.5 a pixel, where the parts hand over to the closed form, 0.0011 (0.0017 with the
+        // centre of curvature read at the pixel's centre); square to the pixels 3.3 a pixel,
+        // every third pixel centre on a ring's centre (no gradient there), 0.0007; a
+        // triangular lattice along the pixels, 0.0013; an oblique one, 0.0014 (0.0016).
         square(1, 10 * kDeg, 0.1, 0.4, 0.003, Shape::Ring, 0.25, 0.005),
         square(1, 0, 0.1, 0.3, 0.0015, Shape::Ring, 0.25, 0.005),
         {1, 0, 0.5, std::sqrt(3.0) / 2, 0.1, 0.25, Shape::Ring, 0.0025, 0.3, 0.005},

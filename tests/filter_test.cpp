@@ -229,11 +229,16 @@ TEST_CASE("filter: the JIT and the GPU draw the mean the interpreter draws") {
     // 0.08% of this window's pixels were off by more than 2/255 on the JIT and lavapipe; with
     // the rings' centres of curvature alone, 400 units out from the frame's centre, 2.3%
     // (float's rounding spoiled the centre by a percent, and the roundness check failed),
-    // before the centre was moved to the distance's peak: 0.016% now.
+    // before the centre was moved to the distance's peak: 0.016%. Laid over lines 3 degrees
+    // off (their beat, a ring screen in the union of fine layers, LatticeUnion.h), the pixels
+    // by the corner four rings' cells share, whose centres of curvature a float read from
+    // other rings (and left to the tubes), were 0.078% off (the union's correlation lost
+    // there); read half-way to the ring, none is.
     const std::string rings =
         "family ringdots { distance = abs(hypot(x - spacing * round(x / spacing), y - spacing * "
         "round(y / spacing)) - 0.25 * spacing) }\n"
-        "layer a { family = ringdots; spacing = 0.25; stroke = 0.025; rotation = 10deg }\n";
+        "layer a { family = ringdots; spacing = 0.25; stroke = 0.025; rotation = 10deg }\n"
+        "layer b { family = lines; spacing = 0.25; stroke = 0.06; rotation = 13deg }\n";
     holdToInterpreter(*test::compileOk(rings), [](const SceneProgram& program, Backend& backend) {
         return test::renderWindow(program, backend, 800, 560, 80, 60);
     });
@@ -1176,7 +1181,13 @@ TEST_CASE("filter: members given by their distance finer than the parts read the
 // distance, 0.2 apart turned 10 degrees, with a phase family's lines, under a square lattice's
 // dots, and with the same dots, each 3 degrees off: read as a dot screen (DistanceDots.h) and
 // correlated as a lattice's dots are (LatticeUnion.h), 0.0031 to 0.0037, where laid as
-// independent they read 0.038 to 0.040 (spreads 0.038 to 0.040). The exact field is read at
+// independent they read 0.038 to 0.040 (spreads 0.038 to 0.040). Rings about a lattice's
+// points given by their distance, 0.2 apart turned 10 degrees, radius 0.05, stroke 0.05, with
+// a phase family's lines, under a square lattice's dots, with the same rings and with dots
+// given by their distance, each 3 degrees off: read as two dot screens' difference
+// (DistanceRings.h) and correlated as the outer discs' screen less the inner discs'
+// (LatticeShape::inner), 0.0026 to 0.0037, where laid as independent they read 0.038 to
+// 0.043 (spreads 0.038 to 0.043). The exact field is read at
 // 64 x 64 samples a pixel: at 32 x 32 it aliases with members five a pixel (the same pictures
 // read 0.010 to 0.024 off it).
 TEST_CASE("filter: two families given by their distance show their beat where they crowd") {
@@ -1187,7 +1198,9 @@ TEST_CASE("filter: two families given by their distance show their beat where th
         std::string(kDistanceRings) + kDistanceGrid + kDistanceDots +
         "family bands { distance = abs(x - spacing * round(x / spacing)) }\n"
         "family waves {\n let f = y - 3 * sin(x / 5)\n distance = abs(f - spacing * round(f / "
-        "spacing))\n}\n";
+        "spacing))\n}\n"
+        "family rings_on {\n let dx = x - spacing * round(x / spacing)\n let dy = y - spacing * "
+        "round(y / spacing)\n distance = abs(hypot(dx, dy) - 0.25 * spacing)\n}\n";
     const std::pair<const char*, const char*> kPairs[] = {
         {"layer a { family = rings; spacing = 0.2; stroke = 0.05; origin = (30, 10) }\n",
          "layer b { family = rings; spacing = 0.21; stroke = 0.06; origin = (30, 10) }\n"},
@@ -1214,6 +1227,14 @@ TEST_CASE("filter: two families given by their distance show their beat where th
         {"layer a { family = square_lattice; spacing = 0.2; stroke = 0.1; rotation = 13deg }\n",
          "layer b { family = dots; spacing = 0.2; stroke = 0.1; rotation = 10deg }\n"},
         {"layer a { family = dots; spacing = 0.2; stroke = 0.1; rotation = 10deg }\n",
+         "layer b { family = dots; spacing = 0.2; stroke = 0.1; rotation = 13deg }\n"},
+        {"layer a { family = rings_on; spacing = 0.2; stroke = 0.05; rotation = 10deg }\n",
+         "layer b { family = lines; spacing = 0.2; stroke = 0.05; rotation = 13deg }\n"},
+        {"layer a { family = square_lattice; spacing = 0.2; stroke = 0.1; rotation = 13deg }\n",
+         "layer b { family = rings_on; spacing = 0.2; stroke = 0.05; rotation = 10deg }\n"},
+        {"layer a { family = rings_on; spacing = 0.2; stroke = 0.05; rotation = 10deg }\n",
+         "layer b { family = rings_on; spacing = 0.2; stroke = 0.05; rotation = 13deg }\n"},
+        {"layer a { family = rings_on; spacing = 0.2; stroke = 0.05; rotation = 10deg }\n",
          "layer b { family = dots; spacing = 0.2; stroke = 0.1; rotation = 13deg }\n"},
     };
     for (const auto& [first, second] : kPairs)

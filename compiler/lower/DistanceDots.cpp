@@ -322,17 +322,11 @@ DotsRead dotsRead(ir::Builder& b, const DistanceAt& at, const PixelFootprint& pi
                     const DotLattice lattice =
                         dotLattice(b, at, pixel, centreOf, c0, n, start, furthest);
                     const ScreenOf screen = screenOf(b, pixel, c0, lattice);
-                    const LatticeCrowdInputs& in = screen.in;
-                    Vals out{b.select(lattice.ok, gauged, zero),
-                             dotScreenMean(b, in, equal),
-                             screen.members,
-                             in.genU,
-                             in.genUX,
-                             in.genUY,
-                             in.genV,
-                             in.genVX,
-                             in.genVY,
-                             equal};
+                    Vals out{b.select(lattice.ok, gauged, zero), dotScreenMean(b, screen.in, equal),
+                             screen.members};
+                    const Vals generators = screen.generators();
+                    out.insert(out.end(), generators.begin(), generators.end());
+                    out.push_back(equal);
                     for (ValueId& x : out) x = b.denan(x, zero);
                     return out;
                 },

@@ -26,6 +26,8 @@
 #include "compiler/lower/DistanceReading.h"
 #include "compiler/lower/LatticeCrowd.h"
 
+#include <vector>
+
 namespace moire::lower {
 
 // The dots' reading: `trust`, 0 to 1, how far the members read as dots of one lattice whose
@@ -73,6 +75,11 @@ DotLattice dotLattice(ir::Builder& b, const DistanceAt& at, const PixelFootprint
 struct ScreenOf {
     LatticeCrowdInputs in;
     ir::ValueId members;
+    // The generators and their world gradients, in the order DotsRead and RingsRead give them:
+    // u, du/dx, du/dy, v, dv/dx, dv/dy.
+    std::vector<ir::ValueId> generators() const {
+        return {in.genU, in.genUX, in.genUY, in.genV, in.genVX, in.genVY};
+    }
 };
 ScreenOf screenOf(ir::Builder& b, const PixelFootprint& pixel, PixelPoint c0,
                   const DotLattice& lattice);

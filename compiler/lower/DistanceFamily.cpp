@@ -537,9 +537,10 @@ constexpr size_t kRunsRead = 10;
 // The grid's values distanceFamilyCrowd carries out of its branches: its trust, half-width,
 // and each way's index, gradient (length and components) and mean.
 constexpr size_t kGridValues = 12;
-// The dots' values distanceFamilyCrowd carries out of its branches: how far the dot screen
-// is weighed, its generators with their gradients, and its dots' radius.
-constexpr size_t kDotsValues = 8;
+// The screen's values distanceFamilyCrowd carries out of its branches, the dots' or the
+// rings': how far it is weighed, its generators with their gradients, and its members' outer
+// and inner radii (the inner 0 for dots).
+constexpr size_t kScreenValues = 9;
 // The gradient (per world unit) of a second strand that stands for no lines: a beat with it
 // is never the slowest (FineUnion.cpp, strandCorrelation).
 constexpr double kNoWay = 1e6;
@@ -684,8 +685,8 @@ CrowdEstimate distanceFamilyCrowd(ir::Builder& b, ValueId distance, const Distan
             const ValueId gridWeight = b.mul(b.sub(one, pointsTrust), grid.trust);
             // Where the members are rings about a lattice's points (DistanceRings.h), read
             // where none of those is wholly trusted (read before the grid, they cost a grid's
-            // pixels a fifth more): two dot screens' difference in closed form. Laid over
-            // other layers as independent: the union takes no ring screen.
+            // pixels a fifth more): two dot screens' difference in closed form, by which the
+            // union lays them on other layers too (LatticeShape::inner).
             const ValueId othersTrust = b.add(pointsTrust, gridWeight);
             const RingsRead rings = ringsRead(b, at, pixel, halfWidth, centre,
                                               b.emit(Op::And, {b.lt(othersTrust, one), near}));
@@ -742,13 +743,21 @@ CrowdEstimate distanceFamilyCrowd(ir::Builder& b, ValueId distance, const Distan
             out.insert(out.end(), {grid.trust, grid.halfWidth});
             for (const GridRead::Way& w : grid.ways)
                 out.insert(out.end(), {w.index, w.grad, w.gradX, w.gradY, w.mean});
-            out.insert(out.end(), {dotsWeight, dots.u, dots.ux, dots.uy, dots.v, dots.vx, dots.vy,
-                                   dots.radius});
+            // The screen the union of fine layers reads: the rings' where they are weighed
+            // over the dots (the two weights sum to 1 at most, so one of them at most passes
+            // a half, where the union takes the screen).
+            const ValueId ringsScreen = b.gt(ringsWeight, dotsWeight);
+            auto pick = [&](ValueId ring, ValueId dot) { return b.select(ringsScreen, ring, dot); };
+            out.insert(out.end(),
+                       {b.max(dotsWeight, ringsWeight), pick(rings.u, dots.u),
+                        pick(rings.ux, dots.ux), pick(rings.uy, dots.uy), pick(rings.v, dots.v),
+                        pick(rings.vx, dots.vx), pick(rings.vy, dots.vy),
+                        pick(rings.outer, dots.radius), pick(rings.inner, b.constF(0.0))});
             return out;
         },
         // Not parted, the centre's gradient does not vanish: it stands for itself.
         [&] {
-            Vals out(2 + kRunsRead + kGridValues + kDotsValues, b.constF(0.0));
+            Vals out(2 + kRunsRead + kGridValues + kScreenValues, b.constF(0.0));
             out[0] = firstOrderMean(b, centre, halfWidth, pixel.size, centre);
             return out;
         });
@@ -775,8 +784,8 @@ CrowdEstimate distanceFamilyCrowd(ir::Builder& b, ValueId distance, const Distan
     runs.second.trust = b.select(grid, twoWays, b.constF(0.0));
     runs.twoWays = b.select(grid, twoWays, b.constF(0.0));
     runs.means = {way(0, 4), way(1, 4)};
-    // Where the members are read as a screen of dots, that screen's shape, one dot at
-    // each whole (u, v): its shortest rows are among (1, 0), (0, 1) and the two diagonals
+    // Where the members are read as a screen of dots or rings, that screen's shape, one member
+    // at each whole (u, v): its shortest rows are among (1, 0), (0, 1) and the two diagonals
     // (the basis is reduced), and the union matches another layer's rows with the nearest.
     const size_t d = g + kGridValues;
     CrowdEstimate::LatticeShape screen;
@@ -785,6 +794,7 @@ CrowdEstimate distanceFamilyCrowd(ir::Builder& b, ValueId distance, const Distan
     screen.sites = {{{0.0, 0.0}}};
     screen.shortest = {{{1, 0}}, {{0, 1}}, {{1, 1}}, {{1, -1}}};
     screen.radius = read[d + 7];
+    screen.inner = read[d + 8];
     screen.dots = b.gt(read[d], b.constF(0.5));
     runs.screen = screen;
     out.runs = runs;

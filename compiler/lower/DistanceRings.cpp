@@ -135,11 +135,16 @@ CentreRing centreRing(ir::Builder& b, const DistanceAt& at, const PixelFootprint
     };
     // Its centre of curvature, with q to either side: the one whose centre stands the pixel
     // centre's own distance from the ring read there (where the other's q may read another
-    // ring).
-    const ValueId tau = tangentStep(b, pixel, t);
+    // ring). It is read half-way from the pixel's centre to its ring, on the same normal line:
+    // further from the edges of the ring's cell, where a q to either side of a pixel centre
+    // by the corner four cells share may read other rings, and did in a float where a double
+    // read its own (six pixels of 4800, rings four a pixel, left to the tubes on the JIT alone).
+    const ValueId back = b.mul(t, b.constF(-0.5));
+    const PixelPoint halfWay = along(b, n, back);
+    const ValueId tau = tangentStep(b, pixel, b.mul(t, half));
     ValueId lambda = zero, atCentre = zero, chosenOff = far;
     for (const ValueId step : {tau, b.neg(tau)}) {
-        const ValueId reach = curvatureReach(b, at, pixel, {zero, zero}, n, step);
+        const ValueId reach = b.add(back, curvatureReach(b, at, pixel, halfWay, n, step));
         const ValueId d = readThere(b, at, pixel, along(b, n, reach)).d;
         const ValueId off = offOf(reach, b.div(d, length));
         const ValueId better = b.lt(off, chosenOff);
@@ -165,6 +170,7 @@ CentreRing centreRing(ir::Builder& b, const DistanceAt& at, const PixelFootprint
 RingsRead ringsRead(ir::Builder& b, const DistanceAt& at, const PixelFootprint& pixel,
                     ValueId halfWidth, const Reading& centre, ValueId wanted) {
     const ValueId zero = b.constF(0.0), one = b.constF(1.0);
+    constexpr size_t kValues = 11;
     const Vals read = b.ifThenElse(
         wanted,
         [&] {
@@ -234,18 +240,22 @@ RingsRead ringsRead(ir::Builder& b, const DistanceAt& at, const PixelFootprint& 
                         one, b.smoothstep(b.constF(kRoundFrom), b.constF(kRoundFull), otherRadius));
                     // The ring's stroke is the disc within its outer edge less the disc
                     // within its inner one, where the stroke leaves one (R > h).
-                    const ValueId inner = b.sub(radius, h);
-                    const ValueId innerMean = b.select(
-                        b.gt(inner, zero), dotScreenMean(b, screen.in, b.max(inner, zero)), zero);
+                    const ValueId inner = b.max(b.sub(radius, h), zero);
+                    const ValueId innerMean =
+                        b.select(b.gt(inner, zero), dotScreenMean(b, screen.in, inner), zero);
                     Vals out{b.select(lattice.ok, b.mul(round, same), zero),
                              b.sub(dotScreenMean(b, screen.in, outer), innerMean), screen.members};
+                    const Vals generators = screen.generators();
+                    out.insert(out.end(), generators.begin(), generators.end());
+                    out.insert(out.end(), {outer, inner});
                     for (ValueId& x : out) x = b.denan(x, zero);
                     return out;
                 },
-                [&] { return Vals(3, zero); });
+                [&] { return Vals(kValues, zero); });
         },
-        [&] { return Vals(3, zero); });
-    return {read[0], read[1], read[2]};
+        [&] { return Vals(kValues, zero); });
+    return {read[0], read[1], read[2], read[3], read[4], read[5],
+            read[6], read[7], read[8], read[9], read[10]};
 }
 
 } // namespace moire::lower

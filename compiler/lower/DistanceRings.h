@@ -12,7 +12,8 @@
 // falls linearly from there, R - s at s from c in every direction. The lattice of the
 // centres is read as a dot screen's is (DistanceDots.h, dotLattice): a point's nearest ring is
 // the one whose centre is nearest, where the rings' strokes stand apart, so the rings' cells
-// are their centres' cells.
+// are their centres' cells. With other layers the union of fine layers lays the rings' screen
+// on them as two discs' difference too (LatticeUnion.h).
 #pragma once
 
 #include "compiler/ir/Builder.h"
@@ -23,9 +24,14 @@ namespace moire::lower {
 // The rings' reading: `trust`, 0 to 1, how far the members read as round rings about the
 // points of one lattice whose strokes stand apart; `mean`, the pixel's mean ink in closed form;
 // `members`, the pixel's side over the square root of a cell's area (cells along a side), by
-// which the caller hands over to the closed form.
+// which the caller hands over to the closed form; the lattice's generators, whole at the
+// centres, with their world gradients (as DotsRead's), by which the union of fine layers lays
+// the rings' screen on another layer; and the radii of the discs within each ring's outer and
+// inner edges (world units; the inner 0 where the stroke leaves none).
 struct RingsRead {
     ir::ValueId trust, mean, members;
+    ir::ValueId u, ux, uy, v, vx, vy;
+    ir::ValueId outer, inner;
 };
 // Read where `wanted` (else 0s). `centre`: the pixel centre's reading; `halfWidth`: the
 // stroke's half-width in the distance's units.

@@ -3,6 +3,7 @@
 #include "compiler/lower/HoneycombInPixel.h"
 #include "compiler/lower/LatticeCrowd.h"
 
+#include <functional>
 #include <map>
 #include <numbers>
 #include <span>
@@ -56,6 +57,23 @@ Row nearestRow(ir::Builder& b, const std::vector<Row>& rows, ValueId gx, ValueId
     return out;
 }
 
+// A screen's member as discs about its point: a dot is its disc; a ring (LatticeShape::inner)
+// is the disc within its outer edge less the disc within its inner one. Every closed form of a
+// screen below (its share, its harmonics, the overlap of its members with another layer's) is
+// linear in the member, so a ring's is the outer disc's less the inner one's: the sum over the
+// discs of f(radius), the inner one's taken away, behind a branch on its radius, so that dots
+// given by their distance (whose screen may be a ring's, its inner radius 0 for dots) pay
+// nothing for it.
+ValueId overDiscs(ir::Builder& b, const CrowdEstimate::LatticeShape& p,
+                  const std::function<ValueId(ValueId)>& f) {
+    const ValueId outer = f(p.radius);
+    if (p.inner == ir::kNoValue) return outer;
+    const ValueId zero = b.constF(0.0);
+    return b.ifThenElse(
+        b.gt(p.inner, zero), [&] { return std::vector<ValueId>{b.sub(outer, f(p.inner))}; },
+        [&] { return std::vector<ValueId>{outer}; })[0];
+}
+
 // A lattice's generators' steps in the world, the columns of the inverse of their gradients
 // (det their determinant): (u, v) advanced by (1, 0) and by (0, 1).
 struct WorldSteps {
@@ -72,8 +90,8 @@ ValueId cellsPerArea(ir::Builder& b, const CrowdEstimate::LatticeShape& p) {
 
 // A screen's share of the plane, its sites' dots over its cell.
 ValueId screenShare(ir::Builder& b, const CrowdEstimate::LatticeShape& p) {
-    ValueId disc =
-        b.mul(b.constF(std::numbers::pi * double(p.sites.size())), b.mul(p.radius, p.radius));
+    const ValueId area = overDiscs(b, p, [&](ValueId r) { return b.mul(r, r); });
+    const ValueId disc = b.mul(b.constF(std::numbers::pi * double(p.sites.size())), area);
     return b.min(b.mul(disc, cellsPerArea(b, p)), b.constF(1.0));
 }
 
@@ -98,7 +116,9 @@ std::vector<ScreenHarmonic> firstHarmonics(ir::Builder& b, const CrowdEstimate::
             ScreenHarmonic h;
             h.kx = b.add(b.mul(c(m1), p.ux), b.mul(c(m2), p.vx));
             h.ky = b.add(b.mul(c(m1), p.uy), b.mul(c(m2), p.vy));
-            h.amplitude = b.mul(dotHarmonic(b, cells, p.radius, h.kx, h.ky), c(sites));
+            const ValueId member =
+                overDiscs(b, p, [&](ValueId r) { return dotHarmonic(b, cells, r, h.kx, h.ky); });
+            h.amplitude = b.mul(member, c(sites));
             h.phase = b.add(b.mul(c(m1), p.u), b.mul(c(m2), p.v));
             out.push_back(h);
         }
@@ -310,7 +330,11 @@ Ink dotCorrelation(ir::Builder& b, const Ink& under, const FineLayer& l1, const 
                     nearest = b.min(nearest, d);
                 }
             for (ValueId d : {nearest, next}) {
-                ValueId lens = lensArea(value(d), value(p1.radius), value(p2.radius)).id;
+                const ValueId lens = overDiscs(b, p1, [&](ValueId r1) {
+                    return overDiscs(b, p2, [&](ValueId r2) {
+                        return lensArea(value(d), value(r1), value(r2)).id;
+                    });
+                });
                 sum = b.add(sum, b.mul(c(pairs), lens));
             }
         }
@@ -390,7 +414,9 @@ Ink dotLineCorrelation(ir::Builder& b, const Ink& under, const FineLayer& l1, co
                 ValueId centre = b.mul(b.wrap(atDot, one), period);
                 for (double n : {-1.0, 0.0, 1.0}) {
                     ValueId at = b.add(centre, b.mul(c(n), period));
-                    sum = b.add(sum, discInStrip(value(at), value(half), value(p.radius)).id);
+                    sum = b.add(sum, overDiscs(b, p, [&](ValueId r) {
+                                    return discInStrip(value(at), value(half), value(r)).id;
+                                }));
                 }
             }
         }
@@ -654,7 +680,8 @@ Ink hexDotCorrelation(ir::Builder& b, const Ink& under, const FineLayer& l1, con
     const ir::BuiltValue &e1x = hexagon.e1x, &e1y = hexagon.e1y;
     const ir::BuiltValue &e2x = hexagon.e2x, &e2y = hexagon.e2y;
     const ValueId cells = b.abs(m.det);
-    const ValueId radius = b.div(b.max(pd.radius, zero), m.rho);
+    // The screen's members at the honeycomb's period: each disc's radius over rho.
+    auto atPeriod = [&](ValueId r) { return b.div(b.max(r, zero), m.rho); };
     // At the pixel's centre (2 x 2 taps read the tests' pairs the same to 1e-4 with four times
     // the loop's work: the beat's change across the pixel is its transfer's), one loop over the
     // three hexagons nearest each dot, so that the kernel writes a disc's sides out once a site
@@ -682,14 +709,19 @@ Ink hexDotCorrelation(ir::Builder& b, const Ink& under, const FineLayer& l1, con
             const ValueId cv = b.select(isU, zero, b.select(isV, one, corner));
             const ir::BuiltValue qu = value(b.sub(su, cu)), qv = value(b.sub(sv, cv));
             const ir::BuiltValue x = qu * e1x + qv * e2x, y = qu * e1y + qv * e2y;
-            sum = b.add(sum, b.abs(discInPolygon(shape, x, y, value(radius)).id));
+            sum = b.add(sum, overDiscs(b, pd, [&](ValueId r) {
+                            return b.abs(discInPolygon(shape, x, y, value(atPeriod(r))).id);
+                        }));
         }
         return std::vector<ValueId>{b.add(v[0], one), sum};
     });
     const ValueId paperDots = b.mul(cells, out[1]);
-    const ValueId dotShare = b.min(
-        b.mul(cells, b.mul(c(std::numbers::pi * double(pd.sites.size())), b.mul(radius, radius))),
-        one);
+    const ValueId area = overDiscs(b, pd, [&](ValueId r) {
+        const ValueId q = atPeriod(r);
+        return b.mul(q, q);
+    });
+    const ValueId dotShare =
+        b.min(b.mul(cells, b.mul(c(std::numbers::pi * double(pd.sites.size())), area)), one);
     const ValueId inkHex = b.sub(one, paperShare);
     const ValueId e = b.sub(dotShare, paperDots); // E[(1 - I_h) D]
     const ValueId held =

@@ -11,7 +11,10 @@
 // product at that offset is then a closed form of the shapes: the overlap of a dot of each
 // (lensArea), a dot's share within the strokes of lines (discInStrip), or the paper that the
 // two lattices' edges both leave, the overlap of their cells shrunk by the strokes
-// (cellArea); sampled over the pixel (LatticeUnion.cpp).
+// (cellArea); sampled over the pixel (LatticeUnion.cpp). A screen whose members are rings
+// (rings given by their distance, LatticeShape::inner) is read as the screen of the discs
+// within their outer edges less that of the discs within their inner edges: every closed form
+// here is linear in the screen's member.
 #pragma once
 
 #include "compiler/ir/BuiltValue.h"

@@ -139,6 +139,12 @@ struct CrowdEstimate {
         std::vector<std::array<int, 2>> shortest;
         ir::ValueId radius; // half the stroke: a dot's radius, an edge's half-width (world)
         ir::ValueId dots;   // a bool: the lattice draws its points, else its edges
+        // Where each point is a ring rather than a dot (rings given by their distance,
+        // DistanceRings.h): the radius of the disc its stroke leaves inside (0 where it leaves
+        // none), the ring being the disc of `radius` less that one. Every closed form of a
+        // screen is linear in its dots, so the union reads a ring as the two discs' difference.
+        // kNoValue: dots.
+        ir::ValueId inner = ir::kNoValue;
         // The paper its edges leave, one cell of the generators' lattice: regions bounded on
         // three directions of lines, m_i . (u, v) <= upper_i and -m_i . (u, v) <= lower_i
         // (either set of bounds absent: unbounded that way), the normals m_i summing to 0
@@ -163,7 +169,8 @@ struct CrowdEstimate {
     // stands for no lines (its trust 0, its gradient too steep for any beat to be slow).
     // Where the members are dots on a lattice (DistanceDots.h), `screen` is that dot
     // screen's shape, its `dots` true where it is read so, which the union of fine layers
-    // correlates as a lattice's dots (LatticeUnion.h).
+    // correlates as a lattice's dots (LatticeUnion.h); where they are rings about a
+    // lattice's points (DistanceRings.h), the rings' screen, its `inner` set.
     struct Runs {
         Footprint footprint;
         ir::ValueId halfWidth = ir::kNoValue;

@@ -118,17 +118,17 @@ std::vector<Scene> filterScenes() {
     // Rings given by their distance about a lattice's points, 0.15 apart (five a pixel), radius
     // 0.045: read as the difference of two dot screens (DistanceRings.h), where the tubes read
     // 34 rays a pixel.
-    out.push_back({"distance rings on a lattice, 0.15", "distance_rings_lattice.moire",
-                   "family rings { distance = abs(hypot(x - spacing * round(x / spacing), y - "
-                   "spacing * round(y / spacing)) - 0.3 * spacing) }\nlayer a { family = rings; "
-                   "spacing = 0.15; stroke = 0.03; rotation = 10deg }\n"});
+    const std::string latticeRings =
+        "family rings { distance = abs(hypot(x - spacing * round(x / spacing), y - spacing * "
+        "round(y / spacing)) - 0.3 * spacing) }\nlayer a { family = rings; spacing = 0.15; "
+        "stroke = 0.03; rotation = 10deg }\n";
+    out.push_back(
+        {"distance rings on a lattice, 0.15", "distance_rings_lattice.moire", latticeRings});
     // The same rings under lines 3 degrees off: the rings' screen laid on the lines in the
     // union of fine layers, as the outer discs' screen less the inner ones' (LatticeUnion.h).
     out.push_back({"distance rings on a lattice with lines", "distance_rings_lines.moire",
-                   "family rings { distance = abs(hypot(x - spacing * round(x / spacing), y - "
-                   "spacing * round(y / spacing)) - 0.3 * spacing) }\nlayer a { family = rings; "
-                   "spacing = 0.15; stroke = 0.03; rotation = 10deg }\nlayer b { family = lines; "
-                   "spacing = 0.15; stroke = 0.04; rotation = 13deg }\n"});
+                   latticeRings + "layer b { family = lines; spacing = 0.15; stroke = 0.04; "
+                                  "rotation = 13deg }\n"});
     // Two rings given by their distance, 0.2 and 0.21 apart about one centre: each crowd's
     // index read from its parts' normals and the centre's ray, and the pair's beat in closed
     // form (DistanceFamily.h, runs; FineUnion.h).

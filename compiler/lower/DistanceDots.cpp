@@ -280,10 +280,27 @@ ScreenOf screenOf(ir::Builder& b, const PixelFootprint& pixel, PixelPoint c0,
     return {in, b.div(pixel.size, b.sqrt(b.max(lattice.area, b.constF(1e-30))))};
 }
 
-DotsRead dotsRead(ir::Builder& b, const DistanceAt& at, const PixelFootprint& pixel,
-                  ValueId halfWidth, const Reading& centre, ValueId wanted) {
+std::vector<ValueId> screenReadValues(ir::Builder& b, ValueId trust, ValueId mean,
+                                      const ScreenOf& screen, ValueId radius, ValueId inner) {
+    Vals out{trust, mean, screen.members};
+    const Vals generators = screen.generators();
+    out.insert(out.end(), generators.begin(), generators.end());
+    out.insert(out.end(), {radius, inner});
+    for (ValueId& x : out) x = b.denan(x, b.constF(0.0));
+    return out;
+}
+
+ScreenRead screenReadOf(std::span<const ValueId> v) {
+    return {v[0], v[1], v[2], v[3], v[4], v[5], v[6], v[7], v[8], v[9], v[10]};
+}
+
+Reading besideCentre(ir::Builder& b, const DistanceAt& at, const PixelFootprint& pixel) {
+    return readThere(b, at, pixel, {b.div(pixel.size, b.constF(64.0)), b.constF(0.0)});
+}
+
+ScreenRead dotsRead(ir::Builder& b, const DistanceAt& at, const PixelFootprint& pixel,
+                    ValueId halfWidth, const Reading& centre, ValueId wanted) {
     const ValueId zero = b.constF(0.0), one = b.constF(1.0);
-    constexpr size_t kValues = 10;
     const Vals read = b.ifThenElse(
         wanted,
         [&] {
@@ -301,8 +318,7 @@ DotsRead dotsRead(ir::Builder& b, const DistanceAt& at, const PixelFootprint& pi
             const PixelPoint c0{b.select(some, read0.u, zero), b.select(some, read0.v, zero)};
             // The distance's gradient length: the centre's, else (a centre on its dot's centre)
             // a reading beside it.
-            const Reading beside =
-                readThere(b, at, pixel, {b.div(pixel.size, b.constF(64.0)), zero});
+            const Reading beside = besideCentre(b, at, pixel);
             const ValueId length =
                 b.max(b.select(some, centre.length, beside.length), b.constF(1e-30));
             const DotShape shape = dotShape(b, at, pixel, c0, n, length, halfWidth);
@@ -322,19 +338,14 @@ DotsRead dotsRead(ir::Builder& b, const DistanceAt& at, const PixelFootprint& pi
                     const DotLattice lattice =
                         dotLattice(b, at, pixel, centreOf, c0, n, start, furthest);
                     const ScreenOf screen = screenOf(b, pixel, c0, lattice);
-                    Vals out{b.select(lattice.ok, gauged, zero), dotScreenMean(b, screen.in, equal),
-                             screen.members};
-                    const Vals generators = screen.generators();
-                    out.insert(out.end(), generators.begin(), generators.end());
-                    out.push_back(equal);
-                    for (ValueId& x : out) x = b.denan(x, zero);
-                    return out;
+                    const ValueId trust = b.select(lattice.ok, gauged, zero);
+                    const ValueId mean = dotScreenMean(b, screen.in, equal);
+                    return screenReadValues(b, trust, mean, screen, equal, zero);
                 },
-                [&] { return Vals(kValues, zero); });
+                [&] { return Vals(kScreenReadValues, zero); });
         },
-        [&] { return Vals(kValues, zero); });
-    return {read[0], read[1], read[2], read[3], read[4],
-            read[5], read[6], read[7], read[8], read[9]};
+        [&] { return Vals(kScreenReadValues, zero); });
+    return screenReadOf(read);
 }
 
 } // namespace moire::lower

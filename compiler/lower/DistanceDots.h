@@ -26,25 +26,30 @@
 #include "compiler/lower/DistanceReading.h"
 #include "compiler/lower/LatticeCrowd.h"
 
+#include <functional>
+#include <span>
 #include <vector>
 
 namespace moire::lower {
 
-// The dots' reading: `trust`, 0 to 1, how far the members read as dots of one lattice whose
-// strokes stand apart; `mean`, the pixel's mean ink in closed form; `members`, the pixel's
-// side over the square root of a cell's area (cells along a side), by which the caller hands
-// over to the closed form; the generators at the pixel's centre, with their gradients per
-// world unit along the world's axes (dots at their whole values); and the radius in world
-// units of the disc of a dot's area (a round dot's own radius).
-struct DotsRead {
+// A screen's reading, the dots' (here) or the rings' (DistanceRings.h): `trust`, 0 to 1, how
+// far the members read as dots (or rings) of one lattice whose strokes stand apart; `mean`,
+// the pixel's mean ink in closed form; `members`, the pixel's side over the square root of a
+// cell's area (cells along a side), by which the caller hands over to the closed form; the
+// generators at the pixel's centre, with their gradients per world unit along the world's axes
+// (the members at their whole values); and a member's discs in world units (the union of fine
+// layers lays the screen so, LatticeShape): for dots `radius` that of the disc of a dot's area
+// (a round dot's own radius) and `inner` 0; for rings the discs within their outer and inner
+// edges.
+struct ScreenRead {
     ir::ValueId trust, mean, members;
     ir::ValueId u, ux, uy, v, vx, vy;
-    ir::ValueId radius;
+    ir::ValueId radius, inner;
 };
-// Read where `wanted` (else 0s). `centre`: the pixel centre's reading; `halfWidth`: the
-// stroke's half-width in the distance's units.
-DotsRead dotsRead(ir::Builder& b, const DistanceAt& at, const PixelFootprint& pixel,
-                  ir::ValueId halfWidth, const Reading& centre, ir::ValueId wanted);
+// The dots' reading, where `wanted` (else 0s). `centre`: the pixel centre's reading;
+// `halfWidth`: the stroke's half-width in the distance's units.
+ScreenRead dotsRead(ir::Builder& b, const DistanceAt& at, const PixelFootprint& pixel,
+                    ir::ValueId halfWidth, const Reading& centre, ir::ValueId wanted);
 
 // The furthest edge, in pixels, of a screen's member from its centre where the screen is read
 // in closed form: members two a pixel (where the closed form begins to take over) stand half a
@@ -75,13 +80,26 @@ DotLattice dotLattice(ir::Builder& b, const DistanceAt& at, const PixelFootprint
 struct ScreenOf {
     LatticeCrowdInputs in;
     ir::ValueId members;
-    // The generators and their world gradients, in the order DotsRead and RingsRead give them:
-    // u, du/dx, du/dy, v, dv/dx, dv/dy.
+    // The generators and their world gradients, in ScreenRead's order: u, du/dx, du/dy, v,
+    // dv/dx, dv/dy.
     std::vector<ir::ValueId> generators() const {
         return {in.genU, in.genUX, in.genUY, in.genV, in.genVX, in.genVY};
     }
 };
 ScreenOf screenOf(ir::Builder& b, const PixelFootprint& pixel, PixelPoint c0,
                   const DotLattice& lattice);
+
+// A ScreenRead as the values a branch carries (kScreenReadValues of them, NaN held to 0), and
+// back.
+constexpr size_t kScreenReadValues = 11;
+std::vector<ir::ValueId> screenReadValues(ir::Builder& b, ir::ValueId trust, ir::ValueId mean,
+                                          const ScreenOf& screen, ir::ValueId radius,
+                                          ir::ValueId inner);
+ScreenRead screenReadOf(std::span<const ir::ValueId> values);
+
+// The distance's reading a 64th of a pixel beside the pixel's centre, along its first side:
+// where the centre stands on its member's centre to the last bit, it has no gradient, and the
+// gradient's length is read there.
+Reading besideCentre(ir::Builder& b, const DistanceAt& at, const PixelFootprint& pixel);
 
 } // namespace moire::lower

@@ -670,8 +670,8 @@ CrowdEstimate distanceFamilyCrowd(ir::Builder& b, ValueId distance, const Distan
             // grid's lines do, but a grid is no screen of dots (along its lines its distance
             // does not grow).
             const ValueId one = b.constF(1.0);
-            const DotsRead dots = dotsRead(b, at, pixel, halfWidth, centre,
-                                           b.emit(Op::And, {b.lt(trust, one), near}));
+            const ScreenRead dots = dotsRead(b, at, pixel, halfWidth, centre,
+                                             b.emit(Op::And, {b.lt(trust, one), near}));
             // Where the members run two ways (a grid's lines) rather than one, each way's
             // index and the pair's mean in closed form (DistanceGrid.h), read where neither
             // the index the members run by nor the dots are wholly trusted. The closed forms
@@ -688,8 +688,8 @@ CrowdEstimate distanceFamilyCrowd(ir::Builder& b, ValueId distance, const Distan
             // pixels a fifth more): two dot screens' difference in closed form, by which the
             // union lays them on other layers too (LatticeShape::inner).
             const ValueId othersTrust = b.add(pointsTrust, gridWeight);
-            const RingsRead rings = ringsRead(b, at, pixel, halfWidth, centre,
-                                              b.emit(Op::And, {b.lt(othersTrust, one), near}));
+            const ScreenRead rings = ringsRead(b, at, pixel, halfWidth, centre,
+                                               b.emit(Op::And, {b.lt(othersTrust, one), near}));
             const ValueId ringsWeight = b.mul(b.sub(one, othersTrust), rings.trust);
             const ValueId closedTrust = b.add(othersTrust, ringsWeight);
             auto closedHandOver = [&](ValueId members) {
@@ -752,7 +752,7 @@ CrowdEstimate distanceFamilyCrowd(ir::Builder& b, ValueId distance, const Distan
                        {b.max(dotsWeight, ringsWeight), pick(rings.u, dots.u),
                         pick(rings.ux, dots.ux), pick(rings.uy, dots.uy), pick(rings.v, dots.v),
                         pick(rings.vx, dots.vx), pick(rings.vy, dots.vy),
-                        pick(rings.outer, dots.radius), pick(rings.inner, b.constF(0.0))});
+                        pick(rings.radius, dots.radius), pick(rings.inner, dots.inner)});
             return out;
         },
         // Not parted, the centre's gradient does not vanish: it stands for itself.

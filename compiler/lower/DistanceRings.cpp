@@ -167,10 +167,9 @@ CentreRing centreRing(ir::Builder& b, const DistanceAt& at, const PixelFootprint
 
 } // namespace
 
-RingsRead ringsRead(ir::Builder& b, const DistanceAt& at, const PixelFootprint& pixel,
-                    ValueId halfWidth, const Reading& centre, ValueId wanted) {
+ScreenRead ringsRead(ir::Builder& b, const DistanceAt& at, const PixelFootprint& pixel,
+                     ValueId halfWidth, const Reading& centre, ValueId wanted) {
     const ValueId zero = b.constF(0.0), one = b.constF(1.0);
-    constexpr size_t kValues = 11;
     const Vals read = b.ifThenElse(
         wanted,
         [&] {
@@ -194,9 +193,8 @@ RingsRead ringsRead(ir::Builder& b, const DistanceAt& at, const PixelFootprint& 
                                 r.off};
                 },
                 [&] {
-                    const ValueId length = b.max(
-                        readThere(b, at, pixel, {b.div(pixel.size, b.constF(64.0)), zero}).length,
-                        b.constF(1e-30));
+                    const ValueId length =
+                        b.max(besideCentre(b, at, pixel).length, b.constF(1e-30));
                     return Vals{zero, zero, one, zero, b.div(centre.d, length), length, zero};
                 });
             const PixelPoint c0{ring[0], ring[1]};
@@ -243,19 +241,14 @@ RingsRead ringsRead(ir::Builder& b, const DistanceAt& at, const PixelFootprint& 
                     const ValueId inner = b.max(b.sub(radius, h), zero);
                     const ValueId innerMean =
                         b.select(b.gt(inner, zero), dotScreenMean(b, screen.in, inner), zero);
-                    Vals out{b.select(lattice.ok, b.mul(round, same), zero),
-                             b.sub(dotScreenMean(b, screen.in, outer), innerMean), screen.members};
-                    const Vals generators = screen.generators();
-                    out.insert(out.end(), generators.begin(), generators.end());
-                    out.insert(out.end(), {outer, inner});
-                    for (ValueId& x : out) x = b.denan(x, zero);
-                    return out;
+                    const ValueId trust = b.select(lattice.ok, b.mul(round, same), zero);
+                    const ValueId mean = b.sub(dotScreenMean(b, screen.in, outer), innerMean);
+                    return screenReadValues(b, trust, mean, screen, outer, inner);
                 },
-                [&] { return Vals(kValues, zero); });
+                [&] { return Vals(kScreenReadValues, zero); });
         },
-        [&] { return Vals(kValues, zero); });
-    return {read[0], read[1], read[2], read[3], read[4], read[5],
-            read[6], read[7], read[8], read[9], read[10]};
+        [&] { return Vals(kScreenReadValues, zero); });
+    return screenReadOf(read);
 }
 
 } // namespace moire::lower

@@ -17,25 +17,17 @@
 #pragma once
 
 #include "compiler/ir/Builder.h"
+#include "compiler/lower/DistanceDots.h"
 #include "compiler/lower/DistanceReading.h"
 
 namespace moire::lower {
 
-// The rings' reading: `trust`, 0 to 1, how far the members read as round rings about the
-// points of one lattice whose strokes stand apart; `mean`, the pixel's mean ink in closed form;
-// `members`, the pixel's side over the square root of a cell's area (cells along a side), by
-// which the caller hands over to the closed form; the lattice's generators, whole at the
-// centres, with their world gradients (as DotsRead's), by which the union of fine layers lays
-// the rings' screen on another layer; and the radii of the discs within each ring's outer and
-// inner edges (world units; the inner 0 where the stroke leaves none).
-struct RingsRead {
-    ir::ValueId trust, mean, members;
-    ir::ValueId u, ux, uy, v, vx, vy;
-    ir::ValueId outer, inner;
-};
-// Read where `wanted` (else 0s). `centre`: the pixel centre's reading; `halfWidth`: the
-// stroke's half-width in the distance's units.
-RingsRead ringsRead(ir::Builder& b, const DistanceAt& at, const PixelFootprint& pixel,
-                    ir::ValueId halfWidth, const Reading& centre, ir::ValueId wanted);
+// The rings' reading (ScreenRead, DistanceDots.h), where `wanted` (else 0s): `trust` how far
+// the members read as round rings about the points of one lattice whose strokes stand apart,
+// `radius` and `inner` the radii of the discs within each ring's outer and inner edges (world
+// units; the inner 0 where the stroke leaves none). `centre`: the pixel centre's reading;
+// `halfWidth`: the stroke's half-width in the distance's units.
+ScreenRead ringsRead(ir::Builder& b, const DistanceAt& at, const PixelFootprint& pixel,
+                     ir::ValueId halfWidth, const Reading& centre, ir::ValueId wanted);
 
 } // namespace moire::lower

@@ -107,6 +107,14 @@ std::vector<Scene> filterScenes() {
                    "spacing * round(y / spacing))) }\nlayer a { family = grid; spacing = 0.2; "
                    "stroke = 0.04; rotation = 10deg }\nlayer b { family = lines; spacing = 0.2; "
                    "stroke = 0.05; rotation = 13deg }\n"});
+    // Lines three ways given by their distance, 0.15 apart (the triangle lattice's lines),
+    // read in closed form with the three's excess over independent inks (DistanceGrid.h).
+    out.push_back({"distance lines three ways, 0.15", "distance_three_ways.moire",
+                   "family tri {\n let v = 0.5 * x + 0.8660254037844386 * y\n let w = 0.5 * x - "
+                   "0.8660254037844386 * y\n distance = min(abs(x - spacing * round(x / "
+                   "spacing)), min(abs(v - spacing * round(v / spacing)), abs(w - spacing * "
+                   "round(w / spacing))))\n}\nlayer a { family = tri; spacing = 0.15; stroke = "
+                   "0.03; rotation = 10deg }\n"});
     // Dots given by their distance under a phase family's lines turned 3 degrees off their
     // rows, both 0.2 apart: the screen read by its lattice beats with the lines as a
     // lattice's dots do (LatticeUnion.h, dotLineCorrelation).

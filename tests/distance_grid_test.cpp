@@ -97,3 +97,74 @@ TEST_CASE("distance grid: a crowded grid's mean against the box filter of its ex
         CHECK(std::abs(e.ink - g.share()) <= 0.01 * g.share());
     }
 }
+
+namespace {
+
+// Lines along three directions whose normals stand 60 degrees apart from `a` on, each
+// family `spacing[k]` apart and moved `offset[k]` of a spacing along its normal: the triangle
+// lattice's lines where no family is moved (every third line through each crossing of the
+// other two), a trihexagonal pattern where one is moved half a spacing.
+struct ThreeWays {
+    double spacing[3], offset[3], a, stroke, zoom;
+    double rmse;
+    double normal(int k) const { return a + k * M_PI / 3.0; }
+    std::string scene() const {
+        std::string d;
+        char buf[512];
+        for (int k = 0; k < 3; ++k) {
+            std::snprintf(buf, sizeof buf, " let u%d = x * %.17g + y * %.17g - %.17g\n", k,
+                          std::cos(normal(k)), std::sin(normal(k)), offset[k] * spacing[k]);
+            d += buf;
+        }
+        auto term = [&](int k) {
+            std::snprintf(buf, sizeof buf, "abs(u%d - %.17g * round(u%d / %.17g))", k, spacing[k],
+                          k, spacing[k]);
+            return std::string(buf);
+        };
+        const std::string t0 = term(0), t1 = term(1), t2 = term(2);
+        std::snprintf(buf, sizeof buf, "scene { size = (%d, %d) }\ncamera { zoom = %.17g }\n", kW,
+                      kH, zoom);
+        return std::string(buf) + "family lines3 {\n" + d + " distance = min(" + t0 + ", min(" +
+               t1 + ", " + t2 +
+               "))\n}\nlayer a { family = lines3; stroke = " + std::to_string(stroke) + " }\n";
+    }
+    bool inked(double x, double y) const {
+        for (int k = 0; k < 3; ++k) {
+            const double u =
+                x * std::cos(normal(k)) + y * std::sin(normal(k)) - offset[k] * spacing[k];
+            if (std::abs(u - spacing[k] * std::round(u / spacing[k])) < 0.5 * stroke) return true;
+        }
+        return false;
+    }
+};
+
+} // namespace
+
+TEST_CASE("distance grid: three ways of lines crowding against the box filter of their exact "
+          "field") {
+    auto backend = test::makeBackendOrSkip("jit");
+    if (!backend) backend = test::makeBackendOrSkip("interp");
+    REQUIRE(backend);
+    const ThreeWays kCases[] = {
+        {{1, 1, 1}, {0, 0, 0}, 10 * kDeg, 0.2, 1.0 / 6, 0.02},
+        {{1, 1, 1}, {0, 0, 0.5}, 10 * kDeg, 0.2, 1.0 / 6, 0.02},
+        {{1, 1, 1.02}, {0, 0, 0}, 10 * kDeg, 0.2, 1.0 / 6, 0.02},
+        {{1, 1, 1}, {0, 0, 0}, 10 * kDeg, 0.2, 0.3, 0.02},
+        {{1, 1, 1}, {0, 0, 0}, 10 * kDeg, 0.2, 0.05, 0.02},
+    };
+    for (const ThreeWays& g : kCases) {
+        const std::string text = g.scene();
+        CAPTURE(text);
+        auto drawn = test::compileOk(text);
+        const Image img = test::renderScene(*drawn, *backend);
+        REQUIRE(img.width == kW);
+        const std::vector<double> want = test::boxReference(
+            kW, kH, g.zoom, [&](double x, double y) { return g.inked(x, y); },
+            test::kFibonacci10946);
+        const test::InkError e = test::inkError(img, want);
+        if (std::getenv("MOIRE_FILTER_REPORT"))
+            MESSAGE("RMSE ", e.rmse, " ink ", e.ink, " brute force ", e.exact);
+        CHECK(e.rmse <= g.rmse);
+        CHECK(std::abs(e.ink - e.exact) <= 0.01 * e.exact);
+    }
+}

@@ -79,6 +79,12 @@ TEST_CASE("filter: a turned camera turns the pixel's footprint with it") {
     CHECK(other.fractionWithin() < 0.9);
 }
 
+// Lines three ways given by their distance: the triangle lattice's lines, `spacing` apart.
+const std::string kDistanceThreeWays =
+    "family tri {\n let v = 0.5 * x + 0.8660254037844386 * y\n let w = 0.5 * x - "
+    "0.8660254037844386 * y\n distance = min(abs(x - spacing * round(x / spacing)), "
+    "min(abs(v - spacing * round(v / spacing)), abs(w - spacing * round(w / spacing))))\n}\n";
+
 TEST_CASE("filter: the JIT and the GPU draw the mean the interpreter draws") {
     auto interp = test::makeBackendOrSkip("interp");
     REQUIRE(interp);
@@ -242,6 +248,17 @@ TEST_CASE("filter: the JIT and the GPU draw the mean the interpreter draws") {
     holdToInterpreter(*test::compileOk(rings), [](const SceneProgram& program, Backend& backend) {
         return test::renderWindow(program, backend, 800, 560, 80, 60);
     });
+    // Lines three ways given by their distance, four a pixel each way, read in closed form
+    // with their excess over independent inks (DistanceGrid.h), beating with lines 3 degrees
+    // off one of their ways (a third strand in the union of fine layers).
+    const std::string threeWays =
+        kDistanceThreeWays +
+        "layer a { family = tri; spacing = 0.25; stroke = 0.04; rotation = 10deg }\n"
+        "layer b { family = lines; spacing = 0.25; stroke = 0.06; rotation = 13deg }\n";
+    holdToInterpreter(*test::compileOk(threeWays),
+                      [](const SceneProgram& program, Backend& backend) {
+                          return test::renderWindow(program, backend, 800, 560, 80, 60);
+                      });
 }
 
 TEST_CASE("filter: --filter on render, and a bad value named") {
@@ -1200,7 +1217,8 @@ TEST_CASE("filter: two families given by their distance show their beat where th
         "family waves {\n let f = y - 3 * sin(x / 5)\n distance = abs(f - spacing * round(f / "
         "spacing))\n}\n"
         "family rings_on {\n let dx = x - spacing * round(x / spacing)\n let dy = y - spacing * "
-        "round(y / spacing)\n distance = abs(hypot(dx, dy) - 0.25 * spacing)\n}\n";
+        "round(y / spacing)\n distance = abs(hypot(dx, dy) - 0.25 * spacing)\n}\n" +
+        kDistanceThreeWays;
     const std::pair<const char*, const char*> kPairs[] = {
         {"layer a { family = rings; spacing = 0.2; stroke = 0.05; origin = (30, 10) }\n",
          "layer b { family = rings; spacing = 0.21; stroke = 0.06; origin = (30, 10) }\n"},
@@ -1236,6 +1254,10 @@ TEST_CASE("filter: two families given by their distance show their beat where th
          "layer b { family = rings_on; spacing = 0.2; stroke = 0.05; rotation = 13deg }\n"},
         {"layer a { family = rings_on; spacing = 0.2; stroke = 0.05; rotation = 10deg }\n",
          "layer b { family = dots; spacing = 0.2; stroke = 0.1; rotation = 13deg }\n"},
+        // Lines three ways (DistanceGrid.h) with lines 3 degrees off one way: 0.0077 against
+        // a spread of 0.034, the three ways' third strand paired with the lines.
+        {"layer a { family = tri; spacing = 0.2; stroke = 0.04; rotation = 10deg }\n",
+         "layer b { family = lines; spacing = 0.2; stroke = 0.06; rotation = 13deg }\n"},
     };
     for (const auto& [first, second] : kPairs)
         checkPairAgainstExact(first, second, *backend, families, 64);

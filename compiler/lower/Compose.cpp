@@ -93,11 +93,13 @@ void Compose::layer(const LayerInk& ink) {
             l.sweep.gradY = runs.footprint.gradY;
             l.footprint = runs.footprint;
             l.byDistance = true;
-            // One strand where the members run one way (the layer's ink); a grid's two ways,
-            // each with its own mean, where they run two (FineUnion.cpp reads them then).
+            // One strand where the members run one way (the layer's ink); a grid's two or
+            // three ways, each with its own mean (0 for a third that stands for no lines),
+            // where they run two or three (FineUnion.cpp reads them then).
             const ValueId grid = b_.gt(runs.twoWays, zero_);
             l.strands.push_back({runs.footprint, b_.select(grid, runs.means[0], stroke)});
             l.strands.push_back({runs.second, b_.select(grid, runs.means[1], zero_)});
+            l.strands.push_back({runs.third, b_.select(grid, runs.means[2], zero_)});
             l.twoWays = runs.twoWays;
             l.shape = runs.screen;
         } else {

@@ -422,12 +422,12 @@ ValueId finePartsMean(ir::Builder& b, const DistanceAt& at, ValueId h, const Pix
 // `axis`: the direction they run along, as a unit normal along the pixel's sides (its sense
 // unknown): the half angle of that mean.
 // `cos2`, `sin2`, `directed`: the sums of those doubled angles and how many there are, and
-// `twoWays` the parts' two directions as a grid's lines run (DistanceGrid.h).
+// `ways` the parts' directions as a grid's lines run (DistanceGrid.h).
 struct Parts {
     ValueId mean, bent, near, crossed, coherence;
     Normal axis;
     ValueId cos2, sin2, directed;
-    std::vector<ValueId> twoWays;
+    std::vector<ValueId> ways;
 };
 Parts partsMean(ir::Builder& b, const DistanceAt& at, ValueId h, const PixelFootprint& pixel,
                 const Reading& centre, int n) {
@@ -438,8 +438,8 @@ Parts partsMean(ir::Builder& b, const DistanceAt& at, ValueId h, const PixelFoot
     // two readings (boundedBy), and the row below's readings, four values a square.
     const ValueId most =
         b.mul(b.div(pixel.size, b.constF(kDistanceFineTaps)), b.constF(kTubeReach));
-    const TwoDirections ways(b, centre);
-    constexpr size_t kWaysAt = 8, kRowAt = kWaysAt + TwoDirections::kCarried;
+    const PartDirections ways(b, centre);
+    constexpr size_t kWaysAt = 8, kRowAt = kWaysAt + PartDirections::kCarried;
     std::vector<ValueId> init(kRowAt + 4 * n, b.constF(0.0));
     const std::vector<ValueId> waysStart = ways.start();
     std::copy(waysStart.begin(), waysStart.end(), init.begin() + kWaysAt);
@@ -451,7 +451,7 @@ Parts partsMean(ir::Builder& b, const DistanceAt& at, ValueId h, const PixelFoot
         ValueId sum = v[1];
         ValueId near = v[3];
         ValueId cos2 = v[4], sin2 = v[5], directed = v[6];
-        std::vector<ValueId> twoWays(v.begin() + kWaysAt, v.begin() + kRowAt);
+        std::vector<ValueId> partWays(v.begin() + kWaysAt, v.begin() + kRowAt);
         const ValueId rowAt = b.mul(place(b, v[0], n), pixel.size);
         for (int i = 0; i < n; ++i) {
             const Reading& r = row[i];
@@ -466,7 +466,7 @@ Parts partsMean(ir::Builder& b, const DistanceAt& at, ValueId h, const PixelFoot
             sin2 = b.add(sin2, b.select(some, s2, b.constF(0.0)));
             directed = b.add(directed, b.select(some, b.constF(1.0), b.constF(0.0)));
             const PixelPoint at{b.mul(place(b, b.constF(i), n), pixel.size), rowAt};
-            twoWays = ways.add(twoWays, away, c, s2, some, at);
+            partWays = ways.add(partWays, away, c, s2, some, at);
         }
         std::vector<ValueId> flags;
         ValueId bounded = v[7];
@@ -495,7 +495,7 @@ Parts partsMean(ir::Builder& b, const DistanceAt& at, ValueId h, const PixelFoot
         count = b.select(b.gt(v[0], b.constF(0.0)), pairsIn(count, flags), count);
         std::vector<ValueId> next{
             b.add(v[0], b.constF(1.0)), sum, count, near, cos2, sin2, directed, bounded};
-        next.insert(next.end(), twoWays.begin(), twoWays.end());
+        next.insert(next.end(), partWays.begin(), partWays.end());
         carry(next, row);
         return next;
     });
@@ -535,14 +535,15 @@ Parts partsMean(ir::Builder& b, const DistanceAt& at, ValueId h, const PixelFoot
 // probe's place.
 constexpr size_t kRunsRead = 10;
 // The grid's values distanceFamilyCrowd carries out of its branches: its trust, half-width,
-// and each way's index, gradient (length and components) and mean.
-constexpr size_t kGridValues = 12;
+// whether it runs three ways, and each of its three ways' index, gradient (length and
+// components) and mean.
+constexpr size_t kGridValues = 18;
 // The screen's values distanceFamilyCrowd carries out of its branches, the dots' or the
 // rings': how far it is weighed, its generators with their gradients, and its members' outer
 // and inner radii (the inner 0 for dots).
 constexpr size_t kScreenValues = 9;
-// The gradient (per world unit) of a second strand that stands for no lines: a beat with it
-// is never the slowest (FineUnion.cpp, strandCorrelation).
+// The gradient (per world unit) of a second or third strand that stands for no lines: a beat with
+// it is never the slowest (FineUnion.cpp, strandCorrelation).
 constexpr double kNoWay = 1e6;
 Vals runsRead(ir::Builder& b, const DistanceAt& at, const Reading& centre, Normal axis,
               ValueId halfWidth, const PixelFootprint& pixel, ValueId trust) {
@@ -680,7 +681,7 @@ CrowdEstimate distanceFamilyCrowd(ir::Builder& b, ValueId distance, const Distan
             const ValueId dotsWeight = b.mul(b.sub(one, trust), dots.trust);
             const ValueId pointsTrust = b.add(trust, dotsWeight);
             const GridRead grid =
-                gridRead(b, at, pixel, halfWidth, coarse.twoWays, coarse.cos2, coarse.sin2,
+                gridRead(b, at, pixel, halfWidth, coarse.ways, coarse.cos2, coarse.sin2,
                          coarse.directed, b.lt(pointsTrust, one), crossing);
             const ValueId gridWeight = b.mul(b.sub(one, pointsTrust), grid.trust);
             // Where the members are rings about a lattice's points (DistanceRings.h), read
@@ -740,7 +741,7 @@ CrowdEstimate distanceFamilyCrowd(ir::Builder& b, ValueId distance, const Distan
                 })[0]};
             out.push_back(trust);
             out.insert(out.end(), runs.begin(), runs.end());
-            out.insert(out.end(), {grid.trust, grid.halfWidth});
+            out.insert(out.end(), {grid.trust, grid.halfWidth, grid.threeWays});
             for (const GridRead::Way& w : grid.ways)
                 out.insert(out.end(), {w.index, w.grad, w.gradX, w.gradY, w.mean});
             // The screen the union of fine layers reads: the rings' where they are weighed
@@ -763,12 +764,14 @@ CrowdEstimate distanceFamilyCrowd(ir::Builder& b, ValueId distance, const Distan
         });
     out.nearest = read[0];
     const ValueId trust = read[1];
-    // Where the grid's two ways are trusted over the parallel members' one, its first way's
-    // index stands for the layer's, and its second is the layer's second strand.
+    // Where the grid's two or three ways are trusted over the parallel members' one, its first
+    // way's index stands for the layer's, and its second and third are the layer's second and
+    // third strands.
     const size_t g = 2 + kRunsRead;
     const ValueId twoWays = read[g];
     const ValueId grid = b.gt(twoWays, trust);
-    auto way = [&](size_t w, size_t k) { return read[g + 2 + 5 * w + k]; };
+    const ValueId three = b.emit(Op::And, {grid, b.gt(read[g + 2], b.constF(0.5))});
+    auto way = [&](size_t w, size_t k) { return read[g + 3 + 5 * w + k]; };
     CrowdEstimate::Runs runs;
     runs.footprint.index = b.select(grid, way(0, 0), read[2]);
     runs.footprint.grad = b.select(grid, way(0, 1), read[3]);
@@ -782,8 +785,13 @@ CrowdEstimate distanceFamilyCrowd(ir::Builder& b, ValueId distance, const Distan
     runs.second.gradX = b.select(grid, way(1, 2), steep);
     runs.second.gradY = b.select(grid, way(1, 3), steep);
     runs.second.trust = b.select(grid, twoWays, b.constF(0.0));
+    runs.third.index = way(2, 0);
+    runs.third.grad = b.select(three, way(2, 1), steep);
+    runs.third.gradX = b.select(three, way(2, 2), steep);
+    runs.third.gradY = b.select(three, way(2, 3), steep);
+    runs.third.trust = b.select(three, twoWays, b.constF(0.0));
     runs.twoWays = b.select(grid, twoWays, b.constF(0.0));
-    runs.means = {way(0, 4), way(1, 4)};
+    runs.means = {way(0, 4), way(1, 4), way(2, 4)};
     // Where the members are read as a screen of dots or rings, that screen's shape, one member
     // at each whole (u, v): its shortest rows are among (1, 0), (0, 1) and the two diagonals
     // (the basis is reduced), and the union matches another layer's rows with the nearest.

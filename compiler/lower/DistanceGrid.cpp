@@ -3,6 +3,8 @@
 #include "compiler/ir/BuiltValue.h"
 #include "compiler/lower/Prefilter.h"
 
+#include <functional>
+
 namespace moire::lower {
 
 using ir::Op;
@@ -15,6 +17,11 @@ namespace {
 // grid is trusted, by a smoothstep: as for parallel members (DistanceFamily.cpp, kRunsFrom), and
 // dots, whose normals run every way, stand near 1/2.
 constexpr double kTwoWaysFrom = 0.9, kTwoWaysFull = 0.95;
+// Three ways rather than two where the left's and the right's mean directions stand more than
+// 45 degrees apart (their doubled angles' cosine under 0), by a smoothstep over the cosine:
+// a grid whose lines cross square has its second family's parts at the first's opposite,
+// split between left and right as they fall, and both halves run the same way.
+constexpr double kApartFrom = 0.2, kApartFull = -0.2;
 // The least share of the parts each family must hold, by a smoothstep: one part of the 16
 // (the parts alias with a grid at zooms where they stand nearly a whole number of lines
 // apart, and may read its second family once). A part off the rest by a kink or a bend is
@@ -29,18 +36,34 @@ constexpr double kShareFrom = 0.03, kShareFull = 0.06;
 // pixel).
 constexpr int kProbes = 8;
 constexpr double kProbeReach = 0.75;
+// Where the lines run three ways the third family's lines cross the probes' path, and near the
+// next line the own family is nearest over a window only half the other's distance to either
+// side (at least t / 2): the probes stand 0.75 t, then every 0.75 t, up to kProbesThree.
+constexpr int kProbesThree = 24;
 // Where the two families' lines cross at under about 12 degrees, the probes' path runs nearly
 // along the own family's lines: not read.
 constexpr double kLeastCrossing = 0.2;
 // A probe reads its family's line where its normal is within about 18 degrees of the start's.
 constexpr double kParallel = 0.95;
+// A probe reads a third family's line where its normal is more than about 30 degrees from both
+// the start's and the other family's.
+constexpr double kThirdWay = 0.866;
 
 // A family of lines does not bend: probes beside the start read the same line with a normal
 // turned by under about 2.5 degrees (straightAt).
 constexpr double kStraight = 0.999;
 
-// The values the grid's branch returns: trust, mean, members, half-width, and five a way.
-constexpr size_t kGridRead = 14;
+// Whether a normal m crosses n by more than about 30 degrees (kThirdWay).
+ValueId crosses(ir::Builder& b, Normal n, Normal m) {
+    return b.lt(b.abs(b.add(b.mul(n.u, m.u), b.mul(n.v, m.v))), b.constF(kThirdWay));
+}
+
+// Two families read crossing at 45 to 75 degrees (the cosine of the angle between their
+// normals) may be two of three: their pixel looks for a third.
+constexpr double kAslantFrom = 0.25, kAslantTo = 0.71;
+// The values the grid's branch returns: trust, mean, members, half-width, three ways, and five
+// a way.
+constexpr size_t kGridRead = 20;
 
 // The points crossingSeen reads, the first of an R2 sequence: a lattice of them (a rank-1
 // lattice of 8, 1/8 of a pixel apart across) read the same few places of a grid's cells at 20
@@ -48,30 +71,60 @@ constexpr size_t kGridRead = 14;
 // a sequence has no rows to alias with any grid.
 constexpr int kCrossingLooks = 8;
 
-// Carried: how many parts are the other family's and the sums of their doubled angles, and
-// each family's part furthest from its line: its distance and place.
+// Carried: how many parts are another family's than the first and the sums of their doubled
+// angles, the same for those turned to the first's left, and the first's, the left's and the
+// right's parts furthest from their lines: each one's distance and place.
 enum Slot : size_t {
     kOthers,
     kCos,
     kSin,
+    kLeft,
+    kLeftCos,
+    kLeftSin,
     kFirstAway,
     kFirstU,
     kFirstV,
-    kOtherAway,
-    kOtherU,
-    kOtherV
+    kLeftAway,
+    kLeftU,
+    kLeftV,
+    kRightAway,
+    kRightU,
+    kRightV
 };
+static_assert(kRightV + 1 == PartDirections::kCarried);
 
 // A family's spacing along the normal of the reading r at p, probed along the lines of the
 // other family (its unit normal `other`): whether it was found, the spacing L, and the
 // family's index at the pixel's centre (the centre's offset from the line through r's foot,
 // along the normal, over L).
+// Where a probe read a line crossing both the family's and the other's by more than about 30
+// degrees (kThirdWay): a third family's, which the parts missed, and the first such probe's
+// place.
 struct Spacing {
     ValueId found, spacing, index;
     Normal n;
+    ValueId thirdSeen;
+    PixelPoint thirdAt;
 };
+// The probes' layout: the first `first` strides along the normal, then every `gap` strides,
+// `count` of them; two ways' or three ways' (`three`). A stride is t, or where the lines run
+// three ways, the start's distance from the other family's line where that is further (the
+// window about the next line is at least that wide: a start by its own line, t small, would
+// otherwise take more probes than it has).
+struct Probes {
+    ValueId first, gap, count, three;
+};
+Probes probesFor(ir::Builder& b, ValueId three) {
+    auto pick = [&](double threeWays, double twoWays) {
+        return b.select(three, b.constF(threeWays), b.constF(twoWays));
+    };
+    return {pick(0.75, 1.75), pick(0.75, 1.5), pick(kProbesThree, kProbes), three};
+}
+// `otherDistance`: the start's distance from the other family's nearest line (0 where not
+// known).
 Spacing spacingAlong(ir::Builder& b, const DistanceAt& at, const PixelFootprint& pixel,
-                     const Reading& r, PixelPoint p, Normal other) {
+                     const Reading& r, PixelPoint p, Normal other, ValueId otherDistance,
+                     const Probes& probes) {
     const ValueId zero = b.constF(0.0), one = b.constF(1.0);
     const Normal n = unitNormal(b, r);
     const ValueId t = b.div(r.d, heldLength(b, r));
@@ -86,15 +139,17 @@ Spacing spacingAlong(ir::Builder& b, const DistanceAt& at, const PixelFootprint&
     const ValueId step = b.max(t, b.mul(pixel.size, b.constF(1e-3)));
     const ValueId reach = b.mul(pixel.size, b.constF(kProbeReach));
     // Probe k stands this far along n from f.
+    const ValueId stride = b.select(probes.three, b.max(step, otherDistance), step);
     auto probe = [&](ValueId k) {
-        return b.mul(step, b.add(b.constF(1.75), b.mul(k, b.constF(1.5))));
+        return b.mul(stride, b.add(probes.first, b.mul(k, probes.gap)));
     };
-    // Carried: the probe, whether the next line was read, its distance from f along n.
-    std::vector<ValueId> init{zero, zero, zero};
+    // Carried: the probe, whether the next line was read, its distance from f along n, and
+    // whether a third family's line was read, with the first such probe's place.
+    std::vector<ValueId> init{zero, zero, zero, zero, zero, zero};
     auto more = [&](std::span<const ValueId> v) {
-        return std::vector<ValueId>{b.emit(
-            Op::And, {b.emit(Op::And, {b.lt(v[0], b.constF(kProbes)), b.lt(v[1], b.constF(0.5))}),
-                      b.le(probe(v[0]), reach)})};
+        return std::vector<ValueId>{
+            b.emit(Op::And, {b.emit(Op::And, {b.lt(v[0], probes.count), b.lt(v[1], b.constF(0.5))}),
+                             b.le(probe(v[0]), reach)})};
     };
     std::vector<ValueId> out = b.loop(init, more, [&](std::span<const ValueId> v) {
         const ValueId s = b.div(probe(v[0]), b.max(rate, b.constF(kLeastCrossing)));
@@ -109,15 +164,20 @@ Spacing spacingAlong(ir::Builder& b, const DistanceAt& at, const PixelFootprint&
         // probe on a kink) compares false.
         const ValueId hit = b.emit(
             Op::And, {b.emit(Op::And, {parallel, b.gt(there.length, zero)}), b.gt(along, step)});
-        return std::vector<ValueId>{b.add(v[0], one), b.select(hit, one, zero),
-                                    b.select(hit, along, v[2])};
+        const ValueId third = b.emit(
+            Op::And, {b.emit(Op::And, {crosses(b, n, m), crosses(b, other, m)}),
+                      b.emit(Op::And, {b.gt(there.length, zero), b.lt(v[3], b.constF(0.5))})});
+        return std::vector<ValueId>{b.add(v[0], one),           b.select(hit, one, zero),
+                                    b.select(hit, along, v[2]), b.select(third, one, v[3]),
+                                    b.select(third, q.u, v[4]), b.select(third, q.v, v[5])};
     });
     const ValueId spacing = b.max(out[2], b.mul(pixel.size, b.constF(1e-4)));
     // The centre (0, 0) stands -f . n from the line through f.
     const ValueId offset = offsetAlong(b, f, {b.constF(0.0), b.constF(0.0)}, n);
     const ValueId found =
         b.emit(Op::And, {b.gt(out[1], b.constF(0.5)), b.gt(rate, b.constF(kLeastCrossing))});
-    return {found, spacing, b.div(offset, spacing), n};
+    return {found,           spacing, b.div(offset, spacing), n, b.gt(out[3], b.constF(0.5)),
+            {out[4], out[5]}};
 }
 
 // Whether the member the reading r at p reads is straight: two probes half way from p to its
@@ -150,33 +210,41 @@ ValueId straightAt(ir::Builder& b, const DistanceAt& at, const PixelFootprint& p
 
 } // namespace
 
-TwoDirections::TwoDirections(ir::Builder& b, const Reading& centre) : b_(b) {
+PartDirections::PartDirections(ir::Builder& b, const Reading& centre) : b_(b) {
     const DoubledAngle a = doubledAngle(b, centre);
     cos2_ = a.cos2;
     sin2_ = a.sin2;
 }
 
-std::vector<ValueId> TwoDirections::start() const {
+std::vector<ValueId> PartDirections::start() const {
     std::vector<ValueId> v(kCarried, b_.constF(0.0));
     // No part yet: the furthest stand at -1.
-    v[kFirstAway] = v[kOtherAway] = b_.constF(-1.0);
+    v[kFirstAway] = v[kLeftAway] = v[kRightAway] = b_.constF(-1.0);
     return v;
 }
 
-std::vector<ValueId> TwoDirections::add(std::span<const ValueId> v, ValueId away, ValueId cos2,
-                                        ValueId sin2, ValueId some, PixelPoint p) const {
+std::vector<ValueId> PartDirections::add(std::span<const ValueId> v, ValueId away, ValueId cos2,
+                                         ValueId sin2, ValueId some, PixelPoint p) const {
     ir::Builder& b = b_;
     const ValueId zero = b.constF(0.0);
     // The part is the first family's where its doubled angle is within a right angle of the
-    // centre's (its normal within 45 degrees of the centre's), else the other's.
+    // centre's (its normal within 45 degrees of the centre's), else another's: the left's
+    // where its doubled angle is ahead of the centre's.
     const ValueId cosine = b.add(b.mul(cos2, cos2_), b.mul(sin2, sin2_));
+    const ValueId ahead = b.sub(b.mul(sin2, cos2_), b.mul(cos2, sin2_));
     const ValueId first = b.emit(Op::Ge, {cosine, zero});
-    const ValueId weight =
-        b.select(b.emit(Op::And, {some, b.emit(Op::Not, {first})}), b.constF(1.0), zero);
+    const ValueId other = b.emit(Op::Not, {first});
+    const ValueId left = b.emit(Op::And, {other, b.emit(Op::Ge, {ahead, zero})});
+    const ValueId right = b.emit(Op::And, {other, b.emit(Op::Not, {left})});
+    const ValueId weight = b.select(b.emit(Op::And, {some, other}), b.constF(1.0), zero);
+    const ValueId leftWeight = b.select(b.emit(Op::And, {some, left}), b.constF(1.0), zero);
     std::vector<ValueId> out(v.begin(), v.end());
     out[kOthers] = b.add(v[kOthers], weight);
     out[kCos] = b.add(v[kCos], b.mul(weight, cos2));
     out[kSin] = b.add(v[kSin], b.mul(weight, sin2));
+    out[kLeft] = b.add(v[kLeft], leftWeight);
+    out[kLeftCos] = b.add(v[kLeftCos], b.mul(leftWeight, cos2));
+    out[kLeftSin] = b.add(v[kLeftSin], b.mul(leftWeight, sin2));
     // Each family's part furthest from its line.
     const ValueId read = b.emit(Op::And, {some, b.emit(Op::Eq, {away, away})});
     auto furthest = [&](size_t slot, ValueId mine) {
@@ -187,12 +255,17 @@ std::vector<ValueId> TwoDirections::add(std::span<const ValueId> v, ValueId away
         out[slot + 2] = b.select(better, p.v, v[slot + 2]);
     };
     furthest(kFirstAway, first);
-    furthest(kOtherAway, b.emit(Op::Not, {first}));
+    furthest(kLeftAway, left);
+    furthest(kRightAway, right);
     return out;
 }
 
-CrossingStart crossingSeen(ir::Builder& b, const DistanceAt& at, const PixelFootprint& pixel,
-                           ValueId cos2, ValueId sin2) {
+namespace {
+
+// The first of kCrossingLooks points of the pixel off the parts' lattice (an R2 sequence, moved
+// from pixel to pixel by pixelShift) whose reading is `wanted`.
+CrossingStart firstLook(ir::Builder& b, const DistanceAt& at, const PixelFootprint& pixel,
+                        const std::function<ValueId(const Reading&)>& wanted) {
     const ValueId zero = b.constF(0.0), one = b.constF(1.0), half = b.constF(0.5);
     const PixelPoint shift = pixelShift(b);
     // Carried: the point, whether one crossed, its place.
@@ -209,89 +282,258 @@ CrossingStart crossingSeen(ir::Builder& b, const DistanceAt& at, const PixelFoot
         const PixelPoint p{b.mul(b.sub(fract(b, across), half), pixel.size),
                            b.mul(b.sub(fract(b, up), half), pixel.size)};
         const Reading r = readThere(b, at, pixel, p);
-        const DoubledAngle a = doubledAngle(b, r);
-        // Its doubled angle more than a right angle from the axis's: a direction more than
-        // 45 degrees off.
-        const ValueId crossed =
-            b.emit(Op::And, {b.gt(r.length, zero),
-                             b.lt(b.add(b.mul(a.cos2, cos2), b.mul(a.sin2, sin2)), zero)});
+        const ValueId crossed = b.emit(Op::And, {b.gt(r.length, zero), wanted(r)});
         return std::vector<ValueId>{b.add(k, one), b.select(crossed, one, zero),
                                     b.select(crossed, p.u, v[2]), b.select(crossed, p.v, v[3])};
     });
     return {b.gt(out[1], half), {out[2], out[3]}};
 }
 
+} // namespace
+
+CrossingStart crossingSeen(ir::Builder& b, const DistanceAt& at, const PixelFootprint& pixel,
+                           ValueId cos2, ValueId sin2) {
+    return firstLook(b, at, pixel, [&](const Reading& r) {
+        // Its doubled angle more than a right angle from the axis's: a direction more than
+        // 45 degrees off.
+        const DoubledAngle a = doubledAngle(b, r);
+        return b.lt(b.add(b.mul(a.cos2, cos2), b.mul(a.sin2, sin2)), b.constF(0.0));
+    });
+}
+
 GridRead gridRead(ir::Builder& b, const DistanceAt& at, const PixelFootprint& pixel,
                   ValueId halfWidth, std::span<const ValueId> v, ValueId cos2, ValueId sin2,
                   ValueId directed, ValueId wanted, const CrossingStart& crossing) {
     const ValueId zero = b.constF(0.0), one = b.constF(1.0), tiny = b.constF(1e-30);
-    // Each family's mean direction, and how nearly its parts run that way: the other
-    // family's sums are carried, the first's are the rest.
+    // Each family's mean direction, and how nearly its parts run that way: the others' and
+    // the left's sums are carried, the first's and the right's are what they leave.
     const ValueId count = b.max(directed, one);
     const ValueId otherWeight = v[kOthers], firstWeight = b.sub(directed, v[kOthers]);
-    const ValueId otherRuns = b.div(b.hypot(v[kCos], v[kSin]), b.max(otherWeight, tiny));
-    const ValueId firstRuns =
-        b.div(b.hypot(b.sub(cos2, v[kCos]), b.sub(sin2, v[kSin])), b.max(firstWeight, tiny));
+    const ValueId leftWeight = v[kLeft], rightWeight = b.sub(v[kOthers], v[kLeft]);
+    auto runsOf = [&](ValueId c, ValueId s2, ValueId weight) {
+        return b.div(b.hypot(c, s2), b.max(weight, tiny));
+    };
+    const ValueId otherRuns = runsOf(v[kCos], v[kSin], otherWeight);
+    const ValueId firstRuns = runsOf(b.sub(cos2, v[kCos]), b.sub(sin2, v[kSin]), firstWeight);
+    const ValueId rightCos = b.sub(v[kCos], v[kLeftCos]), rightSin = b.sub(v[kSin], v[kLeftSin]);
+    const ValueId leftRuns = runsOf(v[kLeftCos], v[kLeftSin], leftWeight);
+    const ValueId rightRuns = runsOf(rightCos, rightSin, rightWeight);
     auto share = [&](ValueId weight) {
         return b.smoothstep(b.constF(kShareFrom), b.constF(kShareFull), b.div(weight, count));
     };
-    // Where no part reads the second family, the crossing the centre's ray met stands for it.
-    const ValueId partsOther = b.emit(Op::Ge, {v[kOtherAway], zero});
+    auto runsTrust = [&](ValueId runs) {
+        return b.smoothstep(b.constF(kTwoWaysFrom), b.constF(kTwoWaysFull), runs);
+    };
+    // Two ways: the other family's part furthest from its line, the left's or the right's.
+    // Where no part reads the other family, the crossing the centre's ray met stands for it.
+    const ValueId leftFurther = b.emit(Op::Ge, {v[kLeftAway], v[kRightAway]});
+    auto slotOf = [&](size_t left, size_t right) {
+        return b.select(leftFurther, v[left], v[right]);
+    };
+    const ValueId partsOther = b.emit(Op::Ge, {slotOf(kLeftAway, kRightAway), zero});
     const ValueId fromRay = b.emit(Op::And, {b.emit(Op::Not, {partsOther}), crossing.found});
     const ValueId runs = b.select(partsOther, b.min(firstRuns, otherRuns), firstRuns);
-    const ValueId trust =
-        b.mul(b.smoothstep(b.constF(kTwoWaysFrom), b.constF(kTwoWaysFull), runs),
-              b.select(partsOther, b.mul(share(otherWeight), share(firstWeight)), one));
+    const ValueId twoTrust = b.mul(
+        runsTrust(runs), b.select(partsOther, b.mul(share(otherWeight), share(firstWeight)), one));
+    // Three ways: the left's and the right's each run one way, apart from each other.
+    const ValueId apartCosine =
+        b.div(b.add(b.mul(v[kLeftCos], rightCos), b.mul(v[kLeftSin], rightSin)),
+              b.max(b.mul(b.hypot(v[kLeftCos], v[kLeftSin]), b.hypot(rightCos, rightSin)), tiny));
+    const ValueId threeTrust = b.mul(
+        b.mul(runsTrust(b.min(firstRuns, b.min(leftRuns, rightRuns))),
+              b.sub(one, b.smoothstep(b.constF(kApartFull), b.constF(kApartFrom), apartCosine))),
+        b.mul(share(firstWeight), b.mul(share(leftWeight), share(rightWeight))));
+    const ValueId threeRead = b.emit(
+        Op::And, {b.emit(Op::Ge, {v[kLeftAway], zero}), b.emit(Op::Ge, {v[kRightAway], zero})});
+    const ValueId three = b.emit(Op::And, {threeRead, b.gt(threeTrust, twoTrust)});
+    const ValueId trust = b.select(three, threeTrust, twoTrust);
     const ValueId both =
-        b.emit(Op::And, {b.emit(Op::And, {wanted, b.gt(trust, zero)}),
-                         b.emit(Op::And, {b.emit(Op::Ge, {v[kFirstAway], zero}),
-                                          b.emit(Op::Or, {partsOther, fromRay})})});
+        b.emit(Op::And,
+               {b.emit(Op::And, {wanted, b.gt(trust, zero)}),
+                b.emit(Op::And, {b.emit(Op::Ge, {v[kFirstAway], zero}),
+                                 b.emit(Op::Or, {three, b.emit(Op::Or, {partsOther, fromRay})})})});
     const Vals read = b.ifThenElse(
         both,
         [&] {
+            // The second family is the left where the lines run three ways (the right the
+            // third), else the further of the two, or the ray's crossing.
             const PixelPoint firstAt{v[kFirstAway + 1], v[kFirstAway + 2]};
-            const PixelPoint otherAt{b.select(fromRay, crossing.at.u, v[kOtherAway + 1]),
-                                     b.select(fromRay, crossing.at.v, v[kOtherAway + 2])};
+            const PixelPoint otherAt{
+                b.select(three, v[kLeftU],
+                         b.select(fromRay, crossing.at.u, slotOf(kLeftU, kRightU))),
+                b.select(three, v[kLeftV],
+                         b.select(fromRay, crossing.at.v, slotOf(kLeftV, kRightV)))};
             const Reading firstRead = readThere(b, at, pixel, firstAt);
             const Reading otherRead = readThere(b, at, pixel, otherAt);
-            auto family = [&](const Reading& r, PixelPoint p, const Reading& across) {
-                Spacing s = spacingAlong(b, at, pixel, r, p, unitNormal(b, across));
+            auto family = [&](const Reading& r, PixelPoint p, const Reading& across,
+                              ValueId acrossDistance, const Probes& probes) {
+                Spacing s =
+                    spacingAlong(b, at, pixel, r, p, unitNormal(b, across), acrossDistance, probes);
                 s.found = b.emit(Op::And, {s.found, straightAt(b, at, pixel, r, p)});
                 // The family's mean as a phase family's: members at the integers of the
                 // index, which runs n / L a world unit, the stroke h / (|grad d| L) to either
                 // side of each.
                 auto value = [&](ValueId x) { return ir::BuiltValue(b, x); };
                 const ValueId per = b.div(pixel.size, s.spacing);
-                const ValueId mean =
-                    squareMeanInk(value(s.index), value(b.mul(b.abs(s.n.u), per)),
-                                  value(b.mul(b.abs(s.n.v), per)),
-                                  value(b.div(halfWidth, b.mul(heldLength(b, r), s.spacing))))
-                        .id;
-                return std::pair{s, mean};
+                const ValueId half = b.div(halfWidth, b.mul(heldLength(b, r), s.spacing));
+                const ValueId mean = squareMeanInk(value(s.index), value(b.mul(b.abs(s.n.u), per)),
+                                                   value(b.mul(b.abs(s.n.v), per)), value(half))
+                                         .id;
+                return std::tuple{s, mean, half};
             };
-            const auto [first, firstMean] = family(firstRead, firstAt, otherRead);
-            const auto [other, otherMean] = family(otherRead, otherAt, firstRead);
-            // Two families of lines crossing: over a pixel that holds two of each or more,
-            // the union of independent inks.
-            const ValueId mean = b.sub(b.add(firstMean, otherMean), b.mul(firstMean, otherMean));
-            const ValueId found = b.emit(Op::And, {first.found, other.found});
-            Vals out{b.select(found, one, zero), b.denan(mean, zero),
-                     b.div(pixel.size, b.max(first.spacing, other.spacing)),
-                     b.denan(b.div(halfWidth, heldLength(b, firstRead)), zero)};
-            for (const auto& [s, m] : {std::pair{first, firstMean}, std::pair{other, otherMean}}) {
-                // The index runs n / L a world unit: n along the pixel's sides turned back to
-                // the world's axes.
-                const Offset g = worldOf(b, s.n.u, s.n.v, pixel);
-                for (ValueId x : {s.index, b.div(one, s.spacing), b.div(g.ox, s.spacing),
-                                  b.div(g.oy, s.spacing), m})
-                    out.push_back(b.denan(x, zero));
+            const Probes probes = probesFor(b, three), threeProbes = probesFor(b, b.constB(true));
+            auto [first, firstMean, firstHalf] =
+                family(firstRead, firstAt, otherRead, zero, probes);
+            // A point's distance from a family's nearest line, by its index there (the
+            // centre's, and n / L a world unit).
+            auto distanceFrom = [&](const Spacing& s, PixelPoint q) {
+                const ValueId index =
+                    b.add(s.index, b.div(b.add(b.mul(q.u, s.n.u), b.mul(q.v, s.n.v)), s.spacing));
+                return b.mul(s.spacing, b.abs(b.sub(index, b.floor(b.add(index, b.constF(0.5))))));
+            };
+            const auto [other, otherMean, otherHalf] =
+                family(otherRead, otherAt, firstRead, distanceFrom(first, otherAt), probes);
+            // Where the lines run three ways and the first family's probes found no line (its
+            // start by its own line, and the stride t too short for its probes to reach the
+            // next), they try again with the stride the second family's distance gives.
+            {
+                const Vals again = b.ifThenElse(
+                    b.emit(Op::And, {three, b.emit(Op::Not, {first.found})}),
+                    [&] {
+                        const auto [s, m, half] = family(firstRead, firstAt, otherRead,
+                                                         distanceFrom(other, firstAt), threeProbes);
+                        return Vals{b.select(s.found, one, zero), s.spacing, s.index, m, half};
+                    },
+                    [&] {
+                        return Vals{b.select(first.found, one, zero), first.spacing, first.index,
+                                    firstMean, firstHalf};
+                    });
+                first.found = b.gt(again[0], b.constF(0.5));
+                first.spacing = again[1];
+                first.index = again[2];
+                firstMean = again[3];
+                firstHalf = again[4];
             }
+            // The index runs n / L a world unit: n along the pixel's sides turned back to the
+            // world's axes.
+            auto wayOf = [&](const Spacing& s, ValueId m) {
+                const Offset g = worldOf(b, s.n.u, s.n.v, pixel);
+                return Vals{s.index, b.div(one, s.spacing), b.div(g.ox, s.spacing),
+                            b.div(g.oy, s.spacing), m};
+            };
+            // The third family where the lines run three ways: its way, whether its spacing
+            // was found, and the three's excess over independent inks (tripleExcess). Where
+            // the parts read two ways, a probe that read a third stands for the parts that
+            // missed it (they alias with the lines at zooms where they stand nearly a whole
+            // number of cells apart).
+            const ValueId seen = b.emit(Op::Or, {first.thirdSeen, other.thirdSeen});
+            // Where neither the parts nor the probes read a third family, and the two read
+            // cross at 45 to 75 degrees (as two of a triangle lattice's three do; a square
+            // grid's do not, and pays nothing more), a few points of the pixel off the parts'
+            // lattice look for it.
+            const ValueId crossCosine =
+                b.abs(b.add(b.mul(first.n.u, other.n.u), b.mul(first.n.v, other.n.v)));
+            const ValueId aslant = b.emit(Op::And, {b.gt(crossCosine, b.constF(kAslantFrom)),
+                                                    b.lt(crossCosine, b.constF(kAslantTo))});
+            const Vals looked = b.ifThenElse(
+                b.emit(Op::And, {aslant, b.emit(Op::Not, {b.emit(Op::Or, {three, seen})})}),
+                [&] {
+                    const CrossingStart c = firstLook(b, at, pixel, [&](const Reading& r) {
+                        const Normal m = unitNormal(b, r);
+                        return b.emit(Op::And, {crosses(b, first.n, m), crosses(b, other.n, m)});
+                    });
+                    return Vals{b.select(c.found, one, zero), c.at.u, c.at.v};
+                },
+                [&] { return Vals(3, zero); });
+            const ValueId lookedThird = b.gt(looked[0], b.constF(0.5));
+            const ValueId threeWays = b.emit(Op::Or, {three, b.emit(Op::Or, {seen, lookedThird})});
+            const Vals third = b.ifThenElse(
+                threeWays,
+                [&] {
+                    auto seenAt = [&](ValueId right, ValueId a, ValueId c, ValueId look) {
+                        return b.select(
+                            three, right,
+                            b.select(first.thirdSeen, a, b.select(other.thirdSeen, c, look)));
+                    };
+                    const PixelPoint thirdAt{
+                        seenAt(v[kRightU], first.thirdAt.u, other.thirdAt.u, looked[1]),
+                        seenAt(v[kRightV], first.thirdAt.v, other.thirdAt.v, looked[2])};
+                    const Reading thirdRead = readThere(b, at, pixel, thirdAt);
+                    auto [s, m, half] = family(thirdRead, thirdAt, firstRead,
+                                               distanceFrom(first, thirdAt), threeProbes);
+                    // Its lines cross the other two's.
+                    for (const Spacing* x : std::initializer_list<const Spacing*>{&first, &other})
+                        s.found = b.emit(Op::And, {s.found, crosses(b, s.n, x->n)});
+                    // The senses that make the three indices' gradients (n / L, in pixels)
+                    // nearly cancel: the least of the four sums with the first's taken as is.
+                    auto grad = [&](const Spacing& x) {
+                        const ValueId per = b.div(pixel.size, x.spacing);
+                        return std::pair{b.mul(x.n.u, per), b.mul(x.n.v, per)};
+                    };
+                    const auto [g1u, g1v] = grad(first);
+                    const auto [g2u, g2v] = grad(other);
+                    const auto [g3u, g3v] = grad(s);
+                    ValueId best = b.constF(1e30), c = zero, along = zero, across = zero;
+                    for (double s2 : {1.0, -1.0})
+                        for (double s3 : {1.0, -1.0}) {
+                            const ValueId u = b.add(
+                                g1u, b.add(b.mul(b.constF(s2), g2u), b.mul(b.constF(s3), g3u)));
+                            const ValueId w = b.add(
+                                g1v, b.add(b.mul(b.constF(s2), g2v), b.mul(b.constF(s3), g3v)));
+                            const ValueId size = b.add(b.mul(u, u), b.mul(w, w));
+                            const ValueId better = b.lt(size, best);
+                            const ValueId sum =
+                                b.add(first.index, b.add(b.mul(b.constF(s2), other.index),
+                                                         b.mul(b.constF(s3), s.index)));
+                            best = b.select(better, size, best);
+                            c = b.select(better, sum, c);
+                            along = b.select(better, u, along);
+                            across = b.select(better, w, across);
+                        }
+                    auto value = [&](ValueId x) { return ir::BuiltValue(b, x); };
+                    const ValueId excess =
+                        tripleExcess(value(c), value(b.mul(firstHalf, b.constF(2.0))),
+                                     value(b.mul(otherHalf, b.constF(2.0))),
+                                     value(b.mul(half, b.constF(2.0))), value(along), value(across))
+                            .id;
+                    Vals out = wayOf(s, m);
+                    out.push_back(b.select(s.found, one, zero));
+                    out.push_back(excess);
+                    return out;
+                },
+                [&] {
+                    Vals out(5, zero);
+                    out.push_back(one);
+                    out.push_back(zero);
+                    return out;
+                });
+            const ValueId thirdMean = third[4];
+            // Two families of lines crossing: over a pixel that holds two of each or more,
+            // the union of independent inks; three, that and their excess.
+            const ValueId paper =
+                b.mul(b.mul(b.sub(one, firstMean), b.sub(one, otherMean)), b.sub(one, thirdMean));
+            const ValueId mean = b.clamp(b.add(b.sub(one, paper), third[6]), zero, one);
+            const ValueId found = b.emit(Op::And, {b.emit(Op::And, {first.found, other.found}),
+                                                   b.gt(third[5], b.constF(0.5))});
+            // The sparsest family's spacing: the third's is 1 / its gradient (0 where there is
+            // none).
+            const ValueId widest =
+                b.max(b.max(first.spacing, other.spacing), b.div(one, b.max(third[1], tiny)));
+            const ValueId thirdWidest =
+                b.select(threeWays, widest, b.max(first.spacing, other.spacing));
+            Vals out{b.select(found, one, zero), b.denan(mean, zero),
+                     b.div(pixel.size, thirdWidest),
+                     b.denan(b.div(halfWidth, heldLength(b, firstRead)), zero),
+                     b.select(threeWays, one, zero)};
+            for (const Vals& w : {wayOf(first, firstMean), wayOf(other, otherMean),
+                                  Vals(third.begin(), third.begin() + 5)})
+                for (ValueId x : w) out.push_back(b.denan(x, zero));
             return out;
         },
         [&] { return Vals(kGridRead, zero); });
-    GridRead out{b.mul(trust, read[0]), read[1], read[2], {}, read[3]};
-    for (int w = 0; w < 2; ++w) {
-        const size_t k = 4 + 5 * w;
+    GridRead out{b.mul(trust, read[0]), read[1], read[2], {}, read[3], read[4]};
+    for (int w = 0; w < 3; ++w) {
+        const size_t k = 5 + 5 * w;
         out.ways[w] = {read[k], read[k + 1], read[k + 2], read[k + 3], read[k + 4]};
     }
     return out;

@@ -162,11 +162,12 @@ struct CrowdEstimate {
     // nearest at 0; its `trust` how nearly they run parallel), and the stroke's half-width
     // across them in world units, which the union of fine layers reads to let the family beat
     // with another layer (FineUnion.h; DistanceFamily.h derives it). Unset on other families.
-    // Where the members run two ways instead, a grid's lines (DistanceGrid.h), `footprint` is
-    // the first way's index and `second` the other's, each a strand of the layer as a
-    // lattice's lines are (FineUnion.h), `twoWays` how far that is trusted (0 where they run
-    // one way) and `means` each way's mean ink over the pixel. Where `twoWays` is 0, `second`
-    // stands for no lines (its trust 0, its gradient too steep for any beat to be slow).
+    // Where the members run two or three ways instead, a grid's lines (DistanceGrid.h),
+    // `footprint` is the first way's index, `second` the second's and `third` the third's,
+    // each a strand of the layer as a lattice's lines are (FineUnion.h), `twoWays` how far
+    // that is trusted (0 where they run one way) and `means` each way's mean ink over the
+    // pixel. Where `twoWays` is 0, `second` stands for no lines (its trust 0, its gradient too
+    // steep for any beat to be slow), and so does `third` where they run two ways.
     // Where the members are dots on a lattice (DistanceDots.h), `screen` is that dot
     // screen's shape, its `dots` true where it is read so, which the union of fine layers
     // correlates as a lattice's dots (LatticeUnion.h); where they are rings about a
@@ -174,9 +175,9 @@ struct CrowdEstimate {
     struct Runs {
         Footprint footprint;
         ir::ValueId halfWidth = ir::kNoValue;
-        Footprint second;
+        Footprint second, third;
         ir::ValueId twoWays = ir::kNoValue;
-        std::array<ir::ValueId, 2> means{ir::kNoValue, ir::kNoValue};
+        std::array<ir::ValueId, 3> means{ir::kNoValue, ir::kNoValue, ir::kNoValue};
         std::optional<LatticeShape> screen;
     };
     std::optional<Runs> runs;

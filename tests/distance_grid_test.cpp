@@ -107,7 +107,8 @@ namespace {
 struct ThreeWays {
     double spacing[3], offset[3], a, stroke, zoom;
     double rmse;
-    double normal(int k) const { return a + k * M_PI / 3.0; }
+    double step = M_PI / 3.0; // between the families' normals
+    double normal(int k) const { return a + k * step; }
     std::string scene() const {
         std::string d;
         char buf[512];
@@ -145,12 +146,26 @@ TEST_CASE("distance grid: three ways of lines crowding against the box filter of
     auto backend = test::makeBackendOrSkip("jit");
     if (!backend) backend = test::makeBackendOrSkip("interp");
     REQUIRE(backend);
+    // RMSE read by the tubes before (DistanceTubes.h), and now:
     const ThreeWays kCases[] = {
-        {{1, 1, 1}, {0, 0, 0}, 10 * kDeg, 0.2, 1.0 / 6, 0.02},
-        {{1, 1, 1}, {0, 0, 0.5}, 10 * kDeg, 0.2, 1.0 / 6, 0.02},
-        {{1, 1, 1.02}, {0, 0, 0}, 10 * kDeg, 0.2, 1.0 / 6, 0.02},
-        {{1, 1, 1}, {0, 0, 0}, 10 * kDeg, 0.2, 0.3, 0.02},
-        {{1, 1, 1}, {0, 0, 0}, 10 * kDeg, 0.2, 0.05, 0.02},
+        // The triangle lattice's lines, six a pixel each way, turned 10 degrees: 0.034 ->
+        // 0.00095; one family moved half a spacing (trihexagonal), 0.033 -> 0.0035; the third
+        // family's spacing 2% wider (the three indices' sum beating across the frame), 0.040
+        // -> 0.0012.
+        {{1, 1, 1}, {0, 0, 0}, 10 * kDeg, 0.2, 1.0 / 6, 0.002},
+        {{1, 1, 1}, {0, 0, 0.5}, 10 * kDeg, 0.2, 1.0 / 6, 0.005},
+        {{1, 1, 1.02}, {0, 0, 0}, 10 * kDeg, 0.2, 1.0 / 6, 0.002},
+        // 3.3 and 20 a pixel: 0.012 -> 0.0016, 0.029 -> 0.0015.
+        {{1, 1, 1}, {0, 0, 0}, 10 * kDeg, 0.2, 0.3, 0.003},
+        {{1, 1, 1}, {0, 0, 0}, 10 * kDeg, 0.2, 0.05, 0.003},
+        // Turned 37 degrees, 0.00066; spacings 1, 1.3 and 1.6 moved apart, 0.0033; normals 50
+        // degrees apart, 0.0014 (0.026 before the check for a line half-way, which the probes
+        // stepped over where the third family's line passed by it); 65 degrees apart, a
+        // narrower stroke, 0.0010.
+        {{1, 1, 1}, {0, 0, 0}, 37 * kDeg, 0.2, 1.0 / 6, 0.0015},
+        {{1, 1.3, 1.6}, {0, 0.2, 0.1}, 10 * kDeg, 0.2, 1.0 / 6, 0.005},
+        {{1, 1, 1}, {0, 0, 0}, 10 * kDeg, 0.2, 1.0 / 6, 0.0025, 50 * kDeg},
+        {{1, 1, 1}, {0, 0.3, 0.6}, 25 * kDeg, 0.15, 1.0 / 6, 0.002, 65 * kDeg},
     };
     for (const ThreeWays& g : kCases) {
         const std::string text = g.scene();

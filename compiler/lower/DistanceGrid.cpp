@@ -171,7 +171,33 @@ Spacing spacingAlong(ir::Builder& b, const DistanceAt& at, const PixelFootprint&
                                     b.select(hit, along, v[2]), b.select(third, one, v[3]),
                                     b.select(third, q.u, v[4]), b.select(third, q.v, v[5])};
     });
-    const ValueId spacing = b.max(out[2], b.mul(pixel.size, b.constF(1e-4)));
+    // Where a third family's line passes close by the next line's crossing with the path, the
+    // window in which the own family is nearest narrows (at angles other than 60 degrees it
+    // may close), and the probes may step over it to the line after. A line half-way halves
+    // the spacing: read a twentieth of a stride past the half (off its kink), half a stride
+    // to either side of the path along the line (off the third family's line, which crosses
+    // it by the path), where it stands nearer than anything else.
+    const ValueId halfway = b.mul(out[2], b.constF(0.5));
+    const ValueId past = b.sub(b.add(halfway, b.mul(stride, b.constF(0.05))), t);
+    const ValueId sHalf = b.div(past, b.max(rate, b.constF(kLeastCrossing)));
+    ValueId halved = b.constB(false);
+    for (double side : {-0.5, 0.5}) {
+        const ValueId aside = b.mul(stride, b.constF(side));
+        const PixelPoint q{b.sub(b.add(p.u, b.mul(sHalf, path.u)), b.mul(aside, n.v)),
+                           b.add(b.add(p.v, b.mul(sHalf, path.v)), b.mul(aside, n.u))};
+        const Reading there = readThere(b, at, pixel, q);
+        const Normal m = unitNormal(b, there);
+        const ValueId along = offsetAlong(b, f, footFrom(b, there, q, true), n);
+        const ValueId line =
+            b.emit(Op::And, {b.emit(Op::And, {b.gt(b.abs(b.add(b.mul(n.u, m.u), b.mul(n.v, m.v))),
+                                                   b.constF(kParallel)),
+                                              b.gt(there.length, zero)}),
+                             b.lt(b.abs(b.sub(along, halfway)), b.mul(halfway, b.constF(0.1)))});
+        halved = b.emit(Op::Or, {halved, line});
+    }
+    halved = b.emit(Op::And, {halved, b.gt(out[1], b.constF(0.5))});
+    const ValueId spacing =
+        b.max(b.select(halved, halfway, out[2]), b.mul(pixel.size, b.constF(1e-4)));
     // The centre (0, 0) stands -f . n from the line through f.
     const ValueId offset = offsetAlong(b, f, {b.constF(0.0), b.constF(0.0)}, n);
     const ValueId found =

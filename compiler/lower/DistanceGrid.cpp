@@ -93,6 +93,21 @@ enum Slot : size_t {
 };
 static_assert(kRightV + 1 == PartDirections::kCarried);
 
+// What the reading at q says of a line of the family whose unit normal is n and whose line
+// 0 has its foot at f: its normal m, how nearly m faces n (|n . m|), its foot's offset from f
+// along n, and whether it has a gradient (false on NaN too).
+struct LineSeen {
+    Normal m;
+    ValueId facing, along, some;
+};
+LineSeen lineSeen(ir::Builder& b, const DistanceAt& at, const PixelFootprint& pixel, PixelPoint q,
+                  PixelPoint f, Normal n) {
+    const Reading there = readThere(b, at, pixel, q);
+    const Normal m = unitNormal(b, there);
+    return {m, b.abs(b.add(b.mul(n.u, m.u), b.mul(n.v, m.v))),
+            offsetAlong(b, f, footFrom(b, there, q, true), n), b.gt(there.length, b.constF(0.0))};
+}
+
 // A family's spacing along the normal of the reading r at p, probed along the lines of the
 // other family (its unit normal `other`): whether it was found, the spacing L, and the
 // family's index at the pixel's centre (the centre's offset from the line through r's foot,
@@ -154,22 +169,18 @@ Spacing spacingAlong(ir::Builder& b, const DistanceAt& at, const PixelFootprint&
     std::vector<ValueId> out = b.loop(init, more, [&](std::span<const ValueId> v) {
         const ValueId s = b.div(probe(v[0]), b.max(rate, b.constF(kLeastCrossing)));
         const PixelPoint q{b.add(p.u, b.mul(s, path.u)), b.add(p.v, b.mul(s, path.v))};
-        const Reading there = readThere(b, at, pixel, q);
-        const Normal m = unitNormal(b, there);
-        const ValueId parallel =
-            b.gt(b.abs(b.add(b.mul(n.u, m.u), b.mul(n.v, m.v))), b.constF(kParallel));
-        const PixelPoint foot = footFrom(b, there, q, true);
-        const ValueId along = offsetAlong(b, f, foot, n);
+        const LineSeen seen = lineSeen(b, at, pixel, q, f, n);
+        const ValueId parallel = b.gt(seen.facing, b.constF(kParallel));
         // Its own line 0 stands at 0 along n, the next one at L >= 2 t: t clears it. NaN (a
         // probe on a kink) compares false.
-        const ValueId hit = b.emit(
-            Op::And, {b.emit(Op::And, {parallel, b.gt(there.length, zero)}), b.gt(along, step)});
-        const ValueId third = b.emit(
-            Op::And, {b.emit(Op::And, {crosses(b, n, m), crosses(b, other, m)}),
-                      b.emit(Op::And, {b.gt(there.length, zero), b.lt(v[3], b.constF(0.5))})});
-        return std::vector<ValueId>{b.add(v[0], one),           b.select(hit, one, zero),
-                                    b.select(hit, along, v[2]), b.select(third, one, v[3]),
-                                    b.select(third, q.u, v[4]), b.select(third, q.v, v[5])};
+        const ValueId hit =
+            b.emit(Op::And, {b.emit(Op::And, {parallel, seen.some}), b.gt(seen.along, step)});
+        const ValueId third =
+            b.emit(Op::And, {b.emit(Op::And, {crosses(b, n, seen.m), crosses(b, other, seen.m)}),
+                             b.emit(Op::And, {seen.some, b.lt(v[3], b.constF(0.5))})});
+        return std::vector<ValueId>{
+            b.add(v[0], one),           b.select(hit, one, zero),   b.select(hit, seen.along, v[2]),
+            b.select(third, one, v[3]), b.select(third, q.u, v[4]), b.select(third, q.v, v[5])};
     });
     // Where a third family's line passes close by the next line's crossing with the path, the
     // window in which the own family is nearest narrows (at angles other than 60 degrees it
@@ -185,14 +196,10 @@ Spacing spacingAlong(ir::Builder& b, const DistanceAt& at, const PixelFootprint&
         const ValueId aside = b.mul(stride, b.constF(side));
         const PixelPoint q{b.sub(b.add(p.u, b.mul(sHalf, path.u)), b.mul(aside, n.v)),
                            b.add(b.add(p.v, b.mul(sHalf, path.v)), b.mul(aside, n.u))};
-        const Reading there = readThere(b, at, pixel, q);
-        const Normal m = unitNormal(b, there);
-        const ValueId along = offsetAlong(b, f, footFrom(b, there, q, true), n);
-        const ValueId line =
-            b.emit(Op::And, {b.emit(Op::And, {b.gt(b.abs(b.add(b.mul(n.u, m.u), b.mul(n.v, m.v))),
-                                                   b.constF(kParallel)),
-                                              b.gt(there.length, zero)}),
-                             b.lt(b.abs(b.sub(along, halfway)), b.mul(halfway, b.constF(0.1)))});
+        const LineSeen seen = lineSeen(b, at, pixel, q, f, n);
+        const ValueId line = b.emit(
+            Op::And, {b.emit(Op::And, {b.gt(seen.facing, b.constF(kParallel)), seen.some}),
+                      b.lt(b.abs(b.sub(seen.along, halfway)), b.mul(halfway, b.constF(0.1)))});
         halved = b.emit(Op::Or, {halved, line});
     }
     halved = b.emit(Op::And, {halved, b.gt(out[1], b.constF(0.5))});
@@ -222,14 +229,10 @@ ValueId straightAt(ir::Builder& b, const DistanceAt& at, const PixelFootprint& p
         const ValueId s = b.mul(side, b.constF(sense));
         const PixelPoint q{b.sub(b.sub(p.u, b.mul(in, n.u)), b.mul(s, n.v)),
                            b.add(b.sub(p.v, b.mul(in, n.v)), b.mul(s, n.u))};
-        const Reading there = readThere(b, at, pixel, q);
-        const Normal m = unitNormal(b, there);
-        const PixelPoint foot = footFrom(b, there, q, true);
-        const ValueId off = b.abs(offsetAlong(b, f, foot, n));
-        const ValueId facing = b.abs(b.add(b.mul(n.u, m.u), b.mul(n.v, m.v)));
-        const ValueId same = b.lt(off, b.mul(t, b.constF(0.1)));
-        straight =
-            b.emit(Op::And, {straight, b.emit(Op::And, {same, b.gt(facing, b.constF(kStraight))})});
+        const LineSeen seen = lineSeen(b, at, pixel, q, f, n);
+        const ValueId same = b.lt(b.abs(seen.along), b.mul(t, b.constF(0.1)));
+        straight = b.emit(
+            Op::And, {straight, b.emit(Op::And, {same, b.gt(seen.facing, b.constF(kStraight))})});
     }
     return straight;
 }

@@ -188,21 +188,31 @@ Spacing spacingAlong(ir::Builder& b, const DistanceAt& at, const PixelFootprint&
     // the spacing: read a twentieth of a stride past the half (off its kink), half a stride
     // to either side of the path along the line (off the third family's line, which crosses
     // it by the path), where it stands nearer than anything else.
+    // Read only where there is a third family (the lines read three ways, or this family's
+    // probes crossed one): a grid's two ways leave the window its whole width.
     const ValueId halfway = b.mul(out[2], b.constF(0.5));
-    const ValueId past = b.sub(b.add(halfway, b.mul(stride, b.constF(0.05))), t);
-    const ValueId sHalf = b.div(past, b.max(rate, b.constF(kLeastCrossing)));
-    ValueId halved = b.constB(false);
-    for (double side : {-0.5, 0.5}) {
-        const ValueId aside = b.mul(stride, b.constF(side));
-        const PixelPoint q{b.sub(b.add(p.u, b.mul(sHalf, path.u)), b.mul(aside, n.v)),
-                           b.add(b.add(p.v, b.mul(sHalf, path.v)), b.mul(aside, n.u))};
-        const LineSeen seen = lineSeen(b, at, pixel, q, f, n);
-        const ValueId line = b.emit(
-            Op::And, {b.emit(Op::And, {b.gt(seen.facing, b.constF(kParallel)), seen.some}),
-                      b.lt(b.abs(b.sub(seen.along, halfway)), b.mul(halfway, b.constF(0.1)))});
-        halved = b.emit(Op::Or, {halved, line});
-    }
-    halved = b.emit(Op::And, {halved, b.gt(out[1], b.constF(0.5))});
+    const ValueId mayStep = b.emit(Op::Or, {probes.three, b.gt(out[3], b.constF(0.5))});
+    const Vals checked = b.ifThenElse(
+        b.emit(Op::And, {mayStep, b.gt(out[1], b.constF(0.5))}),
+        [&] {
+            const ValueId past = b.sub(b.add(halfway, b.mul(stride, b.constF(0.05))), t);
+            const ValueId sHalf = b.div(past, b.max(rate, b.constF(kLeastCrossing)));
+            ValueId line = b.constB(false);
+            for (double side : {-0.5, 0.5}) {
+                const ValueId aside = b.mul(stride, b.constF(side));
+                const PixelPoint q{b.sub(b.add(p.u, b.mul(sHalf, path.u)), b.mul(aside, n.v)),
+                                   b.add(b.add(p.v, b.mul(sHalf, path.v)), b.mul(aside, n.u))};
+                const LineSeen seen = lineSeen(b, at, pixel, q, f, n);
+                const ValueId there = b.emit(
+                    Op::And,
+                    {b.emit(Op::And, {b.gt(seen.facing, b.constF(kParallel)), seen.some}),
+                     b.lt(b.abs(b.sub(seen.along, halfway)), b.mul(halfway, b.constF(0.1)))});
+                line = b.emit(Op::Or, {line, there});
+            }
+            return Vals{b.select(line, one, zero)};
+        },
+        [&] { return Vals{zero}; });
+    const ValueId halved = b.gt(checked[0], b.constF(0.5));
     const ValueId spacing =
         b.max(b.select(halved, halfway, out[2]), b.mul(pixel.size, b.constF(1e-4)));
     // The centre (0, 0) stands -f . n from the line through f.

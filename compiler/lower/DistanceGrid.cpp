@@ -3,6 +3,7 @@
 #include "compiler/ir/BuiltValue.h"
 #include "compiler/lower/Prefilter.h"
 
+#include <array>
 #include <functional>
 
 namespace moire::lower {
@@ -53,9 +54,13 @@ constexpr double kThirdWay = 0.866;
 // turned by under about 2.5 degrees (straightAt).
 constexpr double kStraight = 0.999;
 
+// How nearly two unit normals face each other, |n . m| (1 parallel, 0 square).
+ValueId facing(ir::Builder& b, Normal n, Normal m) {
+    return b.abs(b.add(b.mul(n.u, m.u), b.mul(n.v, m.v)));
+}
 // Whether a normal m crosses n by more than about 30 degrees (kThirdWay).
 ValueId crosses(ir::Builder& b, Normal n, Normal m) {
-    return b.lt(b.abs(b.add(b.mul(n.u, m.u), b.mul(n.v, m.v))), b.constF(kThirdWay));
+    return b.lt(facing(b, n, m), b.constF(kThirdWay));
 }
 
 // Two families read crossing at 45 to 75 degrees (the cosine of the angle between their
@@ -104,8 +109,8 @@ LineSeen lineSeen(ir::Builder& b, const DistanceAt& at, const PixelFootprint& pi
                   PixelPoint f, Normal n) {
     const Reading there = readThere(b, at, pixel, q);
     const Normal m = unitNormal(b, there);
-    return {m, b.abs(b.add(b.mul(n.u, m.u), b.mul(n.v, m.v))),
-            offsetAlong(b, f, footFrom(b, there, q, true), n), b.gt(there.length, b.constF(0.0))};
+    return {m, facing(b, n, m), offsetAlong(b, f, footFrom(b, there, q, true), n),
+            b.gt(there.length, b.constF(0.0))};
 }
 
 // A family's spacing along the normal of the reading r at p, probed along the lines of the
@@ -221,6 +226,42 @@ Spacing spacingAlong(ir::Builder& b, const DistanceAt& at, const PixelFootprint&
         b.emit(Op::And, {b.gt(out[1], b.constF(0.5)), b.gt(rate, b.constF(kLeastCrossing))});
     return {found,           spacing, b.div(offset, spacing), n, b.gt(out[3], b.constF(0.5)),
             {out[4], out[5]}};
+}
+
+// The three families' excess over independent inks over the pixel (tripleExcess): their
+// indices' senses taken so that the gradients (n / L, in pixels) nearly cancel, the least of
+// the four sums with the first's taken as is; `halves` each family's stroke half-width in
+// index units.
+ValueId excessOfThree(ir::Builder& b, const PixelFootprint& pixel,
+                      const std::array<const Spacing*, 3>& ways,
+                      const std::array<ValueId, 3>& halves) {
+    ValueId gu[3], gv[3];
+    for (int k = 0; k < 3; ++k) {
+        const ValueId per = b.div(pixel.size, ways[k]->spacing);
+        gu[k] = b.mul(ways[k]->n.u, per);
+        gv[k] = b.mul(ways[k]->n.v, per);
+    }
+    ValueId best = b.constF(1e30), c = b.constF(0.0), along = c, across = c;
+    for (double s2 : {1.0, -1.0})
+        for (double s3 : {1.0, -1.0}) {
+            const ValueId u =
+                b.add(gu[0], b.add(b.mul(b.constF(s2), gu[1]), b.mul(b.constF(s3), gu[2])));
+            const ValueId w =
+                b.add(gv[0], b.add(b.mul(b.constF(s2), gv[1]), b.mul(b.constF(s3), gv[2])));
+            const ValueId size = b.add(b.mul(u, u), b.mul(w, w));
+            const ValueId better = b.lt(size, best);
+            const ValueId sum = b.add(ways[0]->index, b.add(b.mul(b.constF(s2), ways[1]->index),
+                                                            b.mul(b.constF(s3), ways[2]->index)));
+            best = b.select(better, size, best);
+            c = b.select(better, sum, c);
+            along = b.select(better, u, along);
+            across = b.select(better, w, across);
+        }
+    auto value = [&](ValueId x) { return ir::BuiltValue(b, x); };
+    auto width = [&](ValueId half) { return value(b.mul(half, b.constF(2.0))); };
+    return tripleExcess(value(c), width(halves[0]), width(halves[1]), width(halves[2]),
+                        value(along), value(across))
+        .id;
 }
 
 // Whether the member the reading r at p reads is straight: two probes half way from p to its
@@ -470,8 +511,7 @@ GridRead gridRead(ir::Builder& b, const DistanceAt& at, const PixelFootprint& pi
             // cross at 45 to 75 degrees (as two of a triangle lattice's three do; a square
             // grid's do not, and pays nothing more), a few points of the pixel off the parts'
             // lattice look for it.
-            const ValueId crossCosine =
-                b.abs(b.add(b.mul(first.n.u, other.n.u), b.mul(first.n.v, other.n.v)));
+            const ValueId crossCosine = facing(b, first.n, other.n);
             const ValueId aslant = b.emit(Op::And, {b.gt(crossCosine, b.constF(kAslantFrom)),
                                                     b.lt(crossCosine, b.constF(kAslantTo))});
             const Vals looked = b.ifThenElse(
@@ -501,40 +541,10 @@ GridRead gridRead(ir::Builder& b, const DistanceAt& at, const PixelFootprint& pi
                     auto [s, m, half] = family(thirdRead, thirdAt, firstRead,
                                                distanceFrom(first, thirdAt), threeProbes);
                     // Its lines cross the other two's.
-                    for (const Spacing* x : std::initializer_list<const Spacing*>{&first, &other})
-                        s.found = b.emit(Op::And, {s.found, crosses(b, s.n, x->n)});
-                    // The senses that make the three indices' gradients (n / L, in pixels)
-                    // nearly cancel: the least of the four sums with the first's taken as is.
-                    auto grad = [&](const Spacing& x) {
-                        const ValueId per = b.div(pixel.size, x.spacing);
-                        return std::pair{b.mul(x.n.u, per), b.mul(x.n.v, per)};
-                    };
-                    const auto [g1u, g1v] = grad(first);
-                    const auto [g2u, g2v] = grad(other);
-                    const auto [g3u, g3v] = grad(s);
-                    ValueId best = b.constF(1e30), c = zero, along = zero, across = zero;
-                    for (double s2 : {1.0, -1.0})
-                        for (double s3 : {1.0, -1.0}) {
-                            const ValueId u = b.add(
-                                g1u, b.add(b.mul(b.constF(s2), g2u), b.mul(b.constF(s3), g3u)));
-                            const ValueId w = b.add(
-                                g1v, b.add(b.mul(b.constF(s2), g2v), b.mul(b.constF(s3), g3v)));
-                            const ValueId size = b.add(b.mul(u, u), b.mul(w, w));
-                            const ValueId better = b.lt(size, best);
-                            const ValueId sum =
-                                b.add(first.index, b.add(b.mul(b.constF(s2), other.index),
-                                                         b.mul(b.constF(s3), s.index)));
-                            best = b.select(better, size, best);
-                            c = b.select(better, sum, c);
-                            along = b.select(better, u, along);
-                            across = b.select(better, w, across);
-                        }
-                    auto value = [&](ValueId x) { return ir::BuiltValue(b, x); };
+                    s.found = b.emit(Op::And, {s.found, crosses(b, s.n, first.n)});
+                    s.found = b.emit(Op::And, {s.found, crosses(b, s.n, other.n)});
                     const ValueId excess =
-                        tripleExcess(value(c), value(b.mul(firstHalf, b.constF(2.0))),
-                                     value(b.mul(otherHalf, b.constF(2.0))),
-                                     value(b.mul(half, b.constF(2.0))), value(along), value(across))
-                            .id;
+                        excessOfThree(b, pixel, {&first, &other, &s}, {firstHalf, otherHalf, half});
                     Vals out = wayOf(s, m);
                     out.push_back(b.select(s.found, one, zero));
                     out.push_back(excess);

@@ -145,6 +145,12 @@ std::vector<Scene> filterScenes() {
                    "layer a { family = rings; spacing = 0.2; stroke = 0.05; origin = (30, 10) }\n"
                    "layer b { family = rings; spacing = 0.21; stroke = 0.06; origin = (30, 10) "
                    "}\n"});
+    // Fine lines (1.7 a pixel) under resolved circles 5 apart: the lines' members meet each
+    // circle's stroke as periodic strokes (StrokePairs.h, stripesCovariance) wherever the
+    // circle crosses a pixel.
+    out.push_back({"fine lines under circles", "crowded_resolved.moire",
+                   "layer a { family = lines; spacing = 0.6; stroke = 0.2; rotation = 10deg }\n"
+                   "layer b { family = circles; spacing = 5; stroke = 1.2 }\n"});
     out.push_back({"triangle grid, resolved", "lattice_resolved.moire",
                    "layer a { family = triangle_lattice; spacing = 8; stroke = 1.5; edges = 1 }\n"
                    "layer b { family = lines; spacing = 6; stroke = 1; rotation = 5deg }\n"});

@@ -11,6 +11,7 @@
 // last column holds the mean's preview against the exact field (exactError), which does not
 // share the filter's maths.
 #include "compiler/backend/llvm/LlvmJit.h"
+#include "experiments/FrameMeans.h"
 #include "experiments/Harness.h"
 #include "runtime/FrameEval.h"
 #include "runtime/TileExecutor.h"
@@ -45,39 +46,6 @@ const char* const kQuickExamples[] = {"counter_spirals", "drifting_walks", "hexa
     std::exit(2);
 }
 
-// The frame's channels [c0, c0 + channels) of its straight RGBA, width x height, each pixel the
-// mean of its k x k samples (the frame rendered k times larger, streamed in bands of k rows).
-std::vector<double> rendered(const SceneProgram& program, const CompiledKernel& kernel, int width,
-                             int height, int k, int c0, int channels) {
-    FrameRequest request;
-    request.width = width * k;
-    request.height = height * k;
-    FrameValues frame;
-    std::string diagnostics;
-    if (!evaluateFrame(program, request, frame, diagnostics)) fail(diagnostics);
-    const KernelFrame kf{frame.uniforms.data(), frame.width, frame.height};
-    const int n = kernel.numOutputs();
-    std::vector<double> out(size_t(width) * height * channels, 0.0);
-    runKernelInBands(kernel, kf, {}, k,
-                     [&](int band, int first, int count, const float* rows, size_t stride) {
-                         if (first != 0 || count != k) fail("a band came in parts");
-                         double* row = out.data() + size_t(band) * width * channels;
-                         for (int j = 0; j < k; ++j)
-                             for (int x = 0; x < width * k; ++x)
-                                 for (int c = 0; c < channels; ++c)
-                                     row[size_t(x / k) * channels + c] +=
-                                         rows[size_t(j) * stride + size_t(x) * n + c0 + c];
-                         for (size_t i = 0; i < size_t(width) * channels; ++i) row[i] /= k * k;
-                     });
-    return out;
-}
-
-double rmse(const std::vector<double>& a, const std::vector<double>& b) {
-    double sq = 0;
-    for (size_t i = 0; i < a.size(); ++i) sq += (a[i] - b[i]) * (a[i] - b[i]);
-    return std::sqrt(sq / double(a.size()));
-}
-
 struct Row {
     std::string name;
     double error[2]; // point, mean: the whole picture's RGB
@@ -92,8 +60,8 @@ double previewError(const std::string& file, const std::string& text, LlvmJitBac
     CompileResult r = compileScene(file, text, options);
     if (!r.program) fail(r.diagnostics);
     auto kernel = jit.compile(r.program->kernel);
-    return rmse(rendered(*r.program, *kernel, width, height, 1, c0, count),
-                rendered(*r.program, *kernel, width, height, kFactor, c0, count));
+    return rmse(frameMeans(*r.program, *kernel, width, height, 1, c0, count),
+                frameMeans(*r.program, *kernel, width, height, kFactor, c0, count));
 }
 
 // The preview under the mean filter against the exact field: the frame rendered kFactor times
@@ -109,8 +77,8 @@ double exactError(const std::string& file, const std::string& text, LlvmJitBacke
     if (!exact.program) fail(exact.diagnostics);
     auto meanKernel = jit.compile(mean.program->kernel);
     auto exactKernel = jit.compile(exact.program->kernel);
-    return rmse(rendered(*mean.program, *meanKernel, width, height, 1, 0, 3),
-                rendered(*exact.program, *exactKernel, width, height, kFactor, 0, 3));
+    return rmse(frameMeans(*mean.program, *meanKernel, width, height, 1, 0, 3),
+                frameMeans(*exact.program, *exactKernel, width, height, kFactor, 0, 3));
 }
 
 Row measure(const std::filesystem::path& file, LlvmJitBackend& jit, int width, int height) {

@@ -1,5 +1,6 @@
 #include "compiler/lower/StrokePairs.h"
 
+#include "compiler/lower/FineUnion.h"
 #include "compiler/lower/LatticeUnion.h"
 
 namespace moire::lower {
@@ -10,6 +11,7 @@ std::optional<StrokeAcross> strokeAcross(ir::Builder& b, const LayerFields& fiel
                                          ValueId halfWidth, const PixelFootprint& pixel) {
     ValueId zero = b.constF(0.0), one = b.constF(1.0);
     ValueId nu, nv, s, weight = one;
+    StrokeAcross out; // its periodic reading, where a phase family has one, and a dot's disc
     if (fields.footprint.grad != ir::kNoValue && fields.footprint.gradX != ir::kNoValue &&
         fields.footprint.edge == ir::kNoValue) {
         // A phase family: members at the integers of the index, which grows along its
@@ -26,6 +28,11 @@ std::optional<StrokeAcross> strokeAcross(ir::Builder& b, const LayerFields& fiel
         // run of such layers is FineUnion's to correlate).
         ValueId members = b.mul(length, pixel.size);
         weight = b.sub(one, b.smoothstep(b.constF(kCrowdFrom), b.constF(kCrowdFull), members));
+        out.index = f.index;
+        out.gu = b.mul(g.u, pixel.size);
+        out.gv = b.mul(g.v, pixel.size);
+        out.w = b.mul(halfWidth, f.grad);
+        out.unresolved = unresolved(b, f, pixel);
         if (f.first) {
             // Where the footprint reaches below the first member (meanInk's test), that member
             // is the nearest, on the gradient's far side, `distance` away (the index is not
@@ -81,11 +88,16 @@ std::optional<StrokeAcross> strokeAcross(ir::Builder& b, const LayerFields& fiel
             alone = b.mul(alone, b.clamp(lead, zero, one));
         }
         weight = b.mul(weight, b.select(p->dots, alone, one));
+        out.disc = b.select(p->dots, one, zero);
     }
-    ValueId h = b.div(halfWidth, pixel.size);
-    ValueId touches =
-        b.emit(ir::Op::And, {b.gt(weight, zero), b.lt(b.abs(s), b.add(h, b.constF(0.7072)))});
-    return StrokeAcross{nu, nv, s, h, weight, touches};
+    out.nu = nu;
+    out.nv = nv;
+    out.s = s;
+    out.h = b.div(halfWidth, pixel.size);
+    out.weight = weight;
+    out.touches =
+        b.emit(ir::Op::And, {b.gt(weight, zero), b.lt(b.abs(s), b.add(out.h, b.constF(0.7072)))});
+    return out;
 }
 
 ValueId strokeCovariance(ir::Builder& b, const StrokeAcross& first, const StrokeAcross& second) {
@@ -99,6 +111,25 @@ ValueId strokeCovariance(ir::Builder& b, const StrokeAcross& first, const Stroke
     return b.denan(b.mul(cov, b.mul(first.weight, second.weight)), b.constF(0.0));
 }
 
+ValueId mixedWeight(ir::Builder& b, const StrokeAcross& periodic, const StrokeAcross& stroke) {
+    if (periodic.unresolved == ir::kNoValue) return b.constF(0.0);
+    // The stroke's layer is resolved as far as its nearest stroke counts (its weight).
+    return b.clamp(b.sub(periodic.unresolved, b.sub(b.constF(1.0), stroke.weight)), b.constF(0.0),
+                   b.constF(1.0));
+}
+
+ValueId mixedCovariance(ir::Builder& b, const StrokeAcross& periodic, const StrokeAcross& stroke) {
+    if (periodic.unresolved == ir::kNoValue) return b.constF(0.0);
+    auto value = [&](ValueId v) { return ir::BuiltValue(b, v); };
+    ValueId cov =
+        stripesCovariance(value(periodic.index), value(periodic.gu), value(periodic.gv),
+                          value(periodic.w), value(stroke.nu), value(stroke.nv), value(stroke.s),
+                          value(stroke.h),
+                          value(stroke.disc == ir::kNoValue ? b.constF(0.0) : stroke.disc))
+            .id;
+    return b.denan(b.mul(cov, mixedWeight(b, periodic, stroke)), b.constF(0.0));
+}
+
 std::vector<StrokeAcross> strandStrokes(ir::Builder& b, const CrowdEstimate& crowd,
                                         ValueId halfWidth, const PixelFootprint& pixel) {
     std::vector<StrokeAcross> out;
@@ -109,6 +140,8 @@ std::vector<StrokeAcross> strandStrokes(ir::Builder& b, const CrowdEstimate& cro
         std::optional<StrokeAcross> s = strokeAcross(b, line, halfWidth, pixel);
         if (!s) continue;
         s->weight = b.select(crowd.strandsOn, s->weight, b.constF(0.0));
+        if (s->unresolved != ir::kNoValue)
+            s->unresolved = b.select(crowd.strandsOn, s->unresolved, b.constF(0.0));
         s->touches = b.emit(ir::Op::And, {s->touches, crowd.strandsOn});
         out.push_back(*s);
     }

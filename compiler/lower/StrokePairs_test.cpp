@@ -21,23 +21,30 @@ struct Pair {
     double phi1, s1, h1, phi2, s2, h2;
 };
 
-// The oracle: E[A1 A2] - E[A1] E[A2] over the unit square pixel, 512 x 512 midpoints.
-double bruteCovariance(const Pair& p) {
-    constexpr int kSide = 512;
-    const double c1 = std::cos(p.phi1), n1 = std::sin(p.phi1);
-    const double c2 = std::cos(p.phi2), n2 = std::sin(p.phi2);
+// The oracle: E[A1 A2] - E[A1] E[A2] over the unit square pixel, `side` x `side` midpoints,
+// of two inks given as whether each covers the point (x, y) of the pixel's frame.
+template <class InkA, class InkB>
+double sampledCovariance(int side, InkA inkA, InkB inkB) {
     long both = 0, one = 0, two = 0;
-    for (int j = 0; j < kSide; ++j)
-        for (int i = 0; i < kSide; ++i) {
-            const double x = (i + 0.5) / kSide - 0.5, y = (j + 0.5) / kSide - 0.5;
-            const bool a = std::abs(c1 * x + n1 * y + p.s1) < p.h1;
-            const bool b = std::abs(c2 * x + n2 * y + p.s2) < p.h2;
+    for (int j = 0; j < side; ++j)
+        for (int i = 0; i < side; ++i) {
+            const double x = (i + 0.5) / side - 0.5, y = (j + 0.5) / side - 0.5;
+            const bool a = inkA(x, y), b = inkB(x, y);
             one += a;
             two += b;
             both += a && b;
         }
-    const double n = double(kSide) * kSide;
+    const double n = double(side) * side;
     return both / n - (one / n) * (two / n);
+}
+
+// Two strokes' covariance, 512 x 512 midpoints.
+double bruteCovariance(const Pair& p) {
+    const double c1 = std::cos(p.phi1), n1 = std::sin(p.phi1);
+    const double c2 = std::cos(p.phi2), n2 = std::sin(p.phi2);
+    return sampledCovariance(
+        512, [&](double x, double y) { return std::abs(c1 * x + n1 * y + p.s1) < p.h1; },
+        [&](double x, double y) { return std::abs(c2 * x + n2 * y + p.s2) < p.h2; });
 }
 
 // The closed form for the pair: the second normal in the first's frame.
@@ -137,6 +144,121 @@ TEST_CASE("stroke pairs: every backend computes the covariance the double form c
             const double got =
                 probe.run({p.s1, p.h1, p.s2, p.h2, std::cos(turn), std::sin(turn)})[0];
             CHECK(got == doctest::Approx(formCovariance(p)).epsilon(1e-4).scale(1.0));
+        }
+    }
+}
+
+// A layer's periodic strokes against another's one stroke (stripesCovariance): the members at
+// the whole numbers of an index linear over the pixel, w of the index either side, and the
+// stroke |n . x + s| < h, all in the pixel's frame.
+struct Stripes {
+    double index, gu, gv, w, phi, s, h;
+    bool disc = false; // the stroke a disc of radius h about the point -s n
+};
+
+// The stripes' covariance with the stroke, `side` x `side` midpoints.
+double bruteStripes(const Stripes& p, int side = 256) {
+    const double nu = std::cos(p.phi), nv = std::sin(p.phi);
+    return sampledCovariance(
+        side,
+        [&](double x, double y) {
+            const double f = p.index + p.gu * x + p.gv * y;
+            return std::abs(f - std::floor(f + 0.5)) < p.w;
+        },
+        [&](double x, double y) {
+            return p.disc ? std::hypot(x + p.s * nu, y + p.s * nv) < p.h
+                          : std::abs(nu * x + nv * y + p.s) < p.h;
+        });
+}
+
+double formStripes(const Stripes& p) {
+    return stripesCovariance(p.index, p.gu, p.gv, p.w, std::cos(p.phi), std::sin(p.phi), p.s, p.h,
+                             p.disc ? 1.0 : 0.0);
+}
+
+// Random stripes from a member a pixel to five against a stroke that touches the pixel: a
+// band from a hairline to wider than the pixel, the members within 5 degrees of it (where
+// the two are most correlated) or at any angle, or a dot of radius 0.05 to 0.45.
+enum class Against { Parallel, Crossing, Dot };
+std::vector<Stripes> stripesAt(Against kind, int count, unsigned seed) {
+    std::mt19937 rng(seed);
+    std::uniform_real_distribution<double> unit(0.0, 1.0);
+    std::vector<Stripes> out;
+    for (int k = 0; k < count; ++k) {
+        Stripes p;
+        p.phi = unit(rng) * kPi;
+        const double members = 1.0 + 4.0 * unit(rng);
+        const double along = kind == Against::Parallel ? p.phi + (unit(rng) * 2 - 1) * 5 * kPi / 180
+                                                       : unit(rng) * kPi;
+        p.gu = members * std::cos(along);
+        p.gv = members * std::sin(along);
+        p.index = unit(rng) * 10;
+        p.w = 0.05 + 0.3 * unit(rng);
+        p.disc = kind == Against::Dot;
+        p.h = p.disc ? 0.05 + 0.4 * unit(rng) : 0.05 + 0.6 * unit(rng);
+        p.s = p.disc ? unit(rng) * (p.h + 0.5) : (unit(rng) * 2 - 1) * (p.h + 0.6);
+        out.push_back(p);
+    }
+    return out;
+}
+
+TEST_CASE("stroke pairs: a stroke along a side over members parallel to it is exact") {
+    // Two members a pixel along u (at u = -1/4 and 1/4, w = 0.1 of a period: 0.1 of a pixel
+    // wide each), and a stroke on the first: it holds that member's 0.1 of the pixel.
+    const Stripes on{0.5, 2.0, 0.0, 0.1, 0.0, 0.25, 0.05};
+    CHECK(formStripes(on) == doctest::Approx(0.1 - 0.1 * 0.2).epsilon(0.01));
+    CHECK(bruteStripes(on, 1000) == doctest::Approx(0.08).epsilon(0.01));
+    // Between the members it holds none: -E[A1] E[A2].
+    const Stripes between{0.5, 2.0, 0.0, 0.1, 0.0, 0.0, 0.05};
+    CHECK(formStripes(between) == doctest::Approx(-0.1 * 0.2).epsilon(0.01));
+}
+
+TEST_CASE("stroke pairs: periodic members against a stroke, the covariance over the square") {
+    struct Band {
+        Against kind;
+        const char* name;
+        double kept, worst;
+    };
+    // Measured: 4.9% of independence's error kept where the members run within 5 degrees of
+    // the stroke (worst 0.006, against a mean covariance of 0.019), 16% where they cross it at
+    // any angle (worst 0.011, against 0.0074), 4.9% against a dot (worst 0.0039, against
+    // 0.010).
+    const Band bands[] = {{Against::Parallel, "parallel", 0.08, 0.01},
+                          {Against::Crossing, "crossing", 0.25, 0.02},
+                          {Against::Dot, "a dot", 0.08, 0.01}};
+    unsigned seed = 21;
+    for (const Band& band : bands) {
+        CAPTURE(band.name);
+        double independent = 0, kept = 0, worst = 0;
+        const std::vector<Stripes> all = stripesAt(band.kind, 60, seed++);
+        for (const Stripes& p : all) {
+            const double truth = bruteStripes(p), form = formStripes(p);
+            independent += std::abs(truth);
+            kept += std::abs(form - truth);
+            worst = std::max(worst, std::abs(form - truth));
+        }
+        MESSAGE(std::string(band.name), ": kept ", kept / independent, ", worst ", worst,
+                ", mean |cov| ", independent / all.size());
+        CHECK(kept <= band.kept * independent);
+        CHECK(worst <= band.worst);
+    }
+}
+
+TEST_CASE("stroke pairs: every backend computes the stripes' covariance the double form does") {
+    test::KernelProbe probe(1, [](ir::Builder& b) {
+        auto u = [&](int i) { return ir::BuiltValue(b, b.uniform(i)); };
+        b.output(0, stripesCovariance(u(0), u(1), u(2), u(3), u(4), u(5), u(6), u(7), u(8)).id);
+    });
+    std::vector<Stripes> all = stripesAt(Against::Parallel, 20, 31);
+    for (Against kind : {Against::Crossing, Against::Dot})
+        for (const Stripes& p : stripesAt(kind, 20, 32)) all.push_back(p);
+    for (const std::string& backend : test::probeBackends()) {
+        CAPTURE(backend);
+        if (!probe.use(backend)) continue;
+        for (const Stripes& p : all) {
+            const double got = probe.run({p.index, p.gu, p.gv, p.w, std::cos(p.phi),
+                                          std::sin(p.phi), p.s, p.h, p.disc ? 1.0 : 0.0})[0];
+            CHECK(got == doctest::Approx(formStripes(p)).epsilon(1e-3).scale(1.0));
         }
     }
 }

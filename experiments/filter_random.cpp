@@ -6,8 +6,8 @@
 // cases of tests/filter_test.cpp hold each regime the filter reads; this says how far those
 // readings hold where members, strokes and layers fall as they may. Walking families are left
 // out: past the search budget their exact field is not exact (walking_mean measures them).
-// Prints the RMSE's spread over the scenes, one-layer and two-layer apart, and the worst
-// scenes whole. Goal: every pixel a number within [0, 1], and the mean RMSE at most 0.01.
+// Prints the RMSE's spread over the scenes, one-layer and two-layer apart, and the five worst
+// scenes of each whole. Goal: every pixel a number within [0, 1], and the mean RMSE at most 0.01.
 #include "compiler/backend/llvm/LlvmJit.h"
 #include "experiments/FrameMeans.h"
 #include "experiments/Harness.h"

@@ -547,7 +547,12 @@ double spreadOf(const Image& img) {
 //   hyperbolas finer than the pixel, pentagons 5.4 pixels apart: 0.023 -> 0.0015;
 //   circles warped by a field, 0.78 pixels apart, under spirals warped by another: 0.029 ->
 //     0.0034;
-//   squares 0.49 pixels apart and triangles 2.3 apart: 0.0165 -> 0.0003.
+//   squares 0.49 pixels apart and triangles 2.3 apart: 0.0165 -> 0.0003;
+// and families given by their distance, crowding one way, by the index they run by:
+//   rings 0.6 pixels apart under lines 5 apart: 0.0133 -> 0.0015;
+//   rings 0.7 pixels apart under circles 4 apart: 0.0200 -> 0.0031;
+//   lines 0.55 pixels apart under parabolas 2.5 apart: 0.0099 -> 0.0012;
+//   circles 3.6 pixels apart under lines 0.72 apart: 0.0186 -> 0.0016.
 TEST_CASE("filter: a crowded layer's members meet a resolved layer's strokes") {
     auto backend = test::makeBackendOrSkip("jit");
     if (!backend) backend = test::makeBackendOrSkip("interp");
@@ -600,6 +605,25 @@ TEST_CASE("filter: a crowded layer's members meet a resolved layer's strokes") {
          "layer b { family = triangles; spacing = 5.945; stroke = 0.9645; rotation = 31.46deg; "
          "origin = (-23.55, -3.207) }\n",
          15, 1, 0.002},
+        // Families given by their distance whose members crowd running one way, read by the
+        // index they run by (DistanceFamily.h, runs).
+        {"family rings { distance = abs(r - spacing * round(r / spacing)) }\n"
+         "layer a { family = rings; spacing = 0.6; stroke = 0.15; origin = (-30, 10) }\n"
+         "layer b { family = lines; spacing = 5; stroke = 1.2; rotation = 20deg }\n",
+         60, 40, 0.003},
+        {"family rings { distance = abs(r - spacing * round(r / spacing)) }\n"
+         "layer a { family = rings; spacing = 0.7; stroke = 0.2; origin = (-50, 40) }\n"
+         "layer b { family = circles; spacing = 4; stroke = 1.5; origin = (20, -10) }\n",
+         60, 40, 0.005},
+        {"family dlines { distance = abs(x - spacing * round(x / spacing)) }\n"
+         "layer a { family = dlines; spacing = 0.55; stroke = 0.15; rotation = 10deg }\n"
+         "layer b { family = parabola; spacing = 2.5; stroke = 0.8; rotation = 30deg }\n",
+         60, 40, 0.003},
+        {"family dlines { distance = abs(x - spacing * round(x / spacing)) }\n"
+         "camera { zoom = 0.6 }\n"
+         "layer a { family = circles; spacing = 6; stroke = 1.5 }\n"
+         "layer b { family = dlines; spacing = 1.2; stroke = 0.4; rotation = 70deg }\n",
+         60, 40, 0.003},
     };
     for (const Case& c : kCases) {
         CAPTURE(c.scene);

@@ -69,6 +69,18 @@ std::optional<StrokeAcross> strokeAcross(ir::Builder& b, const LayerFields& fiel
                                                            b.constF(kCrowdFull), members)));
         }
     }
+    if (const auto& runs = fields.crowd.runs;
+        runs && out.unresolved == ir::kNoValue && runs->footprint.gradX != ir::kNoValue) {
+        // A family given by its distance whose members crowd running one way: periodic
+        // strokes by the index they run by (not where they run two or three ways, a grid's).
+        const Footprint& f = runs->footprint;
+        PixelSides g = onPixelSides(b, f.gradX, f.gradY, pixel);
+        out.index = f.index;
+        out.gu = b.mul(g.u, pixel.size);
+        out.gv = b.mul(g.v, pixel.size);
+        out.w = b.mul(runs->halfWidth, f.grad);
+        out.unresolved = b.select(b.gt(runs->twoWays, zero), zero, unresolved(b, f, pixel));
+    }
     const ValueId crowded = fields.crowd.strokesCrowded != ir::kNoValue
                                 ? fields.crowd.strokesCrowded
                                 : fields.crowd.engaged;

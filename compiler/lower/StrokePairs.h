@@ -182,9 +182,10 @@ T stripesCovariance(T index, T gu, T gv, T w, T nu, T nv, T s, T h, T disc) {
 struct StrokeAcross {
     ir::ValueId nu, nv, s, h, weight, touches;
     // A phase family's members read as periodic strokes (stripesCovariance), where they crowd
-    // past the nearest's reading: the index at the pixel's centre, its steps a pixel along the
-    // pixel's sides (gu, gv), the half-width in index units, and how far the members are past
-    // being resolved (FineUnion.h, `unresolved`); kNoValue for any other layer.
+    // past the nearest's reading, or a family's given by its distance by the index they run
+    // by where they crowd running one way: the index at the pixel's centre, its steps a pixel
+    // along the pixel's sides (gu, gv), the half-width in index units, and how far the members
+    // are past being resolved (FineUnion.h, `unresolved`); kNoValue for any other layer.
     ir::ValueId index = ir::kNoValue, gu = ir::kNoValue, gv = ir::kNoValue, w = ir::kNoValue,
                 unresolved = ir::kNoValue;
     // 1 where the stroke stands for a lattice's dot (a disc of radius h, its centre s from

@@ -123,6 +123,27 @@ ValueId strokeCovariance(ir::Builder& b, const StrokeAcross& first, const Stroke
     return b.denan(b.mul(cov, b.mul(first.weight, second.weight)), b.constF(0.0));
 }
 
+ValueId stripesCovarianceOf(ir::Builder& b, ValueId index, ValueId gu, ValueId gv, ValueId w,
+                            ValueId nu, ValueId nv, ValueId s, ValueId h, ValueId disc) {
+    auto value = [&](ValueId v) { return ir::BuiltValue(b, v); };
+    const ValueId zero = b.constF(0.0);
+    const std::vector<ValueId> sums = b.loop(
+        {zero, zero, zero},
+        [&](std::span<const ValueId> v) {
+            return std::vector<ValueId>{b.lt(v[0], b.constF(kStripeSlices))};
+        },
+        [&](std::span<const ValueId> v) {
+            const auto [box, ink] =
+                stripeSlice(value(index), value(gu), value(gv), value(w), value(nu), value(nv),
+                            value(s), value(h), value(disc), value(v[0]));
+            return std::vector<ValueId>{b.add(v[0], b.constF(1.0)), b.add(v[1], ink.id),
+                                        b.add(v[2], box.id)};
+        });
+    const ValueId whole =
+        squareMeanInk(value(index), value(b.abs(gu)), value(b.abs(gv)), value(w)).id;
+    return b.sub(sums[1], b.mul(sums[2], whole));
+}
+
 ValueId mixedWeight(ir::Builder& b, const StrokeAcross& periodic, const StrokeAcross& stroke) {
     if (periodic.unresolved == ir::kNoValue) return b.constF(0.0);
     // The stroke's layer is resolved as far as its nearest stroke counts (its weight).
@@ -132,13 +153,9 @@ ValueId mixedWeight(ir::Builder& b, const StrokeAcross& periodic, const StrokeAc
 
 ValueId mixedCovariance(ir::Builder& b, const StrokeAcross& periodic, const StrokeAcross& stroke) {
     if (periodic.unresolved == ir::kNoValue) return b.constF(0.0);
-    auto value = [&](ValueId v) { return ir::BuiltValue(b, v); };
-    ValueId cov =
-        stripesCovariance(value(periodic.index), value(periodic.gu), value(periodic.gv),
-                          value(periodic.w), value(stroke.nu), value(stroke.nv), value(stroke.s),
-                          value(stroke.h),
-                          value(stroke.disc == ir::kNoValue ? b.constF(0.0) : stroke.disc))
-            .id;
+    ValueId cov = stripesCovarianceOf(b, periodic.index, periodic.gu, periodic.gv, periodic.w,
+                                      stroke.nu, stroke.nv, stroke.s, stroke.h,
+                                      stroke.disc == ir::kNoValue ? b.constF(0.0) : stroke.disc);
     return b.denan(b.mul(cov, mixedWeight(b, periodic, stroke)), b.constF(0.0));
 }
 

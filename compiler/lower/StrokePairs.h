@@ -26,6 +26,7 @@
 #include <algorithm>
 #include <cmath>
 #include <optional>
+#include <span>
 #include <utility>
 #include <vector>
 
@@ -128,8 +129,10 @@ T stripCovariance(T s1, T h1, T s2, T h2, T cosA, T sinA) {
 // for the whole span, facing the stroke, kept 18% and 43%, and 4 slices 18% and 30%, their
 // error in the square's corners, which the slices' boxes cut square.
 constexpr int kStripeSlices = 8;
+// Slice k (0 to kStripeSlices - 1, a number or a loop's counter) of stripesCovariance, below:
+// its box's area and that area times the periodic layer's mean over it.
 template <class T>
-T stripesCovariance(T index, T gu, T gv, T w, T nu, T nv, T s, T h, T disc) {
+std::pair<T, T> stripeSlice(T index, T gu, T gv, T w, T nu, T nv, T s, T h, T disc, T k) {
     using ir::literal;
     using std::abs;
     using std::max;
@@ -153,25 +156,36 @@ T stripesCovariance(T index, T gu, T gv, T w, T nu, T nv, T s, T h, T disc) {
         const T half = literal(s, 0.5) / size;
         return std::pair{centre - half, centre + half};
     };
-    T inBand = zero, area = zero;
-    for (int k = 0; k < kStripeSlices; ++k) {
-        const T u = lo + du * (k + 0.5);
-        const auto [lu, hu] = chord(u, nu, -nv);
-        const auto [lv, hv] = chord(u, nv, nu);
-        // A disc's chord, about its centre's line through the pixel's centre (v = 0).
-        const T off = u + s;
-        const T round = ir::select(ir::lessThan(zero, disc), sqrt(max(hw * hw - off * off, zero)),
-                                   literal(s, 1e30));
-        const T from = max(max(lu, lv), -round);
-        const T length = max(min(min(hu, hv), round), from) - from;
-        const T middle = from + length * 0.5;
-        const T box = du * length;
-        inBand = inBand +
-                 box * squareMeanInk(index + a * u + b * middle, abs(a) * du, abs(b) * length, w);
-        area = area + box;
-    }
-    return inBand - area * squareMeanInk(index, abs(gu), abs(gv), w);
+    const T u = lo + du * (k + 0.5);
+    const auto [lu, hu] = chord(u, nu, -nv);
+    const auto [lv, hv] = chord(u, nv, nu);
+    // A disc's chord, about its centre's line through the pixel's centre (v = 0).
+    const T off = u + s;
+    const T round = ir::select(ir::lessThan(zero, disc), sqrt(max(hw * hw - off * off, zero)),
+                               literal(s, 1e30));
+    const T from = max(max(lu, lv), -round);
+    const T length = max(min(min(hu, hv), round), from) - from;
+    const T middle = from + length * 0.5;
+    const T box = du * length;
+    return {box, box * squareMeanInk(index + a * u + b * middle, abs(a) * du, abs(b) * length, w)};
 }
+// The sum over the slices, in double (the kernel's is a loop: stripesCovarianceOf below).
+inline double stripesCovariance(double index, double gu, double gv, double w, double nu, double nv,
+                                double s, double h, double disc) {
+    double inBand = 0, area = 0;
+    for (int k = 0; k < kStripeSlices; ++k) {
+        const auto [box, ink] = stripeSlice(index, gu, gv, w, nu, nv, s, h, disc, double(k));
+        inBand += ink;
+        area += box;
+    }
+    return inBand - area * squareMeanInk(index, std::abs(gu), std::abs(gv), w);
+}
+// The same in the kernel, its slices one loop (the IR of a slice written once): every pair of
+// layers reads it where their strokes meet, and unrolled it was most of a four-layer scene's
+// kernel.
+ir::ValueId stripesCovarianceOf(ir::Builder& b, ir::ValueId index, ir::ValueId gu, ir::ValueId gv,
+                                ir::ValueId w, ir::ValueId nu, ir::ValueId nv, ir::ValueId s,
+                                ir::ValueId h, ir::ValueId disc);
 
 // A layer's nearest stroke in the pixel's frame, in pixel units: the unit normal (nu, nv)
 // along the pixel's sides, the pixel's centre standing `s` from the member's centre line along

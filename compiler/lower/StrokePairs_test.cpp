@@ -246,8 +246,9 @@ TEST_CASE("stroke pairs: periodic members against a stroke, the covariance over 
 
 TEST_CASE("stroke pairs: every backend computes the stripes' covariance the double form does") {
     test::KernelProbe probe(1, [](ir::Builder& b) {
-        auto u = [&](int i) { return ir::BuiltValue(b, b.uniform(i)); };
-        b.output(0, stripesCovariance(u(0), u(1), u(2), u(3), u(4), u(5), u(6), u(7), u(8)).id);
+        b.output(0, stripesCovarianceOf(b, b.uniform(0), b.uniform(1), b.uniform(2), b.uniform(3),
+                                        b.uniform(4), b.uniform(5), b.uniform(6), b.uniform(7),
+                                        b.uniform(8)));
     });
     std::vector<Stripes> all = stripesAt(Against::Parallel, 20, 31);
     for (Against kind : {Against::Crossing, Against::Dot})

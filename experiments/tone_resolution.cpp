@@ -13,8 +13,6 @@
 #include "compiler/backend/llvm/LlvmJit.h"
 #include "experiments/FrameMeans.h"
 #include "experiments/Harness.h"
-#include "runtime/FrameEval.h"
-#include "runtime/TileExecutor.h"
 
 #include <algorithm>
 #include <chrono>

@@ -3,6 +3,9 @@
 #include "compiler/lower/FineUnion.h"
 #include "compiler/lower/LatticeUnion.h"
 
+#include <span>
+#include <vector>
+
 namespace moire::lower {
 
 using ir::ValueId;

@@ -257,7 +257,14 @@ FileWatch::Wait FileWatch::wait(std::chrono::milliseconds timeout) {
     // When the batch's last event ended a save (IN_CLOSE_WRITE, IN_MOVED_TO), the file is
     // whole: only a short grace is left for a save made of several steps. Otherwise the full
     // debounce, since a writer may be between two write() calls.
+    //
+    // A file left empty by an event that did not end a save is a writer that has truncated it
+    // (open with O_TRUNC) and not yet written: on a loaded machine the write can come later
+    // than the debounce, and reloading then would draw an empty scene for a moment. So that
+    // state waits for the close (or the batch's age limit); an empty file saved on purpose
+    // ends with a close and is reported at once.
     const auto reportAt = [&] {
+        if (!saved_ && last_.exists && last_.size == 0) return batchFirst_ + maxBatch;
         const auto quiet = saved_ ? std::min(options_.debounce, kSavedGrace) : options_.debounce;
         return std::min(batchLast_ + quiet, batchFirst_ + maxBatch);
     };

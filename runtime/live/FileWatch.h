@@ -42,6 +42,8 @@ class FileWatch {
     // until interrupt() is called from any thread (or a signal handler). Events that arrive while
     // nobody waits are not lost: the next wait reports them. One thread waits at a time. A file
     // written without a pause is reported anyway once its batch is max(1 s, 10 x debounce) old.
+    // A file truncated to nothing and still open for writing waits for its close (or that age):
+    // it is a save between its truncate and its write, not an empty scene.
     Wait wait(std::chrono::milliseconds timeout);
     // Thread-safe and async-signal-safe (writes an eventfd); makes the current or next wait()
     // return Interrupted.

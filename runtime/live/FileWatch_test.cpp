@@ -387,3 +387,36 @@ TEST_CASE("FileWatch: a finished save skips the debounce, a write still open wai
     // The close is an event of its own, and it ends the save at once.
     REQUIRE(watch.wait(2s) == Wait::Changed);
 }
+
+TEST_CASE("FileWatch: a save paused between its truncate and its write is reported whole") {
+    ScratchDir dir;
+    const std::string path = dir.file("scene.moire");
+    writeFile(path, "old contents");
+    FileWatch watch(path, inotifyOnly(15ms));
+
+    // Truncated and still open, as a writer on a loaded machine leaves it between open(O_TRUNC)
+    // and its write: many debounces pass and nothing is reported, since a reload would read an
+    // empty scene.
+    const int fd = ::open(path.c_str(), O_WRONLY | O_TRUNC);
+    REQUIRE(fd >= 0);
+    CHECK(watch.wait(150ms) == Wait::Timeout);
+    REQUIRE(::write(fd, "new", 3) == 3);
+    REQUIRE(::close(fd) == 0);
+    REQUIRE(watch.wait(2s) == Wait::Changed);
+    CHECK(readFile(path) == "new");
+
+    // Emptied on purpose (closed): reported without waiting for anything more.
+    const Clock::time_point t0 = Clock::now();
+    writeFile(path, "");
+    REQUIRE(watch.wait(2s) == Wait::Changed);
+    CHECK(Clock::now() - t0 < 500ms);
+
+    // Left truncated and open for good: reported once the batch is a second old, so a writer
+    // that never writes does not hide the change forever.
+    writeFile(path, "again");
+    REQUIRE(watch.wait(2s) == Wait::Changed);
+    const int stuck = ::open(path.c_str(), O_WRONLY | O_TRUNC);
+    REQUIRE(stuck >= 0);
+    REQUIRE(watch.wait(3s) == Wait::Changed);
+    ::close(stuck);
+}

@@ -116,7 +116,7 @@ TEST_CASE("filter: a crowded layer's members meet a resolved layer's strokes") {
         const Image want = test::downsampled(*field, *backend, c.x0, c.y0, 40, 30, 64, 0, 1);
         const test::InkAgainst d = test::inkAgainst(got, want);
         if (std::getenv("MOIRE_FILTER_REPORT"))
-            MESSAGE(c.scene, "RMSE ", d.rmse, ", ink ", d.ink, " against ", d.exact);
+            MESSAGE(std::string(c.scene), "RMSE ", d.rmse, ", ink ", d.ink, " against ", d.exact);
         CHECK(d.rmse <= c.rmse);
         CHECK(std::abs(d.ink - d.exact) <= 0.01 * d.exact);
     }

@@ -163,16 +163,7 @@ void Compose::meetStrokes(const LayerInk& ink, ValueId cov, const Ink& under,
                     [&] { return std::vector<ValueId>{zero_}; })[0];
                 // Where one layer's members crowd and the other's do not, the crowded one's
                 // members as periodic strokes against the other's stroke.
-                auto mixed = [&](const StrokeAcross& periodic, const StrokeAcross& stroke) {
-                    if (periodic.unresolved == ir::kNoValue) return zero_;
-                    ValueId some = b_.emit(
-                        Op::And, {stroke.touches, b_.gt(mixedWeight(b_, periodic, stroke), zero_)});
-                    return b_.ifThenElse(
-                        some,
-                        [&] { return std::vector<ValueId>{mixedCovariance(b_, periodic, stroke)}; },
-                        [&] { return std::vector<ValueId>{zero_}; })[0];
-                };
-                cov = b_.add(cov, b_.add(mixed(l.stroke, m.stroke), mixed(m.stroke, l.stroke)));
+                cov = b_.add(cov, mixedPairCovariance(b_, l.stroke, m.stroke));
                 ValueId t = b_.mul(b_.mul(k, m.share), cov);
                 add = {b_.add(add.r, b_.mul(t, l.pending.r)), b_.add(add.g, b_.mul(t, l.pending.g)),
                        b_.add(add.b, b_.mul(t, l.pending.b)),

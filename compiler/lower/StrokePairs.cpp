@@ -162,6 +162,53 @@ ValueId mixedCovariance(ir::Builder& b, const StrokeAcross& periodic, const Stro
     return b.denan(b.mul(cov, mixedWeight(b, periodic, stroke)), b.constF(0.0));
 }
 
+ValueId mixedPairCovariance(ir::Builder& b, const StrokeAcross& first, const StrokeAcross& second) {
+    ValueId zero = b.constF(0.0);
+    // Each way the term can run: `periodic` crowds past the hand-over beyond `stroke`, whose
+    // stroke reaches the pixel.
+    auto way = [&](const StrokeAcross& periodic, const StrokeAcross& stroke) {
+        return b.emit(ir::Op::And, {stroke.touches, b.gt(mixedWeight(b, periodic, stroke), zero)});
+    };
+    auto oneWay = [&](const StrokeAcross& periodic, const StrokeAcross& stroke) {
+        return b.ifThenElse(
+            way(periodic, stroke),
+            [&] { return std::vector<ValueId>{mixedCovariance(b, periodic, stroke)}; },
+            [&] { return std::vector<ValueId>{zero}; })[0];
+    };
+    const bool firstRuns = first.unresolved != ir::kNoValue;
+    const bool secondRuns = second.unresolved != ir::kNoValue;
+    if (!firstRuns && !secondRuns) return zero;
+    if (!secondRuns) return oneWay(first, second);
+    if (!firstRuns) return oneWay(second, first);
+    // Both layers can be read as periodic strokes. The two ways exclude each other wherever a
+    // layer's weight and its unresolved share add to at most 1 (the hand-over's two sides):
+    // u1 > 1 - w2 >= u2 and u2 > 1 - w1 >= u1 cannot both hold. So one stripes loop, its
+    // operands picked by the way that runs, serves the pair (half the kernel's code for the
+    // term); where both ways run after all, the larger weight's is taken.
+    ValueId w12 = mixedWeight(b, first, second), w21 = mixedWeight(b, second, first);
+    ValueId one2 = way(first, second), two1 = way(second, first);
+    ValueId firstCrowds = b.emit(
+        ir::Op::And,
+        {one2, b.emit(ir::Op::Or, {b.emit(ir::Op::Not, {two1}), b.emit(ir::Op::Ge, {w12, w21})})});
+    return b.ifThenElse(
+        b.emit(ir::Op::Or, {one2, two1}),
+        [&] {
+            auto pick = [&](ValueId a, ValueId c) { return b.select(firstCrowds, a, c); };
+            auto disc = [&](const StrokeAcross& s) {
+                return s.disc == ir::kNoValue ? zero : s.disc;
+            };
+            // The periodic side's index and the stroke side's placement, each from the layer
+            // that plays it.
+            const StrokeAcross &a = first, &c = second;
+            ValueId cov =
+                stripesCovarianceOf(b, pick(a.index, c.index), pick(a.gu, c.gu), pick(a.gv, c.gv),
+                                    pick(a.w, c.w), pick(c.nu, a.nu), pick(c.nv, a.nv),
+                                    pick(c.s, a.s), pick(c.h, a.h), pick(disc(c), disc(a)));
+            return std::vector<ValueId>{b.denan(b.mul(cov, pick(w12, w21)), zero)};
+        },
+        [&] { return std::vector<ValueId>{zero}; })[0];
+}
+
 std::vector<StrokeAcross> strandStrokes(ir::Builder& b, const CrowdEstimate& crowd,
                                         ValueId halfWidth, const PixelFootprint& pixel) {
     std::vector<StrokeAcross> out;

@@ -230,6 +230,10 @@ ir::ValueId strokeCovariance(ir::Builder& b, const StrokeAcross& first, const St
 ir::ValueId mixedWeight(ir::Builder& b, const StrokeAcross& periodic, const StrokeAcross& stroke);
 ir::ValueId mixedCovariance(ir::Builder& b, const StrokeAcross& periodic,
                             const StrokeAcross& stroke);
+// Both ways of mixedCovariance for a pair of strokes, each behind its branch (one branch and
+// one stripes loop where both layers can be read as periodic strokes).
+ir::ValueId mixedPairCovariance(ir::Builder& b, const StrokeAcross& first,
+                                const StrokeAcross& second);
 
 // A lattice's strands (CrowdEstimate::strands: its edges' whole lines, each a phase family)
 // as strokes: each the nearest line of its family, held to weight 0 where the lattice draws

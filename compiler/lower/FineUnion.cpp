@@ -2,6 +2,7 @@
 
 #include "compiler/ir/BuiltValue.h"
 #include "compiler/lower/LatticeUnion.h"
+#include "compiler/lower/MeetingBeat.h"
 
 #include <algorithm>
 #include <functional>
@@ -125,6 +126,33 @@ Ink pairCorrelation(ir::Builder& b, const Ink& under, const std::vector<FineLaye
     return pairCorrection(b, under, l1, l2, cov);
 }
 
+// Two layers of lines given by their distance that both run three ways: the meeting points'
+// term the pairs taken as independent miss (MeetingBeat.h), where each layer's third way
+// holds lines and the three pairs are one to one, faded as the least of the pairs' weights.
+// Behind a branch: a layer of one or two ways pays a handful of instructions.
+ValueId meetingPoints(ir::Builder& b, const FineLayer& l1, const FineLayer& l2,
+                      const MeetingSide& first, const MeetingSide& second, const ValueId blanks[2],
+                      const std::vector<ValueId>& partners, const std::vector<ValueId>& weights) {
+    const ValueId zero = b.constF(0.0);
+    auto threeWays = [&](const FineLayer& l) {
+        return b.emit(Op::And, {b.gt(l.twoWays, zero),
+                                b.emit(Op::And, {b.gt(l.strands[2].footprint.trust, zero),
+                                                 b.gt(l.strands[2].mean, zero)})});
+    };
+    ValueId on = b.emit(Op::And, {threeWays(l1), threeWays(l2)});
+    for (size_t i = 0; i < 3; ++i)
+        on = b.emit(Op::And, {on, b.emit(Op::Ne, {partners[i], partners[(i + 1) % 3]})});
+    ValueId weight = b.min(b.min(weights[0], weights[1]), weights[2]);
+    return b.ifThenElse(
+        on,
+        [&] {
+            const ValueId cov = meetingCovariance(b, first, second, blanks[0], blanks[1]);
+            return std::vector<ValueId>{
+                b.denan(b.mul(b.clamp(weight, zero, b.constF(1.0)), cov), zero)};
+        },
+        [&] { return std::vector<ValueId>{zero}; })[0];
+}
+
 // The correlation of a pair with a lattice, by its strands. Each layer's ink is the union of
 // its strands laid as independent, c = 1 - prod(1 - x_i) (x_i a strand's periodic stroke; a
 // phase family is one strand). Lines of different directions are independent over a fine
@@ -139,7 +167,9 @@ Ink pairCorrelation(ir::Builder& b, const Ink& under, const std::vector<FineLaye
 // (prod_pairs (1 + ratio) - 1), and it enters the composite as a pair's does:
 // k1 k2 cov (P - K1). Exact where each line has one partner and the lines of one layer cross
 // (the square lattice's); for the triangle lattice's three, which meet at its points, as its
-// own mean, to first order. A strand the greedy choice leaves unpaired counts its mean alone.
+// own mean, to first order, and for two layers of lines given by their distance that both run
+// three ways, with the harmonics of their meeting points (meetingPoints, MeetingBeat.h). A
+// strand the greedy choice leaves unpaired counts its mean alone.
 Ink strandCorrelation(ir::Builder& b, const Ink& under, const FineLayer& l1, const FineLayer& l2,
                       const PixelFootprint& pixel) {
     const ValueId zero = b.constF(0.0), one = b.constF(1.0);
@@ -164,14 +194,23 @@ Ink strandCorrelation(ir::Builder& b, const Ink& under, const FineLayer& l1, con
     const std::vector<Seen> first = seen(l1), second = seen(l2);
     auto duty = [&](ValueId half) { return b.clamp(b.mul(b.constF(2.0), half), zero, one); };
     ValueId blank = one, factor = one;
-    for (const std::vector<Seen>* s : {&first, &second})
-        for (const Seen& x : *s) blank = b.mul(blank, b.sub(one, x.strand->mean));
+    ValueId blanks[2] = {one, one};
+    for (int j = 0; j < 2; ++j)
+        for (const Seen& x : j == 0 ? first : second) {
+            blank = b.mul(blank, b.sub(one, x.strand->mean));
+            blanks[j] = b.mul(blanks[j], b.sub(one, x.strand->mean));
+        }
+    // Each line of the first layer with its partner, for the meeting points' term below.
+    MeetingSide meets, seconds;
+    std::vector<ValueId> partners, weights;
     for (const Seen& x : first) {
         // The partner: carried through selects, the candidates tried in turn.
         ValueId rate = b.constF(1e30), sense = one, du = zero, dv = zero;
         ValueId index = zero, tr = zero, un = zero, half = zero, mean = zero, past = one;
-        for (const Seen& y : second)
+        ValueId slot = zero;
+        for (size_t j = 0; j < second.size(); ++j)
             for (double s : {1.0, -1.0}) {
+                const Seen& y = second[j];
                 ValueId cu = b.sub(b.mul(b.constF(s), x.g.u), y.g.u);
                 ValueId cv = b.sub(b.mul(b.constF(s), x.g.v), y.g.v);
                 ValueId r = b.add(b.mul(cu, cu), b.mul(cv, cv));
@@ -190,6 +229,7 @@ Ink strandCorrelation(ir::Builder& b, const Ink& under, const FineLayer& l1, con
                 half = pick(y.half, half);
                 mean = pick(y.strand->mean, mean);
                 past = pick(yPast, past);
+                slot = pick(b.constF(double(j)), slot);
             }
         ValueId along = b.mul(b.abs(du), pixel.size), across = b.mul(b.abs(dv), pixel.size);
         ValueId e =
@@ -206,8 +246,30 @@ Ink strandCorrelation(ir::Builder& b, const Ink& under, const FineLayer& l1, con
         ValueId pair = b.mul(b.sub(one, x.strand->mean), b.sub(one, mean));
         ValueId ratio = b.max(b.div(cov, b.max(pair, b.constF(1e-12))), b.constF(-1.0));
         factor = b.mul(factor, b.add(one, b.denan(ratio, zero)));
+        if (partners.size() < 3) {
+            meets.lines[partners.size()] = {x.strand->footprint.index,
+                                            b.mul(x.g.u, pixel.size),
+                                            b.mul(x.g.v, pixel.size),
+                                            x.half,
+                                            index,
+                                            half,
+                                            sense};
+            partners.push_back(slot);
+            weights.push_back(b.mul(weight, past));
+        }
     }
     ValueId cov = b.mul(blank, b.sub(factor, one));
+    if (l1.byDistance && l2.byDistance && first.size() == 3 && second.size() == 3) {
+        for (size_t k = 0; k < 3; ++k)
+            seconds.lines[k] = {second[k].strand->footprint.index,
+                                b.mul(second[k].g.u, pixel.size),
+                                b.mul(second[k].g.v, pixel.size),
+                                second[k].half,
+                                zero,
+                                zero,
+                                one};
+        cov = b.add(cov, meetingPoints(b, l1, l2, meets, seconds, blanks, partners, weights));
+    }
     for (const FineLayer* l : {&l1, &l2})
         if (l->strandsOn != ir::kNoValue) cov = b.select(l->strandsOn, cov, zero);
     return pairCorrection(b, under, l1, l2, cov);

@@ -12,6 +12,30 @@ using ir::Op;
 using ir::ValueId;
 using Vals = std::vector<ValueId>;
 
+MeetingSum meetingSum(ir::Builder& b, const std::array<ValueId, 3>& index,
+                      const std::array<ValueId, 3>& u, const std::array<ValueId, 3>& v) {
+    MeetingSum out{b.constF(1.0), b.constF(1.0), b.constF(0.0), b.constF(0.0), b.constF(0.0)};
+    out.along = out.across = out.c;
+    ValueId best = b.constF(1e30);
+    for (double s2 : {1.0, -1.0})
+        for (double s3 : {1.0, -1.0}) {
+            auto sum = [&](const std::array<ValueId, 3>& x) {
+                return b.add(x[0], b.add(b.mul(b.constF(s2), x[1]), b.mul(b.constF(s3), x[2])));
+            };
+            const ValueId su = sum(u), sv = sum(v);
+            const ValueId size = b.add(b.mul(su, su), b.mul(sv, sv));
+            const ValueId better = b.lt(size, best);
+            const ValueId c = sum(index);
+            best = b.select(better, size, best);
+            out.c = b.select(better, c, out.c);
+            out.along = b.select(better, su, out.along);
+            out.across = b.select(better, sv, out.across);
+            out.s2 = b.select(better, b.constF(s2), out.s2);
+            out.s3 = b.select(better, b.constF(s3), out.s3);
+        }
+    return out;
+}
+
 namespace {
 
 // How nearly each family's parts run one way (the length of their doubled angles' mean) before the
@@ -235,28 +259,15 @@ Spacing spacingAlong(ir::Builder& b, const DistanceAt& at, const PixelFootprint&
 ValueId excessOfThree(ir::Builder& b, const PixelFootprint& pixel,
                       const std::array<const Spacing*, 3>& ways,
                       const std::array<ValueId, 3>& halves) {
-    ValueId gu[3], gv[3];
+    std::array<ValueId, 3> index, gu, gv;
     for (int k = 0; k < 3; ++k) {
         const ValueId per = b.div(pixel.size, ways[k]->spacing);
+        index[k] = ways[k]->index;
         gu[k] = b.mul(ways[k]->n.u, per);
         gv[k] = b.mul(ways[k]->n.v, per);
     }
-    ValueId best = b.constF(1e30), c = b.constF(0.0), along = c, across = c;
-    for (double s2 : {1.0, -1.0})
-        for (double s3 : {1.0, -1.0}) {
-            const ValueId u =
-                b.add(gu[0], b.add(b.mul(b.constF(s2), gu[1]), b.mul(b.constF(s3), gu[2])));
-            const ValueId w =
-                b.add(gv[0], b.add(b.mul(b.constF(s2), gv[1]), b.mul(b.constF(s3), gv[2])));
-            const ValueId size = b.add(b.mul(u, u), b.mul(w, w));
-            const ValueId better = b.lt(size, best);
-            const ValueId sum = b.add(ways[0]->index, b.add(b.mul(b.constF(s2), ways[1]->index),
-                                                            b.mul(b.constF(s3), ways[2]->index)));
-            best = b.select(better, size, best);
-            c = b.select(better, sum, c);
-            along = b.select(better, u, along);
-            across = b.select(better, w, across);
-        }
+    const MeetingSum sum = meetingSum(b, index, gu, gv);
+    const ValueId c = sum.c, along = sum.along, across = sum.across;
     auto value = [&](ValueId x) { return ir::BuiltValue(b, x); };
     auto width = [&](ValueId half) { return value(b.mul(half, b.constF(2.0))); };
     return tripleExcess(value(c), width(halves[0]), width(halves[1]), width(halves[2]),

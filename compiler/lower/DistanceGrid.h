@@ -24,6 +24,7 @@
 #include "compiler/lower/DistanceReading.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <span>
 #include <vector>
@@ -86,6 +87,16 @@ struct GridRead {
 // (0.510 against 0.488). The m-th term falls as 1 / m^3: kTripleHarmonics of them leave under
 // 0.0005.
 constexpr int kTripleHarmonics = 8;
+// The senses that make three families' index gradients nearly cancel: the least of the four
+// sums i_1 + s_2 i_2 + s_3 i_3, each gradient given by its change along and across the pixel's
+// sides (u_k, v_k). Returns the senses, the sum c at the pixel's centre, and c's change along
+// and across (signed). What tripleExcess reads c by, for a layer's own lines and for two
+// layers' meeting points (MeetingBeat.h).
+struct MeetingSum {
+    ir::ValueId s2, s3, c, along, across;
+};
+MeetingSum meetingSum(ir::Builder& b, const std::array<ir::ValueId, 3>& index,
+                      const std::array<ir::ValueId, 3>& u, const std::array<ir::ValueId, 3>& v);
 template <class T>
 T tripleExcess(T c, T w1, T w2, T w3, T along, T across) {
     using ir::literal;

@@ -200,7 +200,9 @@ Ink strandCorrelation(ir::Builder& b, const Ink& under, const FineLayer& l1, con
             blank = b.mul(blank, b.sub(one, x.strand->mean));
             blanks[j] = b.mul(blanks[j], b.sub(one, x.strand->mean));
         }
-    // Each line of the first layer with its partner, for the meeting points' term below.
+    // Two layers given by their distance, three strands each: each line of the first layer
+    // with its partner, for the meeting points' term below.
+    const bool meeting = l1.byDistance && l2.byDistance && first.size() == 3 && second.size() == 3;
     MeetingSide meets, seconds;
     std::vector<ValueId> partners, weights;
     for (const Seen& x : first) {
@@ -246,7 +248,7 @@ Ink strandCorrelation(ir::Builder& b, const Ink& under, const FineLayer& l1, con
         ValueId pair = b.mul(b.sub(one, x.strand->mean), b.sub(one, mean));
         ValueId ratio = b.max(b.div(cov, b.max(pair, b.constF(1e-12))), b.constF(-1.0));
         factor = b.mul(factor, b.add(one, b.denan(ratio, zero)));
-        if (partners.size() < 3) {
+        if (meeting) {
             meets.lines[partners.size()] = {x.strand->footprint.index,
                                             b.mul(x.g.u, pixel.size),
                                             b.mul(x.g.v, pixel.size),
@@ -259,7 +261,7 @@ Ink strandCorrelation(ir::Builder& b, const Ink& under, const FineLayer& l1, con
         }
     }
     ValueId cov = b.mul(blank, b.sub(factor, one));
-    if (l1.byDistance && l2.byDistance && first.size() == 3 && second.size() == 3) {
+    if (meeting) {
         for (size_t k = 0; k < 3; ++k)
             seconds.lines[k] = {second[k].strand->footprint.index,
                                 b.mul(second[k].g.u, pixel.size),

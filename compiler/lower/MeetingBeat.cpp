@@ -1,6 +1,7 @@
 #include "compiler/lower/MeetingBeat.h"
 
 #include "compiler/ir/BuiltValue.h"
+#include "compiler/lower/DistanceGrid.h"
 
 namespace moire::lower {
 
@@ -8,35 +9,19 @@ using ir::ValueId;
 
 namespace {
 
-// The senses sigma_2, sigma_3 (sigma_1 = +1) that make the three lines' gradients nearly
-// cancel, the least of the four sums, as the layer's own mean takes them (DistanceGrid.cpp,
-// excessOfThree): the meeting sum c and its change over the pixel's sides.
+// A side's meeting sum, its senses taken as the layer's own mean takes them
+// (DistanceGrid.cpp, excessOfThree): sigma_1 = +1 and the two that make the gradients cancel.
 struct Meeting {
     std::array<ValueId, 3> sigma;
     ValueId c, along, across;
 };
 
 Meeting meetingOf(ir::Builder& b, const MeetingSide& side) {
-    const auto& l = side.lines;
-    Meeting out{
-        {b.constF(1.0), b.constF(1.0), b.constF(1.0)}, b.constF(0.0), b.constF(0.0), b.constF(0.0)};
-    ValueId best = b.constF(1e30);
-    for (double s2 : {1.0, -1.0})
-        for (double s3 : {1.0, -1.0}) {
-            auto sum = [&](ValueId x0, ValueId x1, ValueId x2) {
-                return b.add(x0, b.add(b.mul(b.constF(s2), x1), b.mul(b.constF(s3), x2)));
-            };
-            const ValueId u = sum(l[0].u, l[1].u, l[2].u), v = sum(l[0].v, l[1].v, l[2].v);
-            const ValueId size = b.add(b.mul(u, u), b.mul(v, v));
-            const ValueId better = b.lt(size, best);
-            best = b.select(better, size, best);
-            out.sigma[1] = b.select(better, b.constF(s2), out.sigma[1]);
-            out.sigma[2] = b.select(better, b.constF(s3), out.sigma[2]);
-            out.c = b.select(better, sum(l[0].index, l[1].index, l[2].index), out.c);
-            out.along = b.select(better, b.abs(u), out.along);
-            out.across = b.select(better, b.abs(v), out.across);
-        }
-    return out;
+    std::array<ValueId, 3> index, u, v;
+    for (size_t k = 0; k < 3; ++k)
+        index[k] = side.lines[k].index, u[k] = side.lines[k].u, v[k] = side.lines[k].v;
+    const MeetingSum sum = meetingSum(b, index, u, v);
+    return {{b.constF(1.0), sum.s2, sum.s3}, sum.c, sum.along, sum.across};
 }
 
 } // namespace

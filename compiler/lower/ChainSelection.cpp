@@ -28,8 +28,7 @@ class Selector {
 
     ChainWindows select() {
         ValueId last = b_.sub(in_.end, c(1.0));
-        Crossings first = crossings(in_.split);
-        Crossings final = crossings(last);
+        auto [first, final] = crossingsAt(in_.split, last);
         // Pair each crossing at the first far member with the nearer one at the last: the
         // level moves evenly with n, so each crossing moves one way, and the turns between the
         // two are every turn at which a member between reaches zero.
@@ -38,6 +37,7 @@ class Selector {
         ValueId swap = b_.lt(crossed, straight);
         ChainWindows out;
         ValueId widest = c(0.0);
+        const Normals normals = normalsAt(in_.split, first.at[0], first.at[1]);
         for (int w = 0; w < 2; ++w) {
             ValueId a = first.at[w];
             ValueId bAt = b_.select(swap, final.at[1 - w], final.at[w]);
@@ -46,9 +46,8 @@ class Selector {
             auto [from, count, width] = window(a, bAt, b_.min(aSlope, bSlope), last);
             out.from[w] = from;
             out.count[w] = count;
-            auto [nx, ny] = normal(in_.split, a);
-            out.normalX[w] = nx;
-            out.normalY[w] = ny;
+            out.normalX[w] = normals.x[w];
+            out.normalY[w] = normals.y[w];
             out.along[w] = in_.along;
             out.across[w] = in_.across;
             widest = b_.max(widest, width);
@@ -134,9 +133,46 @@ class Selector {
         out.slope[1] = res[7];
         return out;
     }
-    // The normal at the pixel of member n turned by psi (memberNormal).
-    std::pair<ValueId, ValueId> normal(ValueId n, ValueId psi) {
-        return memberNormal(b_, in_, n, psi, b_.max(in_.reach, c(1e-6)));
+    // The crossings of members n0 and n1, as two passes of one loop: the residual over a turn
+    // and its refinement are built into the kernel once, as are the four residuals of each
+    // normal (normalsAt).
+    std::pair<Crossings, Crossings> crossingsAt(ValueId n0, ValueId n1) {
+        Vals init(11, c(0.0));
+        Vals res = b_.loop(
+            init, [&](std::span<const ValueId> v) { return Vals{b_.lt(v[0], c(2.0))}; },
+            [&](std::span<const ValueId> v) {
+                ValueId second = eq(v[0], c(1.0));
+                Crossings x = crossings(b_.select(second, n1, n0));
+                const ValueId got[5] = {b_.select(x.ok, c(1.0), c(0.0)), x.at[0], x.at[1],
+                                        x.slope[0], x.slope[1]};
+                Vals out{b_.add(v[0], c(1.0))};
+                for (int k = 0; k < 5; ++k) out.push_back(b_.select(second, v[1 + k], got[k]));
+                for (int k = 0; k < 5; ++k) out.push_back(b_.select(second, got[k], v[6 + k]));
+                return out;
+            });
+        auto unpack = [&](int at) {
+            return Crossings{
+                b_.gt(res[at], c(0.5)), {res[at + 1], res[at + 2]}, {res[at + 3], res[at + 4]}};
+        };
+        return {unpack(1), unpack(6)};
+    }
+    // The normals at the pixel of member n turned by psi0 and by psi1 (memberNormal), as two
+    // passes of one loop (four residuals each).
+    struct Normals {
+        ValueId x[2], y[2];
+    };
+    Normals normalsAt(ValueId n, ValueId psi0, ValueId psi1) {
+        Vals res = b_.loop(
+            Vals(5, c(0.0)), [&](std::span<const ValueId> v) { return Vals{b_.lt(v[0], c(2.0))}; },
+            [&](std::span<const ValueId> v) {
+                ValueId second = eq(v[0], c(1.0));
+                auto [nx, ny] = memberNormal(b_, in_, n, b_.select(second, psi1, psi0),
+                                             b_.max(in_.reach, c(1e-6)));
+                return Vals{b_.add(v[0], c(1.0)), b_.select(second, v[1], nx),
+                            b_.select(second, v[2], ny), b_.select(second, nx, v[3]),
+                            b_.select(second, ny, v[4])};
+            });
+        return {{res[1], res[3]}, {res[2], res[4]}};
     }
     // The angle between two turns, the shorter way round.
     ValueId gap(ValueId a, ValueId bv) { return b_.abs(b_.wrap(b_.sub(bv, a), c(kTurn))); }

@@ -240,6 +240,11 @@ class Chains {
     // The ink of chain [first, last] (residuals h(i), convex in i) where some member may be
     // within reach: the runs of members within reach on either side of the lowest member;
     // with the band of residuals their strokes cover (lo > hi where no member reaches).
+    // The two runs are summed as two passes of one loop, so that a run's union is built into
+    // the kernel once rather than once a run (each copy was a sixth of a walking layer's
+    // kernel, reading the residual nine times). Their four ends stay four bisections in
+    // line: as four passes of a loop they saved 250 lines of the default scene's IR and cost
+    // the chains' frame 4% (docs/filtering.md, "Cost").
     template <class H>
     Vals runs(ValueId first, ValueId last, H h) {
         ValueId reach = in_->reach;
@@ -251,37 +256,51 @@ class Chains {
         return b_.ifThenElse(
             b_.lt(hLow, reach),
             [&] {
-                // Falling: from the first member down to the lowest.
                 ValueId past = b_.add(low, c(1.0));
+                // The runs' ends: falling, from the first member down to the lowest, the first
+                // members within reach (fa) and past it (fb); rising, past the lowest, the first
+                // members back within reach (ra) and out of it (rb).
                 ValueId fa =
                     firstWhere(b_, first, past, [&](ValueId i) { return b_.lt(h(i), reach); });
                 ValueId fb = firstWhere(b_, first, past,
                                         [&](ValueId i) { return b_.lt(h(i), b_.neg(reach)); });
-                ValueId falling = runUnion(fa, fb, h, false);
-                // Rising: past the lowest, taken from the lowest where the run starts next to
-                // it (the two runs share its stroke, counted once).
                 ValueId ra = firstWhere(b_, past, after,
                                         [&](ValueId i) { return b_.gt(h(i), b_.neg(reach)); });
                 ValueId rb = firstWhere(b_, past, after, [&](ValueId i) {
                     return b_.emit(Op::Ge, {h(i), reach});
                 });
+                // Rising: taken from the lowest where the run starts next to it (the two runs
+                // share its stroke, counted once).
                 ValueId fromLow = eq(ra, past);
-                ValueId rising =
-                    b_.max(b_.sub(runUnion(b_.select(fromLow, low, ra), rb, h, true),
-                                  b_.select(fromLow, memberMean(b_.abs(hLow)), c(0.0))),
-                           c(0.0));
-                // The band: a run's members fall (rise) in residual along it, so its ends are
-                // its first and last members'.
+                ValueId riseFrom = b_.select(fromLow, low, ra);
+                // Each run's union, and the band its strokes cover: a run's members fall (rise)
+                // in residual along it, so the band's ends are its first and last members'.
+                Vals run = b_.loop(
+                    {c(0.0), c(0.0), c(0.0), c(0.0), c(0.0), c(0.0), c(0.0)},
+                    [&](std::span<const ValueId> v) { return Vals{b_.lt(v[0], c(2.0))}; },
+                    [&](std::span<const ValueId> v) {
+                        ValueId rising = eq(v[0], c(1.0));
+                        ValueId from = b_.select(rising, riseFrom, fa);
+                        ValueId to = b_.select(rising, rb, fb);
+                        ValueId ink = runUnion(from, to, h, rising);
+                        ValueId hFirst = h(from), hLast = h(b_.max(b_.sub(to, c(1.0)), from));
+                        ValueId lo = b_.select(rising, hFirst, hLast);
+                        ValueId hi = b_.select(rising, hLast, hFirst);
+                        return Vals{b_.add(v[0], c(1.0)),         b_.select(rising, v[1], ink),
+                                    b_.select(rising, ink, v[2]), b_.select(rising, v[3], lo),
+                                    b_.select(rising, v[4], hi),  b_.select(rising, lo, v[5]),
+                                    b_.select(rising, hi, v[6])};
+                    });
+                ValueId falling = run[1];
+                ValueId rising = b_.max(
+                    b_.sub(run[2], b_.select(fromLow, memberMean(b_.abs(hLow)), c(0.0))), c(0.0));
                 ValueId half = b_.mul(in_->stroke, c(0.5));
                 ValueId someFalling = b_.lt(fa, fb);
-                ValueId someRising = b_.lt(b_.select(fromLow, low, ra), rb);
-                ValueId fallLo = h(b_.max(b_.sub(fb, c(1.0)), fa)), fallHi = h(fa);
-                ValueId riseLo = h(b_.select(fromLow, low, ra));
-                ValueId riseHi = h(b_.max(b_.sub(rb, c(1.0)), b_.select(fromLow, low, ra)));
-                ValueId lo = b_.min(b_.select(someFalling, fallLo, c(kFar)),
-                                    b_.select(someRising, riseLo, c(kFar)));
-                ValueId hi = b_.max(b_.select(someFalling, fallHi, c(-kFar)),
-                                    b_.select(someRising, riseHi, c(-kFar)));
+                ValueId someRising = b_.lt(riseFrom, rb);
+                ValueId lo = b_.min(b_.select(someFalling, run[3], c(kFar)),
+                                    b_.select(someRising, run[5], c(kFar)));
+                ValueId hi = b_.max(b_.select(someFalling, run[4], c(-kFar)),
+                                    b_.select(someRising, run[6], c(-kFar)));
                 return Vals{b_.sub(c(1.0), b_.mul(b_.sub(c(1.0), falling), b_.sub(c(1.0), rising))),
                             b_.sub(lo, half), b_.add(hi, half)};
             },
@@ -306,37 +325,42 @@ class Chains {
     // sorted along a line (sumStrokes). A run of more than kChainRun members is split where
     // its steps fall under the stroke's width: on a convex h the steps shrink monotonically
     // towards the chain's lowest member (towards b on the falling run, towards a on the
-    // rising one, `fromEnd`), so past that member every stroke overlaps the next and their
-    // union is one band, from the first of them to the last widened by half a stroke; the
-    // members before it stand a stroke or more apart and are summed one by one (or, past
+    // rising one, `fromEnd`, a bool), so past that member every stroke overlaps the next and
+    // their union is one band, from the first of them to the last widened by half a stroke;
+    // the members before it stand a stroke or more apart and are summed one by one (or, past
     // kChainRun of them, taken as an even comb). A pile of hundreds of members on a flat facet
     // after a few far apart is then exact, where reading the run at evenly spread members
-    // laid the few and the pile as one comb, solid across the gap.
+    // laid the few and the pile as one comb, solid across the gap. A short run is summed
+    // whole by the same sum as a long run's members before its band (its band then empty).
     template <class HOf>
-    ValueId runUnion(ValueId a, ValueId b, HOf hOf, bool fromEnd) {
+    ValueId runUnion(ValueId a, ValueId b, HOf hOf, ValueId fromEnd) {
         ValueId count = b_.sub(b, a);
         // The member `o` steps from the end where the steps are widest.
         ValueId last = b_.sub(b, c(1.0));
-        auto at = [&](ValueId o) { return fromEnd ? b_.sub(last, o) : b_.add(a, o); };
-        return b_.ifThenElse(
-            b_.le(count, c(kChainRun)), [&] { return Vals{sumStrokes(c(0.0), count, at, hOf)}; },
+        auto at = [&](ValueId o) { return b_.select(fromEnd, b_.sub(last, o), b_.add(a, o)); };
+        ValueId width = b_.max(in_->stroke, c(1e-9));
+        ValueId half = b_.mul(width, c(0.5));
+        ValueId few = b_.le(count, c(kChainRun));
+        ValueId solid = b_.ifThenElse(
+            few, [&] { return Vals{count}; },
             [&] {
-                ValueId width = b_.max(in_->stroke, c(1e-9));
-                ValueId half = b_.mul(width, c(0.5));
-                ValueId solid = firstWhere(b_, c(0.0), b_.sub(count, c(1.0)), [&](ValueId o) {
+                return Vals{firstWhere(b_, c(0.0), b_.sub(count, c(1.0)), [&](ValueId o) {
                     ValueId next = hOf(at(b_.add(o, c(1.0))));
                     return b_.lt(b_.abs(b_.sub(next, hOf(at(o)))), width);
-                });
-                ValueId spread = b_.ifThenElse(
-                    b_.le(solid, c(kChainRun)),
-                    [&] { return Vals{sumStrokes(c(0.0), solid, at, hOf)}; },
-                    [&] {
-                        ValueId h0 = hOf(at(c(0.0))), h1 = hOf(at(b_.sub(solid, c(1.0))));
-                        ValueId span = b_.add(b_.abs(b_.sub(h1, h0)), width);
-                        ValueId fill = b_.min(c(1.0), b_.div(b_.mul(width, solid), span));
-                        return Vals{b_.mul(fill, intervalMean(b_.sub(b_.min(h0, h1), half),
-                                                              b_.add(b_.max(h0, h1), half)))};
-                    })[0];
+                })};
+            })[0];
+        ValueId spread = b_.ifThenElse(
+            b_.le(solid, c(kChainRun)), [&] { return Vals{sumStrokes(c(0.0), solid, at, hOf)}; },
+            [&] {
+                ValueId h0 = hOf(at(c(0.0))), h1 = hOf(at(b_.sub(solid, c(1.0))));
+                ValueId span = b_.add(b_.abs(b_.sub(h1, h0)), width);
+                ValueId fill = b_.min(c(1.0), b_.div(b_.mul(width, solid), span));
+                return Vals{b_.mul(fill, intervalMean(b_.sub(b_.min(h0, h1), half),
+                                                      b_.add(b_.max(h0, h1), half)))};
+            })[0];
+        return b_.ifThenElse(
+            few, [&] { return Vals{spread}; },
+            [&] {
                 ValueId hs = hOf(at(solid)), he = hOf(at(b_.sub(count, c(1.0))));
                 ValueId lo = b_.sub(b_.min(hs, he), half), hi = b_.add(b_.max(hs, he), half);
                 ValueId hp = hOf(at(b_.max(b_.sub(solid, c(1.0)), c(0.0))));

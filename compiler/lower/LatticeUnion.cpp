@@ -134,21 +134,56 @@ std::vector<ScreenHarmonic> firstHarmonics(ir::Builder& b, const CrowdEstimate::
 // rows stand as far apart, which the screens' matched rows do not read.
 ValueId harmonicCovariance(ir::Builder& b, const CrowdEstimate::LatticeShape& p1,
                            const CrowdEstimate::LatticeShape& p2, const PixelFootprint& pixel) {
+    auto c = [&](double v) { return b.constF(v); };
     const std::vector<ScreenHarmonic> h1 = firstHarmonics(b, p1), h2 = firstHarmonics(b, p2);
-    std::vector<ValueId> t1, t2;
-    for (const ScreenHarmonic& h : h1) t1.push_back(boxTransfer(b, h.kx, h.ky, pixel));
-    for (const ScreenHarmonic& h : h2) t2.push_back(boxTransfer(b, h.kx, h.ky, pixel));
-    ValueId sum = b.constF(0.0);
-    for (size_t i = 0; i < h1.size(); ++i)
-        for (size_t j = 0; j < h2.size(); ++j) {
-            const ValueId together =
-                boxTransfer(b, b.add(h1[i].kx, h2[j].kx), b.add(h1[i].ky, h2[j].ky), pixel);
-            const ValueId weight = b.sub(together, b.mul(t1[i], t2[j]));
-            const ValueId phase = b.emit(ir::Op::Fract, {b.add(h1[i].phase, h2[j].phase)});
-            const ValueId wave = b.cos(b.mul(phase, b.constF(2.0 * std::numbers::pi)));
-            sum = b.add(sum, b.mul(b.mul(h1[i].amplitude, h2[j].amplitude), b.mul(weight, wave)));
+    // Each harmonic's fields, and its own transfer, as lists the pairs' loop picks from.
+    struct Fields {
+        std::vector<ValueId> kx, ky, phase, amplitude, transfer;
+    };
+    auto fieldsOf = [&](const std::vector<ScreenHarmonic>& hs) {
+        Fields f;
+        for (const ScreenHarmonic& h : hs) {
+            f.kx.push_back(h.kx);
+            f.ky.push_back(h.ky);
+            f.phase.push_back(h.phase);
+            f.amplitude.push_back(h.amplitude);
+            f.transfer.push_back(boxTransfer(b, h.kx, h.ky, pixel));
         }
-    return b.denan(sum, b.constF(0.0));
+        return f;
+    };
+    const Fields f1 = fieldsOf(h1), f2 = fieldsOf(h2);
+    auto pick = [&](const std::vector<ValueId>& values, ValueId index) {
+        ValueId out = values[0];
+        for (size_t k = 1; k < values.size(); ++k)
+            out = b.select(b.emit(ir::Op::Eq, {index, c(double(k))}), values[k], out);
+        return out;
+    };
+    // The pairs, the first's harmonic i in a loop and the second's eight in line within it,
+    // summed in that order: each pair with the second's harmonic j is built into the kernel
+    // once, where the 64 pairs written out were a sixth of a pair of dot screens' kernel. (All
+    // 64 in one loop, both harmonics picked by index, built one pair where this builds eight,
+    // and cost a scene of crowded screens a fifth more time, the picks outweighing the pair.)
+    const std::vector<ValueId> out = b.loop(
+        {c(0.0), c(0.0)},
+        [&](std::span<const ValueId> v) {
+            return std::vector<ValueId>{b.lt(v[0], c(double(h1.size())))};
+        },
+        [&](std::span<const ValueId> v) {
+            const ValueId i = v[0];
+            const ValueId kx = pick(f1.kx, i), ky = pick(f1.ky, i), phase1 = pick(f1.phase, i);
+            const ValueId amplitude = pick(f1.amplitude, i), transfer = pick(f1.transfer, i);
+            ValueId sum = v[1];
+            for (size_t j = 0; j < h2.size(); ++j) {
+                const ValueId together =
+                    boxTransfer(b, b.add(kx, f2.kx[j]), b.add(ky, f2.ky[j]), pixel);
+                const ValueId weight = b.sub(together, b.mul(transfer, f2.transfer[j]));
+                const ValueId phase = b.emit(ir::Op::Fract, {b.add(phase1, f2.phase[j])});
+                const ValueId wave = b.cos(b.mul(phase, c(2.0 * std::numbers::pi)));
+                sum = b.add(sum, b.mul(b.mul(amplitude, f2.amplitude[j]), b.mul(weight, wave)));
+            }
+            return std::vector<ValueId>{b.add(i, c(1.0)), sum};
+        });
+    return b.denan(out[1], c(0.0));
 }
 
 // The offsets at which the pair is sampled over the pixel: kDotPairTaps^2 points, in pixels

@@ -89,10 +89,8 @@ Vals Solver::windowCells(ValueId centre, ValueId left, ValueId right, ValueId fl
     const CellFrame f = cellFrame(centre);
     const ValueId reach = strokeReach();
     ValueId far = b_.mul(sigma, c(kFar));
-    auto leftSide = [&](ValueId n) {
-        ValueId open = both(b_.gt(n, floor), b_.le(c(0.0), n));
-        return b_.select(open, residual(member(n)), far);
-    };
+    auto leftOpen = [&](ValueId n) { return both(b_.gt(n, floor), b_.le(c(0.0), n)); };
+    auto leftSide = [&](ValueId n) { return b_.select(leftOpen(n), residual(member(n)), far); };
     // Carried: the step, the next member either side and its residual, the last residual.
     Vals init{c(0.0), left, leftSide(left), right, memberResidual(right), c(kFar)};
     for (int k = 0; k < kCells; ++k) init.push_back(c(0.0));
@@ -103,7 +101,10 @@ Vals Solver::windowCells(ValueId centre, ValueId left, ValueId right, ValueId fl
             ValueId h = b_.select(takeLeft, v[2], v[4]);
             ValueId nextLeft = b_.select(takeLeft, b_.sub(v[1], c(1.0)), v[1]);
             ValueId nextRight = b_.select(takeLeft, v[3], b_.add(v[3], c(1.0)));
-            ValueId hNext = b_.select(takeLeft, leftSide(nextLeft), memberResidual(nextRight));
+            // One residual a step, the next member's on the side taken.
+            ValueId hTaken = residual(member(b_.select(takeLeft, nextLeft, nextRight)));
+            ValueId hNext = b_.select(takeLeft, b_.select(leftOpen(nextLeft), hTaken, far),
+                                      b_.select(b_.lt(nextRight, c(0.0)), c(kFar), hTaken));
             Vals out{b_.add(v[0], c(1.0)),
                      nextLeft,
                      b_.select(takeLeft, hNext, v[2]),

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <optional>
+#include <span>
 
 namespace moire::lower {
 
@@ -152,23 +153,46 @@ void Compose::meetStrokes(const LayerInk& ink, ValueId cov, const Ink& under,
     // k_j: the layer's coverage per unit of its ink.
     ValueId k = inkCoverage(b_, b_.constF(1.0), ink.opacity, ink.color[3]);
     if (!mine.empty() && !laid_.empty()) {
-        Ink add{zero_, zero_, zero_, zero_};
-        for (const Laid& l : laid_)
-            for (const Mine& m : mine) {
-                // Behind a branch: most pixels meet one stroke or none.
-                ValueId meet = b_.emit(Op::And, {l.stroke.touches, m.stroke.touches});
-                ValueId cov = b_.ifThenElse(
-                    meet,
-                    [&] { return std::vector<ValueId>{strokeCovariance(b_, l.stroke, m.stroke)}; },
-                    [&] { return std::vector<ValueId>{zero_}; })[0];
-                // Where one layer's members crowd and the other's do not, the crowded one's
-                // members as periodic strokes against the other's stroke.
-                cov = b_.add(cov, mixedPairCovariance(b_, l.stroke, m.stroke));
-                ValueId t = b_.mul(b_.mul(k, m.share), cov);
-                add = {b_.add(add.r, b_.mul(t, l.pending.r)), b_.add(add.g, b_.mul(t, l.pending.g)),
+        // One pair's correction added to `add`: laid stroke l met by the layer's stroke m.
+        auto meetPair = [&](Ink add, const Laid& l, const Mine& m) {
+            // Behind a branch: most pixels meet one stroke or none.
+            ValueId meet = b_.emit(Op::And, {l.stroke.touches, m.stroke.touches});
+            ValueId cov = b_.ifThenElse(
+                meet,
+                [&] { return std::vector<ValueId>{strokeCovariance(b_, l.stroke, m.stroke)}; },
+                [&] { return std::vector<ValueId>{zero_}; })[0];
+            // Where one layer's members crowd and the other's do not, the crowded one's
+            // members as periodic strokes against the other's stroke.
+            cov = b_.add(cov, mixedPairCovariance(b_, l.stroke, m.stroke));
+            ValueId t = b_.mul(b_.mul(k, m.share), cov);
+            return Ink{b_.add(add.r, b_.mul(t, l.pending.r)), b_.add(add.g, b_.mul(t, l.pending.g)),
                        b_.add(add.b, b_.mul(t, l.pending.b)),
                        b_.add(add.a, b_.mul(t, l.pending.a))};
-            }
+        };
+        Ink add{zero_, zero_, zero_, zero_};
+        if (laid_.size() >= 2 && laidAlike()) {
+            // Strokes laid alike (every field present in each or in none) are met in a loop,
+            // in the order they were laid, each read from the list by its place: a pair's terms
+            // are built into the kernel once for the layer, where written out for each stroke
+            // beneath they were a third of a four-layer scene's kernel (examples/two_fields).
+            const double count = double(laid_.size());
+            std::vector<ValueId> res = b_.loop(
+                {zero_, zero_, zero_, zero_, zero_},
+                [&](std::span<const ValueId> v) {
+                    return std::vector<ValueId>{b_.lt(v[0], b_.constF(count))};
+                },
+                [&](std::span<const ValueId> v) {
+                    const Laid l = laidAt(v[0]);
+                    Ink sum{v[1], v[2], v[3], v[4]};
+                    for (const Mine& m : mine) sum = meetPair(sum, l, m);
+                    return std::vector<ValueId>{b_.add(v[0], b_.constF(1.0)), sum.r, sum.g, sum.b,
+                                                sum.a};
+                });
+            add = {res[1], res[2], res[3], res[4]};
+        } else {
+            for (const Laid& l : laid_)
+                for (const Mine& m : mine) add = meetPair(add, l, m);
+        }
         acc_ = addCorrection(b_, acc_, add, b_.constF(1.0));
     }
     // Every layer laid scales what the strokes beneath it still add by what it leaves showing.
@@ -185,6 +209,48 @@ void Compose::meetStrokes(const LayerInk& ink, ValueId cov, const Ink& under,
                          {pending(under.r, ink.color[0]), pending(under.g, ink.color[1]),
                           pending(under.b, ink.color[2]), pending(under.a, b_.constF(1.0))}});
     }
+}
+
+namespace {
+// Every field of a laid stroke and of its pending ink, in one order (laidAlike, laidAt).
+template <class Visit>
+void eachField(StrokeAcross& s, Ink& pending, Visit visit) {
+    for (ValueId* f :
+         {&s.nu, &s.nv, &s.s, &s.h, &s.weight, &s.touches, &s.index, &s.gu, &s.gv, &s.w,
+          &s.unresolved, &s.disc, &pending.r, &pending.g, &pending.b, &pending.a})
+        visit(*f);
+}
+} // namespace
+
+bool Compose::laidAlike() const {
+    auto present = [](Laid l) {
+        std::vector<bool> out;
+        eachField(l.stroke, l.pending, [&](ValueId v) { out.push_back(v != ir::kNoValue); });
+        return out;
+    };
+    const std::vector<bool> first = present(laid_.front());
+    return std::all_of(laid_.begin(), laid_.end(),
+                       [&](const Laid& l) { return present(l) == first; });
+}
+
+// The laid stroke at place `at` (a value in the kernel), each field picked from the list.
+Compose::Laid Compose::laidAt(ValueId at) {
+    std::vector<Laid> all = laid_;
+    Laid out = all.front();
+    std::vector<std::vector<ValueId>> columns;
+    for (Laid& l : all) {
+        std::vector<ValueId> column;
+        eachField(l.stroke, l.pending, [&](ValueId v) { column.push_back(v); });
+        columns.push_back(column);
+    }
+    size_t field = 0;
+    eachField(out.stroke, out.pending, [&](ValueId& v) {
+        if (v != ir::kNoValue)
+            for (size_t k = 1; k < columns.size(); ++k)
+                v = b_.select(b_.emit(Op::Eq, {at, b_.constF(double(k))}), columns[k][field], v);
+        ++field;
+    });
+    return out;
 }
 
 void Compose::closeRun() {

@@ -86,6 +86,8 @@ class Compose {
         Ink pending;
     };
     std::vector<Laid> laid_;
+    bool laidAlike() const;
+    Laid laidAt(ir::ValueId at);
 };
 
 } // namespace moire::lower

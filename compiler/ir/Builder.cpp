@@ -38,6 +38,13 @@ ValueId Builder::smoothstep(ValueId e0, ValueId e1, ValueId v) {
     return mul(mul(u, u), sub(constF(3.0), mul(constF(2.0), u)));
 }
 
+ValueId Builder::pick(ValueId which, std::span<const ValueId> values) {
+    ValueId v = values.back();
+    for (size_t i = values.size() - 1; i-- > 0;)
+        v = select(emit(Op::Eq, {which, constF(static_cast<double>(i))}), values[i], v);
+    return v;
+}
+
 ValueId Builder::wrap(ValueId v, ValueId w) {
     // v - w * floor(v / w + 1/2)
     return sub(v, mul(w, floor(add(div(v, w), constF(0.5)))));

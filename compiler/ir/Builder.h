@@ -63,6 +63,10 @@ class Builder {
     ValueId mix(ValueId a, ValueId b, ValueId u) { return add(a, mul(sub(b, a), u)); }
     // wrap(v, w): v moved by a multiple of w into [-w/2, w/2)
     ValueId wrap(ValueId v, ValueId w);
+    // values[which] for a whole `which` in [0, size), by a chain of selects; the last value
+    // where `which` is none of them. For a list indexed by a value of the kernel (a loop's
+    // counter, a morph's member).
+    ValueId pick(ValueId which, std::span<const ValueId> values);
     // Replaces NaN by `fallback` (NaN != NaN).
     ValueId denan(ValueId v, ValueId fallback) { return select(emit(Op::Ne, {v, v}), fallback, v); }
 

@@ -1,5 +1,7 @@
 #include "compiler/lower/ChainSelection.h"
 
+#include "compiler/lower/TwoPasses.h"
+
 #include <numbers>
 #include <span>
 #include <vector>
@@ -137,24 +139,14 @@ class Selector {
     // and its refinement are built into the kernel once, as are the four residuals of each
     // normal (normalsAt).
     std::pair<Crossings, Crossings> crossingsAt(ValueId n0, ValueId n1) {
-        Vals init(11, c(0.0));
-        Vals res = b_.loop(
-            init, [&](std::span<const ValueId> v) { return Vals{b_.lt(v[0], c(2.0))}; },
-            [&](std::span<const ValueId> v) {
-                ValueId second = eq(v[0], c(1.0));
-                Crossings x = crossings(b_.select(second, n1, n0));
-                const ValueId got[5] = {b_.select(x.ok, c(1.0), c(0.0)), x.at[0], x.at[1],
-                                        x.slope[0], x.slope[1]};
-                Vals out{b_.add(v[0], c(1.0))};
-                for (int k = 0; k < 5; ++k) out.push_back(b_.select(second, v[1 + k], got[k]));
-                for (int k = 0; k < 5; ++k) out.push_back(b_.select(second, got[k], v[6 + k]));
-                return out;
-            });
-        auto unpack = [&](int at) {
-            return Crossings{
-                b_.gt(res[at], c(0.5)), {res[at + 1], res[at + 2]}, {res[at + 3], res[at + 4]}};
+        const auto [a, z] = twoPasses(b_, 5, [&](ValueId second) {
+            Crossings x = crossings(b_.select(second, n1, n0));
+            return Vals{b_.select(x.ok, c(1.0), c(0.0)), x.at[0], x.at[1], x.slope[0], x.slope[1]};
+        });
+        auto unpack = [&](const Vals& r) {
+            return Crossings{b_.gt(r[0], c(0.5)), {r[1], r[2]}, {r[3], r[4]}};
         };
-        return {unpack(1), unpack(6)};
+        return {unpack(a), unpack(z)};
     }
     // The normals at the pixel of member n turned by psi0 and by psi1 (memberNormal), as two
     // passes of one loop (four residuals each).
@@ -162,17 +154,12 @@ class Selector {
         ValueId x[2], y[2];
     };
     Normals normalsAt(ValueId n, ValueId psi0, ValueId psi1) {
-        Vals res = b_.loop(
-            Vals(5, c(0.0)), [&](std::span<const ValueId> v) { return Vals{b_.lt(v[0], c(2.0))}; },
-            [&](std::span<const ValueId> v) {
-                ValueId second = eq(v[0], c(1.0));
-                auto [nx, ny] = memberNormal(b_, in_, n, b_.select(second, psi1, psi0),
-                                             b_.max(in_.reach, c(1e-6)));
-                return Vals{b_.add(v[0], c(1.0)), b_.select(second, v[1], nx),
-                            b_.select(second, v[2], ny), b_.select(second, nx, v[3]),
-                            b_.select(second, ny, v[4])};
-            });
-        return {{res[1], res[3]}, {res[2], res[4]}};
+        const auto [a, z] = twoPasses(b_, 2, [&](ValueId second) {
+            auto [nx, ny] =
+                memberNormal(b_, in_, n, b_.select(second, psi1, psi0), b_.max(in_.reach, c(1e-6)));
+            return Vals{nx, ny};
+        });
+        return {{a[0], z[0]}, {a[1], z[1]}};
     }
     // The angle between two turns, the shorter way round.
     ValueId gap(ValueId a, ValueId bv) { return b_.abs(b_.wrap(b_.sub(bv, a), c(kTurn))); }

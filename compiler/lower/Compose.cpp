@@ -245,9 +245,11 @@ Compose::Laid Compose::laidAt(ValueId at) {
     }
     size_t field = 0;
     eachField(out.stroke, out.pending, [&](ValueId& v) {
-        if (v != ir::kNoValue)
-            for (size_t k = 1; k < columns.size(); ++k)
-                v = b_.select(b_.emit(Op::Eq, {at, b_.constF(double(k))}), columns[k][field], v);
+        if (v != ir::kNoValue) {
+            std::vector<ValueId> column;
+            for (const std::vector<ValueId>& fields : columns) column.push_back(fields[field]);
+            v = b_.pick(at, column);
+        }
         ++field;
     });
     return out;

@@ -144,13 +144,7 @@ ValueId advancedDistance(ir::Builder& b, const PhaseSample& s, ValueId gap, Valu
     std::vector<ValueId> d;
     for (const PhaseSample& member : m.members)
         d.push_back(advancedDistance(b, member, sampleGap(b, member), a, du, dv));
-    auto pick = [&](ValueId which) {
-        ValueId v = d.back();
-        for (size_t i = d.size() - 1; i-- > 0;)
-            v = b.select(b.emit(Op::Eq, {which, b.constF(double(i))}), d[i], v);
-        return v;
-    };
-    return b.mix(pick(m.from), pick(m.to), m.weight);
+    return b.mix(b.pick(m.from, d), b.pick(m.to, d), m.weight);
 }
 
 Ink over(ir::Builder& b, const Ink& acc, const EnvelopeLayer& l, ValueId cov) {

@@ -152,12 +152,6 @@ ValueId harmonicCovariance(ir::Builder& b, const CrowdEstimate::LatticeShape& p1
         return f;
     };
     const Fields f1 = fieldsOf(h1), f2 = fieldsOf(h2);
-    auto pick = [&](const std::vector<ValueId>& values, ValueId index) {
-        ValueId out = values[0];
-        for (size_t k = 1; k < values.size(); ++k)
-            out = b.select(b.emit(ir::Op::Eq, {index, c(double(k))}), values[k], out);
-        return out;
-    };
     // The pairs, the first's harmonic i in a loop and the second's eight in line within it,
     // summed in that order: each pair with the second's harmonic j is built into the kernel
     // once, where the 64 pairs written out were a sixth of a pair of dot screens' kernel. (All
@@ -170,8 +164,9 @@ ValueId harmonicCovariance(ir::Builder& b, const CrowdEstimate::LatticeShape& p1
         },
         [&](std::span<const ValueId> v) {
             const ValueId i = v[0];
-            const ValueId kx = pick(f1.kx, i), ky = pick(f1.ky, i), phase1 = pick(f1.phase, i);
-            const ValueId amplitude = pick(f1.amplitude, i), transfer = pick(f1.transfer, i);
+            const ValueId kx = b.pick(i, f1.kx), ky = b.pick(i, f1.ky),
+                          phase1 = b.pick(i, f1.phase);
+            const ValueId amplitude = b.pick(i, f1.amplitude), transfer = b.pick(i, f1.transfer);
             ValueId sum = v[1];
             for (size_t j = 0; j < h2.size(); ++j) {
                 const ValueId together =

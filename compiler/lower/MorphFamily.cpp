@@ -266,12 +266,7 @@ LayerFields morphFields(LayerLowering& layers, const sema::CheckedLayer& layer,
     ValueId next = mode == sema::TimingMode::Loop
                        ? b.emit(Op::Mod, {b.add(k, b.constF(1.0)), b.constF(count)})
                        : b.min(b.add(k, b.constF(1.0)), b.constF(count - 1.0));
-    auto pick = [&](ValueId which, const Vals& values) {
-        ValueId v = values.back();
-        for (size_t i = values.size() - 1; i-- > 0;)
-            v = b.select(b.emit(Op::Eq, {which, b.constF(static_cast<double>(i))}), values[i], v);
-        return v;
-    };
+    auto pick = [&](ValueId which, const Vals& values) { return b.pick(which, values); };
     auto blend = [&](const Vals& values) { return b.mix(pick(k, values), pick(next, values), w); };
 
     bool allPhases = true, allWalk = true;

@@ -5,6 +5,7 @@
 #include "compiler/lower/Bisection.h"
 #include "compiler/lower/ChainSelection.h"
 #include "compiler/lower/Convergents.h"
+#include "compiler/lower/TwoPasses.h"
 #include "compiler/lower/WalkingFamily.h"
 
 #include <numbers>
@@ -275,32 +276,24 @@ class Chains {
                 ValueId riseFrom = b_.select(fromLow, low, ra);
                 // Each run's union, and the band its strokes cover: a run's members fall (rise)
                 // in residual along it, so the band's ends are its first and last members'.
-                Vals run = b_.loop(
-                    {c(0.0), c(0.0), c(0.0), c(0.0), c(0.0), c(0.0), c(0.0)},
-                    [&](std::span<const ValueId> v) { return Vals{b_.lt(v[0], c(2.0))}; },
-                    [&](std::span<const ValueId> v) {
-                        ValueId rising = eq(v[0], c(1.0));
-                        ValueId from = b_.select(rising, riseFrom, fa);
-                        ValueId to = b_.select(rising, rb, fb);
-                        ValueId ink = runUnion(from, to, h, rising);
-                        ValueId hFirst = h(from), hLast = h(b_.max(b_.sub(to, c(1.0)), from));
-                        ValueId lo = b_.select(rising, hFirst, hLast);
-                        ValueId hi = b_.select(rising, hLast, hFirst);
-                        return Vals{b_.add(v[0], c(1.0)),         b_.select(rising, v[1], ink),
-                                    b_.select(rising, ink, v[2]), b_.select(rising, v[3], lo),
-                                    b_.select(rising, v[4], hi),  b_.select(rising, lo, v[5]),
-                                    b_.select(rising, hi, v[6])};
-                    });
-                ValueId falling = run[1];
+                const auto [fall, rise] = twoPasses(b_, 3, [&](ValueId rising) {
+                    ValueId from = b_.select(rising, riseFrom, fa);
+                    ValueId to = b_.select(rising, rb, fb);
+                    ValueId ink = runUnion(from, to, h, rising);
+                    ValueId hFirst = h(from), hLast = h(b_.max(b_.sub(to, c(1.0)), from));
+                    return Vals{ink, b_.select(rising, hFirst, hLast),
+                                b_.select(rising, hLast, hFirst)};
+                });
+                ValueId falling = fall[0];
                 ValueId rising = b_.max(
-                    b_.sub(run[2], b_.select(fromLow, memberMean(b_.abs(hLow)), c(0.0))), c(0.0));
+                    b_.sub(rise[0], b_.select(fromLow, memberMean(b_.abs(hLow)), c(0.0))), c(0.0));
                 ValueId half = b_.mul(in_->stroke, c(0.5));
                 ValueId someFalling = b_.lt(fa, fb);
                 ValueId someRising = b_.lt(riseFrom, rb);
-                ValueId lo = b_.min(b_.select(someFalling, run[3], c(kFar)),
-                                    b_.select(someRising, run[5], c(kFar)));
-                ValueId hi = b_.max(b_.select(someFalling, run[4], c(-kFar)),
-                                    b_.select(someRising, run[6], c(-kFar)));
+                ValueId lo = b_.min(b_.select(someFalling, fall[1], c(kFar)),
+                                    b_.select(someRising, rise[1], c(kFar)));
+                ValueId hi = b_.max(b_.select(someFalling, fall[2], c(-kFar)),
+                                    b_.select(someRising, rise[2], c(-kFar)));
                 return Vals{b_.sub(c(1.0), b_.mul(b_.sub(c(1.0), falling), b_.sub(c(1.0), rising))),
                             b_.sub(lo, half), b_.add(hi, half)};
             },

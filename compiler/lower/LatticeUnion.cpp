@@ -191,10 +191,32 @@ std::vector<std::pair<double, double>> taps() {
     return out;
 }
 
+// The sum over the taps of what `body(a, e, sum)` adds to `sum` at the tap (a, e): a loop of
+// the kernel over them, each tap's offsets picked from the list by its place, so a tap's terms
+// are written once where writing them per tap wrote them kDotPairTaps^2 times. The taps are
+// summed in the list's order, as they were in line.
+ValueId sumOverTaps(ir::Builder& b, const std::function<ValueId(ValueId, ValueId, ValueId)>& body) {
+    std::vector<ValueId> as, es;
+    for (const auto& [a, e] : taps()) {
+        as.push_back(b.constF(a));
+        es.push_back(b.constF(e));
+    }
+    const ValueId count = b.constF(double(as.size()));
+    using Vals = std::vector<ValueId>;
+    const Vals out = b.loop(
+        Vals{b.constF(0.0), b.constF(0.0)},
+        [&](std::span<const ValueId> v) { return Vals{b.lt(v[0], count)}; },
+        [&](std::span<const ValueId> v) {
+            const ValueId sum = body(b.pick(v[0], as), b.pick(v[0], es), v[1]);
+            return Vals{b.add(v[0], b.constF(1.0)), sum};
+        });
+    return out[1];
+}
+
 // A phase `d` at a tap (a, e) of the pixel, its gradient g along the pixel's sides.
-ValueId atTap(ir::Builder& b, ValueId d, const PixelSides& g, const PixelFootprint& pixel, double a,
-              double e) {
-    return b.add(d, b.mul(pixel.size, b.add(b.mul(g.u, b.constF(a)), b.mul(g.v, b.constF(e)))));
+ValueId atTap(ir::Builder& b, ValueId d, const PixelSides& g, const PixelFootprint& pixel,
+              ValueId a, ValueId e) {
+    return b.add(d, b.mul(pixel.size, b.add(b.mul(g.u, a), b.mul(g.v, e))));
 }
 
 // The second lattice as the first moved, about the pixel: each of the first's generators
@@ -238,7 +260,7 @@ ValueId weightOf(ir::Builder& b, const Matched& m, const CrowdEstimate::LatticeS
 // with the beat, slowly and smoothly, where the nearest points of the two lattices jump from
 // cell to cell.
 std::array<ValueId, 2> offsetAt(ir::Builder& b, const Matched& m, const PixelFootprint& pixel,
-                                double a, double e) {
+                                ValueId a, ValueId e) {
     auto residual = [&](ValueId x) { return b.sub(x, b.round(x)); };
     return {residual(atTap(b, b.sub(m.p1->u, m.fu.phase), m.gu, pixel, a, e)),
             residual(atTap(b, b.sub(m.p1->v, m.fv.phase), m.gv, pixel, a, e))};
@@ -340,8 +362,7 @@ Ink dotCorrelation(ir::Builder& b, const Ink& under, const FineLayer& l1, const 
     std::map<std::pair<double, double>, int> differences;
     for (const auto& si : p1.sites)
         for (const auto& sj : p2.sites) ++differences[{sj[0] - si[0], sj[1] - si[1]}];
-    ValueId sum = zero;
-    for (const auto& [a, e] : taps()) {
+    const ValueId sum = sumOverTaps(b, [&](ValueId a, ValueId e, ValueId acc) {
         const auto [tu, tv] = offsetAt(b, m, pixel, a, e);
         for (const auto& [offset, pairs] : differences) {
             ValueId qu = b.add(tu, c(offset.first)), qv = b.add(tv, c(offset.second));
@@ -365,10 +386,11 @@ Ink dotCorrelation(ir::Builder& b, const Ink& under, const FineLayer& l1, const 
                         return lensArea(value(d), value(r1), value(r2)).id;
                     });
                 });
-                sum = b.add(sum, b.mul(c(pairs), lens));
+                acc = b.add(acc, b.mul(c(pairs), lens));
             }
         }
-    }
+        return acc;
+    });
     // Pairs per world area: a cell of either screen holds one, so where their pitches differ
     // the two counts differ by as much; the geometric mean of the two.
     const ValueId pairs = b.sqrt(b.mul(cellsPerArea(b, p1), cellsPerArea(b, p2)));
@@ -432,8 +454,7 @@ Ink dotLineCorrelation(ir::Builder& b, const Ink& under, const FineLayer& l1, co
         const Row& row = on.row;
         const PixelSides &g = on.beat, &gf = on.gf, &gr = on.gr;
         const ValueId period = on.period, perRow = on.perRow;
-        ValueId sum = zero;
-        for (const auto& [a, e] : taps()) {
+        const ValueId sum = sumOverTaps(b, [&](ValueId a, ValueId e, ValueId acc) {
             const ValueId phase = atTap(b, f.index, gf, pixel, a, e);
             const ValueId rowPhase = atTap(b, row.phase, gr, pixel, a, e);
             for (ValueId shift : row.shifts) {
@@ -444,12 +465,13 @@ Ink dotLineCorrelation(ir::Builder& b, const Ink& under, const FineLayer& l1, co
                 ValueId centre = b.mul(b.wrap(atDot, one), period);
                 for (double n : {-1.0, 0.0, 1.0}) {
                     ValueId at = b.add(centre, b.mul(c(n), period));
-                    sum = b.add(sum, overDiscs(b, p, [&](ValueId r) {
+                    acc = b.add(acc, overDiscs(b, p, [&](ValueId r) {
                                     return discInStrip(value(at), value(half), value(r)).id;
                                 }));
                 }
             }
-        }
+            return acc;
+        });
         const ValueId e = b.mul(b.mul(sum, cells), c(1.0 / double(taps().size())));
         const ValueId duty = b.clamp(b.mul(c(2.0), b.mul(half, f.grad)), zero, one);
         foldLine(b, fold, x, e, duty, g, pixel);
@@ -537,8 +559,7 @@ Ink cellCorrelation(ir::Builder& b, const Ink& under, const FineLayer& l1, const
     std::vector<std::array<ValueId, 2>> steps;
     for (int iu = -1; iu <= 1; ++iu)
         for (int iv = -1; iv <= 1; ++iv) steps.push_back({c(iu), c(iv)});
-    ValueId sum = zero;
-    for (const auto& [a, e] : taps()) {
+    const ValueId sum = sumOverTaps(b, [&](ValueId a, ValueId e, ValueId acc) {
         const auto [tu, tv] = offsetAt(b, m, pixel, a, e);
         for (const auto& step : steps) {
             const ValueId su = b.add(tu, step[0]), sv = b.add(tv, step[1]);
@@ -557,11 +578,12 @@ Ink cellCorrelation(ir::Builder& b, const Ink& under, const FineLayer& l1, const
                     if (y.lower)
                         moved.lower = Bounds{(*y.lower)[0] - along[0], (*y.lower)[1] - along[1],
                                              (*y.lower)[2] - along[2]};
-                    sum = b.add(sum,
+                    acc = b.add(acc,
                                 area({least(x.upper, moved.upper), least(x.lower, moved.lower)}));
                 }
         }
-    }
+        return acc;
+    });
     const ValueId e = b.mul(sum, c(1.0 / double(taps().size())));
     ValueId i1 = zero, i2 = zero;
     for (const Inset& x : first) i1 = b.add(i1, area(x));
@@ -653,8 +675,7 @@ Ink hexLineCorrelation(ir::Builder& b, const Ink& under, const FineLayer& l1, co
             shape[k] = {wx * ny - wy * nx, wx * nx + wy * ny};
         }
         const ValueId h = b.min(lineHalf, b.mul(period, c(0.5)));
-        ValueId sum = zero;
-        for (const auto& [a, e] : taps()) {
+        const ValueId sum = sumOverTaps(b, [&](ValueId a, ValueId e, ValueId acc) {
             const ValueId phase = atTap(b, f.index, gf, pixel, a, e);
             const ValueId rowPhase = atTap(b, row.phase, gr, pixel, a, e);
             const ValueId past = b.sub(rowPhase, b.round(rowPhase));
@@ -667,8 +688,8 @@ Ink hexLineCorrelation(ir::Builder& b, const Ink& under, const FineLayer& l1, co
                     b.add(covered,
                           b.abs(polygonInBand(shape, value(b.sub(y, h)), value(b.add(y, h))).id));
             }
-            sum = b.add(sum, b.sub(paperShare.id, b.mul(cells, covered)));
-        }
+            return b.add(acc, b.sub(paperShare.id, b.mul(cells, covered)));
+        });
         const ValueId paperBoth = b.mul(sum, c(1.0 / double(taps().size())));
         const ValueId duty = b.clamp(b.mul(c(2.0), b.mul(lineHalf, f.grad)), zero, one);
         // The inks' product: 1 - i_h - i_x + E[I_h I_x].
@@ -718,7 +739,7 @@ Ink hexDotCorrelation(ir::Builder& b, const Ink& under, const FineLayer& l1, con
     // (written out for every tap and every dot about a hexagon, the kernel was 3.4 MB of GLSL
     // that lavapipe took six minutes to compile).
     const int kNear = 3;
-    const auto [tu, tv] = offsetAt(b, m, pixel, 0.0, 0.0);
+    const auto [tu, tv] = offsetAt(b, m, pixel, b.constF(0.0), b.constF(0.0));
     auto more = [&](std::span<const ValueId> v) {
         return std::vector<ValueId>{b.lt(v[0], c(double(kNear)))};
     };

@@ -711,12 +711,10 @@ CrowdEstimate distanceFamilyCrowd(ir::Builder& b, ValueId distance, const Distan
             const ValueId closedCrowded =
                 weighed(runs[6], closedHandOver(grid.members), dotsHandOver(dots.members),
                         dotsHandOver(rings.members));
-            // The fine parts handing over to a crowd's mean by `crowded`.
-            auto partsOr = [&](ValueId mean, ValueId crowded) {
-                const ValueId parts =
-                    b.ifThenElse(b.lt(crowded, b.constF(1.0)), fine, [&] { return Vals{mean}; })[0];
-                return Vals{b.mix(parts, mean, crowded)};
-            };
+            // A crowd's mean and how far it is taken over the fine parts (`crowded`): by the
+            // tubes and the closed forms where the members may crowd, by the closed forms
+            // alone where they stand apart, and where the coarse parts read no member bending,
+            // their mean with the dots' and the rings' closed forms, taken whole.
             auto crowd = [&] {
                 const Vals tubes = b.ifThenElse(
                     b.lt(closedTrust, b.constF(1.0)),
@@ -727,18 +725,26 @@ CrowdEstimate distanceFamilyCrowd(ir::Builder& b, ValueId distance, const Distan
                     [&] {
                         return Vals{b.constF(0.0), b.constF(0.0)};
                     });
-                return partsOr(b.mix(tubes[0], closedMean, closedTrust),
-                               b.mix(tubes[1], closedCrowded, closedTrust));
+                return Vals{b.mix(tubes[0], closedMean, closedTrust),
+                            b.mix(tubes[1], closedCrowded, closedTrust)};
             };
-            auto apart = [&] { return partsOr(closedMean, b.mul(closedTrust, closedCrowded)); };
-            Vals out{b.ifThenElse(
+            auto apart = [&] { return Vals{closedMean, b.mul(closedTrust, closedCrowded)}; };
+            const Vals taken = b.ifThenElse(
                 coarse.bent, [&] { return b.ifThenElse(mayCrowd, crowd, apart); },
                 [&] {
                     const ValueId withDots = b.mix(coarse.mean, dots.mean,
                                                    b.mul(dotsWeight, dotsHandOver(dots.members)));
                     return Vals{b.mix(withDots, rings.mean,
-                                      b.mul(ringsWeight, dotsHandOver(rings.members)))};
-                })[0]};
+                                      b.mul(ringsWeight, dotsHandOver(rings.members))),
+                                b.constF(1.0)};
+                });
+            // The fine parts handing over to the crowd's mean by `crowded`, behind one branch
+            // for both ways a crowd is read (written in each, the kernel held them twice).
+            // Where the coarse parts stand, crowded is 1 and the mix their mean.
+            const ValueId mean = taken[0], crowded = taken[1];
+            const ValueId parts =
+                b.ifThenElse(b.lt(crowded, b.constF(1.0)), fine, [&] { return Vals{mean}; })[0];
+            Vals out{b.mix(parts, mean, crowded)};
             out.push_back(trust);
             out.insert(out.end(), runs.begin(), runs.end());
             out.insert(out.end(), {grid.trust, grid.halfWidth, grid.threeWays});

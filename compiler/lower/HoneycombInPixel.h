@@ -236,20 +236,20 @@ std::array<T, 2> offsetInHexagon(T u, T v) {
     return best;
 }
 
-// The paper the honeycomb's strokes leave within the square pixel [-1/2, 1/2]^2 (its share of
-// the pixel, 0 to 1): (u, v) the generators at the pixel's centre, e1 and e2 their steps
-// (the world's offsets that advance u and v by 1) along the pixel's sides in pixels, and the
-// shrunk hexagon's bounds. The hexagon holding the centre and its six neighbours, each the
-// shrunk corners mapped through the steps, the whole taken as positive (the steps' turn
-// decides every polygon's sense alike); with `rings` 2 the next ring's twelve too. Exact while
-// every point of the pixel lies within them (kOneRingRows, kTwoRingsRows).
+// The hexagons about the square pixel [-1/2, 1/2]^2: (u, v) the generators at the pixel's
+// centre, e1 and e2 their steps (the world's offsets that advance u and v by 1) along the
+// pixel's sides in pixels, and the shrunk hexagon's bounds. `cx, cy` is the centre of the
+// hexagon holding the pixel's centre (back by its offset q from the pixel's centre), `shape`
+// the shrunk corners mapped through the steps.
 template <class T>
-T honeycombPaperInSquare(T u, T v, T e1u, T e1v, T e2u, T e2v, const std::array<T, 3>& bounds,
-                         int rings = 1) {
-    using std::abs;
-    using std::min;
+struct HexagonsInSquare {
+    T cx, cy, e1u, e1v, e2u, e2v;
+    std::array<std::array<T, 2>, 6> shape;
+};
+template <class T>
+HexagonsInSquare<T> hexagonsInSquare(T u, T v, T e1u, T e1v, T e2u, T e2v,
+                                     const std::array<T, 3>& bounds) {
     const std::array<T, 2> q = offsetInHexagon(u, v);
-    // The centre in the pixel: back by q from the pixel's centre.
     const T cx = ir::literal(u, 0.0) - (q[0] * e1u + q[1] * e2u);
     const T cy = ir::literal(u, 0.0) - (q[0] * e1v + q[1] * e2v);
     const auto corners = insetHexagon(bounds);
@@ -257,15 +257,41 @@ T honeycombPaperInSquare(T u, T v, T e1u, T e1v, T e2u, T e2v, const std::array<
     for (size_t k = 0; k < 6; ++k)
         shape[k] = {corners[k][0] * e1u + corners[k][1] * e2u,
                     corners[k][0] * e1v + corners[k][1] * e2v};
-    T sum = ir::literal(u, 0.0);
-    for (size_t cell = 0; cell < (rings > 1 ? kHexRings.size() : 7); ++cell) {
+    return {cx, cy, e1u, e1v, e2u, e2v, shape};
+}
+
+// `sum` plus the paper that the hexagons kHexRings[from, to) leave within the pixel, added in
+// the list's order, each signed alike (the steps' turn decides every polygon's sense).
+template <class T>
+T paperOfCells(const HexagonsInSquare<T>& h, size_t from, size_t to, T sum) {
+    for (size_t cell = from; cell < to; ++cell) {
         const auto [nu, nv] = kHexRings[cell];
-        const T ox = cx + e1u * nu + e2u * nv, oy = cy + e1v * nu + e2v * nv;
+        const T ox = h.cx + h.e1u * nu + h.e2u * nv, oy = h.cy + h.e1v * nu + h.e2v * nv;
         std::array<std::array<T, 2>, 6> moved;
-        for (size_t k = 0; k < 6; ++k) moved[k] = {shape[k][0] + ox, shape[k][1] + oy};
+        for (size_t k = 0; k < 6; ++k) moved[k] = {h.shape[k][0] + ox, h.shape[k][1] + oy};
         sum = sum + polygonInSquare(moved);
     }
-    return min(abs(sum), ir::literal(u, 1.0));
+    return sum;
+}
+
+// A sum of paperOfCells as the pixel's share of paper, 0 to 1.
+template <class T>
+T paperShare(T sum) {
+    using std::abs;
+    using std::min;
+    return min(abs(sum), ir::literal(sum, 1.0));
+}
+
+// The paper the honeycomb's strokes leave within the square pixel (its share of the pixel, 0
+// to 1): the hexagon holding the centre and its six neighbours (kHexRings' first seven); with
+// `rings` 2 the next ring's twelve too. Exact while every point of the pixel lies within them
+// (kOneRingRows, kTwoRingsRows). The kernel reads the first ring once and adds the second
+// behind a branch (LatticeCrowd.cpp, hexEdgesInPixel).
+template <class T>
+T honeycombPaperInSquare(T u, T v, T e1u, T e1v, T e2u, T e2v, const std::array<T, 3>& bounds,
+                         int rings = 1) {
+    const HexagonsInSquare<T> h = hexagonsInSquare(u, v, e1u, e1v, e2u, e2v, bounds);
+    return paperShare(paperOfCells(h, 0, rings > 1 ? kHexRings.size() : 7, ir::literal(u, 0.0)));
 }
 
 } // namespace moire::lower

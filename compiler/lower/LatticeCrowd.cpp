@@ -288,19 +288,23 @@ ValueId hexEdgesInPixel(ir::Builder& b, const LatticeCrowdInputs& in, ValueId ha
     const ValueId inside =
         b.emit(ir::Op::And, {b.emit(ir::Op::And, {in.drawEdges, b.lt(in.distance, reach)}),
                              b.lt(handed, c(1.0))});
-    // The paper over the pixel from `rings` rings of hexagons about its centre.
-    auto paper = [&](int rings) {
-        const PixelSteps e = pixelSteps(b, in, pixel);
-        const ir::BuiltValue left =
-            honeycombPaperInSquare(value(in.genU), value(in.genV), value(e.e1u), value(e.e1v),
-                                   value(e.e2u), value(e.e2v), hexBoundsOf(b, in, half), rings);
-        return std::vector<ValueId>{b.denan(b.sub(c(1.0), left.id), c(0.0))};
+    // The ink over the pixel from the paper its rings of hexagons leave (a sum of
+    // paperOfCells).
+    auto inkOf = [&](ir::BuiltValue sum) {
+        return std::vector<ValueId>{b.denan(b.sub(c(1.0), paperShare(sum).id), c(0.0))};
     };
     return b.ifThenElse(
         inside,
         [&] {
+            // The first ring's hexagons once, the second ring's added behind a branch.
+            const PixelSteps e = pixelSteps(b, in, pixel);
+            const HexagonsInSquare<ir::BuiltValue> hexagons =
+                hexagonsInSquare(value(in.genU), value(in.genV), value(e.e1u), value(e.e1v),
+                                 value(e.e2u), value(e.e2v), hexBoundsOf(b, in, half));
+            const ir::BuiltValue first = paperOfCells(hexagons, 0, 7, value(c(0.0)));
             return b.ifThenElse(
-                b.lt(members, c(kOneRingRows)), [&] { return paper(1); }, [&] { return paper(2); });
+                b.lt(members, c(kOneRingRows)), [&] { return inkOf(first); },
+                [&] { return inkOf(paperOfCells(hexagons, 7, kHexRings.size(), first)); });
         },
         [&] {
             return std::vector<ValueId>{

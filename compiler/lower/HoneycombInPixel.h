@@ -146,6 +146,8 @@ constexpr std::array<std::array<double, 2>, 19> kHexRings{{
     {1.0, 1.0}, {-1.0, -1.0}, {2.0, -1.0}, {-2.0, 1.0}, {1.0, -2.0}, {-1.0, 2.0},
     {2.0, 0.0}, {-2.0, 0.0}, {0.0, 2.0}, {0.0, -2.0}, {2.0, -2.0}, {-2.0, 2.0}}};
 // clang-format on
+// The centre's hexagon and its six neighbours: kHexRings' first ring.
+constexpr size_t kOneRingCells = 7;
 
 // Where the hexagons about the pixel's centre hold the whole pixel, by rows of edges a pixel
 // (the least spacing of the lines the sides lie on, over the pixel): the centre's and its
@@ -283,7 +285,7 @@ T paperShare(T sum) {
 }
 
 // The paper the honeycomb's strokes leave within the square pixel (its share of the pixel, 0
-// to 1): the hexagon holding the centre and its six neighbours (kHexRings' first seven); with
+// to 1): the hexagon holding the centre and its six neighbours (kOneRingCells); with
 // `rings` 2 the next ring's twelve too. Exact while every point of the pixel lies within them
 // (kOneRingRows, kTwoRingsRows). The kernel reads the first ring once and adds the second
 // behind a branch (LatticeCrowd.cpp, hexEdgesInPixel).
@@ -291,7 +293,8 @@ template <class T>
 T honeycombPaperInSquare(T u, T v, T e1u, T e1v, T e2u, T e2v, const std::array<T, 3>& bounds,
                          int rings = 1) {
     const HexagonsInSquare<T> h = hexagonsInSquare(u, v, e1u, e1v, e2u, e2v, bounds);
-    return paperShare(paperOfCells(h, 0, rings > 1 ? kHexRings.size() : 7, ir::literal(u, 0.0)));
+    return paperShare(
+        paperOfCells(h, 0, rings > 1 ? kHexRings.size() : kOneRingCells, ir::literal(u, 0.0)));
 }
 
 } // namespace moire::lower

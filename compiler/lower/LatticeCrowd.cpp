@@ -301,10 +301,12 @@ ValueId hexEdgesInPixel(ir::Builder& b, const LatticeCrowdInputs& in, ValueId ha
             const HexagonsInSquare<ir::BuiltValue> hexagons =
                 hexagonsInSquare(value(in.genU), value(in.genV), value(e.e1u), value(e.e1v),
                                  value(e.e2u), value(e.e2v), hexBoundsOf(b, in, half));
-            const ir::BuiltValue first = paperOfCells(hexagons, 0, 7, value(c(0.0)));
+            const ir::BuiltValue first = paperOfCells(hexagons, 0, kOneRingCells, value(c(0.0)));
             return b.ifThenElse(
                 b.lt(members, c(kOneRingRows)), [&] { return inkOf(first); },
-                [&] { return inkOf(paperOfCells(hexagons, 7, kHexRings.size(), first)); });
+                [&] {
+                    return inkOf(paperOfCells(hexagons, kOneRingCells, kHexRings.size(), first));
+                });
         },
         [&] {
             return std::vector<ValueId>{

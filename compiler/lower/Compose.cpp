@@ -30,16 +30,19 @@ void Compose::layer(const LayerInk& ink) {
                          ? strokeInk(b_, ink.fields.distance, ink.band)
                          : layerMeanInk(b_, ink.fields, ink.halfWidth, ink.pixel);
     // A lattice's edges are whole lines laid as independent inks: where they cross within
-    // the pixel, their overlap (StrokePairs.h, strandCrossings).
+    // the pixel, their overlap (StrokePairs.h, strandCrossings), as far as the crowded
+    // reading is taken (`engaged`: the triangle lattice's edges are read over the pixel,
+    // overlaps and all, where its rows stand under 1.4 a pixel, LatticeCrowd.cpp).
     std::vector<StrokeAcross> strands;
     if (ink.pixel.size != ir::kNoValue && joinsAsStrands(ink.fields.crowd)) {
         // Each strand is a phase family's footprint, whose stroke across is always known.
         strands = strandStrokes(b_, ink.fields.crowd, ink.halfWidth, ink.pixel);
         MOIRE_CHECK(strands.size() == ink.fields.crowd.strands.size(),
                     "a lattice's strands are phase footprints");
-        stroke =
-            b_.clamp(b_.add(stroke, strandCrossings(b_, strands, ink.fields.crowd.strandMeans)),
-                     zero_, b_.constF(1.0));
+        ValueId crossings = strandCrossings(b_, strands, ink.fields.crowd.strandMeans);
+        if (strands.size() == 3 && ink.fields.crowd.engaged != ir::kNoValue)
+            crossings = b_.mul(crossings, ink.fields.crowd.engaged);
+        stroke = b_.clamp(b_.add(stroke, crossings), zero_, b_.constF(1.0));
     }
     ValueId cov = inkCoverage(b_, stroke, ink.opacity, ink.color[3]);
     // Under the mean filter, consecutive phase families form a run whose union is taken

@@ -3,6 +3,7 @@
 // pixel that lie in the polygon, or in no stroke of the honeycomb: each point's hexagon found
 // by searching the centres about it, not by the four the closed form tries.
 #include "compiler/lower/HoneycombInPixel.h"
+#include "compiler/lower/LatticeSteps_test.h"
 
 #include <array>
 #include <cmath>
@@ -182,23 +183,10 @@ TEST_CASE("the paper a honeycomb's strokes leave in the pixel matches a count of
         // A honeycomb of side s pixels, stretched along a direction b and turned by a: its
         // centres' steps are s sqrt3 at 0 and 60 degrees, so mapped.
         const double s = std::exp(logSide(rng)), a = turn(rng), b = turn(rng), k = stretch(rng);
-        auto step = [&](double angle) {
-            double x = s * std::numbers::sqrt3 * std::cos(angle);
-            double y = s * std::numbers::sqrt3 * std::sin(angle);
-            // Stretched by k along b: the component along b grows by k.
-            const double along = x * std::cos(b) + y * std::sin(b);
-            x += (k - 1.0) * along * std::cos(b);
-            y += (k - 1.0) * along * std::sin(b);
-            return std::array<double, 2>{x * std::cos(a) - y * std::sin(a),
-                                         x * std::sin(a) + y * std::cos(a)};
-        };
-        const auto e1 = step(0.0), e2 = step(std::numbers::pi / 3.0);
-        // The generators' gradients, the inverse of the steps' matrix, give each side's
-        // bound, 1 less the half-width times |grad(m_k . (u, v))|, and the rows of edges a
-        // pixel, the greatest |grad(m_k . (u, v))| (the sides lie on the lines m_k . (u, v)
-        // whole).
-        const double det = e1[0] * e2[1] - e2[0] * e1[1];
-        const std::array<double, 2> gu{e2[1] / det, -e2[0] / det}, gv{-e1[1] / det, e1[0] / det};
+        const auto [e1, e2, gu, gv] = latticeSteps(s * std::numbers::sqrt3, a, b, k);
+        // The generators' gradients give each side's bound, 1 less the half-width times
+        // |grad(m_k . (u, v))|, and the rows of edges a pixel, the greatest |grad(m_k . (u,
+        // v))| (the sides lie on the lines m_k . (u, v) whole).
         const double h = stroke(rng) * s;
         std::array<double, 3> bounds{};
         double rows = 0.0;

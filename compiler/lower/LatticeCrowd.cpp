@@ -4,11 +4,13 @@
 #include "compiler/ir/Semantics.h"
 #include "compiler/lower/HoneycombInPixel.h"
 #include "compiler/lower/Prefilter.h"
+#include "compiler/lower/TriangleInPixel.h"
 
 #include <array>
 #include <cmath>
 #include <functional>
 #include <numbers>
+#include <optional>
 #include <vector>
 
 namespace moire::lower {
@@ -269,49 +271,119 @@ ValueId hexEdgeRipple(ir::Builder& b, const LatticeCrowdInputs& in, ValueId half
     });
 }
 
-// A honeycomb's edges over the pixel: 1 less the paper its strokes leave there
-// (HoneycombInPixel.h), from the hexagon about the pixel's centre and its neighbours where
-// they hold the pixel, with the next ring where that takes it (kOneRingRows, by a branch);
-// handed over to the edges' share of the plane (`engaged`) in the last kHexHandOver rows a
-// pixel before kTwoRingsRows. Behind a branch: only where the pixel reaches a stroke (the
-// nearest edge within half its diagonal) and is not handed over whole; elsewhere the
-// distance form.
-constexpr double kHexHandOver = 0.4;
-ValueId hexEdgesInPixel(ir::Builder& b, const LatticeCrowdInputs& in, ValueId half, ValueId members,
-                        ValueId& engaged) {
+// A lattice's edges over the pixel where they are not whole lines laid as independent inks
+// (the honeycomb's, HoneycombInPixel.h; the triangle lattice's, whose lines meet at its
+// points, TriangleInPixel.h): 1 less the paper its strokes leave there, from the cells that
+// hold the pixel up to `oneRows` rows a pixel (`first`, a sum of their paper), with the next
+// ring of cells added up to `lastRows` where there is one (`more`, by a branch); handed over
+// to the crowded reading (`engaged`) in the last kEdgesHandOver rows a pixel before
+// `lastRows`. Behind a branch: only where the pixel reaches a stroke (the nearest edge within
+// half its diagonal), `gate` holds (where given) and it is not handed over whole; elsewhere
+// `elsewhere`, or the distance form.
+constexpr double kEdgesHandOver = 0.4;
+struct EdgesReading {
+    double oneRows = 0.0, lastRows = 0.0;
+    std::function<ir::BuiltValue()> first;
+    std::function<ir::BuiltValue(ir::BuiltValue)> more;
+    ValueId gate = ir::kNoValue, elsewhere = ir::kNoValue;
+};
+ValueId edgesInPixel(ir::Builder& b, const LatticeCrowdInputs& in, ValueId half, ValueId members,
+                     ValueId& engaged, const EdgesReading& r) {
     auto c = [&](double v) { return b.constF(v); };
-    auto value = [&](ValueId v) { return ir::BuiltValue(b, v); };
     const PixelFootprint pixel{in.pixel, in.cosTurn, in.sinTurn};
-    const ValueId handed = b.smoothstep(c(kTwoRingsRows - kHexHandOver), c(kTwoRingsRows), members);
+    const ValueId handed = b.smoothstep(c(r.lastRows - kEdgesHandOver), c(r.lastRows), members);
     engaged = b.select(in.drawEdges, handed, engaged);
     const ValueId reach = b.add(half, b.mul(in.pixel, c(kHalfDiagonal)));
-    const ValueId inside =
+    ValueId inside =
         b.emit(ir::Op::And, {b.emit(ir::Op::And, {in.drawEdges, b.lt(in.distance, reach)}),
                              b.lt(handed, c(1.0))});
-    // The ink over the pixel from the paper its rings of hexagons leave (a sum of
-    // paperOfCells).
+    if (r.gate != ir::kNoValue) inside = b.emit(ir::Op::And, {inside, r.gate});
+    // The ink over the pixel from the paper its cells leave.
     auto inkOf = [&](ir::BuiltValue sum) {
         return std::vector<ValueId>{b.denan(b.sub(c(1.0), paperShare(sum).id), c(0.0))};
     };
     return b.ifThenElse(
         inside,
         [&] {
-            // The first ring's hexagons once, the second ring's added behind a branch.
-            const PixelSteps e = pixelSteps(b, in, pixel);
-            const HexagonsInSquare<ir::BuiltValue> hexagons =
-                hexagonsInSquare(value(in.genU), value(in.genV), value(e.e1u), value(e.e1v),
-                                 value(e.e2u), value(e.e2v), hexBoundsOf(b, in, half));
-            const ir::BuiltValue first = paperOfCells(hexagons, 0, kOneRingCells, value(c(0.0)));
+            // The first cells once, the next ring's added behind a branch.
+            const ir::BuiltValue near = r.first();
+            if (!r.more) return inkOf(near);
             return b.ifThenElse(
-                b.lt(members, c(kOneRingRows)), [&] { return inkOf(first); },
-                [&] {
-                    return inkOf(paperOfCells(hexagons, kOneRingCells, kHexRings.size(), first));
-                });
+                b.lt(members, c(r.oneRows)), [&] { return inkOf(near); },
+                [&] { return inkOf(r.more(near)); });
         },
         [&] {
+            if (r.elsewhere != ir::kNoValue) return std::vector<ValueId>{r.elsewhere};
             return std::vector<ValueId>{
                 distanceInk(b, in.distance, half, ir::kNoValue, ir::kNoValue, pixel)};
         })[0];
+}
+
+// A honeycomb's edges over the pixel (edgesInPixel): the hexagon about the pixel's centre and
+// its neighbours to kOneRingRows, the next ring's to kTwoRingsRows.
+ValueId hexEdgesInPixel(ir::Builder& b, const LatticeCrowdInputs& in, ValueId half, ValueId members,
+                        ValueId& engaged) {
+    auto value = [&](ValueId v) { return ir::BuiltValue(b, v); };
+    const PixelFootprint pixel{in.pixel, in.cosTurn, in.sinTurn};
+    std::optional<HexagonsInSquare<ir::BuiltValue>> hexagons;
+    EdgesReading r;
+    r.oneRows = kOneRingRows;
+    r.lastRows = kTwoRingsRows;
+    r.first = [&] {
+        const PixelSteps e = pixelSteps(b, in, pixel);
+        hexagons = hexagonsInSquare(value(in.genU), value(in.genV), value(e.e1u), value(e.e1v),
+                                    value(e.e2u), value(e.e2v), hexBoundsOf(b, in, half));
+        return paperOfCells(*hexagons, 0, kOneRingCells, value(b.constF(0.0)));
+    };
+    r.more = [&](ir::BuiltValue sum) {
+        return paperOfCells(*hexagons, kOneRingCells, kHexRings.size(), sum);
+    };
+    return edgesInPixel(b, in, half, members, engaged, r);
+}
+
+// The triangle lattice's edges over the pixel (edgesInPixel): the 2 x 2 cells nearest the
+// pixel's centre to kTriNearRows, the 3 x 3 about its cell to kTriOneBlockRows. Only where the
+// strokes of two of its three families reach the pixel, which is where its lines may meet there:
+// elsewhere one family's lines at most ink it, and `strands`, the families laid as independent,
+// each averaged over the pixel, is exact. Each family's stroke in index units is the half-width
+// times its gradient's length.
+ValueId triangleEdgesInPixel(ir::Builder& b, const LatticeCrowdInputs& in, ValueId half,
+                             ValueId members, ValueId strands, ValueId& engaged) {
+    auto c = [&](double v) { return b.constF(v); };
+    auto value = [&](ValueId v) { return ir::BuiltValue(b, v); };
+    const PixelFootprint pixel{in.pixel, in.cosTurn, in.sinTurn};
+    const ValueId wx = b.add(in.genUX, in.genVX), wy = b.add(in.genUY, in.genVY);
+    const std::array<std::array<ValueId, 3>, 3> families{{{in.genU, in.genUX, in.genUY},
+                                                          {in.genV, in.genVX, in.genVY},
+                                                          {b.add(in.genU, in.genV), wx, wy}}};
+    const ValueId reach = b.add(half, b.mul(in.pixel, c(kHalfDiagonal)));
+    std::array<ValueId, 3> near{};
+    for (size_t k = 0; k < 3; ++k) {
+        const auto& [f, gx, gy] = families[k];
+        const ValueId apart = b.div(b.abs(b.sub(f, b.round(f))), b.hypot(gx, gy));
+        near[k] = b.lt(apart, reach);
+    }
+    auto both = [&](size_t i, size_t j) { return b.emit(ir::Op::And, {near[i], near[j]}); };
+    EdgesReading r;
+    r.oneRows = r.lastRows = kTriOneBlockRows;
+    r.gate = b.emit(ir::Op::Or, {b.emit(ir::Op::Or, {both(0, 1), both(0, 2)}), both(1, 2)});
+    r.elsewhere = strands;
+    r.first = [&] {
+        const PixelSteps e = pixelSteps(b, in, pixel);
+        auto across = [&](ValueId gx, ValueId gy) { return value(b.mul(half, b.hypot(gx, gy))); };
+        const TrianglesInSquare<ir::BuiltValue> cells = trianglesInSquare(
+            value(in.genU), value(in.genV), value(e.e1u), value(e.e1v), value(e.e2u), value(e.e2v),
+            across(in.genUX, in.genUY), across(in.genVX, in.genVY), across(wx, wy));
+        // The 2 x 2 cells nearest the centre where they hold the pixel, else the 3 x 3.
+        return value(b.ifThenElse(
+            b.lt(members, c(kTriNearRows)),
+            [&] { return std::vector<ValueId>{paperOfNearCells(cells).id}; },
+            [&] {
+                return std::vector<ValueId>{
+                    paperOfTriangleRing(cells, 1, paperOfTriangleRing(cells, 0, value(c(0.0)))).id};
+            })[0]);
+    };
+    return edgesInPixel(b, in, half, members, engaged, r);
 }
 
 } // namespace
@@ -477,9 +549,17 @@ CrowdEstimate latticeCrowd(ir::Builder& b, LatticeKind kind, const LatticeCrowdI
     if (in.distance != ir::kNoValue) {
         ValueId dot = dotsInPixel(b, kind, in, t, out.engaged);
         const ValueId half = b.mul(t, c(0.5));
-        ValueId edge = hexCells ? hexEdgesInPixel(b, in, half, members, out.engaged)
-                                : distanceInk(b, in.distance, half, ir::kNoValue, ir::kNoValue,
-                                              PixelFootprint{in.pixel, in.cosTurn, in.sinTurn});
+        const bool triangleCells = kind == LatticeKind::Triangle && in.genU != ir::kNoValue;
+        // The triangle lattice's edges meet other layers' strokes by their strands (as whole
+        // lines, StrokePairs.h), wherever its own ink is read: its nearest edge's stroke
+        // takes no part, as before its ink was read over the pixel.
+        if (triangleCells) out.strokesCrowded = out.engaged;
+        ValueId edge =
+            hexCells ? hexEdgesInPixel(b, in, half, members, out.engaged)
+            : triangleCells
+                ? triangleEdgesInPixel(b, in, half, members, b.min(edges, c(1.0)), out.engaged)
+                : distanceInk(b, in.distance, half, ir::kNoValue, ir::kNoValue,
+                              PixelFootprint{in.pixel, in.cosTurn, in.sinTurn});
         out.nearest = b.select(in.drawEdges, edge, dot);
         if (in.genU != ir::kNoValue) {
             // Where the share is drawn, the box filter's ripple about it (behind a branch):

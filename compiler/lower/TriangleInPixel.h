@@ -1,4 +1,4 @@
-// The triangle lattice's edges over the square pixel, exactly (docs/filtering.md, "A triangle
+// The triangle lattice's edges over the square pixel, exactly (docs/filtering.md, "The triangle
 // lattice's edges over the pixel"). Its edges are three families of whole lines, u, v and
 // u + v whole, each averaged over the pixel in closed form; laid as independent inks they miss
 // what the strokes share where the three meet, which the pairs' covariances read only for
@@ -33,7 +33,7 @@ constexpr double kTriNearRows = 0.7;
 // pixel's sides in pixels, and each family's stroke in index units, a = h |grad u|, b = h
 // |grad v|, c = h |grad (u + v)|. A cell [0, 1]^2 of (u, v) holds two triangles, u + v below 1
 // and above; shrunk, the lower is u >= a, v >= b, u + v <= 1 - c, corners (a, b), (a + t, b),
-// (a, b + t), and the upper its mirror about the cell's centre, t = 1 - a - b - c their legs
+// (a, b + t), and the upper its reflection through the cell's centre, t = 1 - a - b - c their legs
 // (none where t <= 0). Both run counterclockwise in (u, v), so the steps' turn gives every
 // triangle one sense. `fu, fv` is the pixel's centre within its cell.
 template <class T>

@@ -63,6 +63,15 @@ std::vector<Scene> filterScenes() {
     out.push_back({"honeycomb about a pixel", "honeycomb_pixel.moire",
                    "layer a { family = hex_lattice; spacing = 1; stroke = 0.2; edges = 1; "
                    "rotation = 7deg }\n"});
+    // A triangle lattice's edges with its rows about a pixel apart, and resolved: the paper
+    // its shrunk triangles leave over the pixel where two of its families' strokes reach it
+    // (TriangleInPixel.h), from the 3 x 3 cells about the pixel's and the 2 x 2 nearest it.
+    for (const char* spacing : {"1.2", "4"})
+        out.push_back({std::string("triangle edges, ") + spacing,
+                       std::string("triangle_edges_") + spacing + ".moire",
+                       std::string("layer a { family = triangle_lattice; spacing = ") + spacing +
+                           "; stroke = " + (spacing[0] == '1' ? "0.3" : "0.6") +
+                           "; edges = 1; rotation = 10deg }\n"});
     // A honeycomb's edges under fine lines near a row of its centres (LatticeUnion.h): the
     // hexagons' paper less the lines' strokes across them, at 2 x 2 taps.
     out.push_back({"honeycomb under fine lines", "honeycomb_lines.moire",

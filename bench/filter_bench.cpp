@@ -29,9 +29,13 @@ namespace {
 // The scenes the filter is for, written here so the benchmark needs no files of its own.
 std::vector<Scene> filterScenes() {
     std::vector<Scene> out;
-    for (const char* name : {"two_rings", "fork_grating", "counter_spirals"})
+    for (const char* name : {"two_rings", "fork_grating", "counter_spirals", "hyperbolae"})
         out.push_back(
             bench::sceneFile(std::string(MOIRE_SOURCE_DIR "/examples/") + name + ".moire"));
+    // Hyperbolas 0.25 apart, 0.05 wide, 4 a pixel: beside their asymptotes the members crowd
+    // into the fold without end, read in parts by P = (phi / s)^2 (FoldMean.h).
+    out.push_back({"hyperbolas into the fold", "hyperbola_fold.moire",
+                   "layer a { family = hyperbola; spacing = 0.25; stroke = 0.05 }\n"});
     // Circles 0.7 apart, 0.1 wide, at a pixel a world unit: 1.43 members a pixel everywhere.
     out.push_back({"fine circles", "fine_circles.moire",
                    "layer a { family = circles; spacing = 0.7; stroke = 0.1 }\n"});

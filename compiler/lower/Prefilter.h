@@ -254,19 +254,31 @@ Bend bendOf(ir::Builder& b, const IndexAt& at, const Footprint& footprint,
 ir::ValueId reachesBelowFirst(ir::Builder& b, const Footprint& footprint,
                               const PixelFootprint& pixel, double margin = 0.5);
 
-// A phase family's fields (phaseFamilyFields) at the pixel's centre moved by (ox, oy).
-using FieldsAt = std::function<LayerFields(ir::Builder&, ir::ValueId ox, ir::ValueId oy)>;
-
 // Below a first member the closed form does not hold (it would count the excluded members) and
 // the nearest member's distance sees one stroke, where a fold of the phase (the hyperbola's
 // asymptotes, its member 0) brings the first member's two sides and the members after it
-// together within the pixel. There (in 8 x 8 parts), and where the index bends within the
-// pixel (bendOf: beside such a fold it runs as the square root of the distance to it; in the
-// parts the bend asks for), the pixel is read in n x n parts, each over its own fields: its
-// nearest member's distance mean where it reaches below the first member at all, the closed
-// form elsewhere.
-ir::ValueId belowFirstMean(ir::Builder& b, const FieldsAt& at, ir::ValueId halfWidth,
+// together within the pixel, and beside the fold the index runs as the square root of the
+// distance to it, so that no part is small enough to take it as linear. There, and where the
+// index bends within the pixel (bendOf), the pixel is read in n x n parts (foldParts), each
+// in P = (phi / s)^2 (FoldMean.h), where the phase of a family with a first member is taken
+// to fold as a square root (as the point rule takes it below the first member): `p` and
+// `pNear` (P read off a fold through the part, for its gradient), `level`, the members' level
+// in spacings, and `lead`, the first member's phi in spacings, at the part's centre moved by
+// (ox, oy). Where a field moves the level across the part, P is read as (index + the centre's
+// level)^2, in which the members stand still: its gradient is grad P less 2 phi grad level.
+struct FoldAt {
+    ir::ValueId p, pNear, level, lead;
+};
+using FoldsAt = std::function<FoldAt(ir::Builder&, ir::ValueId ox, ir::ValueId oy)>;
+ir::ValueId belowFirstMean(ir::Builder& b, const FoldsAt& at, ir::ValueId halfWidth,
                            const PixelFootprint& pixel, ir::ValueId n);
+// The parts a side belowFirstMean needs (1, 2, 4 or 8, at least `least`): by how far P departs
+// at the pixel's corners and its sides' middles from its linear model folded at 0, as bendOf
+// reads the index's departure. P is as smooth as the function whose square root the phase is,
+// so where the index runs as the square root of the distance to a fold a few parts do, and
+// about the hyperbola's centre, where P bends, as many as it asks for.
+ir::ValueId foldParts(ir::Builder& b, const FoldsAt& at, const IndexAt& indexAt,
+                      const PixelFootprint& pixel, ir::ValueId least);
 
 // The drawn ink `ink` handed over to a crowd's mean (CrowdEstimate), weighted by `engaged`
 // (a crowd is estimated where the family's own strokes miss members, so there is no resolved

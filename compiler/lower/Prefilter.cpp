@@ -164,12 +164,11 @@ ValueId meanInk(ir::Builder& b, const Footprint& footprint, ValueId distance, Va
         [&] { return std::vector<ValueId>{mean}; })[0];
 }
 
-ValueId reachesBelowFirst(ir::Builder& b, const Footprint& footprint, const PixelFootprint& pixel,
-                          double margin) {
+ValueId reachesBelowFirst(ir::Builder& b, const Footprint& footprint, const PixelFootprint& pixel) {
     // Half the square's diagonal extent along the index: half its steps across the two sides.
     PixelSides g = onPixelSides(b, footprint.gradX, footprint.gradY, pixel);
     ValueId reach = b.mul(b.mul(b.add(b.abs(g.u), b.abs(g.v)), pixel.size), b.constF(0.5));
-    return b.lt(b.sub(footprint.index, reach), b.constF(*footprint.first - margin));
+    return b.lt(b.sub(footprint.index, reach), b.constF(*footprint.first - 0.5));
 }
 
 namespace {

@@ -249,10 +249,11 @@ Bend bendOf(ir::Builder& b, const IndexAt& at, const Footprint& footprint,
             const PixelFootprint& pixel);
 
 // Whether the footprint of a family with a first member reaches below it (half the square's
-// diagonal extent along the index short of first - margin): with a margin of 1/2, where
-// meanInk reads the nearest member's distance, or Footprint::belowMean.
+// diagonal extent along the index short of first - 1/2, the first member's own cell), where
+// meanInk reads the nearest member's distance, or Footprint::belowMean, and the stroke pairs
+// the first member's stroke alone.
 ir::ValueId reachesBelowFirst(ir::Builder& b, const Footprint& footprint,
-                              const PixelFootprint& pixel, double margin = 0.5);
+                              const PixelFootprint& pixel);
 
 // Below a first member the closed form does not hold (it would count the excluded members) and
 // the nearest member's distance sees one stroke, where a fold of the phase (the hyperbola's

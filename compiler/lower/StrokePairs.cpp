@@ -10,11 +10,24 @@ namespace moire::lower {
 
 using ir::ValueId;
 
+namespace {
+// A pitch (pixels) that puts a layer's next members past any pixel's reach: where it has no
+// next members near (below a first member) or none to speak of (no gradient).
+constexpr double kFarPitch = 1e6;
+// Half the pixel's diagonal: a stroke whose centre line stands further than that plus its
+// half-width from the pixel's centre does not reach into it.
+constexpr double kPixelReach = 0.7072;
+} // namespace
+
 std::optional<StrokeAcross> strokeAcross(ir::Builder& b, const LayerFields& fields,
                                          ValueId halfWidth, const PixelFootprint& pixel) {
     ValueId zero = b.constF(0.0), one = b.constF(1.0);
     ValueId nu, nv, s, weight = one;
     StrokeAcross out; // its periodic reading, where a phase family has one, and a dot's disc
+    // The members' pitch in pixels from how many a pixel crosses, held finite where none does.
+    auto pitchOf = [&](ValueId members) {
+        return b.div(one, b.max(members, b.constF(1.0 / kFarPitch)));
+    };
     if (fields.footprint.grad != ir::kNoValue && fields.footprint.gradX != ir::kNoValue &&
         fields.footprint.edge == ir::kNoValue) {
         // A phase family: members at the integers of the index, which grows along its
@@ -31,6 +44,7 @@ std::optional<StrokeAcross> strokeAcross(ir::Builder& b, const LayerFields& fiel
         // run of such layers is FineUnion's to correlate).
         ValueId members = b.mul(length, pixel.size);
         weight = b.sub(one, b.smoothstep(b.constF(kCrowdFrom), b.constF(kCrowdFull), members));
+        out.pitch = pitchOf(members);
         out.index = f.index;
         out.gu = b.mul(g.u, pixel.size);
         out.gv = b.mul(g.v, pixel.size);
@@ -40,10 +54,10 @@ std::optional<StrokeAcross> strokeAcross(ir::Builder& b, const LayerFields& fiel
             // Where the footprint reaches below the first member (meanInk's test), that member
             // is the nearest, on the gradient's far side, `distance` away (the index is not
             // linear there: it folds), and it alone is the pixel's ink.
-            ValueId reach = b.mul(b.add(b.abs(g.u), b.abs(g.v)), b.mul(pixel.size, b.constF(0.5)));
-            ValueId below = b.lt(b.sub(f.index, reach), b.constF(*f.first - 0.5));
+            ValueId below = reachesBelowFirst(b, f, pixel);
             s = b.select(below, b.sub(zero, b.div(fields.distance, pixel.size)), s);
             weight = b.select(below, one, weight);
+            out.pitch = b.select(below, b.constF(kFarPitch), out.pitch);
         }
     } else {
         MemberNormal n = memberNormal(b, fields.distance, fields.gradX, fields.gradY, pixel);
@@ -70,6 +84,12 @@ std::optional<StrokeAcross> strokeAcross(ir::Builder& b, const LayerFields& fiel
             ValueId members = b.mul(fields.footprint.grad, pixel.size);
             weight = b.mul(weight, b.sub(one, b.smoothstep(b.constF(kCrowdFrom),
                                                            b.constF(kCrowdFull), members)));
+            // Its members stand 1 / |grad index| apart along the normal (the pencil's rays,
+            // locally parallel), but within a couple of pixels of the region they do not
+            // enter (Footprint::edge) the nearest stroke may be that region's rim.
+            if (const ValueId edge = fields.footprint.edge; edge != ir::kNoValue)
+                out.pitch = b.select(b.lt(edge, b.mul(pixel.size, b.constF(2.0))),
+                                     b.constF(kFarPitch), pitchOf(members));
         }
     }
     if (const auto& runs = fields.crowd.runs;
@@ -110,8 +130,8 @@ std::optional<StrokeAcross> strokeAcross(ir::Builder& b, const LayerFields& fiel
     out.s = s;
     out.h = b.div(halfWidth, pixel.size);
     out.weight = weight;
-    out.touches =
-        b.emit(ir::Op::And, {b.gt(weight, zero), b.lt(b.abs(s), b.add(out.h, b.constF(0.7072)))});
+    out.touches = b.emit(ir::Op::And,
+                         {b.gt(weight, zero), b.lt(b.abs(s), b.add(out.h, b.constF(kPixelReach)))});
     return out;
 }
 
@@ -119,10 +139,57 @@ ValueId strokeCovariance(ir::Builder& b, const StrokeAcross& first, const Stroke
     // The second stroke's normal in the first's frame: cos and sin of the angle between them.
     ValueId cosA = b.add(b.mul(first.nu, second.nu), b.mul(first.nv, second.nv));
     ValueId sinA = b.sub(b.mul(first.nu, second.nv), b.mul(first.nv, second.nu));
-    ValueId cov = stripCovariance(ir::BuiltValue(b, first.s), ir::BuiltValue(b, first.h),
-                                  ir::BuiltValue(b, second.s), ir::BuiltValue(b, second.h),
-                                  ir::BuiltValue(b, cosA), ir::BuiltValue(b, sinA))
-                      .id;
+    auto value = [&](ValueId v) { return ir::BuiltValue(b, v); };
+    auto pair = [&](ValueId s1, ValueId h1, ValueId s2, ValueId h2) {
+        return stripCovariance(value(s1), value(h1), value(s2), value(h2), value(cosA), value(sinA))
+            .id;
+    };
+    const bool firstRuns = first.pitch != ir::kNoValue;
+    const bool secondRuns = second.pitch != ir::kNoValue;
+    ValueId cov;
+    if (!firstRuns && !secondRuns) {
+        cov = pair(first.s, first.h, second.s, second.h);
+    } else {
+        // Each member's stroke cut to half its pitch: members that overlap tile their band.
+        auto cut = [&](const StrokeAcross& s, bool runs) {
+            return runs ? b.min(s.h, b.mul(s.pitch, b.constF(0.5))) : s.h;
+        };
+        const ValueId h1 = cut(first, firstRuns), h2 = cut(second, secondRuns);
+        // The members whose strokes reach the pixel, `lo` to lo + count - 1 about the nearest
+        // (-1, 0, 1): the nearest always does where the pair is read, its neighbours only where
+        // the members stand about two pixels apart or closer. A layer without a pitch, its
+        // nearest alone.
+        const ValueId zero = b.constF(0.0), one = b.constF(1.0);
+        struct Members {
+            ValueId lo, count;
+        };
+        auto members = [&](const StrokeAcross& s, ValueId h, bool runs) {
+            if (!runs) return Members{zero, one};
+            const ValueId reach = b.add(h, b.constF(kPixelReach));
+            auto reaches = [&](ValueId offset) { return b.lt(b.abs(offset), reach); };
+            const ValueId lo = b.select(reaches(b.sub(s.s, s.pitch)), b.constF(-1.0), zero);
+            const ValueId hi = b.select(reaches(b.add(s.s, s.pitch)), one, zero);
+            return Members{lo, b.add(b.sub(hi, lo), one)};
+        };
+        const Members m1 = members(first, h1, firstRuns), m2 = members(second, h2, secondRuns);
+        // Pair k of the m1 x m2 that reach: one loop, the pair's IR written once.
+        const std::vector<ValueId> sums = b.loop(
+            {zero, zero},
+            [&](std::span<const ValueId> v) {
+                return std::vector<ValueId>{b.lt(v[0], b.mul(m1.count, m2.count))};
+            },
+            [&](std::span<const ValueId> v) {
+                const ValueId row = b.floor(b.div(b.add(v[0], b.constF(0.5)), m2.count));
+                const ValueId column = b.sub(v[0], b.mul(row, m2.count));
+                auto member = [&](const StrokeAcross& s, bool runs, const Members& m, ValueId k) {
+                    return runs ? b.add(s.s, b.mul(b.add(m.lo, k), s.pitch)) : s.s;
+                };
+                const ValueId term = pair(member(first, firstRuns, m1, row), h1,
+                                          member(second, secondRuns, m2, column), h2);
+                return std::vector<ValueId>{b.add(v[0], one), b.add(v[1], term)};
+            });
+        cov = sums[1];
+    }
     return b.denan(b.mul(cov, b.mul(first.weight, second.weight)), b.constF(0.0));
 }
 
@@ -237,9 +304,14 @@ ValueId strandCrossings(ir::Builder& b, const std::vector<StrokeAcross>& strokes
         for (size_t j = i + 1; j < strokes.size(); ++j) {
             // Behind a branch: most pixels meet one line or none.
             ValueId meet = b.emit(ir::Op::And, {strokes[i].touches, strokes[j].touches});
+            // The nearest lines alone (no pitch): where the rows stand close enough for the
+            // next lines to reach the pixel, the lattice reads its edges over the pixel whole
+            // (TriangleInPixel.h, `engaged`), and with them this took a third longer and moved
+            // no window of the tests.
+            StrokeAcross one = strokes[i], other = strokes[j];
+            one.pitch = other.pitch = ir::kNoValue;
             ValueId cov = b.ifThenElse(
-                meet,
-                [&] { return std::vector<ValueId>{strokeCovariance(b, strokes[i], strokes[j])}; },
+                meet, [&] { return std::vector<ValueId>{strokeCovariance(b, one, other)}; },
                 [&] { return std::vector<ValueId>{zero}; })[0];
             covs = b.add(covs, cov);
             least = b.min(least, b.add(cov, b.mul(means[i], means[j])));

@@ -204,6 +204,10 @@ struct StrokeAcross {
     // 1 where the stroke stands for a lattice's dot (a disc of radius h, its centre s from
     // the pixel's centre against the normal), 0 where it is a band; kNoValue: always a band.
     ir::ValueId disc = ir::kNoValue;
+    // Pixels between the nearest member and the next ones either side along the normal, where
+    // the members run parallel (a phase family's, the pencil's by its index): the pair reads
+    // those two as well (strokeCovariance). kNoValue: the nearest stroke alone.
+    ir::ValueId pitch = ir::kNoValue;
 };
 
 // The layer's nearest stroke under the mean filter: a phase family's from its index (the
@@ -217,7 +221,14 @@ std::optional<StrokeAcross> strokeAcross(ir::Builder& b, const LayerFields& fiel
                                          ir::ValueId halfWidth, const PixelFootprint& pixel);
 
 // stripCovariance of two layers' strokes, times both their weights (not checked for
-// `touches`: the caller branches on it).
+// `touches`: the caller branches on it). Where a layer's members stand a known pitch apart its
+// ink is the nearest member's stroke and the next one's either side, each cut to half the pitch
+// (overlapping strokes are one band of ink): a pixel between two members of one layer holds
+// both their strokes' edges once the members are less than about 2 pixels apart, and the
+// nearest alone took the pair's covariance from one edge. Members that do not overlap add
+// their inks, so the covariance is the sum over the pairs of members whose strokes reach the
+// pixel, up to 3 x 3; the rest stand past its reach wherever a pitch is a pixel or more (the
+// nearest stroke's weight is 0 closer than that).
 ir::ValueId strokeCovariance(ir::Builder& b, const StrokeAcross& first, const StrokeAcross& second);
 
 // The covariance of `periodic`'s members, read as periodic strokes, with `stroke`'s nearest

@@ -535,8 +535,11 @@ void checkLatticeAgainstExact(const char* layers, Backend& backend, double rmse,
 // pairs were an even grey (RMSE 0.034-0.057, each the exact field's own spread) and the
 // resolved pair 0.032 off; each line beats with the other lattice's nearest in direction
 // (FineUnion.h, strandCorrelation; two triangle lattices by their cells, LatticeUnion.h), and
-// resolved lines meet as strokes (StrokePairs.h). An even grey's error is the field's spread:
-// the drawn pair must be within a quarter of it.
+// resolved lines meet as strokes (StrokePairs.h). A square lattice with lines about twice or
+// half as fine beats by one layer's second harmonic with the other's first: read by the first
+// harmonics alone those pairs were an even grey too (0.040 and 0.033 against spreads of
+// 0.037), 0.0025 and 0.0074 since. An even grey's error is the field's spread: the drawn pair
+// must be within a quarter of it.
 TEST_CASE("filter: two lattices finer than the pixels show their beat") {
     auto backend = test::makeBackendOrSkip("jit");
     if (!backend) backend = test::makeBackendOrSkip("interp");
@@ -569,6 +572,15 @@ TEST_CASE("filter: two lattices finer than the pixels show their beat") {
          "layer b { family = square_lattice; spacing = 6.2; stroke = 1.5; edges = 1; rotation = "
          "5deg }\n",
          0.05},
+        // A lattice's lines and lines about twice as fine, or half as fine: the beat is of one
+        // layer's second harmonic with the other's first (strandCorrelation, kHarmonicPairs).
+        {"layer a { family = square_lattice; spacing = 0.5; stroke = 0.1; edges = 1 }\n"
+         "layer b { family = lines; spacing = 0.245; stroke = 0.08; rotation = 3deg }\n",
+         0.25},
+        {"layer a { family = square_lattice; spacing = 0.3; stroke = 0.08; edges = 1; rotation = "
+         "20deg }\n"
+         "layer b { family = lines; spacing = 0.62; stroke = 0.15; rotation = 24deg }\n",
+         0.25},
         // A faint fine grid under two fine line families whose beat is coarse: the lines' beat
         // is correlated by the second pair of the run (Compose.cpp hands the pair's last layer
         // on).

@@ -6,6 +6,8 @@
 
 #include <algorithm>
 #include <functional>
+#include <span>
+#include <utility>
 
 namespace moire::lower {
 
@@ -153,15 +155,25 @@ ValueId meetingPoints(ir::Builder& b, const FineLayer& l1, const FineLayer& l2,
         [&] { return std::vector<ValueId>{zero}; })[0];
 }
 
+// The beats a strand pair is read by, (p, q) for D = q f_x - p f_y: the lines' own (1, +-1),
+// and where a line of one layer stands about twice as fine as its partner's, the coarser
+// one's second harmonic with the finer one's first, (1, +-2) and (2, +-1). The slowest at
+// the pixel is the pair's. The meeting points' term reads the first alone.
+constexpr std::pair<double, double> kFirstHarmonics[] = {{1, 1}, {1, -1}};
+constexpr std::pair<double, double> kHarmonicPairs[] = {{1, 1},  {1, -1}, {1, 2},
+                                                        {1, -2}, {2, 1},  {2, -1}};
+using Beats = std::span<const std::pair<double, double>>;
+
 // The correlation of a pair with a lattice, by its strands. Each layer's ink is the union of
 // its strands laid as independent, c = 1 - prod(1 - x_i) (x_i a strand's periodic stroke; a
 // phase family is one strand). Lines of different directions are independent over a fine
 // pixel, but a line of the first layer and the second's line nearly parallel to it are not:
 // their strokes beat, as a pair of phase families does (pairCorrelation). So each strand x of
 // the first layer is paired with the strand y of the second, and the sense s = +-1, whose
-// beat D = s f_x - f_y runs slowest (the least |s grad f_x - grad f_y|), and their
-// covariance over the pixel is the pair's closed form, cov_xy = weight (E - a b) with the
-// pair's weight 1 - T_x T_y / T_D. With the pairs independent of one another,
+// beat D = s f_x - f_y runs slowest (the least |s grad f_x - grad f_y|; or a second
+// harmonic's beat, kHarmonicPairs), and their covariance over the pixel is the pair's closed
+// form, cov_xy = weight (E - a b) with the pair's weight 1 - T_x T_y / T_D. With the pairs
+// independent of one another,
 //   E[(1 - c1)(1 - c2)] = prod_all (1 - m) prod_pairs (1 + cov_xy / ((1 - m_x)(1 - m_y)))
 // (m the strands' footprint means), so the layers' covariance is prod_all (1 - m) times
 // (prod_pairs (1 + ratio) - 1), and it enters the composite as a pair's does:
@@ -209,12 +221,13 @@ Ink strandCorrelation(ir::Builder& b, const Ink& under, const FineLayer& l1, con
         // The partner: carried through selects, the candidates tried in turn.
         ValueId rate = b.constF(1e30), sense = one, du = zero, dv = zero;
         ValueId index = zero, tr = zero, un = zero, half = zero, mean = zero, past = one;
-        ValueId slot = zero;
+        ValueId slot = zero, times = one;
         for (size_t j = 0; j < second.size(); ++j)
-            for (double s : {1.0, -1.0}) {
+            for (const auto& [p, q] : meeting ? Beats(kFirstHarmonics) : Beats(kHarmonicPairs)) {
                 const Seen& y = second[j];
-                ValueId cu = b.sub(b.mul(b.constF(s), x.g.u), y.g.u);
-                ValueId cv = b.sub(b.mul(b.constF(s), x.g.v), y.g.v);
+                // The beat D = q f_x - p f_y steps q grad f_x - p grad f_y.
+                ValueId cu = b.sub(b.mul(b.constF(q), x.g.u), b.mul(b.constF(p), y.g.u));
+                ValueId cv = b.sub(b.mul(b.constF(q), x.g.v), b.mul(b.constF(p), y.g.v));
                 ValueId r = b.add(b.mul(cu, cu), b.mul(cv, cv));
                 ValueId better = b.lt(r, rate);
                 auto pick = [&](ValueId mine, ValueId held) {
@@ -222,7 +235,8 @@ Ink strandCorrelation(ir::Builder& b, const Ink& under, const FineLayer& l1, con
                 };
                 ValueId yPast = pastFirst(b, y.strand->footprint);
                 rate = pick(r, rate);
-                sense = pick(b.constF(s), sense);
+                sense = pick(b.constF(q), sense);
+                times = pick(b.constF(p), times);
                 du = pick(cu, du);
                 dv = pick(cv, dv);
                 index = pick(y.strand->footprint.index, index);
@@ -235,7 +249,7 @@ Ink strandCorrelation(ir::Builder& b, const Ink& under, const FineLayer& l1, con
             }
         ValueId along = b.mul(b.abs(du), pixel.size), across = b.mul(b.abs(dv), pixel.size);
         ValueId e =
-            sweptOverlap(value(x.strand->footprint.index), value(index), value(one), value(sense),
+            sweptOverlap(value(x.strand->footprint.index), value(index), value(times), value(sense),
                          value(x.half), value(half), value(along), value(across))
                 .id;
         ValueId beat = footprintTransfer(value(along), value(across)).id;

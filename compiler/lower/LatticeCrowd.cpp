@@ -21,7 +21,6 @@ namespace {
 
 constexpr double kSqrt3 = std::numbers::sqrt3;
 constexpr double kPi = std::numbers::pi;
-constexpr double kHalfDiagonal = 0.7072; // the pixel's, in pixels (a hair over sqrt2 / 2)
 
 // Each kind as the unstretched lattice (u, with spacing s) sees it: the unit normals of the
 // families of lines its edges lie on (or, for the points, its rows), their spacing over s,

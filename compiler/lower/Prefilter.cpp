@@ -150,7 +150,7 @@ ValueId meanInk(ir::Builder& b, const Footprint& footprint, ValueId distance, Va
     if (footprint.edge != ir::kNoValue) {
         // Where it reaches the region the members do not enter (within half the pixel's
         // diagonal and the stroke), the same.
-        ValueId reach = b.add(b.mul(pixel.size, b.constF(0.7072)), halfWidth);
+        ValueId reach = b.add(b.mul(pixel.size, b.constF(kHalfDiagonal)), halfWidth);
         below = b.emit(ir::Op::Or, {below, b.lt(footprint.edge, reach)});
     }
     return b.ifThenElse(

@@ -34,6 +34,10 @@ constexpr double kLeastFootprint = 1e-3;
 constexpr double kCrowdFrom = 3.0 / 4.0;
 constexpr double kCrowdFull = 1.0;
 
+// Half the square pixel's diagonal, in pixels (a hair over sqrt(2) / 2): a stroke whose centre
+// line stands further than that plus its half-width from the pixel's centre does not reach it.
+constexpr double kHalfDiagonal = 0.7072;
+
 // The mean, over the box [index - nu/2, index + nu/2], of the periodic stroke that inks the
 // index within w of a whole number (members at the integers, half-width w in index units).
 // Its cumulative ink from y = x + 1/2 is C(y) = 2w floor(y) + clamp(fract(y) - (1/2 - w), 0,

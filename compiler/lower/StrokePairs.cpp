@@ -14,9 +14,6 @@ namespace {
 // A pitch (pixels) that puts a layer's next members past any pixel's reach: where it has no
 // next members near (below a first member) or none to speak of (no gradient).
 constexpr double kFarPitch = 1e6;
-// Half the pixel's diagonal: a stroke whose centre line stands further than that plus its
-// half-width from the pixel's centre does not reach into it.
-constexpr double kPixelReach = 0.7072;
 } // namespace
 
 std::optional<StrokeAcross> strokeAcross(ir::Builder& b, const LayerFields& fields,
@@ -130,8 +127,8 @@ std::optional<StrokeAcross> strokeAcross(ir::Builder& b, const LayerFields& fiel
     out.s = s;
     out.h = b.div(halfWidth, pixel.size);
     out.weight = weight;
-    out.touches = b.emit(ir::Op::And,
-                         {b.gt(weight, zero), b.lt(b.abs(s), b.add(out.h, b.constF(kPixelReach)))});
+    out.touches = b.emit(
+        ir::Op::And, {b.gt(weight, zero), b.lt(b.abs(s), b.add(out.h, b.constF(kHalfDiagonal)))});
     return out;
 }
 
@@ -144,17 +141,16 @@ ValueId strokeCovariance(ir::Builder& b, const StrokeAcross& first, const Stroke
         return stripCovariance(value(s1), value(h1), value(s2), value(h2), value(cosA), value(sinA))
             .id;
     };
-    const bool firstRuns = first.pitch != ir::kNoValue;
-    const bool secondRuns = second.pitch != ir::kNoValue;
+    auto runs = [](const StrokeAcross& s) { return s.pitch != ir::kNoValue; };
     ValueId cov;
-    if (!firstRuns && !secondRuns) {
+    if (!runs(first) && !runs(second)) {
         cov = pair(first.s, first.h, second.s, second.h);
     } else {
         // Each member's stroke cut to half its pitch: members that overlap tile their band.
-        auto cut = [&](const StrokeAcross& s, bool runs) {
-            return runs ? b.min(s.h, b.mul(s.pitch, b.constF(0.5))) : s.h;
+        auto cut = [&](const StrokeAcross& s) {
+            return runs(s) ? b.min(s.h, b.mul(s.pitch, b.constF(0.5))) : s.h;
         };
-        const ValueId h1 = cut(first, firstRuns), h2 = cut(second, secondRuns);
+        const ValueId h1 = cut(first), h2 = cut(second);
         // The members whose strokes reach the pixel, `lo` to lo + count - 1 about the nearest
         // (-1, 0, 1): the nearest always does where the pair is read, its neighbours only where
         // the members stand about two pixels apart or closer. A layer without a pitch, its
@@ -163,15 +159,15 @@ ValueId strokeCovariance(ir::Builder& b, const StrokeAcross& first, const Stroke
         struct Members {
             ValueId lo, count;
         };
-        auto members = [&](const StrokeAcross& s, ValueId h, bool runs) {
-            if (!runs) return Members{zero, one};
-            const ValueId reach = b.add(h, b.constF(kPixelReach));
+        auto members = [&](const StrokeAcross& s, ValueId h) {
+            if (!runs(s)) return Members{zero, one};
+            const ValueId reach = b.add(h, b.constF(kHalfDiagonal));
             auto reaches = [&](ValueId offset) { return b.lt(b.abs(offset), reach); };
             const ValueId lo = b.select(reaches(b.sub(s.s, s.pitch)), b.constF(-1.0), zero);
             const ValueId hi = b.select(reaches(b.add(s.s, s.pitch)), one, zero);
             return Members{lo, b.add(b.sub(hi, lo), one)};
         };
-        const Members m1 = members(first, h1, firstRuns), m2 = members(second, h2, secondRuns);
+        const Members m1 = members(first, h1), m2 = members(second, h2);
         // Pair k of the m1 x m2 that reach: one loop, the pair's IR written once.
         const std::vector<ValueId> sums = b.loop(
             {zero, zero},
@@ -181,11 +177,11 @@ ValueId strokeCovariance(ir::Builder& b, const StrokeAcross& first, const Stroke
             [&](std::span<const ValueId> v) {
                 const ValueId row = b.floor(b.div(b.add(v[0], b.constF(0.5)), m2.count));
                 const ValueId column = b.sub(v[0], b.mul(row, m2.count));
-                auto member = [&](const StrokeAcross& s, bool runs, const Members& m, ValueId k) {
-                    return runs ? b.add(s.s, b.mul(b.add(m.lo, k), s.pitch)) : s.s;
+                auto member = [&](const StrokeAcross& s, const Members& m, ValueId k) {
+                    return runs(s) ? b.add(s.s, b.mul(b.add(m.lo, k), s.pitch)) : s.s;
                 };
-                const ValueId term = pair(member(first, firstRuns, m1, row), h1,
-                                          member(second, secondRuns, m2, column), h2);
+                const ValueId term =
+                    pair(member(first, m1, row), h1, member(second, m2, column), h2);
                 return std::vector<ValueId>{b.add(v[0], one), b.add(v[1], term)};
             });
         cov = sums[1];

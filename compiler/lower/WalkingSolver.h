@@ -173,7 +173,6 @@ class Solver {
     static constexpr double kNearDrawn = 256;
     static constexpr double kFarForm = 1.5;
     // Half a square's diagonal over its side: the farthest its footprint reaches.
-    static constexpr double kHalfDiagonal = 0.7072;
     // The rest of the near field: members and angles of its phase average (phaseAveraged).
     static constexpr double kPhaseNodes = 12;
     static constexpr double kPhaseAngles = 24;
